@@ -1,0 +1,101 @@
+!> The resolved parameters of a run, as read from the namelist input file.
+!> dpmpm_input fills a config_t (defaults first, then the file, then checks);
+!> everything else only reads it.
+module dpmpm_config
+  use dpmpm_kinds, only: wp, i8
+  implicit none
+  private
+  public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t
+  public :: max_poly, name_len, face_names, face_index
+  public :: bc_free, bc_fixed, bc_roller, bc_names
+
+  integer, parameter :: name_len = 64
+  !> Largest number of vertices of a 2D polygon region.
+  integer, parameter :: max_poly = 64
+  !> Grid faces in the order used by every per-face array: x-, x+, y-, y+, z-, z+.
+  character(len=2), parameter :: face_names(6) = ['x-', 'x+', 'y-', 'y+', 'z-', 'z+']
+  !> Boundary condition types on a grid face.
+  integer, parameter :: bc_free = 0, bc_fixed = 1, bc_roller = 2
+  character(len=6), parameter :: bc_names(0:2) = ['free  ', 'fixed ', 'roller']
+
+  !> One &material group.
+  type :: material_cfg_t
+    integer :: id = 1
+    character(len=name_len) :: model = 'linear_elastic'   !< linear_elastic | neo_hookean
+    real(wp) :: density = 1000.0_wp          !< kg/m^3
+    real(wp) :: youngs_modulus = 1.0e6_wp    !< Pa
+    real(wp) :: poisson_ratio = 0.3_wp
+  end type material_cfg_t
+
+  !> One &region group: a box or a 2D polygon filled with points of one material.
+  type :: region_cfg_t
+    character(len=name_len) :: shape = 'box'       !< box | polygon
+    real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp       !< box corners (m)
+    integer :: npoly = 0                             !< polygon vertex count
+    real(wp) :: poly(2, max_poly) = 0.0_wp           !< polygon vertices (x, y)
+    integer :: material = 1                          !< material id
+    character(len=name_len) :: phase = 'solid'      !< solid (fluid, saturated later)
+    integer :: ppc = 2                               !< points per cell per direction
+    character(len=name_len) :: placement = 'regular' !< regular | random (scattered in each cell)
+    integer :: seed = 1                              !< seed of the random placement
+    real(wp) :: velocity(3) = 0.0_wp                 !< initial velocity (m/s)
+    real(wp) :: stress(6) = 0.0_wp                   !< initial stress (Pa, Voigt, tension positive)
+  end type region_cfg_t
+
+  !> One &load group: a traction on a grid face, ramped linearly over ramp_time.
+  type :: load_cfg_t
+    integer :: face = 0                              !< index into face_names
+    real(wp) :: traction(3) = 0.0_wp                 !< Pa, force per area on the body
+    real(wp) :: ramp_time = 0.0_wp                   !< s; 0 = step load
+  end type load_cfg_t
+
+  !> All parameters of a run.
+  type :: config_t
+    character(len=4096) :: input_file = ''
+    character(len=:), allocatable :: input_text      !< the input file, echoed into the output
+    ! &run
+    character(len=name_len) :: name = 'dpmpm'        !< output file base name
+    real(wp) :: t_end = 1.0_wp                       !< s
+    real(wp) :: dt = 0.0_wp                          !< fixed step (s); 0 = from CFL every step
+    real(wp) :: cfl = 0.5_wp                         !< Courant number
+    integer(i8) :: max_steps = huge(1_i8)
+    character(len=name_len) :: scheme = 'musl'       !< musl | usl
+    real(wp) :: flip = 1.0_wp                        !< FLIP fraction of the FLIP/PIC blend
+    real(wp) :: gravity(3) = 0.0_wp                  !< m/s^2
+    real(wp) :: progress_seconds = 10.0_wp           !< wall seconds between progress lines
+    ! &grid
+    integer :: ndim = 2
+    integer :: ncells(3) = [1, 1, 1]
+    real(wp) :: origin(3) = 0.0_wp
+    real(wp) :: length(3) = [1.0_wp, 1.0_wp, 1.0_wp]
+    integer :: dims(3) = [0, 0, 0]                   !< ranks per axis; 0 = MPI_Dims_create
+    ! &shape
+    character(len=name_len) :: kernel = 'linear'     !< linear | quadratic
+    ! &material, &region, &load (repeatable)
+    type(material_cfg_t), allocatable :: materials(:)
+    type(region_cfg_t), allocatable :: regions(:)
+    type(load_cfg_t), allocatable :: loads(:)
+    ! &boundary: one type per face (face_names order)
+    integer :: bc(6) = bc_free
+    ! &output
+    character(len=1024) :: output_dir = '.'
+    real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only
+    integer :: diag_every = 0                        !< steps between diagnostics; 0 = automatic
+    ! &benchmark
+    character(len=name_len) :: benchmark = 'none'   !< none | axial_bar
+    real(wp) :: amplitude = 0.0_wp                   !< benchmark amplitude (m/s for axial_bar)
+  end type config_t
+
+contains
+
+  !> Index of a face name in face_names, 0 if unknown.
+  pure integer function face_index(name)
+    character(len=*), intent(in) :: name
+    integer :: k
+    face_index = 0
+    do k = 1, 6
+      if (trim(adjustl(name)) == face_names(k)) face_index = k
+    end do
+  end function face_index
+
+end module dpmpm_config

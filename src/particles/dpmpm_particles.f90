@@ -1,0 +1,234 @@
+!> A set of material points (solid or fluid) as a structure of arrays.
+!> Only the fields that the scene needs are allocated: the deformation gradient
+!> only when a material needs it (neo-Hookean). Capacity grows geometrically.
+module dpmpm_particles
+  use dpmpm_kinds, only: wp, i8
+  implicit none
+  private
+  public :: particle_set_t
+
+  !> Structure-of-arrays point set. Point k is column k of every array.
+  type :: particle_set_t
+    character(len=16) :: name = 'solid'
+    integer :: ndim = 0
+    integer :: n = 0                         !< points held by this rank
+    integer :: cap = 0                       !< allocated capacity
+    logical :: has_defgrad = .false.         !< F stored (finite-strain materials)
+    integer(i8), allocatable :: id(:)        !< global id, unique, never changes
+    integer, allocatable :: mat(:)           !< material index (1..nmat) into the scene's materials
+    real(wp), allocatable :: x(:, :)         !< position (ndim, cap)
+    real(wp), allocatable :: x0(:, :)        !< reference (initial) position (ndim, cap)
+    real(wp), allocatable :: v(:, :)         !< velocity (ndim, cap)
+    real(wp), allocatable :: mass(:)         !< kg (per unit area in 2D, per unit area^2 in 1D)
+    real(wp), allocatable :: vol(:)          !< current volume
+    real(wp), allocatable :: vol0(:)         !< initial volume
+    real(wp), allocatable :: stress(:, :)    !< Cauchy stress (6, cap), Voigt xx yy zz yz xz xy
+    real(wp), allocatable :: defgrad(:, :)   !< deformation gradient (9, cap), column-major 3x3
+  contains
+    procedure :: init => ps_init
+    procedure :: reserve => ps_reserve
+    procedure :: append => ps_append
+    procedure :: nreal_packed => ps_nreal_packed
+    procedure :: pack_points => ps_pack
+    procedure :: unpack_points => ps_unpack
+    procedure :: remove => ps_remove
+    procedure :: free => ps_free
+  end type particle_set_t
+
+contains
+
+  !> Empty set for ndim dimensions; has_defgrad allocates F.
+  subroutine ps_init(self, name, ndim, has_defgrad, capacity)
+    class(particle_set_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: ndim
+    logical, intent(in) :: has_defgrad
+    integer, intent(in), optional :: capacity
+    call self%free()
+    self%name = name
+    self%ndim = ndim
+    self%has_defgrad = has_defgrad
+    self%n = 0
+    self%cap = 0
+    if (present(capacity)) then
+      call self%reserve(capacity)
+    else
+      call self%reserve(16)
+    end if
+  end subroutine ps_init
+
+  !> Release all storage.
+  subroutine ps_free(self)
+    class(particle_set_t), intent(inout) :: self
+    if (allocated(self%id)) deallocate (self%id)
+    if (allocated(self%mat)) deallocate (self%mat)
+    if (allocated(self%x)) deallocate (self%x)
+    if (allocated(self%x0)) deallocate (self%x0)
+    if (allocated(self%v)) deallocate (self%v)
+    if (allocated(self%mass)) deallocate (self%mass)
+    if (allocated(self%vol)) deallocate (self%vol)
+    if (allocated(self%vol0)) deallocate (self%vol0)
+    if (allocated(self%stress)) deallocate (self%stress)
+    if (allocated(self%defgrad)) deallocate (self%defgrad)
+    self%n = 0
+    self%cap = 0
+  end subroutine ps_free
+
+  !> Make room for at least m points, keeping the first n.
+  subroutine ps_reserve(self, m)
+    class(particle_set_t), intent(inout) :: self
+    integer, intent(in) :: m
+    integer :: newcap
+    if (m <= self%cap) return
+    newcap = max(m, 2*self%cap, 16)
+    call grow_i8(self%id, newcap, self%n)
+    call grow_i(self%mat, newcap, self%n)
+    call grow_r2(self%x, self%ndim, newcap, self%n)
+    call grow_r2(self%x0, self%ndim, newcap, self%n)
+    call grow_r2(self%v, self%ndim, newcap, self%n)
+    call grow_r1(self%mass, newcap, self%n)
+    call grow_r1(self%vol, newcap, self%n)
+    call grow_r1(self%vol0, newcap, self%n)
+    call grow_r2(self%stress, 6, newcap, self%n)
+    if (self%has_defgrad) call grow_r2(self%defgrad, 9, newcap, self%n)
+    self%cap = newcap
+  end subroutine ps_reserve
+
+  !> Append one new point at rest in its reference state (F = I, zero stress).
+  subroutine ps_append(self, id, mat, x, v, mass, vol, stress)
+    class(particle_set_t), intent(inout) :: self
+    integer(i8), intent(in) :: id
+    integer, intent(in) :: mat
+    real(wp), intent(in) :: x(:), v(:), mass, vol, stress(6)
+    integer :: k
+    if (self%n + 1 > self%cap) call self%reserve(self%n + 1)
+    k = self%n + 1
+    self%id(k) = id
+    self%mat(k) = mat
+    self%x(:, k) = x(1:self%ndim)
+    self%x0(:, k) = x(1:self%ndim)
+    self%v(:, k) = v(1:self%ndim)
+    self%mass(k) = mass
+    self%vol(k) = vol
+    self%vol0(k) = vol
+    self%stress(:, k) = stress
+    if (self%has_defgrad) self%defgrad(:, k) = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
+                                                0.0_wp, 0.0_wp, 1.0_wp]
+    self%n = k
+  end subroutine ps_append
+
+  !> Number of reals one packed point occupies (id and material travel as reals).
+  pure integer function ps_nreal_packed(self) result(m)
+    class(particle_set_t), intent(in) :: self
+    m = 2 + 3*self%ndim + 3 + 6
+    if (self%has_defgrad) m = m + 9
+  end function ps_nreal_packed
+
+  !> Pack the points listed in idx into buf(nreal_packed, size(idx)) for migration or checkpoints.
+  subroutine ps_pack(self, idx, buf)
+    class(particle_set_t), intent(in) :: self
+    integer, intent(in) :: idx(:)
+    real(wp), intent(out) :: buf(:, :)
+    integer :: j, k, o, d
+    d = self%ndim
+    do j = 1, size(idx)
+      k = idx(j)
+      buf(1, j) = transfer(self%id(k), 1.0_wp)
+      buf(2, j) = real(self%mat(k), wp)
+      o = 2
+      buf(o + 1:o + d, j) = self%x(:, k); o = o + d
+      buf(o + 1:o + d, j) = self%x0(:, k); o = o + d
+      buf(o + 1:o + d, j) = self%v(:, k); o = o + d
+      buf(o + 1, j) = self%mass(k)
+      buf(o + 2, j) = self%vol(k)
+      buf(o + 3, j) = self%vol0(k); o = o + 3
+      buf(o + 1:o + 6, j) = self%stress(:, k); o = o + 6
+      if (self%has_defgrad) buf(o + 1:o + 9, j) = self%defgrad(:, k)
+    end do
+  end subroutine ps_pack
+
+  !> Append the points packed in buf(nreal_packed, m).
+  subroutine ps_unpack(self, buf)
+    class(particle_set_t), intent(inout) :: self
+    real(wp), intent(in) :: buf(:, :)
+    integer :: j, k, o, d
+    d = self%ndim
+    call self%reserve(self%n + size(buf, 2))
+    do j = 1, size(buf, 2)
+      k = self%n + j
+      self%id(k) = transfer(buf(1, j), 1_i8)
+      self%mat(k) = nint(buf(2, j))
+      o = 2
+      self%x(:, k) = buf(o + 1:o + d, j); o = o + d
+      self%x0(:, k) = buf(o + 1:o + d, j); o = o + d
+      self%v(:, k) = buf(o + 1:o + d, j); o = o + d
+      self%mass(k) = buf(o + 1, j)
+      self%vol(k) = buf(o + 2, j)
+      self%vol0(k) = buf(o + 3, j); o = o + 3
+      self%stress(:, k) = buf(o + 1:o + 6, j); o = o + 6
+      if (self%has_defgrad) self%defgrad(:, k) = buf(o + 1:o + 9, j)
+    end do
+    self%n = self%n + size(buf, 2)
+  end subroutine ps_unpack
+
+  !> Remove the points flagged in gone(1:n), keeping the order of the others.
+  subroutine ps_remove(self, gone)
+    class(particle_set_t), intent(inout) :: self
+    logical, intent(in) :: gone(:)
+    integer :: k, m
+    m = 0
+    do k = 1, self%n
+      if (gone(k)) cycle
+      m = m + 1
+      if (m == k) cycle
+      self%id(m) = self%id(k)
+      self%mat(m) = self%mat(k)
+      self%x(:, m) = self%x(:, k)
+      self%x0(:, m) = self%x0(:, k)
+      self%v(:, m) = self%v(:, k)
+      self%mass(m) = self%mass(k)
+      self%vol(m) = self%vol(k)
+      self%vol0(m) = self%vol0(k)
+      self%stress(:, m) = self%stress(:, k)
+      if (self%has_defgrad) self%defgrad(:, m) = self%defgrad(:, k)
+    end do
+    self%n = m
+  end subroutine ps_remove
+
+  subroutine grow_i8(a, newcap, n)
+    integer(i8), allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: newcap, n
+    integer(i8), allocatable :: t(:)
+    allocate (t(newcap))
+    if (allocated(a)) t(1:n) = a(1:n)
+    call move_alloc(t, a)
+  end subroutine grow_i8
+
+  subroutine grow_i(a, newcap, n)
+    integer, allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: newcap, n
+    integer, allocatable :: t(:)
+    allocate (t(newcap))
+    if (allocated(a)) t(1:n) = a(1:n)
+    call move_alloc(t, a)
+  end subroutine grow_i
+
+  subroutine grow_r1(a, newcap, n)
+    real(wp), allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: newcap, n
+    real(wp), allocatable :: t(:)
+    allocate (t(newcap))
+    if (allocated(a)) t(1:n) = a(1:n)
+    call move_alloc(t, a)
+  end subroutine grow_r1
+
+  subroutine grow_r2(a, m, newcap, n)
+    real(wp), allocatable, intent(inout) :: a(:, :)
+    integer, intent(in) :: m, newcap, n
+    real(wp), allocatable :: t(:, :)
+    allocate (t(m, newcap))
+    if (allocated(a)) t(:, 1:n) = a(:, 1:n)
+    call move_alloc(t, a)
+  end subroutine grow_r2
+
+end module dpmpm_particles

@@ -1,0 +1,102 @@
+!> Kernel tests: partition of unity and zero gradient sum, in 1D, 2D and 3D
+!> (tensor products), at many positions across a cell.
+program test_kernels
+  use mpi_f08, only: MPI_Init, MPI_Finalize
+  use dpmpm_kinds, only: wp
+  use dpmpm_kernels, only: kernel_eval_1d, kernel_width, max_stencil, kernel_linear, &
+                           kernel_quadratic, kernel_names
+  use dpmpm_assert, only: begin_test, check_close, check, finish_tests
+  implicit none
+  integer :: status
+  call MPI_Init()
+  call test_partition_of_unity_1d()
+  call test_tensor_partition_of_unity_3d()
+  call test_gradient_matches_finite_difference()
+  call test_linear_field_reproduced()
+  status = finish_tests()
+  call MPI_Finalize()
+  if (status /= 0) stop 1, quiet = .true.
+
+contains
+
+  subroutine test_partition_of_unity_1d()
+    integer :: k, j, i0
+    real(wp) :: s, w(max_stencil), dw(max_stencil)
+    call begin_test('partition_of_unity_1d')
+    do k = 1, 2
+      do j = 0, 200
+        s = 3.0_wp + real(j, wp)/200.0_wp*0.999999_wp
+        call kernel_eval_1d(k, s, i0, w, dw)
+        call check_close(sum(w), 1.0_wp, 0.0_wp, 1.0e-14_wp, trim(kernel_names(k))//' sum of weights')
+        call check_close(sum(dw), 0.0_wp, 0.0_wp, 1.0e-13_wp, trim(kernel_names(k))//' sum of gradients')
+        call check(all(w(1:kernel_width(k)) >= 0.0_wp), trim(kernel_names(k))//' weights non-negative')
+      end do
+    end do
+  end subroutine test_partition_of_unity_1d
+
+  subroutine test_tensor_partition_of_unity_3d()
+    integer :: k, j, a, b, c, i0(3)
+    real(wp) :: s(3), w(max_stencil, 3), dw(max_stencil, 3), tot, g(3)
+    call begin_test('tensor_partition_of_unity_3d')
+    do k = 1, 2
+      do j = 1, 50
+        s = [1.0_wp + 0.0137_wp*j, 2.0_wp + 0.0191_wp*j, 5.0_wp + 0.0173_wp*j]
+        do a = 1, 3
+          call kernel_eval_1d(k, s(a), i0(a), w(:, a), dw(:, a))
+        end do
+        tot = 0.0_wp; g = 0.0_wp
+        do c = 1, kernel_width(k)
+          do b = 1, kernel_width(k)
+            do a = 1, kernel_width(k)
+              tot = tot + w(a, 1)*w(b, 2)*w(c, 3)
+              g = g + [dw(a, 1)*w(b, 2)*w(c, 3), w(a, 1)*dw(b, 2)*w(c, 3), w(a, 1)*w(b, 2)*dw(c, 3)]
+            end do
+          end do
+        end do
+        call check_close(tot, 1.0_wp, 0.0_wp, 1.0e-14_wp, trim(kernel_names(k))//' 3D sum')
+        call check_close(maxval(abs(g)), 0.0_wp, 0.0_wp, 1.0e-13_wp, trim(kernel_names(k))//' 3D gradient sum')
+      end do
+    end do
+  end subroutine test_tensor_partition_of_unity_3d
+
+  subroutine test_gradient_matches_finite_difference()
+    integer :: k, j, i0, i0p, i0m, n
+    real(wp) :: s, w(max_stencil), dw(max_stencil), wp_(max_stencil), wm(max_stencil), tmp(max_stencil)
+    real(wp), parameter :: eps = 1.0e-6_wp
+    call begin_test('gradient_matches_finite_difference')
+    do k = 1, 2
+      n = kernel_width(k)
+      do j = 1, 97
+        s = 4.0_wp + real(j, wp)/98.0_wp
+        call kernel_eval_1d(k, s, i0, w, dw)
+        call kernel_eval_1d(k, s + eps, i0p, wp_, tmp)
+        call kernel_eval_1d(k, s - eps, i0m, wm, tmp)
+        if (i0p /= i0 .or. i0m /= i0) cycle     ! stencil shifts exactly at a breakpoint
+        call check(maxval(abs((wp_(1:n) - wm(1:n))/(2*eps) - dw(1:n))) < 1.0e-8_wp, &
+                   trim(kernel_names(k))//' derivative vs central difference')
+      end do
+    end do
+  end subroutine test_gradient_matches_finite_difference
+
+  subroutine test_linear_field_reproduced()
+    ! Both kernels reproduce linear fields: sum_i N_i(s) x_i = s, sum_i dN_i(s) x_i = 1.
+    integer :: k, j, i0, i, n
+    real(wp) :: s, w(max_stencil), dw(max_stencil), f, df
+    call begin_test('linear_field_reproduced')
+    do k = kernel_linear, kernel_quadratic
+      n = kernel_width(k)
+      do j = 0, 100
+        s = 7.0_wp + real(j, wp)/101.0_wp
+        call kernel_eval_1d(k, s, i0, w, dw)
+        f = 0.0_wp; df = 0.0_wp
+        do i = 1, n
+          f = f + w(i)*real(i0 + i - 1, wp)
+          df = df + dw(i)*real(i0 + i - 1, wp)
+        end do
+        call check_close(f, s, 1.0e-14_wp, 0.0_wp, trim(kernel_names(k))//' reproduces x')
+        call check_close(df, 1.0_wp, 1.0e-13_wp, 0.0_wp, trim(kernel_names(k))//' reproduces dx/dx')
+      end do
+    end do
+  end subroutine test_linear_field_reproduced
+
+end program test_kernels

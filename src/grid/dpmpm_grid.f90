@@ -1,0 +1,84 @@
+!> Geometry of the regular grid and the boundary conditions on its faces.
+!> Node (i, j, k) sits at origin + (i, j, k)*h; cell (i, j, k) spans the nodes
+!> i..i+1, j..j+1, k..k+1. Unused axes (d > ndim) have one cell and h = 1.
+module dpmpm_grid
+  use dpmpm_kinds, only: wp
+  use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller
+  implicit none
+  private
+  public :: grid_t
+
+  !> Regular grid of ncells(d) cells of size h(d) along each axis.
+  type :: grid_t
+    integer :: ndim = 1
+    integer :: ncells(3) = 1
+    real(wp) :: origin(3) = 0.0_wp
+    real(wp) :: h(3) = 1.0_wp
+    real(wp) :: cell_volume = 1.0_wp   !< product of h over the used axes
+    integer :: bc(6) = bc_free         !< per face: x-, x+, y-, y+, z-, z+
+  contains
+    procedure :: init => grid_init
+    procedure :: constrained => grid_constrained
+    procedure :: inside => grid_inside
+  end type grid_t
+
+contains
+
+  !> Geometry and boundary conditions from the input.
+  subroutine grid_init(self, cfg)
+    class(grid_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    integer :: d
+    self%ndim = cfg%ndim
+    self%ncells = 1
+    self%origin = 0.0_wp
+    self%h = 1.0_wp
+    do d = 1, cfg%ndim
+      self%ncells(d) = cfg%ncells(d)
+      self%origin(d) = cfg%origin(d)
+      self%h(d) = cfg%length(d)/real(cfg%ncells(d), wp)
+    end do
+    self%cell_volume = product(self%h(1:self%ndim))
+    self%bc = bc_free
+    self%bc(1:2*cfg%ndim) = cfg%bc(1:2*cfg%ndim)
+  end subroutine grid_init
+
+  !> Which velocity components are held at zero at node (i, j, k): a fixed face
+  !> holds all components, a roller the normal one. Exterior nodes beyond a face
+  !> (reached by wide kernels) follow the face's condition.
+  pure function grid_constrained(self, idx) result(fix)
+    class(grid_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    logical :: fix(3)
+    integer :: d, f
+    fix = .false.
+    do d = 1, self%ndim
+      do f = 1, 2
+        if (f == 1) then
+          if (idx(d) > 0) cycle
+        else
+          if (idx(d) < self%ncells(d)) cycle
+        end if
+        select case (self%bc(2*(d - 1) + f))
+        case (bc_fixed)
+          fix = .true.
+        case (bc_roller)
+          fix(d) = .true.
+        end select
+      end do
+    end do
+  end function grid_constrained
+
+  !> True when x lies inside the grid (lower faces included, upper excluded).
+  pure logical function grid_inside(self, x)
+    class(grid_t), intent(in) :: self
+    real(wp), intent(in) :: x(:)
+    integer :: d
+    grid_inside = .true.
+    do d = 1, self%ndim
+      if (x(d) < self%origin(d) .or. x(d) >= self%origin(d) + self%h(d)*self%ncells(d)) &
+        grid_inside = .false.
+    end do
+  end function grid_inside
+
+end module dpmpm_grid

@@ -1,0 +1,171 @@
+!> Constitutive models behind one interface. The model is chosen per material
+!> group of points, not per point: each update routine loops over the points of
+!> one material. Stress is Cauchy, tension positive, Voigt order xx yy zz yz xz xy.
+module dpmpm_materials
+  use dpmpm_kinds, only: wp
+  use dpmpm_config, only: material_cfg_t
+  implicit none
+  private
+  public :: material_t, model_linear_elastic, model_neo_hookean, model_from_name
+  public :: materials_from_config, stress_update, strain_energy, wave_speed
+  public :: voigt_to_tensor, tensor_to_voigt
+
+  integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2
+
+  !> Parameters of one material, with the derived elastic constants.
+  type :: material_t
+    integer :: id = 1
+    integer :: model = model_linear_elastic
+    real(wp) :: density = 1.0_wp
+    real(wp) :: youngs = 1.0_wp, poisson = 0.0_wp
+    real(wp) :: lambda = 0.0_wp, mu = 0.0_wp, bulk = 0.0_wp
+    real(wp) :: pwave = 0.0_wp          !< constrained modulus lambda + 2 mu
+  end type material_t
+
+contains
+
+  !> Model code from its input name, 0 if unknown.
+  pure integer function model_from_name(name) result(m)
+    character(len=*), intent(in) :: name
+    select case (trim(adjustl(name)))
+    case ('linear_elastic')
+      m = model_linear_elastic
+    case ('neo_hookean')
+      m = model_neo_hookean
+    case default
+      m = 0
+    end select
+  end function model_from_name
+
+  !> Materials with Lame constants from E and nu.
+  subroutine materials_from_config(cfgs, mats)
+    type(material_cfg_t), intent(in) :: cfgs(:)
+    type(material_t), allocatable, intent(out) :: mats(:)
+    integer :: k
+    real(wp) :: e, nu
+    allocate (mats(size(cfgs)))
+    do k = 1, size(cfgs)
+      e = cfgs(k)%youngs_modulus
+      nu = cfgs(k)%poisson_ratio
+      mats(k)%id = cfgs(k)%id
+      mats(k)%model = model_from_name(cfgs(k)%model)
+      mats(k)%density = cfgs(k)%density
+      mats(k)%youngs = e
+      mats(k)%poisson = nu
+      mats(k)%lambda = e*nu/((1.0_wp + nu)*(1.0_wp - 2.0_wp*nu))
+      mats(k)%mu = e/(2.0_wp*(1.0_wp + nu))
+      mats(k)%bulk = e/(3.0_wp*(1.0_wp - 2.0_wp*nu))
+      mats(k)%pwave = mats(k)%lambda + 2.0_wp*mats(k)%mu
+    end do
+  end subroutine materials_from_config
+
+  !> Speed of the fastest (dilatational) wave at current density rho.
+  pure real(wp) function wave_speed(mat, rho) result(c)
+    type(material_t), intent(in) :: mat
+    real(wp), intent(in) :: rho
+    c = sqrt(mat%pwave/rho)
+  end function wave_speed
+
+  !> 3x3 symmetric tensor from Voigt components.
+  pure function voigt_to_tensor(s) result(t)
+    real(wp), intent(in) :: s(6)
+    real(wp) :: t(3, 3)
+    t(1, 1) = s(1); t(2, 2) = s(2); t(3, 3) = s(3)
+    t(2, 3) = s(4); t(3, 2) = s(4)
+    t(1, 3) = s(5); t(3, 1) = s(5)
+    t(1, 2) = s(6); t(2, 1) = s(6)
+  end function voigt_to_tensor
+
+  !> Voigt components of the symmetric part of a 3x3 tensor.
+  pure function tensor_to_voigt(t) result(s)
+    real(wp), intent(in) :: t(3, 3)
+    real(wp) :: s(6)
+    s = [t(1, 1), t(2, 2), t(3, 3), 0.5_wp*(t(2, 3) + t(3, 2)), 0.5_wp*(t(1, 3) + t(3, 1)), &
+         0.5_wp*(t(1, 2) + t(2, 1))]
+  end function tensor_to_voigt
+
+  !> Update stress, volume (and F) of the points of material index m over one
+  !> step dt, given each point's velocity gradient vgrad(9, n) (3x3, column-major).
+  !> Linear elastic: hypoelastic with the Jaumann rate (objective under rotation).
+  !> Neo-Hookean: F <- (I + dt L) F, sigma = (mu (F F^T - I) + lambda ln J I)/J.
+  subroutine stress_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad)
+    type(material_t), intent(in) :: mat
+    integer, intent(in) :: m, n
+    real(wp), intent(in) :: dt
+    integer, intent(in) :: pmat(:)
+    real(wp), intent(in) :: vgrad(:, :)
+    real(wp), intent(inout) :: stress(:, :), vol(:)
+    real(wp), intent(in) :: vol0(:)
+    real(wp), intent(inout), optional :: defgrad(:, :)
+    real(wp) :: lg(3, 3), dmat(3, 3), wmat(3, 3), s(3, 3), f(3, 3), b(3, 3), ident(3, 3), tr, jac
+    integer :: p, k
+    ident = 0.0_wp
+    do k = 1, 3
+      ident(k, k) = 1.0_wp
+    end do
+    select case (mat%model)
+    case (model_linear_elastic)
+      do p = 1, n
+        if (pmat(p) /= m) cycle
+        lg = reshape(vgrad(:, p), [3, 3])
+        dmat = 0.5_wp*(lg + transpose(lg))
+        wmat = 0.5_wp*(lg - transpose(lg))
+        s = voigt_to_tensor(stress(:, p))
+        tr = dmat(1, 1) + dmat(2, 2) + dmat(3, 3)
+        s = s + dt*(mat%lambda*tr*ident + 2.0_wp*mat%mu*dmat + matmul(wmat, s) - matmul(s, wmat))
+        stress(:, p) = tensor_to_voigt(s)
+        vol(p) = vol(p)*det3(ident + dt*lg)
+      end do
+    case (model_neo_hookean)
+      do p = 1, n
+        if (pmat(p) /= m) cycle
+        lg = reshape(vgrad(:, p), [3, 3])
+        f = matmul(ident + dt*lg, reshape(defgrad(:, p), [3, 3]))
+        defgrad(:, p) = reshape(f, [9])
+        jac = det3(f)
+        b = matmul(f, transpose(f))
+        s = (mat%mu*(b - ident) + mat%lambda*log(jac)*ident)/jac
+        stress(:, p) = tensor_to_voigt(s)
+        vol(p) = vol0(p)*jac
+      end do
+    end select
+  end subroutine stress_update
+
+  !> Stored elastic energy of the points of material index m (J, per unit
+  !> length/area in 2D/1D). Linear elastic: sigma : C^-1 : sigma / 2 times volume;
+  !> neo-Hookean: (mu/2)(tr C - 3) - mu ln J + (lambda/2) (ln J)^2 per reference volume.
+  pure real(wp) function strain_energy(mat, m, n, pmat, stress, vol, vol0, defgrad) result(e)
+    type(material_t), intent(in) :: mat
+    integer, intent(in) :: m, n
+    integer, intent(in) :: pmat(:)
+    real(wp), intent(in) :: stress(:, :), vol(:), vol0(:)
+    real(wp), intent(in), optional :: defgrad(:, :)
+    real(wp) :: s(6), tr, w, f(3, 3), lnj
+    integer :: p
+    e = 0.0_wp
+    do p = 1, n
+      if (pmat(p) /= m) cycle
+      select case (mat%model)
+      case (model_linear_elastic)
+        s = stress(:, p)
+        tr = s(1) + s(2) + s(3)
+        ! sigma : eps with eps = ((1+nu) sigma - nu tr(sigma) I)/E; shear terms count twice.
+        w = ((1.0_wp + mat%poisson)*(sum(s(1:3)**2) + 2.0_wp*sum(s(4:6)**2)) - mat%poisson*tr**2) &
+            /mat%youngs
+        e = e + 0.5_wp*w*vol(p)
+      case (model_neo_hookean)
+        f = reshape(defgrad(:, p), [3, 3])
+        lnj = log(det3(f))
+        w = 0.5_wp*mat%mu*(sum(f**2) - 3.0_wp) - mat%mu*lnj + 0.5_wp*mat%lambda*lnj**2
+        e = e + w*vol0(p)
+      end select
+    end do
+  end function strain_energy
+
+  pure real(wp) function det3(a)
+    real(wp), intent(in) :: a(3, 3)
+    det3 = a(1, 1)*(a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)) - a(1, 2)*(a(2, 1)*a(3, 3) - a(2, 3)*a(3, 1)) &
+           + a(1, 3)*(a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1))
+  end function det3
+
+end module dpmpm_materials

@@ -1,0 +1,779 @@
+!> One simulation: the scene built from a config_t on a communicator, and the
+!> explicit one-phase time step (p2g, nodal update, g2p, MUSL or USL stress update,
+!> migration). A thin object over plain-array kernels; nothing here touches
+!> MPI_COMM_WORLD, so tests can run several simulations on sub-communicators.
+module dpmpm_simulation
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_error, only: fatal, clean_stop
+  use dpmpm_log, only: log_t
+  use dpmpm_timer, only: timer_set_t, t_total, t_stencil, t_p2g, t_halo, t_nodal, t_g2p, t_stress, &
+                         t_migrate, t_output, ntimers, timer_names
+  use dpmpm_config, only: config_t, bc_free, bc_fixed
+  use dpmpm_grid, only: grid_t
+  use dpmpm_decomp, only: decomp_t
+  use dpmpm_kernels, only: kernel_from_name, kernel_ghost_width, kernel_width, kernel_eval_1d, &
+                           max_stencil
+  use dpmpm_particles, only: particle_set_t
+  use dpmpm_generate, only: generate_points
+  use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
+                             wave_speed, voigt_to_tensor, model_neo_hookean
+  use dpmpm_migrate, only: migrate
+  use dpmpm_output, only: output_t
+  use dpmpm_diagnostics, only: diag_record_t
+  use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_INTEGER8, &
+                     MPI_SUM, MPI_MAX, MPI_MIN, MPI_Wtime, MPI_Gather, MPI_Gatherv, MPI_INTEGER
+  implicit none
+  private
+  public :: simulation_t, run_scene
+
+  !> The state of a run.
+  type :: simulation_t
+    type(config_t) :: cfg
+    type(decomp_t) :: dec
+    type(grid_t) :: grid
+    type(material_t), allocatable :: mats(:)
+    type(particle_set_t) :: solid
+    type(log_t) :: log
+    type(timer_set_t) :: timers
+    type(output_t) :: out
+    logical :: write_output = .true.
+    integer :: kernel = 1
+    integer :: nw(3) = 1                      !< stencil nodes per axis
+    integer :: nd = 1
+    ! Per-point stencil: first node, weights and x-derivatives per axis.
+    integer, allocatable :: i0(:, :)
+    real(wp), allocatable :: sw(:, :, :), sdw(:, :, :)
+    real(wp), allocatable :: vgrad(:, :)      !< velocity gradient (9, n), column-major 3x3
+    ! Node fields on the stored nodes (owned + ghosts).
+    real(wp), allocatable :: node(:, :, :, :) !< mass, momentum(nd), force(nd)
+    real(wp), allocatable :: nvel(:, :, :, :) !< velocity before (nd) and after (nd) the update
+    real(wp) :: time = 0.0_wp
+    real(wp) :: dt = 0.0_wp
+    real(wp) :: ext_work = 0.0_wp             !< work of gravity and tractions on this rank
+    integer(i8) :: step = 0
+    real(wp) :: wall_start = 0.0_wp
+    integer :: nframes = 0
+    real(wp) :: next_frame = 0.0_wp
+    real(wp), allocatable :: err_hist(:, :)   !< benchmark errors over diagnostics (time, errors)
+    integer :: nerr = 0
+    real(wp) :: energy0 = 0.0_wp              !< kinetic + strain - external work at the start
+    real(wp) :: energy_drift = 0.0_wp         !< largest |energy - energy0| / energy0 so far
+  contains
+    procedure :: init => sim_init
+    procedure :: run => sim_run
+    procedure :: advance => sim_advance
+    procedure :: stable_dt => sim_stable_dt
+    procedure :: diagnostics => sim_diagnostics
+    procedure :: write_frame => sim_write_frame
+    procedure :: gather_points => sim_gather_points
+    procedure :: free => sim_free
+  end type simulation_t
+
+contains
+
+  !> Build, run and finish the scene described by cfg on the ranks of comm.
+  subroutine run_scene(cfg, comm)
+    type(config_t), intent(in) :: cfg
+    type(MPI_Comm), intent(in) :: comm
+    type(simulation_t) :: sim
+    call sim%init(cfg, comm)
+    call sim%run()
+    call sim%free()
+  end subroutine run_scene
+
+  !> Decompose the grid, create the points, open the output.
+  subroutine sim_init(self, cfg, comm, write_output)
+    class(simulation_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    type(MPI_Comm), intent(in) :: comm
+    logical, intent(in), optional :: write_output
+    integer :: nmin, nmax
+    integer(i8) :: ntot
+    character(len=256) :: line
+    self%cfg = cfg
+    if (present(write_output)) self%write_output = write_output
+    call self%log%init(comm)
+    self%wall_start = MPI_Wtime()
+    self%nd = cfg%ndim
+    self%kernel = kernel_from_name(cfg%kernel)
+    self%nw = 1
+    self%nw(1:self%nd) = kernel_width(self%kernel)
+    call self%grid%init(cfg)
+    call self%dec%init(comm, cfg%ndim, cfg%ncells, kernel_ghost_width(self%kernel), cfg%dims)
+    call materials_from_config(cfg%materials, self%mats)
+    call self%solid%init('solid', self%nd, any(self%mats%model == model_neo_hookean))
+    call generate_points(cfg, self%grid, self%dec, self%mats, self%solid)
+    call benchmark_setup(cfg, self%mats, self%solid)
+
+    ntot = self%solid%n
+    call MPI_Allreduce(MPI_IN_PLACE, ntot, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+    call MPI_Allreduce(self%solid%n, nmin, 1, MPI_INTEGER, MPI_MIN, self%dec%comm)
+    call MPI_Allreduce(self%solid%n, nmax, 1, MPI_INTEGER, MPI_MAX, self%dec%comm)
+    write (line, '(a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a,i0)') 'dpmpm: ', self%dec%nranks, ' ranks (', &
+      self%dec%dims(1), ' x ', self%dec%dims(2), ' x ', self%dec%dims(3), '); ', ntot, &
+      ' solid points; per rank min ', nmin, ' max ', nmax
+    call self%log%info(line)
+    if (ntot == 0) then
+      call self%log%info('dpmpm: error: the regions produced no points')
+      call clean_stop(2)
+    end if
+
+    associate (lo => self%dec%alo, hi => self%dec%ahi)
+      allocate (self%node(1 + 2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+      allocate (self%nvel(2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+    end associate
+    allocate (self%err_hist(1 + nbench_err, 64))
+    self%time = 0.0_wp
+    self%step = 0
+    self%dt = self%stable_dt()
+    if (self%write_output) then
+      call self%out%open(self%cfg, self%dec%comm)
+    end if
+    call self%diagnostics()
+    call self%write_frame()
+  end subroutine sim_init
+
+  !> Step to t_end (or max_steps), with diagnostics, frames and progress lines.
+  subroutine sim_run(self)
+    class(simulation_t), intent(inout) :: self
+    integer(i8) :: diag_every
+    real(wp) :: last_progress, now, eta
+    character(len=256) :: line
+    integer :: k
+    diag_every = self%cfg%diag_every
+    if (diag_every <= 0) diag_every = max(1_i8, int(self%cfg%t_end/self%dt/500.0_wp, i8))
+    last_progress = MPI_Wtime()
+    call self%timers%tic(t_total)
+    do while (self%time < self%cfg%t_end*(1.0_wp - 1.0e-12_wp) .and. self%step < self%cfg%max_steps)
+      self%dt = min(self%stable_dt(), self%cfg%t_end - self%time)
+      call self%advance(self%dt)
+      self%time = self%time + self%dt
+      self%step = self%step + 1
+      if (mod(self%step, diag_every) == 0) call self%diagnostics()
+      if (self%cfg%frame_interval > 0.0_wp .and. &
+          self%time >= self%next_frame - 1.0e-9_wp*self%cfg%frame_interval) call self%write_frame()
+      now = MPI_Wtime()
+      if (now - last_progress >= self%cfg%progress_seconds) then
+        last_progress = now
+        eta = (now - self%wall_start)*(self%cfg%t_end - self%time)/max(self%time, tiny(1.0_wp))
+        write (line, '(a,i0,a,es12.5,a,es10.3,a,f6.1,a,f0.1,a)') 'step ', self%step, '  t = ', &
+          self%time, '  dt = ', self%dt, '  ', 100.0_wp*self%time/self%cfg%t_end, '%  ETA ', eta, ' s'
+        call self%log%info(line)
+      end if
+    end do
+    call self%timers%toc(t_total)
+    if (mod(self%step, diag_every) /= 0) call self%diagnostics()
+    if (self%nframes == 0 .or. self%cfg%frame_interval <= 0.0_wp .or. &
+        self%time < self%next_frame - self%cfg%frame_interval) call self%write_frame()
+    if (self%write_output .and. self%cfg%benchmark /= 'none') then
+      call self%out%write_verification('time', self%err_hist(1, 1:self%nerr))
+      do k = 1, nbench_err
+        call self%out%write_verification(trim(benchmark_error_names(k)), &
+                                         self%err_hist(1 + k, 1:self%nerr))
+        call self%out%write_verification_attr('max_'//trim(benchmark_error_names(k)), &
+                                              maxval(self%err_hist(1 + k, 1:self%nerr)))
+        call self%out%write_verification_attr('final_'//trim(benchmark_error_names(k)), &
+                                              self%err_hist(1 + k, self%nerr))
+      end do
+    end if
+    write (line, '(a,i0,a,es12.5,a,f0.2,a)') 'dpmpm: done, ', self%step, ' steps to t = ', &
+      self%time, ' in ', MPI_Wtime() - self%wall_start, ' s'
+    call self%log%info(line)
+    write (line, '(a,es10.3)') '  largest relative change of the total energy: ', self%energy_drift
+    call self%log%info(line)
+    do k = 2, ntimers
+      write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
+      call self%log%info(line)
+    end do
+    if (self%write_output) then
+      call self%out%close()
+      call self%log%info('dpmpm: output '//trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5')
+    end if
+  end subroutine sim_run
+
+  !> Stable step: Courant number times the smallest cell size over the fastest
+  !> signal (wave speed plus point speed). A fixed dt above the critical step
+  !> (Courant number 1) is refused.
+  real(wp) function sim_stable_dt(self) result(dt)
+    class(simulation_t), intent(inout) :: self
+    real(wp) :: rate, c, crit
+    integer :: p
+    character(len=256) :: line
+    rate = 0.0_wp
+    do p = 1, self%solid%n
+      c = wave_speed(self%mats(self%solid%mat(p)), self%solid%mass(p)/self%solid%vol(p))
+      rate = max(rate, c + norm2(self%solid%v(:, p)))
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, rate, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
+    if (.not. ieee_is_finite(rate)) then
+      call self%log%info('dpmpm: error: non-finite wave speed or velocity; the run became unstable')
+      call clean_stop(3)
+    end if
+    crit = minval(self%grid%h(1:self%nd))/rate
+    if (self%cfg%dt > 0.0_wp) then
+      if (self%cfg%dt > crit) then
+        write (line, '(a,es11.4,a,es11.4,a,i0,a)') 'dpmpm: error: &run dt = ', self%cfg%dt, &
+          ' s is above the stable time step ', crit, ' s (Courant number 1) at step ', self%step, &
+          '; use a smaller dt or dt = 0 for the automatic step'
+        call self%log%info(line)
+        call clean_stop(2)
+      end if
+      dt = self%cfg%dt
+    else
+      dt = self%cfg%cfl*crit
+    end if
+  end function sim_stable_dt
+
+  !> One explicit step of length dt.
+  subroutine sim_advance(self, dt)
+    class(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    integer :: m, nlost
+    call self%timers%tic(t_stencil)
+    call compute_stencils(self)
+    call self%timers%toc(t_stencil)
+
+    call self%timers%tic(t_p2g)
+    self%node = 0.0_wp
+    call p2g(self%nd, self%nw, self%solid%n, self%i0, self%sw, self%sdw, self%solid%mass, &
+             self%solid%v, self%solid%vol, self%solid%stress, self%dec%alo, self%node)
+    call fold_exterior(self, self%node, 1)
+    call self%timers%toc(t_p2g)
+    call self%timers%tic(t_halo)
+    call self%dec%halo_sum(self%node)
+    call self%timers%toc(t_halo)
+
+    call self%timers%tic(t_nodal)
+    call nodal_update(self, dt)
+    call self%timers%toc(t_nodal)
+    call self%timers%tic(t_halo)
+    call self%dec%halo_copy(self%nvel)
+    call unfold_exterior(self, self%nvel)
+    call self%timers%toc(t_halo)
+
+    call self%timers%tic(t_g2p)
+    call g2p(self%nd, self%nw, self%solid%n, self%i0, self%sw, self%sdw, self%dec%alo, self%nvel, &
+             self%cfg%flip, dt, self%solid%v, self%solid%x, self%vgrad)
+    if (self%cfg%scheme == 'musl') call musl_remap(self)
+    call self%timers%toc(t_g2p)
+
+    call self%timers%tic(t_stress)
+    do m = 1, size(self%mats)
+      call stress_update(self%mats(m), m, dt, self%solid%n, self%solid%mat, self%vgrad, &
+                         self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad)
+    end do
+    call self%timers%toc(t_stress)
+
+    call self%timers%tic(t_migrate)
+    call check_inside(self)
+    call migrate(self%dec, self%grid%origin, self%grid%h, self%solid, nlost)
+    if (nlost > 0) call fatal('points were lost in migration (moved more than one rank width in a step)', &
+                              'migrate')
+    call self%timers%toc(t_migrate)
+  end subroutine sim_advance
+
+  !> Kernel weights and derivatives of every point, evaluated once per step.
+  subroutine compute_stencils(self)
+    type(simulation_t), intent(inout) :: self
+    integer :: p, d, n
+    real(wp) :: w(max_stencil), dw(max_stencil)
+    n = self%solid%n
+    if (.not. allocated(self%i0)) then
+      allocate (self%i0(3, 0), self%sw(max_stencil, 3, 0), self%sdw(max_stencil, 3, 0))
+    end if
+    if (size(self%i0, 2) < n) then
+      deallocate (self%i0, self%sw, self%sdw)
+      allocate (self%i0(3, self%solid%cap), self%sw(max_stencil, 3, self%solid%cap), &
+                self%sdw(max_stencil, 3, self%solid%cap))
+      if (allocated(self%vgrad)) deallocate (self%vgrad)
+    end if
+    if (.not. allocated(self%vgrad)) allocate (self%vgrad(9, size(self%i0, 2)))
+    do p = 1, n
+      do d = 1, 3
+        if (d <= self%nd) then
+          call kernel_eval_1d(self%kernel, (self%solid%x(d, p) - self%grid%origin(d))/self%grid%h(d), &
+                              self%i0(d, p), w, dw)
+          self%sw(:, d, p) = w
+          self%sdw(:, d, p) = dw/self%grid%h(d)
+        else
+          self%i0(d, p) = 0
+          self%sw(:, d, p) = 0.0_wp
+          self%sw(1, d, p) = 1.0_wp
+          self%sdw(:, d, p) = 0.0_wp
+        end if
+      end do
+    end do
+  end subroutine compute_stencils
+
+  !> Particle to grid: mass, momentum and internal force -sum_p V_p sigma_p grad N_I.
+  subroutine p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, lo, node)
+    integer, intent(in) :: nd, nw(3), n
+    integer, intent(in) :: i0(:, :)
+    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
+    real(wp), intent(in) :: mass(:), v(:, :), vol(:), stress(:, :)
+    integer, intent(in) :: lo(3)
+    real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, g(3), s(3, 3), mv(3), fs(3)
+    do p = 1, n
+      s = voigt_to_tensor(stress(:, p))
+      mv = 0.0_wp
+      mv(1:nd) = mass(p)*v(:, p)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            fs = -vol(p)*matmul(s, g)
+            node(1, i, j, k) = node(1, i, j, k) + nn*mass(p)
+            node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mv(1:nd)
+            node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + fs(1:nd)
+          end do
+        end do
+      end do
+    end do
+  end subroutine p2g
+
+  !> Nodal velocities before and after the update, with gravity, tractions and
+  !> boundary conditions, on the owned nodes.
+  subroutine nodal_update(self, dt)
+    type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    integer :: i, j, k, nd, l, d, f
+    real(wp) :: m, vold(3), vnew(3), fext(3), ramp, area
+    logical :: fix(3)
+    nd = self%nd
+    self%nvel = 0.0_wp
+    do k = self%dec%olo(3), self%dec%ohi(3)
+      do j = self%dec%olo(2), self%dec%ohi(2)
+        do i = self%dec%olo(1), self%dec%ohi(1)
+          m = self%node(1, i, j, k)
+          if (m <= 0.0_wp) cycle
+          fix = self%grid%constrained([i, j, k])
+          vold = 0.0_wp
+          vold(1:nd) = self%node(2:1 + nd, i, j, k)/m
+          fext = 0.0_wp
+          fext(1:nd) = m*self%cfg%gravity(1:nd)
+          do l = 1, size(self%cfg%loads)
+            f = self%cfg%loads(l)%face
+            d = (f + 1)/2
+            if (.not. on_face([i, j, k], d, f)) cycle
+            ramp = 1.0_wp
+            if (self%cfg%loads(l)%ramp_time > 0.0_wp) ramp = min(1.0_wp, self%time/self%cfg%loads(l)%ramp_time)
+            area = face_area([i, j, k], d)
+            fext(1:nd) = fext(1:nd) + ramp*area*self%cfg%loads(l)%traction(1:nd)
+          end do
+          vnew = 0.0_wp
+          vnew(1:nd) = vold(1:nd) + dt*(self%node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
+          where (fix) vold = 0.0_wp
+          where (fix) vnew = 0.0_wp
+          self%nvel(1:nd, i, j, k) = vold(1:nd)
+          self%nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
+          self%ext_work = self%ext_work + 0.5_wp*dt*dot_product(fext(1:nd), vold(1:nd) + vnew(1:nd))
+        end do
+      end do
+    end do
+  contains
+    logical function on_face(idx, d, f)
+      integer, intent(in) :: idx(3), d, f
+      integer :: t
+      if (mod(f, 2) == 1) then
+        on_face = idx(d) == 0
+      else
+        on_face = idx(d) == self%grid%ncells(d)
+      end if
+      do t = 1, nd
+        if (idx(t) < 0 .or. idx(t) > self%grid%ncells(t)) on_face = .false.
+      end do
+    end function on_face
+    real(wp) function face_area(idx, d)
+      integer, intent(in) :: idx(3), d
+      integer :: t
+      face_area = 1.0_wp
+      do t = 1, nd
+        if (t == d) cycle
+        face_area = face_area*self%grid%h(t)
+        if (idx(t) == 0 .or. idx(t) == self%grid%ncells(t)) face_area = 0.5_wp*face_area
+      end do
+    end function face_area
+  end subroutine nodal_update
+
+  !> Grid to particle: FLIP/PIC blend of the velocity, position update with the
+  !> new nodal velocity, and the velocity gradient from the new nodal velocity (USL).
+  subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad)
+    integer, intent(in) :: nd, nw(3), n
+    integer, intent(in) :: i0(:, :)
+    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), flip, dt
+    real(wp), intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3)
+    do p = 1, n
+      dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            vn(1:nd) = vn(1:nd) + nn*nvel(nd + 1:2*nd, i, j, k)
+            dv(1:nd) = dv(1:nd) + nn*(nvel(nd + 1:2*nd, i, j, k) - nvel(1:nd, i, j, k))
+            lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
+            lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
+            lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+          end do
+        end do
+      end do
+      v(:, p) = flip*(v(:, p) + dv(1:nd)) + (1.0_wp - flip)*vn(1:nd)
+      x(:, p) = x(:, p) + dt*vn(1:nd)
+      vgrad(:, p) = reshape(lg, [9])
+    end do
+  end subroutine g2p
+
+  !> MUSL (double mapping): map the updated point momenta back to the grid and
+  !> take the velocity gradient from these smoother nodal velocities.
+  subroutine musl_remap(self)
+    type(simulation_t), intent(inout) :: self
+    integer :: p, a, b, c, i, j, k, nd
+    real(wp) :: nn, g(3), lg(3, 3), m
+    logical :: fix(3)
+    nd = self%nd
+    ! Reuse the momentum slots of node(); the masses are unchanged.
+    self%node(2:1 + 2*nd, :, :, :) = 0.0_wp
+    do p = 1, self%solid%n
+      do c = 1, self%nw(3)
+        k = self%i0(3, p) + c - 1
+        do b = 1, self%nw(2)
+          j = self%i0(2, p) + b - 1
+          do a = 1, self%nw(1)
+            i = self%i0(1, p) + a - 1
+            nn = self%sw(a, 1, p)*self%sw(b, 2, p)*self%sw(c, 3, p)
+            self%node(2:1 + nd, i, j, k) = self%node(2:1 + nd, i, j, k) + &
+                                           nn*self%solid%mass(p)*self%solid%v(:, p)
+          end do
+        end do
+      end do
+    end do
+    call fold_exterior(self, self%node, 1)
+    call self%dec%halo_sum(self%node)
+    self%nvel = 0.0_wp
+    do k = self%dec%olo(3), self%dec%ohi(3)
+      do j = self%dec%olo(2), self%dec%ohi(2)
+        do i = self%dec%olo(1), self%dec%ohi(1)
+          m = self%node(1, i, j, k)
+          if (m <= 0.0_wp) cycle
+          fix = self%grid%constrained([i, j, k])
+          self%nvel(nd + 1:2*nd, i, j, k) = self%node(2:1 + nd, i, j, k)/m
+          where (fix(1:nd)) self%nvel(nd + 1:2*nd, i, j, k) = 0.0_wp
+        end do
+      end do
+    end do
+    call self%dec%halo_copy(self%nvel)
+    call unfold_exterior(self, self%nvel)
+    do p = 1, self%solid%n
+      lg = 0.0_wp
+      do c = 1, self%nw(3)
+        k = self%i0(3, p) + c - 1
+        do b = 1, self%nw(2)
+          j = self%i0(2, p) + b - 1
+          do a = 1, self%nw(1)
+            i = self%i0(1, p) + a - 1
+            g(1) = self%sdw(a, 1, p)*self%sw(b, 2, p)*self%sw(c, 3, p)
+            g(2) = self%sw(a, 1, p)*self%sdw(b, 2, p)*self%sw(c, 3, p)
+            g(3) = self%sw(a, 1, p)*self%sw(b, 2, p)*self%sdw(c, 3, p)
+            lg(1:nd, 1) = lg(1:nd, 1) + self%nvel(nd + 1:2*nd, i, j, k)*g(1)
+            lg(1:nd, 2) = lg(1:nd, 2) + self%nvel(nd + 1:2*nd, i, j, k)*g(2)
+            lg(1:nd, 3) = lg(1:nd, 3) + self%nvel(nd + 1:2*nd, i, j, k)*g(3)
+          end do
+        end do
+      end do
+      self%vgrad(:, p) = reshape(lg, [9])
+    end do
+  end subroutine musl_remap
+
+  !> Sign of vector component c under reflection in the face of axis d with
+  !> condition bc: a fixed wall mirrors every component oddly (zero velocity on
+  !> the wall), a roller only the normal one (a plane of symmetry).
+  pure real(wp) function mirror_sign(bc, d, c) result(sg)
+    integer, intent(in) :: bc, d, c
+    sg = 1.0_wp
+    if (bc == bc_fixed .or. c == d) sg = -1.0_wp
+  end function mirror_sign
+
+  !> Fold the exterior nodes beyond fixed and roller faces onto their mirror
+  !> images inside the grid (node -k onto +k, ncells+k onto ncells-k), as if the
+  !> points had mirror images behind the wall. Scalars (the first nscalar
+  !> components) fold evenly, vector components with mirror_sign. Linear in f,
+  !> so it is applied before halo_sum on every rank that stores exterior nodes.
+  subroutine fold_exterior(self, f, nscalar)
+    type(simulation_t), intent(in) :: self
+    real(wp), intent(inout) :: f(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    integer, intent(in) :: nscalar
+    integer :: d, side, k, src, dst, bc, c
+    real(wp) :: sg(size(f, 1))
+    do d = 1, self%nd
+      do side = 1, 2
+        bc = self%grid%bc(2*(d - 1) + side)
+        if (bc == bc_free) cycle
+        sg = 1.0_wp
+        do c = nscalar + 1, size(f, 1)
+          sg(c) = mirror_sign(bc, d, mod(c - nscalar - 1, self%nd) + 1)
+        end do
+        do k = 1, self%dec%gw(d)
+          if (side == 1) then
+            src = -k; dst = k
+          else
+            src = self%grid%ncells(d) + k; dst = self%grid%ncells(d) - k
+          end if
+          if (src < self%dec%alo(d) .or. src > self%dec%ahi(d)) cycle
+          call plane_op(f, d, src - self%dec%alo(d) + 1, dst - self%dec%alo(d) + 1, sg, .true.)
+        end do
+      end do
+    end do
+  end subroutine fold_exterior
+
+  !> Set the exterior nodes from their mirror images (the inverse of fold_exterior
+  !> for velocities), after halo_copy so that the images are present.
+  subroutine unfold_exterior(self, f)
+    type(simulation_t), intent(in) :: self
+    real(wp), intent(inout) :: f(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    integer :: d, side, k, src, dst, bc, c
+    real(wp) :: sg(size(f, 1))
+    do d = 1, self%nd
+      do side = 1, 2
+        bc = self%grid%bc(2*(d - 1) + side)
+        if (bc == bc_free) cycle
+        do c = 1, size(f, 1)
+          sg(c) = mirror_sign(bc, d, mod(c - 1, self%nd) + 1)
+        end do
+        do k = 1, self%dec%gw(d)
+          if (side == 1) then
+            src = -k; dst = k
+          else
+            src = self%grid%ncells(d) + k; dst = self%grid%ncells(d) - k
+          end if
+          if (src < self%dec%alo(d) .or. src > self%dec%ahi(d)) cycle
+          if (dst < self%dec%alo(d) .or. dst > self%dec%ahi(d)) cycle
+          call plane_op(f, d, dst - self%dec%alo(d) + 1, src - self%dec%alo(d) + 1, sg, .false.)
+        end do
+      end do
+    end do
+  end subroutine unfold_exterior
+
+  !> On planes normal to axis d (1-based indices ia, ib of the array): with
+  !> accumulate, f(ib) += sg f(ia) and f(ia) = 0; otherwise f(ib) = sg f(ia).
+  subroutine plane_op(f, d, a, b, sg, accumulate)
+    real(wp), intent(inout) :: f(:, :, :, :)
+    integer, intent(in) :: d, a, b
+    real(wp), intent(in) :: sg(:)
+    logical, intent(in) :: accumulate
+    integer :: ia, ib, i, j
+    ia = a
+    ib = b
+    select case (d)
+    case (1)
+      do j = 1, size(f, 4)
+        do i = 1, size(f, 3)
+          if (accumulate) then
+            f(:, ib, i, j) = f(:, ib, i, j) + sg*f(:, ia, i, j)
+            f(:, ia, i, j) = 0.0_wp
+          else
+            f(:, ib, i, j) = sg*f(:, ia, i, j)
+          end if
+        end do
+      end do
+    case (2)
+      do j = 1, size(f, 4)
+        do i = 1, size(f, 2)
+          if (accumulate) then
+            f(:, i, ib, j) = f(:, i, ib, j) + sg*f(:, i, ia, j)
+            f(:, i, ia, j) = 0.0_wp
+          else
+            f(:, i, ib, j) = sg*f(:, i, ia, j)
+          end if
+        end do
+      end do
+    case (3)
+      do j = 1, size(f, 3)
+        do i = 1, size(f, 2)
+          if (accumulate) then
+            f(:, i, j, ib) = f(:, i, j, ib) + sg*f(:, i, j, ia)
+            f(:, i, j, ia) = 0.0_wp
+          else
+            f(:, i, j, ib) = sg*f(:, i, j, ia)
+          end if
+        end do
+      end do
+    end select
+  end subroutine plane_op
+
+  !> Stop with the point's id and position when a point has left the grid.
+  subroutine check_inside(self)
+    type(simulation_t), intent(in) :: self
+    integer :: p
+    character(len=256) :: msg
+    do p = 1, self%solid%n
+      if (.not. self%grid%inside(self%solid%x(:, p))) then
+        write (msg, '(a,i0,a,3es12.4)') 'point ', self%solid%id(p), ' left the grid at x =', &
+          self%solid%x(:, p)
+        call fatal(trim(msg)//'; enlarge the grid or add a boundary condition', 'step')
+      end if
+    end do
+  end subroutine check_inside
+
+  !> Global diagnostics at the current step (collective).
+  subroutine sim_diagnostics(self)
+    class(simulation_t), intent(inout) :: self
+    type(diag_record_t) :: rec
+    real(wp) :: s(8), vmax, err(nbench_err)
+    real(wp), allocatable :: tmp(:, :)
+    integer :: p, m
+    s = 0.0_wp
+    vmax = 0.0_wp
+    do p = 1, self%solid%n
+      s(1) = s(1) + 0.5_wp*self%solid%mass(p)*sum(self%solid%v(:, p)**2)
+      s(4) = s(4) + self%solid%mass(p)
+      s(5:4 + self%nd) = s(5:4 + self%nd) + self%solid%mass(p)*self%solid%v(:, p)
+      vmax = max(vmax, norm2(self%solid%v(:, p)))
+    end do
+    do m = 1, size(self%mats)
+      s(2) = s(2) + strain_energy(self%mats(m), m, self%solid%n, self%solid%mat, self%solid%stress, &
+                                  self%solid%vol, self%solid%vol0, self%solid%defgrad)
+    end do
+    s(3) = self%ext_work
+    s(8) = real(self%solid%n, wp)
+    call MPI_Allreduce(MPI_IN_PLACE, s, 8, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    call MPI_Allreduce(MPI_IN_PLACE, vmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
+    rec%step = self%step
+    rec%npoints = nint(s(8), i8)
+    rec%values = [self%time, self%dt, s(1), s(2), s(3), vmax, MPI_Wtime() - self%wall_start, &
+                  s(4), s(5), s(6), s(7)]
+    if (self%write_output) call self%out%add_diag(rec)
+    if (self%step == 0) self%energy0 = s(1) + s(2) - s(3)
+    if (self%energy0 > 0.0_wp) self%energy_drift = max(self%energy_drift, &
+                                                       abs(s(1) + s(2) - s(3) - self%energy0)/self%energy0)
+    if (self%cfg%benchmark /= 'none') then
+      err = benchmark_errors(self%cfg, self%mats, self%solid, self%time, self%dec%comm)
+      if (self%nerr == size(self%err_hist, 2)) then
+        allocate (tmp(size(self%err_hist, 1), 2*self%nerr))
+        tmp(:, 1:self%nerr) = self%err_hist
+        call move_alloc(tmp, self%err_hist)
+      end if
+      self%nerr = self%nerr + 1
+      self%err_hist(:, self%nerr) = [self%time, err]
+    end if
+  end subroutine sim_diagnostics
+
+  !> Write one frame of all point sets.
+  subroutine sim_write_frame(self)
+    class(simulation_t), intent(inout) :: self
+    self%nframes = self%nframes + 1
+    self%next_frame = self%next_frame + self%cfg%frame_interval
+    if (.not. self%write_output) return
+    call self%timers%tic(t_output)
+    call self%out%begin_frame(self%step, self%time)
+    call self%out%write_set(self%solid, self%cfg)
+    call self%out%end_frame()
+    call self%timers%toc(t_output)
+  end subroutine sim_write_frame
+
+  !> Gather the points of all ranks on rank 0, sorted by id: ids, positions,
+  !> velocities and stresses (for comparisons between runs).
+  subroutine sim_gather_points(self, ids, x, v, stress)
+    class(simulation_t), intent(in) :: self
+    integer(i8), allocatable, intent(out) :: ids(:)
+    real(wp), allocatable, intent(out) :: x(:, :), v(:, :), stress(:, :)
+    integer, allocatable :: counts(:), displs(:), order(:)
+    integer(i8), allocatable :: gid(:)
+    real(wp), allocatable :: buf(:, :), gbuf(:, :)
+    integer :: nr, m, k, ntot, nd
+    nd = self%nd
+    m = 2*nd + 6
+    nr = self%dec%nranks
+    allocate (counts(nr), displs(nr))
+    call MPI_Gather(self%solid%n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, self%dec%comm)
+    ntot = 0
+    if (self%dec%rank == 0) then
+      displs(1) = 0
+      do k = 2, nr
+        displs(k) = displs(k - 1) + counts(k - 1)
+      end do
+      ntot = sum(counts)
+    end if
+    allocate (gid(max(ntot, 1)), gbuf(m, max(ntot, 1)), buf(m, self%solid%n))
+    buf(1:nd, :) = self%solid%x(:, 1:self%solid%n)
+    buf(nd + 1:2*nd, :) = self%solid%v(:, 1:self%solid%n)
+    buf(2*nd + 1:m, :) = self%solid%stress(:, 1:self%solid%n)
+    call MPI_Gatherv(self%solid%id, self%solid%n, MPI_INTEGER8, gid, counts, displs, MPI_INTEGER8, &
+                     0, self%dec%comm)
+    call MPI_Gatherv(buf, m*self%solid%n, MPI_DOUBLE_PRECISION, gbuf, m*counts, m*displs, &
+                     MPI_DOUBLE_PRECISION, 0, self%dec%comm)
+    if (self%dec%rank /= 0) then
+      allocate (ids(0), x(nd, 0), v(nd, 0), stress(6, 0))
+      return
+    end if
+    order = sort_index(gid(1:ntot))
+    ids = gid(order)
+    x = gbuf(1:nd, order)
+    v = gbuf(nd + 1:2*nd, order)
+    stress = gbuf(2*nd + 1:m, order)
+  end subroutine sim_gather_points
+
+  !> Permutation that sorts a (merge sort, stable).
+  function sort_index(a) result(idx)
+    integer(i8), intent(in) :: a(:)
+    integer, allocatable :: idx(:), tmp(:)
+    integer :: n, width, lo, mid, hi, i, j, k
+    n = size(a)
+    idx = [(k, k = 1, n)]
+    allocate (tmp(n))
+    width = 1
+    do while (width < n)
+      lo = 1
+      do while (lo <= n)
+        mid = min(lo + width - 1, n)
+        hi = min(lo + 2*width - 1, n)
+        i = lo; j = mid + 1; k = lo
+        do while (k <= hi)
+          if (j > hi) then
+            tmp(k) = idx(i); i = i + 1
+          else if (i > mid) then
+            tmp(k) = idx(j); j = j + 1
+          else if (a(idx(j)) < a(idx(i))) then
+            tmp(k) = idx(j); j = j + 1
+          else
+            tmp(k) = idx(i); i = i + 1
+          end if
+          k = k + 1
+        end do
+        lo = lo + 2*width
+      end do
+      idx = tmp
+      width = 2*width
+    end do
+  end function sort_index
+
+  !> Release everything.
+  subroutine sim_free(self)
+    class(simulation_t), intent(inout) :: self
+    call self%solid%free()
+    call self%dec%free()
+    if (allocated(self%node)) deallocate (self%node)
+    if (allocated(self%nvel)) deallocate (self%nvel)
+    if (allocated(self%i0)) deallocate (self%i0, self%sw, self%sdw)
+    if (allocated(self%vgrad)) deallocate (self%vgrad)
+  end subroutine sim_free
+
+end module dpmpm_simulation

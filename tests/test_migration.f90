@@ -29,6 +29,7 @@ program test_migration
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = (rank == 0)
   call test_point_cell()
+  call test_owner_coord_matches_split()
   call test_random_moves_1d()
   call test_random_moves_2d()
   call test_random_moves_3d()
@@ -51,6 +52,30 @@ contains
     c = point_cell(origin, h, [1.0e300_wp, -1.0e300_wp, 0.7_wp + 0.2_wp*8.5_wp], 3)
     call check(c(1) > ncells(1) .and. c(2) < 0 .and. c(3) == 8, 'far positions clamp, no overflow')
   end subroutine test_point_cell
+
+  !> owner_coord (used to find a cell's rank) agrees with the split of the cells
+  !> for many cell and rank counts; cells outside the grid map to the end ranks.
+  subroutine test_owner_coord_matches_split()
+    type(decomp_t) :: dec
+    integer :: n, p, c, k, nwrong
+    call begin_test('owner_coord_matches_split')
+    nwrong = 0
+    do n = 1, 23
+      do p = 1, min(n, 7)
+        dec%ncells(1) = n
+        dec%dims(1) = p
+        do c = -3, n + 2
+          k = 0
+          do while (k < p - 1)
+            if (c < split_extent(n, p, k + 1)) exit
+            k = k + 1
+          end do
+          if (dec%owner_coord(1, c) /= k) nwrong = nwrong + 1
+        end do
+      end do
+    end do
+    call check_equal_int(nwrong, 0, 'cells whose owner differs from the split')
+  end subroutine test_owner_coord_matches_split
 
   subroutine test_random_moves_1d()
     call begin_test('random_moves_1d')

@@ -1,0 +1,155 @@
+!> Migration of points between the ranks of a Cartesian decomposition.
+!>
+!> After the positions are updated, every point must live on the rank that owns
+!> its cell. migrate sweeps the axes in turn: along axis d, points whose cell
+!> lies below clo(d) go to the lower neighbour and points above chi(d) to the
+!> upper one (counts first, then the packed points). A point that moved
+!> diagonally reaches its owner after the later sweeps. A point travels at most
+!> one neighbour per sweep, so a point that jumped further than a neighbour's
+!> width, or that left the grid, ends the sweeps on a rank that does not own its
+!> cell: it is kept (never dropped) and counted as lost, so that the caller can
+!> report its id and position and stop.
+module dpmpm_migrate
+  use dpmpm_kinds, only: wp
+  use dpmpm_decomp, only: decomp_t
+  use dpmpm_particles, only: particle_set_t
+  use mpi_f08, only: MPI_Sendrecv, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
+                     MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL
+  implicit none
+  private
+  public :: migrate, check_owned, point_cell
+
+  !> Cell indices are clamped to +-cell_clamp so that a point far away (or at a
+  !> NaN position) still gets a valid integer cell, outside the grid.
+  real(wp), parameter :: cell_clamp = 1.0e9_wp
+
+  integer, parameter :: tag_count = 21, tag_data = 23
+
+contains
+
+  !> Integer cell (0-based, per axis) holding position x: floor((x - origin)/h)
+  !> on the axes 1..ndim, 0 on the unused axes. NaN maps far below the grid.
+  pure function point_cell(origin, h, x, ndim) result(c)
+    real(wp), intent(in) :: origin(3), h(3)
+    real(wp), intent(in) :: x(:)
+    integer, intent(in) :: ndim
+    integer :: c(3)
+    integer :: d
+    real(wp) :: s
+    c = 0
+    do d = 1, ndim
+      s = (x(d) - origin(d))/h(d)
+      if (s > cell_clamp) s = cell_clamp
+      if (.not. (s > -cell_clamp)) s = -cell_clamp   ! also catches NaN
+      c(d) = floor(s)
+    end do
+  end function point_cell
+
+  !> True when cell c lies in the cells owned by this rank.
+  pure logical function owns_cell(dec, c) result(yes)
+    type(decomp_t), intent(in) :: dec
+    integer, intent(in) :: c(3)
+    yes = all(c >= dec%clo .and. c <= dec%chi)
+  end function owns_cell
+
+  !> Send every point whose cell is not owned here to the rank owning it.
+  !> nlost (global, on every rank) counts the points that after the sweeps are
+  !> still on a rank that does not own their cell: they moved further than one
+  !> neighbour per axis or left the grid. Those points are kept; lost, when
+  !> present, returns their local indices on this rank so the caller can report
+  !> them. Collective over dec%comm.
+  subroutine migrate(dec, origin, h, ps, nlost, lost)
+    type(decomp_t), intent(in) :: dec
+    real(wp), intent(in) :: origin(3), h(3)
+    type(particle_set_t), intent(inout) :: ps
+    integer, intent(out) :: nlost
+    integer, allocatable, intent(out), optional :: lost(:)
+    integer :: d
+    do d = 1, dec%ndim
+      call migrate_axis(dec, origin, h, ps, d)
+    end do
+    call find_unowned(dec, origin, h, ps, nlost, lost)
+  end subroutine migrate
+
+  !> Count (globally, on every rank) the points held by ranks that do not own
+  !> their cells; bad, when present, returns the local indices on this rank.
+  subroutine check_owned(dec, origin, h, ps, nbad, bad)
+    type(decomp_t), intent(in) :: dec
+    real(wp), intent(in) :: origin(3), h(3)
+    type(particle_set_t), intent(in) :: ps
+    integer, intent(out) :: nbad
+    integer, allocatable, intent(out), optional :: bad(:)
+    call find_unowned(dec, origin, h, ps, nbad, bad)
+  end subroutine check_owned
+
+  !> Local indices and global count of the points not in an owned cell.
+  subroutine find_unowned(dec, origin, h, ps, nglobal, idx)
+    type(decomp_t), intent(in) :: dec
+    real(wp), intent(in) :: origin(3), h(3)
+    type(particle_set_t), intent(in) :: ps
+    integer, intent(out) :: nglobal
+    integer, allocatable, intent(out), optional :: idx(:)
+    logical, allocatable :: bad(:)
+    integer :: k
+    allocate (bad(ps%n))
+    do k = 1, ps%n
+      bad(k) = .not. owns_cell(dec, point_cell(origin, h, ps%x(:, k), dec%ndim))
+    end do
+    if (present(idx)) idx = pack([(k, k=1, ps%n)], bad)
+    nglobal = count(bad)
+    call MPI_Allreduce(MPI_IN_PLACE, nglobal, 1, MPI_INTEGER, MPI_SUM, dec%comm)
+  end subroutine find_unowned
+
+  !> One sweep along axis d: points below clo(d) go to the lower neighbour,
+  !> points above chi(d) to the upper one. At the grid faces there is no
+  !> neighbour and points outside the grid stay where they are.
+  subroutine migrate_axis(dec, origin, h, ps, d)
+    type(decomp_t), intent(in) :: dec
+    real(wp), intent(in) :: origin(3), h(3)
+    type(particle_set_t), intent(inout) :: ps
+    integer, intent(in) :: d
+    integer, allocatable :: to_lo(:), to_hi(:)
+    logical, allocatable :: gone(:)
+    real(wp), allocatable :: slo(:, :), shi(:, :), rlo(:, :), rhi(:, :)
+    integer :: k, c(3), m, nfrom_lo, nfrom_hi
+    integer :: dest(ps%n)
+    m = ps%nreal_packed()
+    allocate (gone(ps%n))
+    ! dest: -1 lower neighbour, +1 upper neighbour, 0 stays.
+    do k = 1, ps%n
+      c = point_cell(origin, h, ps%x(:, k), dec%ndim)
+      dest(k) = 0
+      if (c(d) < dec%clo(d) .and. dec%nbr_lo(d) /= MPI_PROC_NULL) dest(k) = -1
+      if (c(d) > dec%chi(d) .and. dec%nbr_hi(d) /= MPI_PROC_NULL) dest(k) = 1
+    end do
+    gone = dest /= 0
+    to_lo = pack([(k, k=1, ps%n)], dest == -1)
+    to_hi = pack([(k, k=1, ps%n)], dest == 1)
+    allocate (slo(m, size(to_lo)), shi(m, size(to_hi)))
+    call ps%pack_points(to_lo, slo)
+    call ps%pack_points(to_hi, shi)
+
+    ! Counts: a missing neighbour (MPI_PROC_NULL) leaves the receive count at 0.
+    nfrom_lo = 0
+    nfrom_hi = 0
+    call MPI_Sendrecv(size(to_lo), 1, MPI_INTEGER, dec%nbr_lo(d), tag_count, &
+                      nfrom_hi, 1, MPI_INTEGER, dec%nbr_hi(d), tag_count, dec%comm, &
+                      MPI_STATUS_IGNORE)
+    call MPI_Sendrecv(size(to_hi), 1, MPI_INTEGER, dec%nbr_hi(d), tag_count + 1, &
+                      nfrom_lo, 1, MPI_INTEGER, dec%nbr_lo(d), tag_count + 1, dec%comm, &
+                      MPI_STATUS_IGNORE)
+
+    allocate (rlo(m, nfrom_lo), rhi(m, nfrom_hi))
+    call MPI_Sendrecv(slo, size(slo), MPI_DOUBLE_PRECISION, dec%nbr_lo(d), tag_data, &
+                      rhi, size(rhi), MPI_DOUBLE_PRECISION, dec%nbr_hi(d), tag_data, &
+                      dec%comm, MPI_STATUS_IGNORE)
+    call MPI_Sendrecv(shi, size(shi), MPI_DOUBLE_PRECISION, dec%nbr_hi(d), tag_data + 1, &
+                      rlo, size(rlo), MPI_DOUBLE_PRECISION, dec%nbr_lo(d), tag_data + 1, &
+                      dec%comm, MPI_STATUS_IGNORE)
+
+    call ps%remove(gone)
+    call ps%unpack_points(rlo)
+    call ps%unpack_points(rhi)
+  end subroutine migrate_axis
+
+end module dpmpm_migrate

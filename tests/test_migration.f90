@@ -1,0 +1,384 @@
+!> Point migration tests on 1, 2 or 4 ranks: after random moves of up to 0.9
+!> cells per axis, migrate must keep every point exactly once (count, mass,
+!> momentum, the set of ids, the data of each point) and leave each point on the
+!> rank owning its cell. Points pushed out of the grid, or further than one
+!> neighbouring rank, must be kept and counted in nlost.
+program test_migration
+  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank, &
+                     MPI_Allreduce, MPI_Gather, MPI_Gatherv, MPI_IN_PLACE, MPI_SUM, &
+                     MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_INTEGER8
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_decomp, only: decomp_t, split_extent
+  use dpmpm_particles, only: particle_set_t
+  use dpmpm_migrate, only: migrate, check_owned, point_cell
+  use dpmpm_test_layouts, only: layouts_for
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
+  implicit none
+
+  !> Grid used by every test: different origin and cell size per axis, odd cell counts.
+  real(wp), parameter :: origin(3) = [-0.3_wp, 1.1_wp, 0.7_wp]
+  real(wp), parameter :: h(3) = [0.25_wp, 0.5_wp, 0.2_wp]
+  integer, parameter :: ncells(3) = [13, 7, 9]
+
+  !> Park-Miller generator state, one stream per rank.
+  integer(i8) :: seed = 1_i8
+  integer :: status, nranks, rank
+
+  call MPI_Init()
+  call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  am_root = (rank == 0)
+  call test_point_cell()
+  call test_owner_coord_matches_split()
+  call test_random_moves_1d()
+  call test_random_moves_2d()
+  call test_random_moves_3d()
+  call test_point_below_grid_is_kept()
+  call test_point_above_grid_is_kept()
+  call test_point_jumping_past_neighbour_is_counted()
+  status = finish_tests(MPI_COMM_WORLD)
+  call MPI_Finalize()
+  if (status /= 0) stop 1, quiet = .true.
+
+contains
+
+  subroutine test_point_cell()
+    integer :: c(3)
+    call begin_test('point_cell')
+    c = point_cell(origin, h, [-0.3_wp + 2.5_wp*0.25_wp, 1.1_wp - 0.1_wp, 99.0_wp], 2)
+    call check(all(c == [2, -1, 0]), 'cells 2, -1 and 0 on the unused axis')
+    c = point_cell(origin, h, [origin(1), origin(2), origin(3)], 3)
+    call check(all(c == 0), 'the origin lies in cell 0')
+    c = point_cell(origin, h, [1.0e300_wp, -1.0e300_wp, 0.7_wp + 0.2_wp*8.5_wp], 3)
+    call check(c(1) > ncells(1) .and. c(2) < 0 .and. c(3) == 8, 'far positions clamp, no overflow')
+  end subroutine test_point_cell
+
+  !> owner_coord (used to find a cell's rank) agrees with the split of the cells
+  !> for many cell and rank counts; cells outside the grid map to the end ranks.
+  subroutine test_owner_coord_matches_split()
+    type(decomp_t) :: dec
+    integer :: n, p, c, k, nwrong
+    call begin_test('owner_coord_matches_split')
+    nwrong = 0
+    do n = 1, 23
+      do p = 1, min(n, 7)
+        dec%ncells(1) = n
+        dec%dims(1) = p
+        do c = -3, n + 2
+          k = 0
+          do while (k < p - 1)
+            if (c < split_extent(n, p, k + 1)) exit
+            k = k + 1
+          end do
+          if (dec%owner_coord(1, c) /= k) nwrong = nwrong + 1
+        end do
+      end do
+    end do
+    call check_equal_int(nwrong, 0, 'cells whose owner differs from the split')
+  end subroutine test_owner_coord_matches_split
+
+  subroutine test_random_moves_1d()
+    call begin_test('random_moves_1d')
+    call random_moves_all_layouts(1)
+  end subroutine test_random_moves_1d
+
+  subroutine test_random_moves_2d()
+    call begin_test('random_moves_2d')
+    call random_moves_all_layouts(2)
+  end subroutine test_random_moves_2d
+
+  subroutine test_random_moves_3d()
+    call begin_test('random_moves_3d')
+    call random_moves_all_layouts(3)
+  end subroutine test_random_moves_3d
+
+  !> One point of rank 0 (which owns cell 0 on every axis) is moved below the
+  !> lower face of axis 1: it must stay on some rank and count as lost.
+  !> Its id is 1 (rank 0, first point).
+  subroutine test_point_below_grid_is_kept()
+    type(decomp_t) :: dec
+    type(particle_set_t) :: ps
+    integer :: ndim
+    call begin_test('point_below_grid_is_kept')
+    do ndim = 1, 3
+      call dec%init(MPI_COMM_WORLD, ndim, ncells, 1, [0, 0, 0])
+      call make_points(dec, ps, 20)
+      if (dec%rank == 0) ps%x(1, 1) = origin(1) - 0.5_wp*h(1)
+      call expect_one_lost(dec, ps, 1_i8, 'below axis 1')
+      call ps%free()
+      call dec%free()
+    end do
+  end subroutine test_point_below_grid_is_kept
+
+  !> One point of the last rank is moved above the upper face of the last axis
+  !> and, on the other axes, into the neighbouring rank's cells (a diagonal
+  !> move): it must reach that rank's column and still count as lost.
+  subroutine test_point_above_grid_is_kept()
+    type(decomp_t) :: dec
+    type(particle_set_t) :: ps
+    integer :: ndim, last, d
+    call begin_test('point_above_grid_is_kept')
+    do ndim = 1, 3
+      call dec%init(MPI_COMM_WORLD, ndim, ncells, 1, [0, 0, 0])
+      call make_points(dec, ps, 20)
+      last = dec%nranks - 1
+      if (dec%rank == last) then
+        ps%x(ndim, 1) = origin(ndim) + (ncells(ndim) + 0.3_wp)*h(ndim)
+        do d = 1, ndim - 1
+          if (dec%clo(d) > 0) ps%x(d, 1) = origin(d) + (dec%clo(d) - 0.5_wp)*h(d)
+        end do
+      end if
+      call expect_one_lost(dec, ps, int(last, i8)*100000_i8 + 1_i8, 'above the last axis')
+      call ps%free()
+      call dec%free()
+    end do
+  end subroutine test_point_above_grid_is_kept
+
+  !> On 4 ranks in a row, a point of rank 0 jumps into rank 2's cells: one sweep
+  !> takes it only as far as rank 1, so it must be counted as lost, not dropped.
+  subroutine test_point_jumping_past_neighbour_is_counted()
+    type(decomp_t) :: dec
+    type(particle_set_t) :: ps
+    call begin_test('point_jumping_past_neighbour_is_counted')
+    if (nranks < 3) return
+    call dec%init(MPI_COMM_WORLD, 1, ncells, 1, [nranks, 1, 1])
+    call make_points(dec, ps, 20)
+    ! rank 0 has coords 0 (no reordering); rank 2's first cell is split_extent(.., 2)
+    if (dec%rank == 0) ps%x(1, 1) = origin(1) + (split_extent(ncells(1), nranks, 2) + 0.5_wp)*h(1)
+    call expect_one_lost(dec, ps, 1_i8, 'two ranks away')
+    call ps%free()
+    call dec%free()
+  end subroutine test_point_jumping_past_neighbour_is_counted
+
+  !> Migrate once and check that exactly one point, with id lost_id (the same
+  !> on every rank), is lost, that exactly one rank holds it and that no point
+  !> disappeared.
+  subroutine expect_one_lost(dec, ps, lost_id, what)
+    type(decomp_t), intent(in) :: dec
+    type(particle_set_t), intent(inout) :: ps
+    integer(i8), intent(in) :: lost_id
+    character(len=*), intent(in) :: what
+    integer(i8) :: n0, n1
+    integer :: nlost, nbad, nheld, nmatch
+    integer, allocatable :: lost(:)
+    n0 = global_count(dec, ps)
+    call migrate(dec, origin, h, ps, nlost, lost)
+    n1 = global_count(dec, ps)
+    call check_equal_int(nlost, 1, trim(what)//': nlost')
+    call check(n1 == n0, trim(what)//': no point dropped')
+    call check_owned(dec, origin, h, ps, nbad)
+    call check_equal_int(nbad, 1, trim(what)//': check_owned agrees')
+    nheld = size(lost)
+    nmatch = count(ps%id(lost) == lost_id)
+    call MPI_Allreduce(MPI_IN_PLACE, nheld, 1, MPI_INTEGER, MPI_SUM, dec%comm)
+    call MPI_Allreduce(MPI_IN_PLACE, nmatch, 1, MPI_INTEGER, MPI_SUM, dec%comm)
+    call check_equal_int(nheld, 1, trim(what)//': lost point held by one rank')
+    call check_equal_int(nmatch, 1, trim(what)//': the lost point is the one moved')
+  end subroutine expect_one_lost
+
+  !> Random moves in every rank layout, several rounds each.
+  subroutine random_moves_all_layouts(ndim)
+    integer, intent(in) :: ndim
+    integer, allocatable :: layouts(:, :)
+    integer :: il
+    call layouts_for(ndim, nranks, layouts)
+    do il = 1, size(layouts, 2)
+      call random_moves(ndim, layouts(:, il), 6)
+    end do
+  end subroutine random_moves_all_layouts
+
+  !> Create points in each rank's cells, then nround times move all of them by up
+  !> to 0.9 cells per axis and migrate, checking conservation and ownership.
+  subroutine random_moves(ndim, dims_in, nround)
+    integer, intent(in) :: ndim, dims_in(3), nround
+    type(decomp_t) :: dec
+    type(particle_set_t) :: ps
+    integer :: round, k, d, nlost, nbad
+    integer(i8) :: n0
+    real(wp) :: m0, p0(3), pscale, lo, hi
+    integer(i8), allocatable :: ids0(:)
+    character(len=80) :: tag
+    call dec%init(MPI_COMM_WORLD, ndim, ncells, 1, dims_in)
+    write (tag, '(a,i0,a,3(1x,i0))') 'ndim=', ndim, ' dims=', dec%dims
+    call make_points(dec, ps, 40 + 13*dec%rank)
+    call check_owned(dec, origin, h, ps, nbad)
+    call check_equal_int(nbad, 0, trim(tag)//': points start in owned cells')
+    n0 = global_count(dec, ps)
+    call totals(dec, ps, m0, p0, pscale)
+    call gather_sorted_ids(dec, ps, ids0)
+    if (dec%rank == 0) call check(all(ids0(2:) > ids0(:size(ids0) - 1)), trim(tag)//': ids unique at start')
+    do round = 1, nround
+      do k = 1, ps%n
+        do d = 1, ndim
+          lo = origin(d) + 1.0e-9_wp*h(d)
+          hi = origin(d) + (ncells(d) - 1.0e-9_wp)*h(d)
+          ps%x(d, k) = max(lo, min(hi, ps%x(d, k) + 0.9_wp*h(d)*(2.0_wp*uniform() - 1.0_wp)))
+        end do
+      end do
+      call migrate(dec, origin, h, ps, nlost)
+      call check_round(dec, ps, tag, round, n0, m0, p0, pscale, ids0, nlost)
+    end do
+    call ps%free()
+    call dec%free()
+  end subroutine random_moves
+
+  !> All checks after one round of moves.
+  subroutine check_round(dec, ps, tag, round, n0, m0, p0, pscale, ids0, nlost)
+    type(decomp_t), intent(in) :: dec
+    type(particle_set_t), intent(in) :: ps
+    character(len=*), intent(in) :: tag
+    integer, intent(in) :: round, nlost
+    integer(i8), intent(in) :: n0
+    real(wp), intent(in) :: m0, p0(3), pscale
+    integer(i8), intent(in) :: ids0(:)
+    character(len=120) :: what
+    real(wp) :: m1, p1(3), s1
+    integer(i8), allocatable :: ids1(:)
+    integer :: nbad, d, nintact
+    write (what, '(a,a,i0)') trim(tag), ' round ', round
+    call check_equal_int(nlost, 0, trim(what)//': nlost')
+    call check(global_count(dec, ps) == n0, trim(what)//': global count')
+    call totals(dec, ps, m1, p1, s1)
+    call check_close(m1, m0, 1.0e-12_wp, 0.0_wp, trim(what)//': total mass')
+    do d = 1, dec%ndim
+      call check_close(p1(d), p0(d), 1.0e-12_wp, 1.0e-12_wp*pscale, trim(what)//': momentum')
+    end do
+    call check_owned(dec, origin, h, ps, nbad)
+    call check_equal_int(nbad, 0, trim(what)//': every point in an owned cell')
+    nintact = count(.not. point_intact(ps))
+    call MPI_Allreduce(MPI_IN_PLACE, nintact, 1, MPI_INTEGER, MPI_SUM, dec%comm)
+    call check_equal_int(nintact, 0, trim(what)//': point data intact')
+    call gather_sorted_ids(dec, ps, ids1)
+    if (dec%rank == 0) then
+      call check(size(ids1) == size(ids0), trim(what)//': as many ids as at start')
+      if (size(ids1) == size(ids0)) call check(all(ids1 == ids0), trim(what)//': same ids, each once')
+    end if
+  end subroutine check_round
+
+  !> Points of this rank: n points uniformly in the owned cells, id rank*100000+k,
+  !> with mass, velocity and stress derived from the id (see point_intact).
+  subroutine make_points(dec, ps, n)
+    type(decomp_t), intent(in) :: dec
+    type(particle_set_t), intent(inout) :: ps
+    integer, intent(in) :: n
+    integer :: k, d
+    integer(i8) :: id
+    real(wp) :: x(3), v(3), stress(6)
+    seed = 1234567_i8 + 7919_i8*dec%rank
+    call ps%init('solid', dec%ndim, .true.)
+    do k = 1, n
+      id = int(dec%rank, i8)*100000_i8 + int(k, i8)
+      x = 0.0_wp
+      do d = 1, dec%ndim
+        x(d) = origin(d) + (dec%clo(d) + (0.001_wp + 0.998_wp*uniform()) &
+                            *(dec%chi(d) - dec%clo(d) + 1))*h(d)
+      end do
+      v = velocity_of(id)
+      stress = real(id, wp)*[1.0_wp, 2.0_wp, 3.0_wp, 4.0_wp, 5.0_wp, 6.0_wp]
+      call ps%append(id, 1 + int(mod(id, 3_i8)), x, v, mass_of(id), 0.01_wp, stress)
+    end do
+  end subroutine make_points
+
+  !> Mass of point id (any deterministic, id-dependent value).
+  pure real(wp) function mass_of(id) result(m)
+    integer(i8), intent(in) :: id
+    m = 0.5_wp + real(mod(7_i8*id, 101_i8), wp)/101.0_wp
+  end function mass_of
+
+  !> Velocity of point id, components of both signs.
+  pure function velocity_of(id) result(v)
+    integer(i8), intent(in) :: id
+    real(wp) :: v(3)
+    v = [real(mod(id, 17_i8), wp) - 8.0_wp, real(mod(id, 11_i8), wp) - 5.0_wp, &
+         real(mod(id, 5_i8), wp) - 2.0_wp]/3.0_wp
+  end function velocity_of
+
+  !> True for each point whose travelling data still match its id.
+  function point_intact(ps) result(ok)
+    type(particle_set_t), intent(in) :: ps
+    logical :: ok(ps%n)
+    integer :: k
+    real(wp) :: v(3)
+    do k = 1, ps%n
+      v = velocity_of(ps%id(k))
+      ok(k) = ps%mass(k) == mass_of(ps%id(k)) .and. all(ps%v(:, k) == v(1:ps%ndim)) &
+              .and. ps%stress(1, k) == real(ps%id(k), wp) .and. ps%stress(6, k) == 6.0_wp*real(ps%id(k), wp) &
+              .and. ps%mat(k) == 1 + int(mod(ps%id(k), 3_i8)) .and. ps%vol0(k) == 0.01_wp &
+              .and. ps%defgrad(1, k) == 1.0_wp .and. ps%defgrad(2, k) == 0.0_wp
+    end do
+  end function point_intact
+
+  !> Global number of points.
+  integer(i8) function global_count(dec, ps) result(n)
+    type(decomp_t), intent(in) :: dec
+    type(particle_set_t), intent(in) :: ps
+    n = int(ps%n, i8)
+    call MPI_Allreduce(MPI_IN_PLACE, n, 1, MPI_INTEGER8, MPI_SUM, dec%comm)
+  end function global_count
+
+  !> Global total mass, momentum and a momentum scale sum(m |v|) for tolerances.
+  subroutine totals(dec, ps, m, p, pscale)
+    type(decomp_t), intent(in) :: dec
+    type(particle_set_t), intent(in) :: ps
+    real(wp), intent(out) :: m, p(3), pscale
+    real(wp) :: buf(5)
+    integer :: d
+    buf = 0.0_wp
+    buf(1) = sum(ps%mass(1:ps%n))
+    do d = 1, ps%ndim
+      buf(1 + d) = sum(ps%mass(1:ps%n)*ps%v(d, 1:ps%n))
+      buf(5) = buf(5) + sum(ps%mass(1:ps%n)*abs(ps%v(d, 1:ps%n)))
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, buf, 5, MPI_DOUBLE_PRECISION, MPI_SUM, dec%comm)
+    m = buf(1)
+    p = buf(2:4)
+    pscale = buf(5)
+  end subroutine totals
+
+  !> All ids gathered on rank 0 and sorted (empty on the other ranks).
+  subroutine gather_sorted_ids(dec, ps, ids)
+    type(decomp_t), intent(in) :: dec
+    type(particle_set_t), intent(in) :: ps
+    integer(i8), allocatable, intent(out) :: ids(:)
+    integer, allocatable :: counts(:), displs(:)
+    integer :: r
+    allocate (counts(0:dec%nranks - 1), displs(0:dec%nranks - 1))
+    call MPI_Gather(ps%n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, dec%comm)
+    if (dec%rank == 0) then
+      displs(0) = 0
+      do r = 1, dec%nranks - 1
+        displs(r) = displs(r - 1) + counts(r - 1)
+      end do
+      allocate (ids(sum(counts)))
+    else
+      allocate (ids(0))
+    end if
+    call MPI_Gatherv(ps%id(1:ps%n), ps%n, MPI_INTEGER8, ids, counts, displs, MPI_INTEGER8, &
+                     0, dec%comm)
+    if (dec%rank == 0) call sort_i8(ids)
+  end subroutine gather_sorted_ids
+
+  !> Insertion sort (the lists here have a few hundred entries).
+  subroutine sort_i8(a)
+    integer(i8), intent(inout) :: a(:)
+    integer :: i, j
+    integer(i8) :: t
+    do i = 2, size(a)
+      t = a(i)
+      j = i - 1
+      do while (j >= 1)
+        if (a(j) <= t) exit
+        a(j + 1) = a(j)
+        j = j - 1
+      end do
+      a(j + 1) = t
+    end do
+  end subroutine sort_i8
+
+  !> Uniform number in [0, 1) from the Park-Miller minimal standard generator.
+  real(wp) function uniform() result(u)
+    seed = mod(16807_i8*seed, 2147483647_i8)
+    u = real(seed - 1_i8, wp)/2147483646.0_wp
+  end function uniform
+
+end program test_migration

@@ -1,0 +1,112 @@
+!> Rank-count invariance: one 2D scene run on 1, 2 and 4 ranks (sub-communicators
+!> of a 4-rank job) gives the same point fields, matched by id, to 1e-10 relative.
+!> Points are scattered randomly, move across rank boundaries, and the body deforms.
+program test_rank_invariance
+  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_split, &
+                     MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_UNDEFINED, MPI_COMM_NULL, &
+                     operator(/=)
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_simulation, only: simulation_t
+  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  implicit none
+  integer :: status, rank, nworld
+  call MPI_Init()
+  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call MPI_Comm_size(MPI_COMM_WORLD, nworld)
+  am_root = rank == 0
+  call test_same_fields_on_1_2_4_ranks('linear', 'musl')
+  call test_same_fields_on_1_2_4_ranks('quadratic', 'musl')
+  call test_same_fields_on_1_2_4_ranks('quadratic', 'usl')
+  status = finish_tests(MPI_COMM_WORLD)
+  call MPI_Finalize()
+  if (status /= 0) stop 1, quiet = .true.
+
+contains
+
+  !> A 2D neo-Hookean block thrown sideways on a fixed floor under gravity.
+  function scene(kernel, scheme) result(cfg)
+    character(len=*), intent(in) :: kernel, scheme
+    type(config_t) :: cfg
+    cfg%name = 'rank_invariance'
+    cfg%ndim = 2
+    cfg%ncells = [16, 12, 1]
+    cfg%length = [1.6_wp, 1.2_wp, 1.0_wp]
+    cfg%kernel = kernel
+    cfg%scheme = scheme
+    cfg%t_end = 0.3_wp
+    cfg%cfl = 0.4_wp
+    cfg%flip = 0.95_wp
+    cfg%gravity = [0.0_wp, -10.0_wp, 0.0_wp]
+    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
+    cfg%materials(1) = material_cfg_t(id=3, model='neo_hookean', density=1000.0_wp, &
+                                      youngs_modulus=1.0e5_wp, poisson_ratio=0.3_wp)
+    cfg%regions(1)%lo = [0.25_wp, 0.0_wp, 0.0_wp]
+    cfg%regions(1)%hi = [1.05_wp, 0.7_wp, 0.0_wp]
+    cfg%regions(1)%material = 3
+    cfg%regions(1)%ppc = 2
+    cfg%regions(1)%placement = 'random'
+    cfg%regions(1)%seed = 11
+    cfg%regions(1)%velocity = [1.0_wp, 0.5_wp, 0.0_wp]
+    cfg%bc(3) = bc_fixed
+    cfg%bc(1) = bc_roller
+    cfg%bc(2) = bc_roller
+  end function scene
+
+  subroutine run_on(n, cfg, ids, x, v, s, steps)
+    integer, intent(in) :: n
+    type(config_t), intent(in) :: cfg
+    integer(i8), allocatable, intent(out) :: ids(:)
+    real(wp), allocatable, intent(out) :: x(:, :), v(:, :), s(:, :)
+    integer(i8), intent(out) :: steps
+    type(MPI_Comm) :: sub
+    type(simulation_t) :: sim
+    integer :: color
+    color = MPI_UNDEFINED
+    if (rank < n) color = 0
+    call MPI_Comm_split(MPI_COMM_WORLD, color, rank, sub)
+    steps = 0
+    if (sub /= MPI_COMM_NULL) then
+      call sim%init(cfg, sub, write_output=.false.)
+      call sim%run()
+      call sim%gather_points(ids, x, v, s)
+      steps = sim%step
+      call sim%free()
+      call MPI_Comm_free(sub)
+    end if
+  end subroutine run_on
+
+  !> Normwise relative difference max|a - b| / max|b|.
+  real(wp) function reldiff(a, b)
+    real(wp), intent(in) :: a(:, :), b(:, :)
+    reldiff = maxval(abs(a - b))/max(maxval(abs(b)), tiny(1.0_wp))
+  end function reldiff
+
+  subroutine test_same_fields_on_1_2_4_ranks(kernel, scheme)
+    character(len=*), intent(in) :: kernel, scheme
+    integer(i8), allocatable :: id1(:), idn(:)
+    real(wp), allocatable :: x1(:, :), v1(:, :), s1(:, :), xn(:, :), vn(:, :), sn(:, :)
+    real(wp) :: dev
+    integer(i8) :: steps1, stepsn
+    integer :: n
+    character(len=64) :: tag
+    call begin_test('same_fields_on_1_2_4_ranks_'//kernel//'_'//scheme)
+    call run_on(1, scene(kernel, scheme), id1, x1, v1, s1, steps1)
+    do n = 2, 4, 2
+      if (n > nworld) cycle
+      call run_on(n, scene(kernel, scheme), idn, xn, vn, sn, stepsn)
+      if (rank /= 0) cycle
+      write (tag, '(a,i0,a)') ' (', n, ' ranks vs 1)'
+      call check(size(idn) == size(id1), 'same number of points'//trim(tag))
+      if (size(idn) /= size(id1)) cycle
+      call check(all(idn == id1), 'same ids'//trim(tag))
+      call check(stepsn == steps1, 'same number of steps'//trim(tag))
+      dev = max(reldiff(xn - spread(x1(:, 1), 2, size(x1, 2)), x1 - spread(x1(:, 1), 2, size(x1, 2))), &
+                reldiff(vn, v1), reldiff(sn, s1))
+      print '(a,i0,a,es10.3)', '  largest relative deviation on ', n, ' ranks: ', dev
+      call check(dev <= 1.0e-10_wp, 'positions, velocities and stresses agree to 1e-10'//trim(tag))
+    end do
+    if (rank == 0) print '(a,i0,a,i0,a)', '  ', size(id1), ' points, ', steps1, ' steps'
+  end subroutine test_same_fields_on_1_2_4_ranks
+
+end program test_rank_invariance

@@ -1,0 +1,55 @@
+# Shared set-up for scripts/run.sh and scripts/test.sh: system packages, Python
+# modules and the Open MPI settings that small machines and containers need.
+
+DPMPM_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+DPMPM_DEB_PACKAGES="gfortran libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools libfftw3-dev cmake ninja-build python3 python3-pip"
+DPMPM_PY_MODULES="h5py numpy matplotlib"
+
+# Open MPI refuses to run as root and to put more ranks than cores on a machine
+# unless told; both are harmless elsewhere.
+export OMPI_ALLOW_RUN_AS_ROOT=1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+export OMPI_MCA_btl_vader_single_copy_mechanism=none
+
+# Install missing Debian packages (as root) or print the exact list and stop.
+dpmpm_require_packages() {
+  local missing=() p
+  if command -v dpkg-query >/dev/null 2>&1; then
+    for p in $DPMPM_DEB_PACKAGES; do
+      dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+    done
+  else
+    for p in gfortran mpifort mpirun cmake ninja python3; do
+      command -v "$p" >/dev/null 2>&1 || missing+=("$p")
+    done
+  fi
+  if [ ${#missing[@]} -gt 0 ]; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+      echo "dpmpm: installing ${missing[*]}"
+      apt-get update -qq
+      DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+    else
+      echo "dpmpm: missing system packages: ${missing[*]}"
+      echo "install them with:  sudo apt-get install -y ${missing[*]}"
+      echo "(on a cluster: load the modules for gfortran, Open MPI, parallel HDF5, FFTW and CMake)"
+      exit 1
+    fi
+  fi
+  local pymissing=() m
+  for m in $DPMPM_PY_MODULES; do
+    python3 -c "import $m" 2>/dev/null || pymissing+=("$m")
+  done
+  if [ ${#pymissing[@]} -gt 0 ]; then
+    echo "dpmpm: installing Python modules ${pymissing[*]}"
+    python3 -m pip install -q "${pymissing[@]}" 2>/dev/null \
+      || python3 -m pip install -q --break-system-packages "${pymissing[@]}"
+  fi
+}
+
+# Configure and build one preset (debug, release or sanitize).
+dpmpm_build() {
+  local preset=$1
+  cmake --preset "$preset" -S "$DPMPM_ROOT" >/dev/null
+  cmake --build --preset "$preset" -j "$(nproc)"
+}

@@ -123,7 +123,8 @@ contains
       call ok(err, 'h5fopen_f')
       dims = read_dims(fid, 'frames/000000/fluid/x')
       call check(size(dims) == 2, 'empty fluid/x is 2D')
-      if (size(dims) == 2) call check(all(dims == [1_hsize_t, 0_hsize_t]), 'empty fluid/x dims (1, 0)')
+      if (size(dims) == 2) call check(all(dims == [1_hsize_t, 0_hsize_t]), &
+                                      'empty fluid/x dims (1, 0)')
       dims = read_dims(fid, 'frames/000000/fluid/id')
       call check(all(dims == [0_hsize_t]), 'empty fluid/id has no entries')
       call h5fclose_f(fid, err)

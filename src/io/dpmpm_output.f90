@@ -11,8 +11,8 @@ module dpmpm_output
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
                   h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
                   h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5screate_f, h5screate_simple_f, &
-                  h5gopen_f, h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5acreate_f, h5awrite_f, &
-                  h5aclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5dset_extent_f, &
+                  h5gopen_f, h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5acreate_f, &
+                  h5awrite_f, h5aclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5dset_extent_f, &
                   h5dget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
                   h5lexists_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, &
                   H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
@@ -353,7 +353,8 @@ contains
     real(wp), intent(in) :: value
     integer(hid_t) :: gid
     integer :: err
-    if (.not. self%is_open) call fatal('the output file is not open', 'output%write_verification_attr')
+    if (.not. self%is_open) call fatal('the output file is not open', &
+                                       'output%write_verification_attr')
     gid = verification_group(self)
     call attr_real(gid, name, value)
     call h5gclose_f(gid, err)

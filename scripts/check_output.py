@@ -1,0 +1,186 @@
+#!/usr/bin/env python3
+"""Check dpmpm output files against the layout in doc/output.md.
+
+Usage: check_output.py [--contract PATH] FILE.h5 [FILE.h5 ...]
+
+Checks the root attributes, /input, the /diagnostics datasets, every frame
+(attributes, point-set datasets, shapes, dtypes, unique ids) and the XDMF
+sidecar next to each file (valid XML, every referenced dataset exists with
+the declared dimensions). With --contract, also runs that external layout
+checker on each file when the script exists, and says so when it does not.
+Exit status 0 when every file passes.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+import h5py
+import numpy as np
+
+DIAG_NAMES = ("step", "npoints", "time", "dt", "kinetic_energy", "strain_energy",
+              "external_work", "max_speed", "wall_time", "total_mass",
+              "momentum_x", "momentum_y", "momentum_z")
+SET_NAMES = ("solid", "fluid")
+
+
+def check_h5(path, bad):
+    """Layout of the HDF5 file; appends problems to bad."""
+    with h5py.File(path, "r") as f:
+        for a in ("dpmpm_version", "git_commit", "nranks", "ndim"):
+            if a not in f.attrs:
+                bad.append(f"root attribute {a} missing")
+        ndim = int(f.attrs.get("ndim", 0))
+        if ndim not in (1, 2, 3):
+            bad.append(f"root attribute ndim = {ndim}, expected 1, 2 or 3")
+        if "input" not in f:
+            bad.append("/input missing")
+        elif f["input"].shape != () or f["input"].dtype.kind != "S":
+            bad.append("/input is not a scalar fixed-length string")
+
+        d = f.get("diagnostics")
+        if d is None:
+            bad.append("/diagnostics missing")
+        else:
+            lengths = set()
+            for n in DIAG_NAMES:
+                if n not in d:
+                    bad.append(f"/diagnostics/{n} missing")
+                    continue
+                ds = d[n]
+                want = np.int64 if n in ("step", "npoints") else np.float64
+                if ds.dtype != want or ds.ndim != 1 or ds.maxshape != (None,):
+                    bad.append(f"/diagnostics/{n}: {ds.dtype} {ds.shape} max {ds.maxshape}, "
+                               f"expected extendible 1D {np.dtype(want)}")
+                lengths.add(ds.shape[0] if ds.ndim == 1 else -1)
+            if len(lengths) > 1:
+                bad.append(f"/diagnostics datasets differ in length: {sorted(lengths)}")
+
+        fr = f.get("frames")
+        if fr is None or len(fr) == 0:
+            bad.append("/frames missing or empty")
+            return
+        names = sorted(fr.keys())
+        if names != [f"{k:06d}" for k in range(len(names))]:
+            bad.append(f"frame names are not 000000..{len(names) - 1:06d}: {names[:5]}...")
+        for fname in names:
+            g = fr[fname]
+            where = f"/frames/{fname}"
+            if g.attrs.get("time") is None or g.attrs["time"].dtype != np.float64:
+                bad.append(f"{where}: attribute time missing or not float64")
+            if g.attrs.get("step") is None or g.attrs["step"].dtype != np.int64:
+                bad.append(f"{where}: attribute step missing or not int64")
+            sets = [s for s in SET_NAMES if s in g]
+            if "solid" not in g:
+                bad.append(f"{where}: no solid group")
+            for s in sets:
+                check_set(g[s], f"{where}/{s}", ndim, bad)
+
+
+def check_set(g, where, ndim, bad):
+    """One point set: datasets, dtypes, shapes (as seen from h5py), unique ids."""
+    if "id" not in g:
+        bad.append(f"{where}/id missing")
+        return
+    n = g["id"].shape[0]
+    spec = {"id": ((n,), np.int64), "x": ((n, ndim), np.float64),
+            "v": ((n, ndim), np.float64), "displacement": ((n, ndim), np.float64),
+            "mass": ((n,), np.float64), "volume": ((n,), np.float64),
+            "stress": ((n, 6), np.float64), "material": ((n,), np.int32)}
+    for name, (shape, dtype) in spec.items():
+        if name not in g:
+            bad.append(f"{where}/{name} missing")
+        elif g[name].shape != shape or g[name].dtype != dtype:
+            bad.append(f"{where}/{name}: {g[name].dtype} {g[name].shape}, "
+                       f"expected {np.dtype(dtype)} {shape}")
+    ids = g["id"][...]
+    if len(np.unique(ids)) != len(ids):
+        bad.append(f"{where}/id not unique")
+    if n > 0 and "x" in g and not np.all(np.isfinite(g["x"][...])):
+        bad.append(f"{where}/x has non-finite values")
+
+
+def check_xmf(h5path, bad):
+    """The sidecar parses as XML and every HDF DataItem names an existing dataset
+    whose shape matches the declared Dimensions."""
+    xmf = os.path.splitext(h5path)[0] + ".xmf"
+    if not os.path.exists(xmf):
+        bad.append(f"{xmf} missing")
+        return
+    try:
+        root = ET.parse(xmf).getroot()
+    except ET.ParseError as e:
+        bad.append(f"{xmf}: invalid XML: {e}")
+        return
+    if root.tag != "Xdmf":
+        bad.append(f"{xmf}: root element is {root.tag}, expected Xdmf")
+    series = root.find("Domain/Grid")
+    if series is None or series.get("CollectionType") != "Temporal":
+        bad.append(f"{xmf}: no temporal collection under Domain")
+        return
+    with h5py.File(h5path, "r") as f:
+        nframes = len(f["frames"]) if "frames" in f else 0
+        frames = series.findall("Grid")
+        if len(frames) != nframes:
+            bad.append(f"{xmf}: {len(frames)} frames listed, the file has {nframes}")
+        for item in root.iter("DataItem"):
+            if item.get("Format") != "HDF":
+                continue
+            ref = (item.text or "").strip()
+            fname, _, dset = ref.partition(":")
+            if fname != os.path.basename(h5path):
+                bad.append(f"{xmf}: refers to {fname}, not to {os.path.basename(h5path)}")
+                break
+            if dset not in f:
+                bad.append(f"{xmf}: {dset} not in the file")
+                continue
+            dims = tuple(int(t) for t in item.get("Dimensions", "").split())
+            shape = f[dset].shape
+            if dims != shape:
+                bad.append(f"{xmf}: {dset} declared {dims}, stored {shape}")
+        for grid in root.iter("Grid"):
+            if grid.get("GridType") == "Uniform":
+                topo = grid.find("Topology")
+                if topo is None or topo.get("TopologyType") != "Polyvertex":
+                    bad.append(f"{xmf}: grid {grid.get('Name')} is not a Polyvertex cloud")
+
+
+def run_contract(contract, path, bad):
+    if not contract:
+        return
+    if not os.path.exists(contract):
+        print(f"  external contract {contract} not found, skipped")
+        return
+    r = subprocess.run([sys.executable, contract, path], capture_output=True, text=True)
+    print("  contract: " + (r.stdout.strip() or r.stderr.strip()))
+    if r.returncode != 0:
+        bad.append(f"external contract failed: {r.stdout.strip()} {r.stderr.strip()}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("files", nargs="+", help="dpmpm HDF5 output files")
+    ap.add_argument("--contract", help="external layout checker to run as well, if it exists")
+    args = ap.parse_args()
+    status = 0
+    for path in args.files:
+        bad = []
+        if not os.path.exists(path):
+            bad.append("file missing")
+        else:
+            check_h5(path, bad)
+            check_xmf(path, bad)
+            run_contract(args.contract, path, bad)
+        if bad:
+            status = 1
+            print(f"{path}: FAILED")
+            for b in bad:
+                print(f"  {b}")
+        else:
+            print(f"{path}: layout ok")
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,823 @@
+!> Run output: one HDF5 file per run, <output_dir>/<name>.h5, written collectively with
+!> parallel HDF5 (MPI-IO), plus an XDMF sidecar <name>.xmf for ParaView.
+!> The layout is a contract with users' scripts; doc/output.md describes it.
+!> Every procedure is collective over the communicator given to open: all ranks call
+!> them in the same order with the same set names, steps, times and diagnostics.
+module dpmpm_output
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_int, c_null_char
+  use mpi_f08, only: MPI_Comm, MPI_Comm_dup, MPI_Comm_free, MPI_Comm_rank, MPI_Comm_size, &
+                     MPI_Barrier, MPI_Bcast, MPI_Exscan, MPI_Allreduce, MPI_INTEGER, &
+                     MPI_SUM, MPI_MIN, MPI_MAX, MPI_INFO_NULL, MPI_CHARACTER
+  use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
+                  h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
+                  h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5screate_f, h5screate_simple_f, &
+                  h5gopen_f, h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5acreate_f, &
+                  h5awrite_f, h5aclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5dset_extent_f, &
+                  h5dget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
+                  h5lexists_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, &
+                  H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
+                  H5P_DATASET_CREATE_F, H5P_DEFAULT_F, H5FD_MPIO_COLLECTIVE_F, H5S_SCALAR_F, &
+                  H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_C_S1, H5T_STR_NULLPAD_F, &
+                  H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE
+  use dpmpm_kinds, only: wp, i8, i4, mpi_i8
+  use dpmpm_error, only: fatal
+  use dpmpm_config, only: config_t
+  use dpmpm_particles, only: particle_set_t
+  use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
+  use dpmpm_build_info, only: dpmpm_version, git_commit
+  implicit none
+  private
+  public :: output_t, output_h5_path, output_xmf_path
+
+  !> Number of datasets under /diagnostics: step, npoints and the real entries.
+  integer, parameter :: ndiag_dsets = 2 + ndiag_real
+  !> Chunk length of the extendible diagnostics datasets.
+  integer(hsize_t), parameter :: diag_chunk = 256
+
+  !> One frame as listed in the XDMF sidecar.
+  type :: frame_rec_t
+    integer(i8) :: step = 0
+    real(wp) :: time = 0.0_wp
+  end type frame_rec_t
+
+  !> One point set written in a frame (for the XDMF sidecar).
+  type :: set_rec_t
+    integer :: frame = 0
+    character(len=16) :: name = ''
+    integer(i8) :: n = 0
+  end type set_rec_t
+
+  !> The output file of one run. open ... (begin_frame, write_set..., end_frame)... close;
+  !> add_diag at any time, flushed at each end_frame and at close. May be opened again
+  !> after close (a second run in the same process).
+  type :: output_t
+    private
+    logical :: is_open = .false.
+    logical :: in_frame = .false.
+    type(MPI_Comm) :: comm
+    integer :: rank = 0
+    integer :: nranks = 1
+    integer :: ndim = 0
+    character(len=:), allocatable :: h5_path, xmf_path, h5_base
+    integer(hid_t) :: file_id = -1
+    integer(hid_t) :: frame_id = -1
+    integer(hid_t) :: dxpl = -1
+    integer(hid_t) :: diag_dset(ndiag_dsets) = -1
+    integer :: nframes = 0
+    type(frame_rec_t), allocatable :: frames(:)
+    integer :: nsets = 0
+    type(set_rec_t), allocatable :: sets(:)
+    integer :: ndiag_buf = 0
+    type(diag_record_t), allocatable :: diag_buf(:)
+    integer(i8) :: ndiag_written = 0
+  contains
+    procedure :: open => out_open
+    procedure :: begin_frame => out_begin_frame
+    procedure :: write_set => out_write_set
+    procedure :: end_frame => out_end_frame
+    procedure :: add_diag => out_add_diag
+    procedure :: flush_diag => out_flush_diag
+    procedure :: write_verification => out_write_verification
+    procedure :: write_verification_attr => out_write_verification_attr
+    procedure :: close => out_close
+    procedure :: is_active => out_is_active
+  end type output_t
+
+  interface
+    function c_rename(old, new) bind(C, name='rename') result(r)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: old(*), new(*)
+      integer(c_int) :: r
+    end function c_rename
+  end interface
+
+contains
+
+  !> Path of the HDF5 file of a run: <output_dir>/<name>.h5.
+  function output_h5_path(cfg) result(path)
+    type(config_t), intent(in) :: cfg
+    character(len=:), allocatable :: path
+    path = trim(cfg%output_dir)//'/'//trim(cfg%name)//'.h5'
+  end function output_h5_path
+
+  !> Path of the XDMF sidecar of a run: <output_dir>/<name>.xmf.
+  function output_xmf_path(cfg) result(path)
+    type(config_t), intent(in) :: cfg
+    character(len=:), allocatable :: path
+    path = trim(cfg%output_dir)//'/'//trim(cfg%name)//'.xmf'
+  end function output_xmf_path
+
+  !> True between open and close.
+  pure logical function out_is_active(self)
+    class(output_t), intent(in) :: self
+    out_is_active = self%is_open
+  end function out_is_active
+
+  !> Create (truncate) the run's file collectively over comm: root attributes, /input,
+  !> empty /frames and extendible /diagnostics datasets. Creates output_dir if missing.
+  subroutine out_open(self, cfg, comm)
+    class(output_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    type(MPI_Comm), intent(in) :: comm
+    character(len=*), parameter :: where = 'output%open'
+    integer(hid_t) :: fapl, gid
+    integer :: err, k
+    if (self%is_open) call self%close()
+    call MPI_Comm_dup(comm, self%comm)
+    call MPI_Comm_rank(self%comm, self%rank)
+    call MPI_Comm_size(self%comm, self%nranks)
+    self%ndim = cfg%ndim
+    self%h5_path = output_h5_path(cfg)
+    self%xmf_path = output_xmf_path(cfg)
+    self%h5_base = trim(cfg%name)//'.h5'
+    self%nframes = 0
+    self%nsets = 0
+    self%ndiag_buf = 0
+    self%ndiag_written = 0
+    if (.not. allocated(self%frames)) allocate (self%frames(16))
+    if (.not. allocated(self%sets)) allocate (self%sets(16))
+    if (.not. allocated(self%diag_buf)) allocate (self%diag_buf(64))
+
+    if (self%rank == 0) call make_dir(trim(cfg%output_dir))
+    call MPI_Barrier(self%comm)
+
+    call h5open_f(err)
+    call h5check(err, 'h5open_f', where)
+    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
+    call h5check(err, 'h5pcreate_f(file access)', where)
+    call h5pset_fapl_mpio_f(fapl, self%comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, err)
+    call h5check(err, 'h5pset_fapl_mpio_f', where)
+    call h5fcreate_f(self%h5_path, H5F_ACC_TRUNC_F, self%file_id, err, &
+                     creation_prp=H5P_DEFAULT_F, access_prp=fapl)
+    call h5check(err, 'h5fcreate_f('//self%h5_path//')', where)
+    call h5pclose_f(fapl, err)
+    call h5check(err, 'h5pclose_f(file access)', where)
+    call h5pcreate_f(H5P_DATASET_XFER_F, self%dxpl, err)
+    call h5check(err, 'h5pcreate_f(transfer)', where)
+    call h5pset_dxpl_mpio_f(self%dxpl, H5FD_MPIO_COLLECTIVE_F, err)
+    call h5check(err, 'h5pset_dxpl_mpio_f', where)
+
+    call attr_string(self%file_id, 'dpmpm_version', dpmpm_version)
+    call attr_string(self%file_id, 'git_commit', git_commit)
+    call attr_i4(self%file_id, 'nranks', int(self%nranks, i4))
+    call attr_i4(self%file_id, 'ndim', int(cfg%ndim, i4))
+    call write_input(self, cfg)
+
+    call h5gcreate_f(self%file_id, 'frames', gid, err)
+    call h5check(err, 'h5gcreate_f(/frames)', where)
+    call h5gclose_f(gid, err)
+    call h5check(err, 'h5gclose_f(/frames)', where)
+
+    call h5gcreate_f(self%file_id, 'diagnostics', gid, err)
+    call h5check(err, 'h5gcreate_f(/diagnostics)', where)
+    call create_diag_dset(gid, 'step', H5T_STD_I64LE, self%diag_dset(1))
+    call create_diag_dset(gid, 'npoints', H5T_STD_I64LE, self%diag_dset(2))
+    do k = 1, ndiag_real
+      call create_diag_dset(gid, trim(diag_real_names(k)), H5T_IEEE_F64LE, self%diag_dset(2 + k))
+    end do
+    call h5gclose_f(gid, err)
+    call h5check(err, 'h5gclose_f(/diagnostics)', where)
+
+    call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
+    call h5check(err, 'h5fflush_f', where)
+    self%is_open = .true.
+    self%in_frame = .false.
+  end subroutine out_open
+
+  !> Start frame /frames/NNNNNN (NNNNNN counts frames from 0) at a step and time (s).
+  subroutine out_begin_frame(self, step, time)
+    class(output_t), intent(inout) :: self
+    integer(i8), intent(in) :: step
+    real(wp), intent(in) :: time
+    character(len=*), parameter :: where = 'output%begin_frame'
+    character(len=32) :: gname
+    type(frame_rec_t), allocatable :: tmp(:)
+    integer :: err
+    if (.not. self%is_open) call fatal('the output file is not open', where)
+    if (self%in_frame) call fatal('the previous frame was not ended', where)
+    write (gname, '(a,i6.6)') 'frames/', self%nframes
+    call h5gcreate_f(self%file_id, trim(gname), self%frame_id, err)
+    call h5check(err, 'h5gcreate_f('//trim(gname)//')', where)
+    call attr_real(self%frame_id, 'time', time)
+    call attr_i8(self%frame_id, 'step', step)
+    if (self%nframes + 1 > size(self%frames)) then
+      allocate (tmp(2*size(self%frames)))
+      tmp(1:self%nframes) = self%frames(1:self%nframes)
+      call move_alloc(tmp, self%frames)
+    end if
+    self%nframes = self%nframes + 1
+    self%frames(self%nframes) = frame_rec_t(step=step, time=time)
+    self%in_frame = .true.
+  end subroutine out_begin_frame
+
+  !> Write a point set under the current frame as group ps%name (all ranks, even with no
+  !> points). Each rank's points go to a contiguous block at the offset of its rank.
+  subroutine out_write_set(self, ps, cfg)
+    class(output_t), intent(inout) :: self
+    type(particle_set_t), intent(in) :: ps
+    type(config_t), intent(in) :: cfg
+    character(len=*), parameter :: where = 'output%write_set'
+    integer(hid_t) :: gid
+    integer(i8) :: nloc, offset, nglob
+    integer(i4), allocatable :: matid(:)
+    type(set_rec_t), allocatable :: tmp(:)
+    integer :: err, k, n, d
+    if (.not. self%is_open) call fatal('the output file is not open', where)
+    if (.not. self%in_frame) call fatal('write_set outside begin_frame/end_frame', where)
+    if (ps%ndim /= self%ndim) call fatal('point set '//trim(ps%name)//' has a different ndim '// &
+                                         'than the file', where)
+    n = ps%n
+    d = ps%ndim
+    nloc = int(n, i8)
+    offset = 0
+    call MPI_Exscan(nloc, offset, 1, mpi_i8(), MPI_SUM, self%comm)
+    if (self%rank == 0) offset = 0
+    call MPI_Allreduce(nloc, nglob, 1, mpi_i8(), MPI_SUM, self%comm)
+
+    allocate (matid(n))
+    do k = 1, n
+      if (ps%mat(k) < 1 .or. ps%mat(k) > size(cfg%materials)) &
+        call fatal('point with a material index outside the configured materials', where)
+      matid(k) = int(cfg%materials(ps%mat(k))%id, i4)
+    end do
+
+    call h5gcreate_f(self%frame_id, trim(ps%name), gid, err)
+    call h5check(err, 'h5gcreate_f('//trim(ps%name)//')', where)
+    call write_points_i8(self, gid, 'id', 0, nloc, offset, nglob, ps%id(1:n))
+    call write_points_real(self, gid, 'x', d, nloc, offset, nglob, reshape(ps%x(:, 1:n), [d*n]))
+    call write_points_real(self, gid, 'v', d, nloc, offset, nglob, reshape(ps%v(:, 1:n), [d*n]))
+    call write_points_real(self, gid, 'displacement', d, nloc, offset, nglob, &
+                           reshape(ps%x(:, 1:n) - ps%x0(:, 1:n), [d*n]))
+    call write_points_real(self, gid, 'mass', 0, nloc, offset, nglob, ps%mass(1:n))
+    call write_points_real(self, gid, 'volume', 0, nloc, offset, nglob, ps%vol(1:n))
+    call write_points_real(self, gid, 'stress', 6, nloc, offset, nglob, &
+                           reshape(ps%stress(:, 1:n), [6*n]))
+    call write_points_i4(self, gid, 'material', 0, nloc, offset, nglob, matid)
+    call h5gclose_f(gid, err)
+    call h5check(err, 'h5gclose_f('//trim(ps%name)//')', where)
+
+    if (self%nsets + 1 > size(self%sets)) then
+      allocate (tmp(2*size(self%sets)))
+      tmp(1:self%nsets) = self%sets(1:self%nsets)
+      call move_alloc(tmp, self%sets)
+    end if
+    self%nsets = self%nsets + 1
+    self%sets(self%nsets) = set_rec_t(frame=self%nframes - 1, name=ps%name, n=nglob)
+  end subroutine out_write_set
+
+  !> Close the current frame, write buffered diagnostics, flush the file to disk and
+  !> rewrite the XDMF sidecar (rank 0) so that a crashed run keeps every finished frame.
+  subroutine out_end_frame(self)
+    class(output_t), intent(inout) :: self
+    character(len=*), parameter :: where = 'output%end_frame'
+    integer :: err
+    if (.not. self%in_frame) call fatal('end_frame without begin_frame', where)
+    call h5gclose_f(self%frame_id, err)
+    call h5check(err, 'h5gclose_f(frame)', where)
+    self%frame_id = -1
+    self%in_frame = .false.
+    call self%flush_diag()
+    call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
+    call h5check(err, 'h5fflush_f', where)
+    if (self%rank == 0) call write_xdmf(self)
+    call MPI_Barrier(self%comm)
+  end subroutine out_end_frame
+
+  !> Buffer one diagnostics record (every rank adds the same records).
+  subroutine out_add_diag(self, rec)
+    class(output_t), intent(inout) :: self
+    type(diag_record_t), intent(in) :: rec
+    type(diag_record_t), allocatable :: tmp(:)
+    if (.not. self%is_open) call fatal('the output file is not open', 'output%add_diag')
+    if (self%ndiag_buf + 1 > size(self%diag_buf)) then
+      allocate (tmp(2*size(self%diag_buf)))
+      tmp(1:self%ndiag_buf) = self%diag_buf(1:self%ndiag_buf)
+      call move_alloc(tmp, self%diag_buf)
+    end if
+    self%ndiag_buf = self%ndiag_buf + 1
+    self%diag_buf(self%ndiag_buf) = rec
+  end subroutine out_add_diag
+
+  !> Append the buffered records to the /diagnostics datasets (extended collectively;
+  !> rank 0 writes the values, the others take part with empty selections).
+  subroutine out_flush_diag(self)
+    class(output_t), intent(inout) :: self
+    character(len=*), parameter :: where = 'output%flush_diag'
+    integer :: nmin, nmax, m, k, j
+    integer(i8), allocatable, target :: ibuf(:)
+    real(wp), allocatable, target :: rbuf(:)
+    integer(hid_t) :: ti8, twp
+    if (.not. self%is_open) call fatal('the output file is not open', where)
+    call MPI_Allreduce(self%ndiag_buf, nmin, 1, MPI_INTEGER, MPI_MIN, self%comm)
+    call MPI_Allreduce(self%ndiag_buf, nmax, 1, MPI_INTEGER, MPI_MAX, self%comm)
+    if (nmin /= nmax) call fatal('ranks hold different numbers of diagnostics records', where)
+    m = self%ndiag_buf
+    if (m == 0) return
+    ti8 = h5kind_to_type(i8, H5_INTEGER_KIND)
+    twp = h5kind_to_type(wp, H5_REAL_KIND)
+    allocate (ibuf(m), rbuf(m))
+    ibuf = self%diag_buf(1:m)%step
+    call append_diag(self, self%diag_dset(1), ti8, m, c_loc(ibuf))
+    ibuf = self%diag_buf(1:m)%npoints
+    call append_diag(self, self%diag_dset(2), ti8, m, c_loc(ibuf))
+    do k = 1, ndiag_real
+      rbuf = [(self%diag_buf(j)%values(k), j = 1, m)]
+      call append_diag(self, self%diag_dset(2 + k), twp, m, c_loc(rbuf))
+    end do
+    self%ndiag_written = self%ndiag_written + m
+    self%ndiag_buf = 0
+  end subroutine out_flush_diag
+
+  !> Write values as the 1D double dataset /verification/<name> (benchmark errors, norms).
+  subroutine out_write_verification(self, name, values)
+    class(output_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: values(:)
+    character(len=*), parameter :: where = 'output%write_verification'
+    integer(hid_t) :: gid
+    integer :: err
+    integer(i8) :: n, nloc
+    if (.not. self%is_open) call fatal('the output file is not open', where)
+    gid = verification_group(self)
+    n = size(values, kind=i8)
+    nloc = merge(n, 0_i8, self%rank == 0)
+    call write_points_real(self, gid, name, 0, nloc, 0_i8, n, values(1:nloc))
+    call h5gclose_f(gid, err)
+    call h5check(err, 'h5gclose_f(/verification)', where)
+  end subroutine out_write_verification
+
+  !> Write a scalar as attribute <name> of /verification (e.g. an L2 error of a benchmark).
+  subroutine out_write_verification_attr(self, name, value)
+    class(output_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: value
+    integer(hid_t) :: gid
+    integer :: err
+    if (.not. self%is_open) call fatal('the output file is not open', &
+                                       'output%write_verification_attr')
+    gid = verification_group(self)
+    call attr_real(gid, name, value)
+    call h5gclose_f(gid, err)
+    call h5check(err, 'h5gclose_f(/verification)', 'output%write_verification_attr')
+  end subroutine out_write_verification_attr
+
+  !> End an open frame, flush the diagnostics and close the file. The HDF5 library stays
+  !> initialised, so another output_t can be opened later in the same process.
+  subroutine out_close(self)
+    class(output_t), intent(inout) :: self
+    character(len=*), parameter :: where = 'output%close'
+    integer :: err, k
+    if (.not. self%is_open) return
+    if (self%in_frame) call self%end_frame()
+    call self%flush_diag()
+    do k = 1, ndiag_dsets
+      call h5dclose_f(self%diag_dset(k), err)
+      call h5check(err, 'h5dclose_f(diagnostics)', where)
+      self%diag_dset(k) = -1
+    end do
+    call h5pclose_f(self%dxpl, err)
+    call h5check(err, 'h5pclose_f(transfer)', where)
+    self%dxpl = -1
+    call h5fclose_f(self%file_id, err)
+    call h5check(err, 'h5fclose_f('//self%h5_path//')', where)
+    self%file_id = -1
+    call MPI_Comm_free(self%comm)
+    self%is_open = .false.
+  end subroutine out_close
+
+  ! ---------------------------------------------------------------- helpers
+
+  !> Abort with the failing HDF5 call named when err reports a failure.
+  subroutine h5check(err, call_name, where)
+    integer, intent(in) :: err
+    character(len=*), intent(in) :: call_name, where
+    if (err < 0) call fatal(call_name//' failed', where)
+  end subroutine h5check
+
+  !> Create a directory (and its parents) unless it exists. Called on one rank.
+  subroutine make_dir(dir)
+    character(len=*), intent(in) :: dir
+    logical :: exists
+    integer :: estat, cstat
+    character(len=256) :: cmsg
+    inquire (file=dir//'/.', exist=exists)
+    if (exists) return
+    estat = 0
+    cstat = 0
+    cmsg = ''
+    call execute_command_line('mkdir -p "'//dir//'"', exitstat=estat, cmdstat=cstat, cmdmsg=cmsg)
+    if (cstat /= 0 .or. estat /= 0) call fatal('cannot create output directory '//dir//' '// &
+                                               trim(cmsg), 'output%open')
+  end subroutine make_dir
+
+  !> /input: the input file as one fixed-length string (scalar dataset). Rank 0's text is
+  !> broadcast so that every rank writes the same bytes.
+  subroutine write_input(self, cfg)
+    type(output_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    character(len=*), parameter :: where = 'output%open'
+    character(kind=c_char, len=:), allocatable, target :: text
+    integer :: n, err
+    integer(hid_t) :: space, dset, stype
+    n = 0
+    if (self%rank == 0 .and. allocated(cfg%input_text)) n = len(cfg%input_text)
+    call MPI_Bcast(n, 1, MPI_INTEGER, 0, self%comm)
+    allocate (character(kind=c_char, len=max(n, 1)) :: text)
+    text(:) = c_null_char
+    if (self%rank == 0 .and. n > 0) text(:) = cfg%input_text
+    if (n > 0) call MPI_Bcast(text, n, MPI_CHARACTER, 0, self%comm)
+    stype = string_type(max(n, 1))
+    call h5screate_f(H5S_SCALAR_F, space, err)
+    call h5check(err, 'h5screate_f(scalar)', where)
+    call h5dcreate_f(self%file_id, 'input', stype, space, dset, err)
+    call h5check(err, 'h5dcreate_f(/input)', where)
+    call h5dwrite_f(dset, stype, c_loc(text), err, xfer_prp=self%dxpl)
+    call h5check(err, 'h5dwrite_f(/input)', where)
+    call h5dclose_f(dset, err)
+    call h5check(err, 'h5dclose_f(/input)', where)
+    call h5sclose_f(space, err)
+    call h5check(err, 'h5sclose_f', where)
+    call h5tclose_f(stype, err)
+    call h5check(err, 'h5tclose_f', where)
+  end subroutine write_input
+
+  !> A fixed-length, null-padded string type of n bytes (h5py reads it as bytes).
+  function string_type(n) result(t)
+    integer, intent(in) :: n
+    integer(hid_t) :: t
+    integer :: err
+    call h5tcopy_f(H5T_C_S1, t, err)
+    call h5check(err, 'h5tcopy_f(H5T_C_S1)', 'output')
+    call h5tset_size_f(t, int(n, size_t), err)
+    call h5check(err, 'h5tset_size_f', 'output')
+    call h5tset_strpad_f(t, H5T_STR_NULLPAD_F, err)
+    call h5check(err, 'h5tset_strpad_f', 'output')
+  end function string_type
+
+  !> Create and write one scalar attribute from the bytes at ptr.
+  subroutine put_attr(loc, name, ftype, mtype, ptr)
+    integer(hid_t), intent(in) :: loc, ftype, mtype
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(in) :: ptr
+    integer(hid_t) :: space, attr
+    integer :: err
+    call h5screate_f(H5S_SCALAR_F, space, err)
+    call h5check(err, 'h5screate_f(scalar)', 'attribute '//name)
+    call h5acreate_f(loc, name, ftype, space, attr, err)
+    call h5check(err, 'h5acreate_f', 'attribute '//name)
+    call h5awrite_f(attr, mtype, ptr, err)
+    call h5check(err, 'h5awrite_f', 'attribute '//name)
+    call h5aclose_f(attr, err)
+    call h5check(err, 'h5aclose_f', 'attribute '//name)
+    call h5sclose_f(space, err)
+    call h5check(err, 'h5sclose_f', 'attribute '//name)
+  end subroutine put_attr
+
+  !> Scalar string attribute.
+  subroutine attr_string(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name, value
+    character(kind=c_char, len=max(len(value), 1)), target :: buf
+    integer(hid_t) :: stype
+    integer :: err
+    buf = value
+    if (len(value) == 0) buf = c_null_char
+    stype = string_type(len(buf))
+    call put_attr(loc, name, stype, stype, c_loc(buf))
+    call h5tclose_f(stype, err)
+    call h5check(err, 'h5tclose_f', 'attribute '//name)
+  end subroutine attr_string
+
+  !> Scalar int32 attribute.
+  subroutine attr_i4(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(i4), intent(in) :: value
+    integer(i4), target :: buf
+    buf = value
+    call put_attr(loc, name, H5T_STD_I32LE, h5kind_to_type(i4, H5_INTEGER_KIND), c_loc(buf))
+  end subroutine attr_i4
+
+  !> Scalar int64 attribute.
+  subroutine attr_i8(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(i8), intent(in) :: value
+    integer(i8), target :: buf
+    buf = value
+    call put_attr(loc, name, H5T_STD_I64LE, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(buf))
+  end subroutine attr_i8
+
+  !> Scalar double attribute.
+  subroutine attr_real(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: value
+    real(wp), target :: buf
+    buf = value
+    call put_attr(loc, name, H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), c_loc(buf))
+  end subroutine attr_real
+
+  !> Create one empty extendible 1D dataset under /diagnostics.
+  subroutine create_diag_dset(gid, name, ftype, dset)
+    integer(hid_t), intent(in) :: gid, ftype
+    character(len=*), intent(in) :: name
+    integer(hid_t), intent(out) :: dset
+    integer(hid_t) :: space, dcpl
+    integer :: err
+    call h5screate_simple_f(1, [0_hsize_t], space, err, maxdims=[H5S_UNLIMITED_F])
+    call h5check(err, 'h5screate_simple_f', 'diagnostics '//name)
+    call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, err)
+    call h5check(err, 'h5pcreate_f(dataset create)', 'diagnostics '//name)
+    call h5pset_chunk_f(dcpl, 1, [diag_chunk], err)
+    call h5check(err, 'h5pset_chunk_f', 'diagnostics '//name)
+    call h5dcreate_f(gid, name, ftype, space, dset, err, dcpl_id=dcpl)
+    call h5check(err, 'h5dcreate_f', 'diagnostics '//name)
+    call h5pclose_f(dcpl, err)
+    call h5check(err, 'h5pclose_f', 'diagnostics '//name)
+    call h5sclose_f(space, err)
+    call h5check(err, 'h5sclose_f', 'diagnostics '//name)
+  end subroutine create_diag_dset
+
+  !> Extend one diagnostics dataset by m entries and write them from rank 0.
+  subroutine append_diag(self, dset, mtype, m, ptr)
+    type(output_t), intent(in) :: self
+    integer(hid_t), intent(in) :: dset, mtype
+    integer, intent(in) :: m
+    type(c_ptr), intent(in) :: ptr
+    character(len=*), parameter :: where = 'output%flush_diag'
+    integer(hid_t) :: fspace, mspace
+    integer :: err
+    call h5dset_extent_f(dset, [int(self%ndiag_written + m, hsize_t)], err)
+    call h5check(err, 'h5dset_extent_f', where)
+    call h5dget_space_f(dset, fspace, err)
+    call h5check(err, 'h5dget_space_f', where)
+    call h5screate_simple_f(1, [int(m, hsize_t)], mspace, err)
+    call h5check(err, 'h5screate_simple_f', where)
+    if (self%rank == 0) then
+      call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, [int(self%ndiag_written, hsize_t)], &
+                                 [int(m, hsize_t)], err)
+      call h5check(err, 'h5sselect_hyperslab_f', where)
+    else
+      call h5sselect_none_f(fspace, err)
+      call h5check(err, 'h5sselect_none_f', where)
+      call h5sselect_none_f(mspace, err)
+      call h5check(err, 'h5sselect_none_f', where)
+    end if
+    call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
+                    xfer_prp=self%dxpl)
+    call h5check(err, 'h5dwrite_f', where)
+    call h5sclose_f(mspace, err)
+    call h5check(err, 'h5sclose_f', where)
+    call h5sclose_f(fspace, err)
+    call h5check(err, 'h5sclose_f', where)
+  end subroutine append_diag
+
+  !> Create dataset <name> under gid for nglob points and write this rank's nloc points at
+  !> offset. m = 0: shape (nglob); m > 0: Fortran shape (m, nglob), (nglob, m) in C order.
+  !> ptr points to nloc*m values (at least one element, even when nloc = 0).
+  subroutine write_points(self, gid, name, ftype, mtype, m, nloc, offset, nglob, ptr)
+    type(output_t), intent(in) :: self
+    integer(hid_t), intent(in) :: gid, ftype, mtype
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: m
+    integer(i8), intent(in) :: nloc, offset, nglob
+    type(c_ptr), intent(in) :: ptr
+    character(len=*), parameter :: where = 'output%write_set'
+    integer(hsize_t) :: fdims(2), mdims(2), start(2), cnt(2)
+    integer(hid_t) :: fspace, mspace, dset
+    integer :: rank, err
+    if (m == 0) then
+      rank = 1
+      fdims(1) = int(nglob, hsize_t)
+      mdims(1) = int(max(nloc, 1_i8), hsize_t)
+      start(1) = int(offset, hsize_t)
+      cnt(1) = int(nloc, hsize_t)
+    else
+      rank = 2
+      fdims = [int(m, hsize_t), int(nglob, hsize_t)]
+      mdims = [int(m, hsize_t), int(max(nloc, 1_i8), hsize_t)]
+      start = [0_hsize_t, int(offset, hsize_t)]
+      cnt = [int(m, hsize_t), int(nloc, hsize_t)]
+    end if
+    call h5screate_simple_f(rank, fdims(1:rank), fspace, err)
+    call h5check(err, 'h5screate_simple_f('//name//')', where)
+    call h5dcreate_f(gid, name, ftype, fspace, dset, err)
+    call h5check(err, 'h5dcreate_f('//name//')', where)
+    call h5screate_simple_f(rank, mdims(1:rank), mspace, err)
+    call h5check(err, 'h5screate_simple_f('//name//')', where)
+    if (nloc > 0) then
+      call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, start(1:rank), cnt(1:rank), err)
+      call h5check(err, 'h5sselect_hyperslab_f('//name//')', where)
+    else
+      call h5sselect_none_f(fspace, err)
+      call h5check(err, 'h5sselect_none_f('//name//')', where)
+      call h5sselect_none_f(mspace, err)
+      call h5check(err, 'h5sselect_none_f('//name//')', where)
+    end if
+    ! An empty dataset has no storage to write to; nglob is the same on every rank.
+    if (nglob > 0) then
+      call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
+                      xfer_prp=self%dxpl)
+      call h5check(err, 'h5dwrite_f('//name//')', where)
+    end if
+    call h5dclose_f(dset, err)
+    call h5check(err, 'h5dclose_f('//name//')', where)
+    call h5sclose_f(mspace, err)
+    call h5check(err, 'h5sclose_f('//name//')', where)
+    call h5sclose_f(fspace, err)
+    call h5check(err, 'h5sclose_f('//name//')', where)
+  end subroutine write_points
+
+  !> write_points for doubles (file type IEEE F64LE).
+  subroutine write_points_real(self, gid, name, m, nloc, offset, nglob, vals)
+    type(output_t), intent(in) :: self
+    integer(hid_t), intent(in) :: gid
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: m
+    integer(i8), intent(in) :: nloc, offset, nglob
+    real(wp), intent(in) :: vals(:)
+    real(wp), allocatable, target :: buf(:)
+    allocate (buf(max(size(vals), 1)))
+    buf = 0.0_wp
+    buf(1:size(vals)) = vals
+    call write_points(self, gid, name, H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), m, &
+                      nloc, offset, nglob, c_loc(buf))
+  end subroutine write_points_real
+
+  !> write_points for 64-bit integers (file type STD I64LE).
+  subroutine write_points_i8(self, gid, name, m, nloc, offset, nglob, vals)
+    type(output_t), intent(in) :: self
+    integer(hid_t), intent(in) :: gid
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: m
+    integer(i8), intent(in) :: nloc, offset, nglob
+    integer(i8), intent(in) :: vals(:)
+    integer(i8), allocatable, target :: buf(:)
+    allocate (buf(max(size(vals), 1)))
+    buf = 0
+    buf(1:size(vals)) = vals
+    call write_points(self, gid, name, H5T_STD_I64LE, h5kind_to_type(i8, H5_INTEGER_KIND), m, &
+                      nloc, offset, nglob, c_loc(buf))
+  end subroutine write_points_i8
+
+  !> write_points for 32-bit integers (file type STD I32LE).
+  subroutine write_points_i4(self, gid, name, m, nloc, offset, nglob, vals)
+    type(output_t), intent(in) :: self
+    integer(hid_t), intent(in) :: gid
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: m
+    integer(i8), intent(in) :: nloc, offset, nglob
+    integer(i4), intent(in) :: vals(:)
+    integer(i4), allocatable, target :: buf(:)
+    allocate (buf(max(size(vals), 1)))
+    buf = 0
+    buf(1:size(vals)) = vals
+    call write_points(self, gid, name, H5T_STD_I32LE, h5kind_to_type(i4, H5_INTEGER_KIND), m, &
+                      nloc, offset, nglob, c_loc(buf))
+  end subroutine write_points_i4
+
+  !> Open /verification, creating it on first use. The caller closes the group.
+  function verification_group(self) result(gid)
+    type(output_t), intent(in) :: self
+    integer(hid_t) :: gid
+    logical :: exists
+    integer :: err
+    call h5lexists_f(self%file_id, 'verification', exists, err)
+    call h5check(err, 'h5lexists_f(/verification)', 'output')
+    if (exists) then
+      call h5gopen_f(self%file_id, 'verification', gid, err)
+      call h5check(err, 'h5gopen_f(/verification)', 'output')
+    else
+      call h5gcreate_f(self%file_id, 'verification', gid, err)
+      call h5check(err, 'h5gcreate_f(/verification)', 'output')
+    end if
+  end function verification_group
+
+  ! ---------------------------------------------------------------- XDMF sidecar
+
+  !> Rewrite <name>.xmf listing every frame written so far: a temporal collection whose
+  !> frames are spatial collections of point clouds (one Polyvertex grid per set).
+  !> Written to a temporary file and renamed, so a reader never sees half a file.
+  subroutine write_xdmf(self)
+    type(output_t), intent(in) :: self
+    character(len=*), parameter :: where = 'output%end_frame'
+    character(len=:), allocatable :: tmp_path
+    character(len=32) :: tstr
+    integer :: u, ios, f, s
+    tmp_path = self%xmf_path//'.tmp'
+    open (newunit=u, file=tmp_path, status='replace', action='write', iostat=ios)
+    if (ios /= 0) call fatal('cannot write '//tmp_path, where)
+    write (u, '(a)') '<?xml version="1.0" ?>'
+    write (u, '(a)') '<Xdmf Version="2.0">'
+    write (u, '(a)') ' <Domain>'
+    write (u, '(a)') '  <Grid Name="frames" GridType="Collection" CollectionType="Temporal">'
+    do f = 1, self%nframes
+      write (tstr, '(es24.16e3)') self%frames(f)%time
+      write (u, '(a,i6.6,a)') '   <Grid Name="frame_', f - 1, &
+        '" GridType="Collection" CollectionType="Spatial">'
+      write (u, '(a)') '    <Time Value="'//trim(adjustl(tstr))//'"/>'
+      do s = 1, self%nsets
+        if (self%sets(s)%frame /= f - 1 .or. self%sets(s)%n == 0) cycle
+        call write_xdmf_set(self, u, f - 1, self%sets(s))
+      end do
+      write (u, '(a)') '   </Grid>'
+    end do
+    write (u, '(a)') '  </Grid>'
+    write (u, '(a)') ' </Domain>'
+    write (u, '(a)') '</Xdmf>'
+    close (u, iostat=ios)
+    if (ios /= 0) call fatal('cannot close '//tmp_path, where)
+    if (c_rename(tmp_path//c_null_char, self%xmf_path//c_null_char) /= 0) &
+      call fatal('cannot rename '//tmp_path//' to '//self%xmf_path, where)
+  end subroutine write_xdmf
+
+  !> One Polyvertex grid: geometry from x, the other datasets as node attributes.
+  subroutine write_xdmf_set(self, u, frame, set)
+    type(output_t), intent(in) :: self
+    integer, intent(in) :: u, frame
+    type(set_rec_t), intent(in) :: set
+    character(len=:), allocatable :: base, nstr, vec
+    character(len=24) :: buf
+    character(len=16) :: fstr
+    write (buf, '(i0)') set%n
+    nstr = trim(buf)
+    write (fstr, '(i6.6)') frame
+    base = xml_escape(self%h5_base)//':/frames/'//trim(fstr)//'/'//xml_escape(trim(set%name))//'/'
+    write (buf, '(i0)') self%ndim
+    vec = nstr//' '//trim(buf)
+    write (u, '(a)') '    <Grid Name="'//xml_escape(trim(set%name))//'" GridType="Uniform">'
+    write (u, '(a)') '     <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
+      '" NodesPerElement="1"/>'
+    select case (self%ndim)
+    case (1)
+      ! ParaView needs 3D coordinates: x from the file, y = z = x - x = 0.
+      write (u, '(a)') '     <Geometry GeometryType="X_Y_Z">'
+      write (u, '(a)') '      '//item(vec, 'Float', '8', base//'x')
+      write (u, '(a)') '      <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
+        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>'
+      write (u, '(a)') '      <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
+        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>'
+    case (2)
+      write (u, '(a)') '     <Geometry GeometryType="XY">'
+      write (u, '(a)') '      '//item(vec, 'Float', '8', base//'x')
+    case default
+      write (u, '(a)') '     <Geometry GeometryType="XYZ">'
+      write (u, '(a)') '      '//item(vec, 'Float', '8', base//'x')
+    end select
+    write (u, '(a)') '     </Geometry>'
+    if (self%ndim == 1) then
+      call attribute('v', 'Scalar', vec, 'Float', '8')
+      call attribute('displacement', 'Scalar', vec, 'Float', '8')
+    else
+      call attribute('v', 'Vector', vec, 'Float', '8')
+      call attribute('displacement', 'Vector', vec, 'Float', '8')
+    end if
+    call attribute('mass', 'Scalar', nstr, 'Float', '8')
+    call attribute('volume', 'Scalar', nstr, 'Float', '8')
+    call attribute('stress', 'Matrix', nstr//' 6', 'Float', '8')
+    call attribute('material', 'Scalar', nstr, 'Int', '4')
+    call attribute('id', 'Scalar', nstr, 'Int', '8')
+    write (u, '(a)') '    </Grid>'
+
+  contains
+
+    subroutine attribute(name, atype, dims, ntype, prec)
+      character(len=*), intent(in) :: name, atype, dims, ntype, prec
+      write (u, '(a)') '     <Attribute Name="'//name//'" AttributeType="'//atype// &
+        '" Center="Node">'//item(dims, ntype, prec, base//name)//'</Attribute>'
+    end subroutine attribute
+
+  end subroutine write_xdmf_set
+
+  !> An HDF DataItem referring to a dataset of the sidecar's HDF5 file.
+  function item(dims, ntype, prec, ref) result(s)
+    character(len=*), intent(in) :: dims, ntype, prec, ref
+    character(len=:), allocatable :: s
+    s = '<DataItem Dimensions="'//dims//'" NumberType="'//ntype//'" Precision="'//prec// &
+        '" Format="HDF">'//ref//'</DataItem>'
+  end function item
+
+  !> Escape the XML special characters of a name.
+  pure function xml_escape(text) result(s)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: s
+    integer :: k
+    s = ''
+    do k = 1, len(text)
+      select case (text(k:k))
+      case ('&')
+        s = s//'&amp;'
+      case ('<')
+        s = s//'&lt;'
+      case ('>')
+        s = s//'&gt;'
+      case ('"')
+        s = s//'&quot;'
+      case default
+        s = s//text(k:k)
+      end select
+    end do
+  end function xml_escape
+
+end module dpmpm_output

@@ -778,8 +778,8 @@ contains
       if (nfixed /= nranks) then
         call add_value(rd, g_grid, 1, 'dims', itoa_list(dims(1:nd)), 'the ranks per axis '// &
                        'multiply to '//itoa(nfixed)//' but the run has '//itoa(nranks)// &
-                       ' ranks: their product must be the number of ranks (or use 0 to let '// &
-                       'MPI choose an axis)')
+                       trim(merge(' rank ', ' ranks', nranks == 1))//': their product must '// &
+                       'be the number of ranks (or use 0 to let MPI choose an axis)')
         return
       end if
     else if (mod(nranks, nfixed) /= 0) then
@@ -1172,7 +1172,7 @@ contains
   end function itoa_list
 
   !> The shortest decimal form of x that reads back to the same value: fixed notation for
-  !> magnitudes in [1e-4, 1e7), otherwise mantissa and exponent ("2.5e-07").
+  !> magnitudes in [1e-4, 1e6), otherwise mantissa and exponent ("2.5e-7", "1.0e6").
   function rtoa(x) result(s)
     real(wp), intent(in) :: x
     character(len=:), allocatable :: s
@@ -1205,7 +1205,7 @@ contains
     do j = 1, ie - 1
       if (scan(buf(j:j), '0123456789') == 1) digits = digits//buf(j:j)
     end do
-    if (e >= -4 .and. e < 7) then
+    if (e >= -4 .and. e < 6) then
       if (e >= 0) then
         if (len(digits) < e + 1) digits = digits//repeat('0', e + 1 - len(digits))
         s = digits(1:e + 1)//'.'

@@ -31,7 +31,8 @@ module dpmpm_input
     'ndim, ncells, origin, length, dims', &
     'kernel', &
     'id, model, density, youngs_modulus, poisson_ratio', &
-    'shape, lo, hi, npoly, poly_x, poly_y, material, phase, ppc, placement, seed, velocity, stress', &
+    'shape, lo, hi, npoly, poly_x, poly_y, material, phase, ppc, placement, seed, velocity, '// &
+    'stress', &
     'face, condition', &
     'face, traction, ramp_time', &
     'dir, frame_interval, diag_every', &
@@ -365,7 +366,7 @@ contains
     if (index(msg, nomatch) == 1) then
       word = trim(msg(len(nomatch) + 1:))
       is_name = len(word) > 0
-      if (is_name) is_name = scan(word(1:1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ') == 1
+      if (is_name) is_name = scan(lower(word(1:1)), 'abcdefghijklmnopqrstuvwxyz') == 1
       do i = 1, len(word)
         if (.not. is_name_char(word(i:i))) is_name = .false.
       end do

@@ -1,0 +1,1293 @@
+!> Reading and checking of the namelist input file.
+!>
+!> Rank 0 reads the whole file, finds where each group opens, reads every group
+!> with Fortran namelist I/O into local variables (the defaults are those of
+!> config_t), checks all values and collects every problem found. If there is
+!> any, rank 0 prints them all, one per line, and every rank stops cleanly with
+!> exit code 2; otherwise the resolved config_t is broadcast to all ranks.
+module dpmpm_input
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
+  use dpmpm_kinds, only: wp, i8, mpi_wp, mpi_i8
+  use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
+                          name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, bc_names
+  use dpmpm_kernels, only: kernel_from_name, kernel_ghost_width, kernel_names
+  use dpmpm_error, only: clean_stop
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_Dims_create, &
+                     MPI_INTEGER, MPI_CHARACTER
+  implicit none
+  private
+  public :: read_input, print_config
+
+  integer, parameter :: g_run = 1, g_grid = 2, g_shape = 3, g_material = 4, g_region = 5, &
+                        g_boundary = 6, g_load = 7, g_output = 8, g_benchmark = 9, ngroups = 9
+  character(len=9), parameter :: group_names(ngroups) = [character(len=9) :: 'run', 'grid', &
+    'shape', 'material', 'region', 'boundary', 'load', 'output', 'benchmark']
+  logical, parameter :: repeatable(ngroups) = [.false., .false., .false., .true., .true., &
+                                               .true., .true., .false., .false.]
+  !> The variables of each group, for messages about a group that cannot be read.
+  character(len=*), parameter :: group_vars(ngroups) = [character(len=120) :: &
+    'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds', &
+    'ndim, ncells, origin, length, dims', &
+    'kernel', &
+    'id, model, density, youngs_modulus, poisson_ratio', &
+    'shape, lo, hi, npoly, poly_x, poly_y, material, phase, ppc, placement, seed, velocity, '// &
+    'stress', &
+    'face, condition', &
+    'face, traction, ramp_time', &
+    'dir, frame_interval, diag_every', &
+    'name, amplitude']
+  character(len=*), parameter :: err_prefix = 'dpmpm: input error: '
+
+  !> A string of any length, to collect messages.
+  type :: text_t
+    character(len=:), allocatable :: s
+  end type text_t
+
+  !> Rank 0's state while reading one file: where each group opens and the problems found.
+  type :: reader_t
+    character(len=:), allocatable :: file
+    integer :: count(ngroups) = 0
+    integer :: nopen = 0
+    integer, allocatable :: open_group(:), open_line(:)
+    integer :: nprob = 0
+    type(text_t), allocatable :: prob(:)
+  end type reader_t
+
+  !> Broadcast from rank 0 of a value or an array of values.
+  interface bcast
+    module procedure bcast_int, bcast_int_1d, bcast_i8, bcast_real, bcast_real_1d, &
+      bcast_real_2d, bcast_str
+  end interface bcast
+
+contains
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Public procedures
+  ! ---------------------------------------------------------------------------------------------
+
+  !> Read, check and broadcast the input file (collective over comm). On any problem rank 0
+  !> prints all of them to stderr and every rank stops with exit code 2.
+  subroutine read_input(filename, comm, cfg)
+    character(len=*), intent(in) :: filename
+    type(MPI_Comm), intent(in) :: comm
+    type(config_t), intent(out) :: cfg
+    integer :: rank, nranks, nprob, k
+    type(reader_t) :: rd
+
+    call MPI_Comm_rank(comm, rank)
+    call MPI_Comm_size(comm, nranks)
+    nprob = 0
+    if (rank == 0) then
+      call read_and_check(rd, filename, nranks, cfg)
+      nprob = rd%nprob
+    end if
+    call MPI_Bcast(nprob, 1, MPI_INTEGER, 0, comm)
+    if (nprob > 0) then
+      if (rank == 0) then
+        do k = 1, rd%nprob
+          write (error_unit, '(a)') rd%prob(k)%s
+        end do
+        flush (error_unit)
+      end if
+      call clean_stop(2)
+    end if
+    call bcast_config(cfg, comm)
+    cfg%input_file = filename
+  end subroutine read_input
+
+  !> Print every resolved parameter, defaults included, as namelist groups that can be read
+  !> back as input.
+  subroutine print_config(cfg, unit)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: unit
+    integer :: k, f
+    write (unit, '(a)') '! dpmpm: resolved parameters of '//trim(cfg%input_file)
+    write (unit, '(a)') '&run'
+    call put_s(unit, 'name', cfg%name)
+    call put_r(unit, 't_end', [cfg%t_end])
+    call put_r(unit, 'dt', [cfg%dt])
+    call put_r(unit, 'cfl', [cfg%cfl])
+    write (unit, '(a,i0)') '  max_steps = ', cfg%max_steps
+    call put_s(unit, 'scheme', cfg%scheme)
+    call put_r(unit, 'flip', [cfg%flip])
+    call put_r(unit, 'gravity', cfg%gravity)
+    call put_r(unit, 'progress_seconds', [cfg%progress_seconds])
+    write (unit, '(a)') '/', '&grid'
+    call put_i(unit, 'ndim', [cfg%ndim])
+    call put_i(unit, 'ncells', cfg%ncells)
+    call put_r(unit, 'origin', cfg%origin)
+    call put_r(unit, 'length', cfg%length)
+    call put_i(unit, 'dims', cfg%dims)
+    write (unit, '(a)') '/', '&shape'
+    call put_s(unit, 'kernel', cfg%kernel)
+    write (unit, '(a)') '/'
+    if (allocated(cfg%materials)) then
+      do k = 1, size(cfg%materials)
+        associate (m => cfg%materials(k))
+          write (unit, '(a)') '&material'
+          call put_i(unit, 'id', [m%id])
+          call put_s(unit, 'model', m%model)
+          call put_r(unit, 'density', [m%density])
+          call put_r(unit, 'youngs_modulus', [m%youngs_modulus])
+          call put_r(unit, 'poisson_ratio', [m%poisson_ratio])
+          write (unit, '(a)') '/'
+        end associate
+      end do
+    end if
+    if (allocated(cfg%regions)) then
+      do k = 1, size(cfg%regions)
+        associate (r => cfg%regions(k))
+          write (unit, '(a)') '&region'
+          call put_s(unit, 'shape', r%shape)
+          if (r%shape == 'polygon') then
+            call put_i(unit, 'npoly', [r%npoly])
+            call put_r(unit, 'poly_x', r%poly(1, 1:r%npoly))
+            call put_r(unit, 'poly_y', r%poly(2, 1:r%npoly))
+          else
+            call put_r(unit, 'lo', r%lo)
+            call put_r(unit, 'hi', r%hi)
+          end if
+          call put_i(unit, 'material', [r%material])
+          call put_s(unit, 'phase', r%phase)
+          call put_i(unit, 'ppc', [r%ppc])
+          call put_s(unit, 'placement', r%placement)
+          call put_i(unit, 'seed', [r%seed])
+          call put_r(unit, 'velocity', r%velocity)
+          call put_r(unit, 'stress', r%stress)
+          write (unit, '(a)') '/'
+        end associate
+      end do
+    end if
+    do f = 1, 2*max(1, min(3, cfg%ndim))
+      write (unit, '(a)') '&boundary'
+      call put_s(unit, 'face', face_names(f))
+      call put_s(unit, 'condition', bc_names(cfg%bc(f)))
+      write (unit, '(a)') '/'
+    end do
+    if (allocated(cfg%loads)) then
+      do k = 1, size(cfg%loads)
+        write (unit, '(a)') '&load'
+        call put_s(unit, 'face', face_names(max(1, cfg%loads(k)%face)))
+        call put_r(unit, 'traction', cfg%loads(k)%traction)
+        call put_r(unit, 'ramp_time', [cfg%loads(k)%ramp_time])
+        write (unit, '(a)') '/'
+      end do
+    end if
+    write (unit, '(a)') '&output'
+    call put_s(unit, 'dir', cfg%output_dir)
+    call put_r(unit, 'frame_interval', [cfg%frame_interval])
+    call put_i(unit, 'diag_every', [cfg%diag_every])
+    write (unit, '(a)') '/', '&benchmark'
+    call put_s(unit, 'name', cfg%benchmark)
+    call put_r(unit, 'amplitude', [cfg%amplitude])
+    write (unit, '(a)') '/'
+  end subroutine print_config
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Reading on rank 0
+  ! ---------------------------------------------------------------------------------------------
+
+  !> Rank 0: read the file into cfg and collect all problems in rd.
+  subroutine read_and_check(rd, filename, nranks, cfg)
+    type(reader_t), intent(inout) :: rd
+    character(len=*), intent(in) :: filename
+    integer, intent(in) :: nranks
+    type(config_t), intent(inout) :: cfg
+    integer :: u, ios, g
+    logical :: ok(ngroups)
+    character(len=512) :: msg
+
+    rd%file = trim(filename)
+    allocate (rd%prob(8))
+    call load_text(rd, filename, cfg%input_text)
+    if (rd%nprob > 0) return
+    call scan_groups(rd, cfg%input_text)
+
+    open (newunit=u, file=filename, status='old', action='read', form='formatted', &
+          iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call add_file_problem(rd, 'cannot open the file: '//trim(msg))
+      return
+    end if
+    ok = .true.
+    do g = 1, ngroups
+      if (rd%count(g) == 0) cycle
+      if (.not. repeatable(g) .and. rd%count(g) > 1) then
+        call add_file_problem(rd, '&'//trim(group_names(g))//' is given '// &
+                              itoa(rd%count(g))//' times'//lines_of(rd, g)//': give it once')
+        ok(g) = .false.
+        cycle
+      end if
+      rewind (u)
+      select case (g)
+      case (g_run)
+        call read_run(rd, u, cfg, ok(g))
+      case (g_grid)
+        call read_grid(rd, u, cfg, ok(g))
+      case (g_shape)
+        call read_shape(rd, u, cfg, ok(g))
+      case (g_material)
+        call read_materials(rd, u, cfg, ok(g))
+      case (g_region)
+        call read_regions(rd, u, cfg, ok(g))
+      case (g_boundary)
+        call read_boundaries(rd, u, cfg, ok(g))
+      case (g_load)
+        call read_loads(rd, u, cfg, ok(g))
+      case (g_output)
+        call read_output(rd, u, cfg, ok(g))
+      case (g_benchmark)
+        call read_benchmark(rd, u, cfg, ok(g))
+      end select
+    end do
+    close (u)
+    if (rd%count(g_grid) == 0) call add_file_problem(rd, &
+      '&grid is missing: it is required (ndim, ncells, origin, length)')
+    if (rd%count(g_material) == 0) call add_file_problem(rd, &
+      'no &material group: at least one is required')
+    if (rd%count(g_region) == 0) call add_file_problem(rd, &
+      'no &region group: at least one is required')
+    if (.not. allocated(cfg%materials)) allocate (cfg%materials(0))
+    if (.not. allocated(cfg%regions)) allocate (cfg%regions(0))
+    if (.not. allocated(cfg%loads)) allocate (cfg%loads(0))
+    call check_config(rd, cfg, nranks, ok)
+  end subroutine read_and_check
+
+  !> Read the whole file as text (it is echoed into the output files).
+  subroutine load_text(rd, filename, text)
+    type(reader_t), intent(inout) :: rd
+    character(len=*), intent(in) :: filename
+    character(len=:), allocatable, intent(out) :: text
+    logical :: exists
+    integer :: u, ios, n
+    character(len=512) :: msg
+    allocate (character(len=0) :: text)
+    inquire (file=filename, exist=exists)
+    if (.not. exists) then
+      call add_file_problem(rd, 'file not found')
+      return
+    end if
+    open (newunit=u, file=filename, status='old', action='read', access='stream', &
+          form='unformatted', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call add_file_problem(rd, 'cannot open the file: '//trim(msg))
+      return
+    end if
+    inquire (unit=u, size=n)
+    if (n < 0) then
+      call add_file_problem(rd, 'cannot tell the size of the file')
+      close (u)
+      return
+    end if
+    deallocate (text)
+    allocate (character(len=n) :: text)
+    if (n > 0) then
+      read (u, iostat=ios, iomsg=msg) text
+      if (ios /= 0) call add_file_problem(rd, 'cannot read the file: '//trim(msg))
+    end if
+    close (u)
+  end subroutine load_text
+
+  !> Find the group openings: "&name" as the first word of a line. Unknown names are problems.
+  subroutine scan_groups(rd, text)
+    type(reader_t), intent(inout) :: rd
+    character(len=*), intent(in) :: text
+    integer :: pos, eol, line, i, j, g, cap
+    character(len=:), allocatable :: word
+    integer, allocatable :: tmp(:)
+    cap = 16
+    allocate (rd%open_group(cap), rd%open_line(cap))
+    pos = 1
+    line = 0
+    do while (pos <= len(text))
+      line = line + 1
+      eol = index(text(pos:), new_line('a'))
+      if (eol == 0) then
+        eol = len(text) + 1
+      else
+        eol = pos + eol - 1
+      end if
+      i = pos
+      do while (i < eol)
+        if (text(i:i) /= ' ' .and. text(i:i) /= char(9)) exit
+        i = i + 1
+      end do
+      if (i < eol) then
+        if (text(i:i) == '&') then
+          j = i + 1
+          do while (j < eol)
+            if (.not. is_name_char(text(j:j))) exit
+            j = j + 1
+          end do
+          word = lower(text(i + 1:j - 1))
+          if (word /= 'end') then
+            g = group_index(word)
+            if (g == 0) then
+              call add_file_problem(rd, '&'//word//' (line '//itoa(line)// &
+                                    '): unknown group; the groups are '//all_groups())
+            else
+              if (rd%nopen == cap) then
+                cap = 2*cap
+                allocate (tmp(cap))
+                tmp(1:rd%nopen) = rd%open_group(1:rd%nopen)
+                call move_alloc(tmp, rd%open_group)
+                allocate (tmp(cap))
+                tmp(1:rd%nopen) = rd%open_line(1:rd%nopen)
+                call move_alloc(tmp, rd%open_line)
+              end if
+              rd%nopen = rd%nopen + 1
+              rd%open_group(rd%nopen) = g
+              rd%open_line(rd%nopen) = line
+              rd%count(g) = rd%count(g) + 1
+            end if
+          end if
+        end if
+      end if
+      pos = eol + 1
+    end do
+  end subroutine scan_groups
+
+  !> Record a namelist read error of occurrence k of group g.
+  subroutine read_error(rd, g, k, ios, msg)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: g, k, ios
+    character(len=*), intent(in) :: msg
+    character(len=*), parameter :: nomatch = 'Cannot match namelist object name '
+    character(len=:), allocatable :: what, hint, word
+    integer :: i
+    logical :: is_name
+    if (ios < 0) then
+      what = 'the namelist reader did not find this group (is it terminated by "/"?)'
+    else
+      what = trim(msg)
+    end if
+    hint = ''
+    if (index(msg, nomatch) == 1) then
+      word = trim(msg(len(nomatch) + 1:))
+      is_name = len(word) > 0
+      if (is_name) is_name = scan(lower(word(1:1)), 'abcdefghijklmnopqrstuvwxyz') == 1
+      do i = 1, len(word)
+        if (.not. is_name_char(word(i:i))) is_name = .false.
+      end do
+      if (is_name) then
+        hint = ' (no such variable)'
+      else
+        hint = ' (a value that does not fit the variable before it: a string or a fraction for'// &
+               ' an integer, or more values than the variable holds)'
+      end if
+    end if
+    call add_raw(rd, '&'//trim(group_names(g))//': cannot read the group: '//what//hint// &
+                 '; the variables of &'//trim(group_names(g))//' are '//trim(group_vars(g))// &
+                 place(rd, g, k))
+  end subroutine read_error
+
+  !> Read &run.
+  subroutine read_run(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    character(len=name_len) :: name, scheme
+    real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds
+    integer(i8) :: max_steps
+    integer :: ios
+    character(len=512) :: msg
+    namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds
+    name = cfg%name; t_end = cfg%t_end; dt = cfg%dt; cfl = cfg%cfl; max_steps = cfg%max_steps
+    scheme = cfg%scheme; flip = cfg%flip; gravity = cfg%gravity
+    progress_seconds = cfg%progress_seconds
+    read (u, nml=run, iostat=ios, iomsg=msg)
+    ok = ios == 0
+    if (.not. ok) then
+      call read_error(rd, g_run, 1, ios, msg)
+      return
+    end if
+    cfg%name = name; cfg%t_end = t_end; cfg%dt = dt; cfg%cfl = cfl; cfg%max_steps = max_steps
+    cfg%scheme = scheme; cfg%flip = flip; cfg%gravity = gravity
+    cfg%progress_seconds = progress_seconds
+  end subroutine read_run
+
+  !> Read &grid.
+  subroutine read_grid(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    integer :: ndim, ncells(3), dims(3)
+    real(wp) :: origin(3), length(3)
+    integer :: ios
+    character(len=512) :: msg
+    namelist /grid/ ndim, ncells, origin, length, dims
+    ndim = cfg%ndim; ncells = cfg%ncells; origin = cfg%origin; length = cfg%length
+    dims = cfg%dims
+    read (u, nml=grid, iostat=ios, iomsg=msg)
+    ok = ios == 0
+    if (.not. ok) then
+      call read_error(rd, g_grid, 1, ios, msg)
+      return
+    end if
+    cfg%ndim = ndim; cfg%ncells = ncells; cfg%origin = origin; cfg%length = length
+    cfg%dims = dims
+  end subroutine read_grid
+
+  !> Read &shape.
+  subroutine read_shape(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    character(len=name_len) :: kernel
+    integer :: ios
+    character(len=512) :: msg
+    namelist /shape/ kernel
+    kernel = cfg%kernel
+    read (u, nml=shape, iostat=ios, iomsg=msg)
+    ok = ios == 0
+    if (.not. ok) then
+      call read_error(rd, g_shape, 1, ios, msg)
+      return
+    end if
+    cfg%kernel = kernel
+  end subroutine read_shape
+
+  !> Read every &material.
+  subroutine read_materials(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    type(material_cfg_t) :: def
+    type(material_cfg_t), allocatable :: list(:)
+    integer :: id, k, n, ios
+    character(len=name_len) :: model
+    real(wp) :: density, youngs_modulus, poisson_ratio
+    character(len=512) :: msg
+    namelist /material/ id, model, density, youngs_modulus, poisson_ratio
+    allocate (list(rd%count(g_material)))
+    n = 0
+    ok = .true.
+    do k = 1, size(list)
+      id = def%id; model = def%model; density = def%density
+      youngs_modulus = def%youngs_modulus; poisson_ratio = def%poisson_ratio
+      read (u, nml=material, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call read_error(rd, g_material, k, ios, msg)
+        ok = .false.
+        exit
+      end if
+      n = k
+      list(k) = material_cfg_t(id, model, density, youngs_modulus, poisson_ratio)
+    end do
+    cfg%materials = list(1:n)
+  end subroutine read_materials
+
+  !> Read every &region.
+  subroutine read_regions(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    type(region_cfg_t) :: def
+    type(region_cfg_t), allocatable :: list(:)
+    character(len=name_len) :: shape, phase, placement
+    real(wp) :: lo(3), hi(3), poly_x(max_poly), poly_y(max_poly), velocity(3), stress(6)
+    integer :: npoly, material, ppc, seed, k, n, ios
+    character(len=512) :: msg
+    namelist /region/ shape, lo, hi, npoly, poly_x, poly_y, material, phase, ppc, placement, &
+      seed, velocity, stress
+    allocate (list(rd%count(g_region)))
+    n = 0
+    ok = .true.
+    do k = 1, size(list)
+      shape = def%shape; lo = def%lo; hi = def%hi; npoly = def%npoly
+      poly_x = def%poly(1, :); poly_y = def%poly(2, :); material = def%material
+      phase = def%phase; ppc = def%ppc; placement = def%placement; seed = def%seed
+      velocity = def%velocity; stress = def%stress
+      read (u, nml=region, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call read_error(rd, g_region, k, ios, msg)
+        ok = .false.
+        exit
+      end if
+      n = k
+      list(k)%shape = shape; list(k)%lo = lo; list(k)%hi = hi; list(k)%npoly = npoly
+      list(k)%poly(1, :) = poly_x; list(k)%poly(2, :) = poly_y; list(k)%material = material
+      list(k)%phase = phase; list(k)%ppc = ppc; list(k)%placement = placement
+      list(k)%seed = seed; list(k)%velocity = velocity; list(k)%stress = stress
+    end do
+    cfg%regions = list(1:n)
+  end subroutine read_regions
+
+  !> Read every &boundary and set cfg%bc; the names are checked here as they are not kept.
+  subroutine read_boundaries(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    character(len=name_len) :: face, condition
+    logical :: seen(6)
+    integer :: k, f, c, ios
+    character(len=512) :: msg
+    namelist /boundary/ face, condition
+    seen = .false.
+    ok = .true.
+    do k = 1, rd%count(g_boundary)
+      face = ''; condition = bc_names(bc_free)
+      read (u, nml=boundary, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call read_error(rd, g_boundary, k, ios, msg)
+        ok = .false.
+        exit
+      end if
+      f = face_index(face)
+      select case (trim(adjustl(condition)))
+      case ('free')
+        c = bc_free
+      case ('fixed')
+        c = bc_fixed
+      case ('roller')
+        c = bc_roller
+      case default
+        c = -1
+        call add_value(rd, g_boundary, k, 'condition', quote(condition), &
+                       'the conditions are free, fixed, roller')
+      end select
+      if (f == 0) then
+        call add_value(rd, g_boundary, k, 'face', quote(face), 'the faces are '//all_faces())
+      else if (.not. face_in_grid(f, cfg%ndim)) then
+        call add_value(rd, g_boundary, k, 'face', quote(face), &
+                       'the grid has no such face with ndim = '//itoa(cfg%ndim))
+      else if (seen(f)) then
+        call add_value(rd, g_boundary, k, 'face', quote(face), &
+                       'this face has a &boundary already; give each face once')
+      else if (c >= 0) then
+        seen(f) = .true.
+        cfg%bc(f) = c
+      end if
+    end do
+  end subroutine read_boundaries
+
+  !> Read every &load.
+  subroutine read_loads(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    type(load_cfg_t) :: def
+    type(load_cfg_t), allocatable :: list(:)
+    character(len=name_len) :: face
+    real(wp) :: traction(3), ramp_time
+    integer :: k, n, f, ios
+    character(len=512) :: msg
+    namelist /load/ face, traction, ramp_time
+    allocate (list(rd%count(g_load)))
+    n = 0
+    ok = .true.
+    do k = 1, size(list)
+      face = ''; traction = def%traction; ramp_time = def%ramp_time
+      read (u, nml=load, iostat=ios, iomsg=msg)
+      if (ios /= 0) then
+        call read_error(rd, g_load, k, ios, msg)
+        ok = .false.
+        exit
+      end if
+      f = face_index(face)
+      if (f == 0) then
+        call add_value(rd, g_load, k, 'face', quote(face), 'the faces are '//all_faces())
+      else if (.not. face_in_grid(f, cfg%ndim)) then
+        call add_value(rd, g_load, k, 'face', quote(face), &
+                       'the grid has no such face with ndim = '//itoa(cfg%ndim))
+      end if
+      n = k
+      list(k) = load_cfg_t(f, traction, ramp_time)
+    end do
+    cfg%loads = list(1:n)
+  end subroutine read_loads
+
+  !> Read &output.
+  subroutine read_output(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    character(len=len(cfg%output_dir)) :: dir
+    real(wp) :: frame_interval
+    integer :: diag_every, ios
+    character(len=512) :: msg
+    namelist /output/ dir, frame_interval, diag_every
+    dir = cfg%output_dir; frame_interval = cfg%frame_interval; diag_every = cfg%diag_every
+    read (u, nml=output, iostat=ios, iomsg=msg)
+    ok = ios == 0
+    if (.not. ok) then
+      call read_error(rd, g_output, 1, ios, msg)
+      return
+    end if
+    cfg%output_dir = dir; cfg%frame_interval = frame_interval; cfg%diag_every = diag_every
+  end subroutine read_output
+
+  !> Read &benchmark.
+  subroutine read_benchmark(rd, u, cfg, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: u
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+    character(len=name_len) :: name
+    real(wp) :: amplitude
+    integer :: ios
+    character(len=512) :: msg
+    namelist /benchmark/ name, amplitude
+    name = cfg%benchmark; amplitude = cfg%amplitude
+    read (u, nml=benchmark, iostat=ios, iomsg=msg)
+    ok = ios == 0
+    if (.not. ok) then
+      call read_error(rd, g_benchmark, 1, ios, msg)
+      return
+    end if
+    cfg%benchmark = name; cfg%amplitude = amplitude
+  end subroutine read_benchmark
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Checks
+  ! ---------------------------------------------------------------------------------------------
+
+  !> Check every value read; ok(g) is false for groups that could not be read.
+  subroutine check_config(rd, cfg, nranks, ok)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: nranks
+    logical, intent(in) :: ok(ngroups)
+    integer :: nd, d, k, j
+    logical :: grid_ok, ndim_ok
+
+    ! &run
+    if (.not. any(cfg%scheme == [character(len=4) :: 'musl', 'usl'])) call add_value(rd, g_run, &
+      1, 'scheme', quote(cfg%scheme), 'the schemes are musl, usl')
+    if (.not. real_ok(cfg%t_end, gt=0.0_wp)) call add_value(rd, g_run, 1, 't_end', &
+      rtoa(cfg%t_end), 'must be > 0 (s)')
+    if (.not. real_ok(cfg%dt, ge=0.0_wp)) call add_value(rd, g_run, 1, 'dt', rtoa(cfg%dt), &
+      'must be >= 0 (s; 0 = from the CFL condition)')
+    if (.not. real_ok(cfg%cfl, gt=0.0_wp, le=1.0_wp)) call add_value(rd, g_run, 1, 'cfl', &
+      rtoa(cfg%cfl), 'must be in (0, 1]')
+    if (.not. real_ok(cfg%flip, ge=0.0_wp, le=1.0_wp)) call add_value(rd, g_run, 1, 'flip', &
+      rtoa(cfg%flip), 'must be in [0, 1] (1 = FLIP, 0 = PIC)')
+    if (cfg%max_steps < 1) call add_value(rd, g_run, 1, 'max_steps', i8toa(cfg%max_steps), &
+      'must be >= 1')
+    call check_finite(rd, g_run, 1, 'gravity', cfg%gravity)
+    if (.not. real_ok(cfg%progress_seconds, gt=0.0_wp)) call add_value(rd, g_run, 1, &
+      'progress_seconds', rtoa(cfg%progress_seconds), 'must be > 0 (s)')
+
+    ! &grid
+    ndim_ok = cfg%ndim >= 1 .and. cfg%ndim <= 3
+    if (.not. ndim_ok) call add_value(rd, g_grid, 1, 'ndim', itoa(cfg%ndim), 'must be 1, 2 or 3')
+    grid_ok = ndim_ok .and. ok(g_grid) .and. rd%count(g_grid) == 1
+    nd = merge(cfg%ndim, 3, ndim_ok)
+    do d = 1, nd
+      if (cfg%ncells(d) < 1) then
+        call add_value(rd, g_grid, 1, 'ncells('//itoa(d)//')', itoa(cfg%ncells(d)), &
+                       'zero cells: must be >= 1')
+        grid_ok = .false.
+      end if
+      if (.not. real_ok(cfg%length(d), gt=0.0_wp)) then
+        call add_value(rd, g_grid, 1, 'length('//itoa(d)//')', rtoa(cfg%length(d)), &
+                       'must be > 0 (m)')
+        grid_ok = .false.
+      end if
+      if (.not. real_ok(cfg%origin(d))) then
+        call add_value(rd, g_grid, 1, 'origin('//itoa(d)//')', rtoa(cfg%origin(d)), &
+                       'must be a finite number (m)')
+        grid_ok = .false.
+      end if
+      if (cfg%dims(d) < 0) then
+        call add_value(rd, g_grid, 1, 'dims('//itoa(d)//')', itoa(cfg%dims(d)), &
+                       'must be >= 0 (ranks along the axis; 0 = chosen by MPI)')
+        grid_ok = .false.
+      end if
+    end do
+
+    ! &shape
+    if (kernel_from_name(cfg%kernel) <= 0) call add_value(rd, g_shape, 1, 'kernel', &
+      quote(cfg%kernel), 'the kernels are '//all_kernels())
+
+    if (grid_ok) call check_decomposition(rd, cfg, nranks)
+
+    ! &material
+    do k = 1, size(cfg%materials)
+      associate (m => cfg%materials(k))
+        if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean'])) &
+          call add_value(rd, g_material, k, 'model', quote(m%model), &
+                         'the models are linear_elastic, neo_hookean')
+        if (.not. real_ok(m%density, gt=0.0_wp)) call add_value(rd, g_material, k, 'density', &
+          rtoa(m%density), 'must be > 0 (kg/m^3)')
+        if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(rd, g_material, k, &
+          'youngs_modulus', rtoa(m%youngs_modulus), 'must be > 0 (Pa)')
+        if (.not. real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) call add_value(rd, &
+          g_material, k, 'poisson_ratio', rtoa(m%poisson_ratio), &
+          'must be in (-1, 0.5): 0.5 is incompressible, which these models cannot represent')
+        do j = 1, k - 1
+          if (cfg%materials(j)%id == m%id) then
+            call add_value(rd, g_material, k, 'id', itoa(m%id), &
+                           'ids must be unique; &material number '//itoa(j)//' has it already')
+            exit
+          end if
+        end do
+      end associate
+    end do
+
+    ! &region
+    do k = 1, size(cfg%regions)
+      call check_region(rd, cfg, k, grid_ok, ok(g_material))
+    end do
+
+    ! &load
+    do k = 1, size(cfg%loads)
+      call check_finite(rd, g_load, k, 'traction', cfg%loads(k)%traction)
+      if (.not. real_ok(cfg%loads(k)%ramp_time, ge=0.0_wp)) call add_value(rd, g_load, k, &
+        'ramp_time', rtoa(cfg%loads(k)%ramp_time), 'must be >= 0 (s; 0 = step load)')
+    end do
+
+    ! &output
+    if (.not. real_ok(cfg%frame_interval, ge=0.0_wp)) call add_value(rd, g_output, 1, &
+      'frame_interval', rtoa(cfg%frame_interval), 'must be >= 0 (s; 0 = first and last only)')
+    if (cfg%diag_every < 0) call add_value(rd, g_output, 1, 'diag_every', itoa(cfg%diag_every), &
+      'must be >= 0 (steps; 0 = automatic)')
+    if (len_trim(cfg%output_dir) == 0) call add_value(rd, g_output, 1, 'dir', "''", &
+      'must name a directory')
+
+    ! &benchmark
+    if (.not. any(cfg%benchmark == [character(len=9) :: 'none', 'axial_bar'])) &
+      call add_value(rd, g_benchmark, 1, 'name', quote(cfg%benchmark), &
+                     'the benchmarks are none, axial_bar')
+    if (.not. real_ok(cfg%amplitude)) call add_value(rd, g_benchmark, 1, 'amplitude', &
+      rtoa(cfg%amplitude), 'must be a finite number')
+  end subroutine check_config
+
+  !> Check that the ranks can be laid out over the grid as the solver will do it, with at least
+  !> the kernel's ghost width of cells per rank along every axis.
+  subroutine check_decomposition(rd, cfg, nranks)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: nranks
+    integer :: nd, d, nfixed, gw, kernel
+    integer :: dims(3)
+    character(len=:), allocatable :: advice
+    nd = cfg%ndim
+    dims = 1
+    dims(1:nd) = cfg%dims(1:nd)
+    nfixed = product(dims(1:nd), mask=dims(1:nd) > 0)
+    if (all(dims(1:nd) > 0)) then
+      if (nfixed /= nranks) then
+        call add_value(rd, g_grid, 1, 'dims', itoa_list(dims(1:nd)), 'the ranks per axis '// &
+                       'multiply to '//itoa(nfixed)//' but the run has '//itoa(nranks)// &
+                       trim(merge(' rank ', ' ranks', nranks == 1))//': their product must '// &
+                       'be the number of ranks (or use 0 to let MPI choose an axis)')
+        return
+      end if
+    else if (mod(nranks, nfixed) /= 0) then
+      call add_value(rd, g_grid, 1, 'dims', itoa_list(dims(1:nd)), 'the nonzero ranks per '// &
+                     'axis multiply to '//itoa(nfixed)//', which does not divide the '// &
+                     itoa(nranks)//' ranks of the run')
+      return
+    end if
+    call MPI_Dims_create(nranks, nd, dims(1:nd))
+    kernel = kernel_from_name(cfg%kernel)
+    gw = 1
+    if (kernel > 0) gw = kernel_ghost_width(kernel)
+    advice = ': every rank needs at least '//itoa(gw)//' cell'//trim(merge('s', ' ', gw > 1))// &
+             ' along each axis with the '//trim(cfg%kernel)//' kernel; use fewer ranks or '// &
+             'more cells'
+    do d = 1, nd
+      if (dims(d) > cfg%ncells(d)) then
+        call add_value(rd, g_grid, 1, 'ncells('//itoa(d)//')', itoa(cfg%ncells(d)), &
+                       'more ranks than cells along axis '//itoa(d)//' ('//itoa(dims(d))// &
+                       ' of the '//itoa(nranks)//' ranks lie along it)'//advice)
+      else if (cfg%ncells(d)/dims(d) < gw) then
+        call add_value(rd, g_grid, 1, 'ncells('//itoa(d)//')', itoa(cfg%ncells(d)), &
+                       'too few cells per rank along axis '//itoa(d)//' ('//itoa(dims(d))// &
+                       ' of the '//itoa(nranks)//' ranks lie along it)'//advice)
+      end if
+    end do
+  end subroutine check_decomposition
+
+  !> Check region k.
+  subroutine check_region(rd, cfg, k, grid_ok, materials_ok)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    logical, intent(in) :: grid_ok, materials_ok
+    integer :: d, j
+    real(wp) :: glo, ghi, tol
+    character(len=*), parameter :: xy = 'xy'
+    associate (r => cfg%regions(k))
+      select case (trim(r%shape))
+      case ('box')
+        do d = 1, merge(cfg%ndim, 0, grid_ok)
+          if (.not. (real_ok(r%lo(d)) .and. real_ok(r%hi(d)))) then
+            call add_value(rd, g_region, k, 'lo('//itoa(d)//'), hi('//itoa(d)//')', &
+                           rtoa(r%lo(d))//', '//rtoa(r%hi(d)), 'must be finite numbers (m)')
+            cycle
+          end if
+          glo = cfg%origin(d)
+          ghi = cfg%origin(d) + cfg%length(d)
+          tol = 1.0e-12_wp*cfg%length(d)
+          if (r%lo(d) >= r%hi(d)) then
+            call add_value(rd, g_region, k, 'lo('//itoa(d)//'), hi('//itoa(d)//')', &
+                           rtoa(r%lo(d))//', '//rtoa(r%hi(d)), 'need lo < hi')
+          else if (r%lo(d) < glo - tol .or. r%hi(d) > ghi + tol) then
+            call add_value(rd, g_region, k, 'lo('//itoa(d)//'), hi('//itoa(d)//')', &
+                           rtoa(r%lo(d))//', '//rtoa(r%hi(d)), 'region outside the grid: the '// &
+                           'box must lie in the grid, ['//rtoa(glo)//', '//rtoa(ghi)// &
+                           '] along axis '//itoa(d))
+          end if
+        end do
+      case ('polygon')
+        if (cfg%ndim /= 2) then
+          call add_value(rd, g_region, k, 'shape', quote(r%shape), &
+                         'polygon regions need ndim = 2; use a box')
+        else if (r%npoly < 3 .or. r%npoly > max_poly) then
+          call add_value(rd, g_region, k, 'npoly', itoa(r%npoly), &
+                         'a polygon needs 3 to '//itoa(max_poly)//' vertices (poly_x, poly_y)')
+        else if (grid_ok) then
+          vertices: do j = 1, r%npoly
+            do d = 1, 2
+              glo = cfg%origin(d)
+              ghi = cfg%origin(d) + cfg%length(d)
+              tol = 1.0e-12_wp*cfg%length(d)
+              if (.not. real_ok(r%poly(d, j), ge=glo - tol, le=ghi + tol)) then
+                call add_value(rd, g_region, k, 'poly_'//xy(d:d)//'('//itoa(j)//')', &
+                               rtoa(r%poly(d, j)), 'region outside the grid: every vertex '// &
+                               'must lie in the grid, ['//rtoa(glo)//', '//rtoa(ghi)//'] in '// &
+                               xy(d:d))
+                exit vertices
+              end if
+            end do
+          end do vertices
+        end if
+      case default
+        call add_value(rd, g_region, k, 'shape', quote(r%shape), &
+                       'the shapes are box, polygon (polygon with ndim = 2 only)')
+      end select
+      if (materials_ok .and. .not. any(cfg%materials%id == r%material)) &
+        call add_value(rd, g_region, k, 'material', itoa(r%material), 'no &material has this id')
+      select case (trim(r%phase))
+      case ('solid')
+      case ('fluid', 'saturated')
+        call add_value(rd, g_region, k, 'phase', quote(r%phase), &
+                       'only solid is available: fluid and saturated are not available yet')
+      case default
+        call add_value(rd, g_region, k, 'phase', quote(r%phase), 'only solid is available')
+      end select
+      if (r%ppc < 1 .or. r%ppc > 10) call add_value(rd, g_region, k, 'ppc', itoa(r%ppc), &
+        'must be in 1..10 (points per cell along each axis)')
+      if (.not. any(r%placement == [character(len=7) :: 'regular', 'random'])) &
+        call add_value(rd, g_region, k, 'placement', quote(r%placement), &
+                       'the placements are regular, random')
+      if (r%seed < 0) call add_value(rd, g_region, k, 'seed', itoa(r%seed), 'must be >= 0')
+      call check_finite(rd, g_region, k, 'velocity', r%velocity)
+      call check_finite(rd, g_region, k, 'stress', r%stress)
+    end associate
+  end subroutine check_region
+
+  !> A problem when any value of x is not a finite number.
+  subroutine check_finite(rd, g, k, var, x)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: g, k
+    character(len=*), intent(in) :: var
+    real(wp), intent(in) :: x(:)
+    integer :: j
+    do j = 1, size(x)
+      if (.not. ieee_is_finite(x(j))) then
+        call add_value(rd, g, k, var//'('//itoa(j)//')', rtoa(x(j)), 'must be a finite number')
+      end if
+    end do
+  end subroutine check_finite
+
+  !> True if x is finite and satisfies the bounds given (NaN never traps here).
+  pure logical function real_ok(x, gt, ge, lt, le) result(ok)
+    real(wp), intent(in) :: x
+    real(wp), intent(in), optional :: gt, ge, lt, le
+    ok = ieee_is_finite(x)
+    if (.not. ok) return
+    if (present(gt)) ok = ok .and. x > gt
+    if (present(ge)) ok = ok .and. x >= ge
+    if (present(lt)) ok = ok .and. x < lt
+    if (present(le)) ok = ok .and. x <= le
+  end function real_ok
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Problems
+  ! ---------------------------------------------------------------------------------------------
+
+  !> A problem with one value: "&group var = value: allowed [where]".
+  subroutine add_value(rd, g, k, var, value, allowed)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: g, k
+    character(len=*), intent(in) :: var, value, allowed
+    call add_raw(rd, '&'//trim(group_names(g))//' '//var//' = '//value//': '//allowed// &
+                 place(rd, g, k))
+  end subroutine add_value
+
+  !> A problem with the file as a whole.
+  subroutine add_file_problem(rd, what)
+    type(reader_t), intent(inout) :: rd
+    character(len=*), intent(in) :: what
+    call add_raw(rd, what)
+  end subroutine add_file_problem
+
+  !> Append "dpmpm: input error: <file>: <text>" to the problems.
+  subroutine add_raw(rd, text)
+    type(reader_t), intent(inout) :: rd
+    character(len=*), intent(in) :: text
+    type(text_t), allocatable :: tmp(:)
+    if (.not. allocated(rd%prob)) allocate (rd%prob(8))
+    if (rd%nprob == size(rd%prob)) then
+      allocate (tmp(2*size(rd%prob)))
+      tmp(1:rd%nprob) = rd%prob(1:rd%nprob)
+      call move_alloc(tmp, rd%prob)
+    end if
+    rd%nprob = rd%nprob + 1
+    rd%prob(rd%nprob)%s = err_prefix//rd%file//': '//text
+  end subroutine add_raw
+
+  !> " [line L]" or " [group k of n, line L]" for occurrence k of group g.
+  function place(rd, g, k) result(s)
+    type(reader_t), intent(in) :: rd
+    integer, intent(in) :: g, k
+    character(len=:), allocatable :: s
+    integer :: j, seen
+    s = ''
+    seen = 0
+    do j = 1, rd%nopen
+      if (rd%open_group(j) /= g) cycle
+      seen = seen + 1
+      if (seen == k) then
+        s = 'line '//itoa(rd%open_line(j))
+        exit
+      end if
+    end do
+    if (rd%count(g) > 1) then
+      if (len(s) > 0) s = ', '//s
+      s = 'group '//itoa(k)//' of '//itoa(rd%count(g))//s
+    end if
+    if (len(s) > 0) s = ' ['//trim(s)//']'
+  end function place
+
+  !> " (lines a, b, c)" listing where group g opens.
+  function lines_of(rd, g) result(s)
+    type(reader_t), intent(in) :: rd
+    integer, intent(in) :: g
+    character(len=:), allocatable :: s
+    integer :: j
+    s = ''
+    do j = 1, rd%nopen
+      if (rd%open_group(j) /= g) cycle
+      if (len(s) > 0) s = s//', '
+      s = s//itoa(rd%open_line(j))
+    end do
+    s = ' (lines '//s//')'
+  end function lines_of
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Broadcast
+  ! ---------------------------------------------------------------------------------------------
+
+  !> Broadcast the whole configuration from rank 0, field by field.
+  subroutine bcast_config(cfg, comm)
+    type(config_t), intent(inout) :: cfg
+    type(MPI_Comm), intent(in) :: comm
+    integer :: rank, n(4), k
+    call MPI_Comm_rank(comm, rank)
+    n = 0
+    if (rank == 0) n = [len(cfg%input_text), size(cfg%materials), size(cfg%regions), &
+                        size(cfg%loads)]
+    call bcast(n, comm)
+    if (rank /= 0) then
+      if (allocated(cfg%input_text)) deallocate (cfg%input_text)
+      allocate (character(len=n(1)) :: cfg%input_text)
+      allocate (cfg%materials(n(2)), cfg%regions(n(3)), cfg%loads(n(4)))
+    end if
+    if (n(1) > 0) call MPI_Bcast(cfg%input_text, n(1), MPI_CHARACTER, 0, comm)
+    call bcast(cfg%name, comm)
+    call bcast(cfg%t_end, comm)
+    call bcast(cfg%dt, comm)
+    call bcast(cfg%cfl, comm)
+    call bcast(cfg%max_steps, comm)
+    call bcast(cfg%scheme, comm)
+    call bcast(cfg%flip, comm)
+    call bcast(cfg%gravity, comm)
+    call bcast(cfg%progress_seconds, comm)
+    call bcast(cfg%ndim, comm)
+    call bcast(cfg%ncells, comm)
+    call bcast(cfg%origin, comm)
+    call bcast(cfg%length, comm)
+    call bcast(cfg%dims, comm)
+    call bcast(cfg%kernel, comm)
+    do k = 1, n(2)
+      call bcast(cfg%materials(k)%id, comm)
+      call bcast(cfg%materials(k)%model, comm)
+      call bcast(cfg%materials(k)%density, comm)
+      call bcast(cfg%materials(k)%youngs_modulus, comm)
+      call bcast(cfg%materials(k)%poisson_ratio, comm)
+    end do
+    do k = 1, n(3)
+      call bcast(cfg%regions(k)%shape, comm)
+      call bcast(cfg%regions(k)%lo, comm)
+      call bcast(cfg%regions(k)%hi, comm)
+      call bcast(cfg%regions(k)%npoly, comm)
+      call bcast(cfg%regions(k)%poly, comm)
+      call bcast(cfg%regions(k)%material, comm)
+      call bcast(cfg%regions(k)%phase, comm)
+      call bcast(cfg%regions(k)%ppc, comm)
+      call bcast(cfg%regions(k)%placement, comm)
+      call bcast(cfg%regions(k)%seed, comm)
+      call bcast(cfg%regions(k)%velocity, comm)
+      call bcast(cfg%regions(k)%stress, comm)
+    end do
+    do k = 1, n(4)
+      call bcast(cfg%loads(k)%face, comm)
+      call bcast(cfg%loads(k)%traction, comm)
+      call bcast(cfg%loads(k)%ramp_time, comm)
+    end do
+    call bcast(cfg%bc, comm)
+    call bcast(cfg%output_dir, comm)
+    call bcast(cfg%frame_interval, comm)
+    call bcast(cfg%diag_every, comm)
+    call bcast(cfg%benchmark, comm)
+    call bcast(cfg%amplitude, comm)
+  end subroutine bcast_config
+
+  subroutine bcast_int(x, comm)
+    integer, intent(inout) :: x
+    type(MPI_Comm), intent(in) :: comm
+    call MPI_Bcast(x, 1, MPI_INTEGER, 0, comm)
+  end subroutine bcast_int
+
+  subroutine bcast_int_1d(x, comm)
+    integer, intent(inout) :: x(:)
+    type(MPI_Comm), intent(in) :: comm
+    call MPI_Bcast(x, size(x), MPI_INTEGER, 0, comm)
+  end subroutine bcast_int_1d
+
+  subroutine bcast_i8(x, comm)
+    integer(i8), intent(inout) :: x
+    type(MPI_Comm), intent(in) :: comm
+    call MPI_Bcast(x, 1, mpi_i8(), 0, comm)
+  end subroutine bcast_i8
+
+  subroutine bcast_real(x, comm)
+    real(wp), intent(inout) :: x
+    type(MPI_Comm), intent(in) :: comm
+    call MPI_Bcast(x, 1, mpi_wp(), 0, comm)
+  end subroutine bcast_real
+
+  subroutine bcast_real_1d(x, comm)
+    real(wp), intent(inout) :: x(:)
+    type(MPI_Comm), intent(in) :: comm
+    call MPI_Bcast(x, size(x), mpi_wp(), 0, comm)
+  end subroutine bcast_real_1d
+
+  subroutine bcast_real_2d(x, comm)
+    real(wp), intent(inout) :: x(:, :)
+    type(MPI_Comm), intent(in) :: comm
+    call MPI_Bcast(x, size(x), mpi_wp(), 0, comm)
+  end subroutine bcast_real_2d
+
+  subroutine bcast_str(x, comm)
+    character(len=*), intent(inout) :: x
+    type(MPI_Comm), intent(in) :: comm
+    call MPI_Bcast(x, len(x), MPI_CHARACTER, 0, comm)
+  end subroutine bcast_str
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Text helpers
+  ! ---------------------------------------------------------------------------------------------
+
+  !> "  var = 'text'" with quotes doubled inside.
+  subroutine put_s(unit, var, value)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: var, value
+    write (unit, '(a)') '  '//var//' = '//quote(value)
+  end subroutine put_s
+
+  !> "  var = a, b, c" for reals.
+  subroutine put_r(unit, var, values)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: var
+    real(wp), intent(in) :: values(:)
+    character(len=:), allocatable :: s
+    integer :: j
+    s = ''
+    do j = 1, size(values)
+      if (j > 1) s = s//', '
+      s = s//rtoa(values(j))
+    end do
+    write (unit, '(a)') '  '//var//' = '//s
+  end subroutine put_r
+
+  !> "  var = a, b, c" for integers.
+  subroutine put_i(unit, var, values)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: var
+    integer, intent(in) :: values(:)
+    write (unit, '(a)') '  '//var//' = '//itoa_list(values)
+  end subroutine put_i
+
+  !> A string in single quotes, trailing blanks removed, inner quotes doubled.
+  pure function quote(s) result(q)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: q
+    integer :: j
+    q = "'"
+    do j = 1, len_trim(s)
+      q = q//s(j:j)
+      if (s(j:j) == "'") q = q//"'"
+    end do
+    q = q//"'"
+  end function quote
+
+  pure function itoa(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=16) :: buf
+    write (buf, '(i0)') i
+    s = trim(buf)
+  end function itoa
+
+  pure function i8toa(i) result(s)
+    integer(i8), intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=24) :: buf
+    write (buf, '(i0)') i
+    s = trim(buf)
+  end function i8toa
+
+  pure function itoa_list(v) result(s)
+    integer, intent(in) :: v(:)
+    character(len=:), allocatable :: s
+    integer :: j
+    s = ''
+    do j = 1, size(v)
+      if (j > 1) s = s//', '
+      s = s//itoa(v(j))
+    end do
+  end function itoa_list
+
+  !> The shortest decimal form of x that reads back to the same value: fixed notation for
+  !> magnitudes in [1e-4, 1e6), otherwise mantissa and exponent ("2.5e-7", "1.0e6").
+  function rtoa(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=40) :: buf
+    character(len=12) :: fmt
+    character(len=:), allocatable :: digits, sgn
+    real(wp) :: y
+    integer :: nd, e, ie, j
+    if (ieee_is_nan(x)) then
+      s = 'NaN'
+      return
+    else if (.not. ieee_is_finite(x)) then
+      s = trim(merge('+Infinity', '-Infinity', x > 0.0_wp))
+      return
+    else if (x == 0.0_wp) then
+      s = '0.0'
+      return
+    end if
+    do nd = 1, 17
+      write (fmt, '(a,i0,a)') '(es40.', nd - 1, 'e3)'
+      write (buf, fmt) x
+      read (buf, *) y
+      if (y == x) exit
+    end do
+    buf = adjustl(buf)
+    ie = index(buf, 'E')
+    read (buf(ie + 1:), *) e
+    sgn = trim(merge('-', ' ', buf(1:1) == '-'))
+    digits = ''
+    do j = 1, ie - 1
+      if (scan(buf(j:j), '0123456789') == 1) digits = digits//buf(j:j)
+    end do
+    if (e >= -4 .and. e < 6) then
+      if (e >= 0) then
+        if (len(digits) < e + 1) digits = digits//repeat('0', e + 1 - len(digits))
+        s = digits(1:e + 1)//'.'
+        if (len(digits) > e + 1) then
+          s = s//digits(e + 2:)
+        else
+          s = s//'0'
+        end if
+      else
+        s = '0.'//repeat('0', -e - 1)//digits
+      end if
+    else
+      s = digits(1:1)//'.'
+      if (len(digits) > 1) then
+        s = s//digits(2:)
+      else
+        s = s//'0'
+      end if
+      s = s//'e'//itoa(e)
+    end if
+    s = sgn//s
+  end function rtoa
+
+  !> Index of a group name in group_names, 0 if unknown.
+  pure integer function group_index(name) result(g)
+    character(len=*), intent(in) :: name
+    integer :: j
+    g = 0
+    do j = 1, ngroups
+      if (name == group_names(j)) g = j
+    end do
+  end function group_index
+
+  pure logical function is_name_char(c)
+    character(len=1), intent(in) :: c
+    is_name_char = scan(c, 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_') == 1
+  end function is_name_char
+
+  pure function lower(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=len(s)) :: t
+    integer :: j
+    t = s
+    do j = 1, len(s)
+      if (s(j:j) >= 'A' .and. s(j:j) <= 'Z') t(j:j) = achar(iachar(s(j:j)) + 32)
+    end do
+  end function lower
+
+  pure logical function face_in_grid(f, ndim)
+    integer, intent(in) :: f, ndim
+    face_in_grid = ndim < 1 .or. ndim > 3 .or. (f + 1)/2 <= ndim
+  end function face_in_grid
+
+  function all_groups() result(s)
+    character(len=:), allocatable :: s
+    integer :: g
+    s = ''
+    do g = 1, ngroups
+      if (g > 1) s = s//', '
+      s = s//'&'//trim(group_names(g))
+    end do
+  end function all_groups
+
+  function all_faces() result(s)
+    character(len=:), allocatable :: s
+    integer :: f
+    s = ''
+    do f = 1, 6
+      if (f > 1) s = s//', '
+      s = s//face_names(f)
+    end do
+  end function all_faces
+
+  function all_kernels() result(s)
+    character(len=:), allocatable :: s
+    integer :: k
+    s = ''
+    do k = 1, size(kernel_names)
+      if (k > 1) s = s//', '
+      s = s//trim(kernel_names(k))
+    end do
+  end function all_kernels
+
+end module dpmpm_input

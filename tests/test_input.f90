@@ -1,0 +1,216 @@
+!> Input tests: a valid namelist file gives the expected resolved parameters on every rank,
+!> optional groups give the config_t defaults, and the output of print_config reads back to
+!> the same parameters.
+program test_input
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size, &
+                     MPI_Barrier
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller, face_index
+  use dpmpm_input, only: read_input, print_config
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
+  implicit none
+  integer :: status, rank, nranks
+  character(len=16) :: tag
+
+  call MPI_Init()
+  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+  am_root = rank == 0
+  ! Rank counts run side by side under ctest -j: one set of files per rank count.
+  write (tag, '(a,i0)') 'np', nranks
+  call test_valid_file_gives_values_on_every_rank()
+  call test_optional_groups_give_defaults()
+  call test_print_config_reads_back()
+  status = finish_tests(MPI_COMM_WORLD)
+  call MPI_Finalize()
+  if (status /= 0) stop 1, quiet = .true.
+
+contains
+
+  !> Rank 0 writes lines to file; every rank waits until it is there.
+  subroutine write_file(file, lines)
+    character(len=*), intent(in) :: file
+    character(len=*), intent(in) :: lines(:)
+    integer :: u, k
+    if (rank == 0) then
+      open (newunit=u, file=file, status='replace', action='write')
+      do k = 1, size(lines)
+        write (u, '(a)') trim(lines(k))
+      end do
+      close (u)
+    end if
+    call MPI_Barrier(MPI_COMM_WORLD)
+  end subroutine write_file
+
+  !> A scene with every group; the rank count is left to MPI so it works on 1, 2 and 4 ranks.
+  subroutine write_full_scene(file)
+    character(len=*), intent(in) :: file
+    call write_file(file, [character(len=100) :: &
+      '! a bar and a wedge', &
+      '&run name = ''bar'', t_end = 0.5, dt = 1.0e-5, cfl = 0.4, max_steps = 5000000000,', &
+      '     scheme = ''usl'', flip = 0.95, gravity = 0.0, -9.81, progress_seconds = 2.5 /', &
+      '&grid ndim = 2, ncells = 40, 8, origin = -1.0, 0.0, length = 2.0, 0.4 /', &
+      '&shape kernel = ''quadratic'' /', &
+      '&material id = 3, density = 7850.0, youngs_modulus = 2.1e11, poisson_ratio = 0.0 /', &
+      '&material id = 5, model = ''neo_hookean'' /', &
+      '&region lo = -1.0, 0.0, hi = 0.0, 0.2, material = 3, velocity = 0.1, 0.0 /', &
+      '&region shape = ''polygon'', npoly = 3, poly_x = 0.1, 0.9, 0.1,', &
+      '  poly_y = 0.0, 0.0, 0.4, material = 5, ppc = 3, placement = ''random'', seed = 7,', &
+      '  stress = -1.0e3, -2.0e3, 0.0, 5.0 /', &
+      '  &BOUNDARY face = ''x-'', condition = ''fixed'' / ! upper case works too', &
+      '&boundary face = ''y-'', condition = ''roller'' /', &
+      '&load face = ''x+'', traction = 1.0e5, 0.0, ramp_time = 1.0e-3 /', &
+      '&load face = ''y+'', traction = 0.0, -2.0e4 /', &
+      '&output dir = ''results/bar'', frame_interval = 0.01, diag_every = 50 /', &
+      '&benchmark name = ''axial_bar'', amplitude = 0.1 /'])
+  end subroutine write_full_scene
+
+  !> Every value of the full scene as read on this rank.
+  subroutine check_full_scene(cfg)
+    type(config_t), intent(in) :: cfg
+    call check(cfg%name == 'bar', 'run name')
+    call check_close(cfg%t_end, 0.5_wp, 0.0_wp, 0.0_wp, 't_end')
+    call check_close(cfg%dt, 1.0e-5_wp, 0.0_wp, 0.0_wp, 'dt')
+    call check_close(cfg%cfl, 0.4_wp, 0.0_wp, 0.0_wp, 'cfl')
+    call check(cfg%max_steps == 5000000000_i8, 'max_steps beyond 32 bits')
+    call check(cfg%scheme == 'usl', 'scheme')
+    call check_close(cfg%flip, 0.95_wp, 0.0_wp, 0.0_wp, 'flip')
+    call check(all(cfg%gravity == [0.0_wp, -9.81_wp, 0.0_wp]), 'gravity')
+    call check_close(cfg%progress_seconds, 2.5_wp, 0.0_wp, 0.0_wp, 'progress_seconds')
+    call check_equal_int(cfg%ndim, 2, 'ndim')
+    call check(all(cfg%ncells == [40, 8, 1]), 'ncells (third keeps its default)')
+    call check(all(cfg%origin == [-1.0_wp, 0.0_wp, 0.0_wp]), 'origin')
+    call check(all(cfg%length == [2.0_wp, 0.4_wp, 1.0_wp]), 'length')
+    call check(all(cfg%dims == 0), 'dims')
+    call check(cfg%kernel == 'quadratic', 'kernel')
+    call check_equal_int(size(cfg%materials), 2, 'number of materials')
+    if (size(cfg%materials) == 2) then
+      call check_equal_int(cfg%materials(1)%id, 3, 'material 1 id')
+      call check(cfg%materials(1)%model == 'linear_elastic', 'material 1 default model')
+      call check_close(cfg%materials(1)%density, 7850.0_wp, 0.0_wp, 0.0_wp, 'density')
+      call check_close(cfg%materials(1)%youngs_modulus, 2.1e11_wp, 0.0_wp, 0.0_wp, 'modulus')
+      call check_close(cfg%materials(1)%poisson_ratio, 0.0_wp, 0.0_wp, 0.0_wp, 'poisson')
+      call check_equal_int(cfg%materials(2)%id, 5, 'material 2 id')
+      call check(cfg%materials(2)%model == 'neo_hookean', 'material 2 model')
+      call check_close(cfg%materials(2)%density, 1000.0_wp, 0.0_wp, 0.0_wp, &
+                       'material 2 default density (not carried over from material 1)')
+      call check_close(cfg%materials(2)%poisson_ratio, 0.3_wp, 0.0_wp, 0.0_wp, &
+                       'material 2 default poisson ratio')
+    end if
+    call check_equal_int(size(cfg%regions), 2, 'number of regions')
+    if (size(cfg%regions) == 2) then
+      call check(cfg%regions(1)%shape == 'box', 'region 1 default shape')
+      call check(all(cfg%regions(1)%lo(1:2) == [-1.0_wp, 0.0_wp]), 'region 1 lo')
+      call check(all(cfg%regions(1)%hi(1:2) == [0.0_wp, 0.2_wp]), 'region 1 hi')
+      call check_equal_int(cfg%regions(1)%material, 3, 'region 1 material')
+      call check(all(cfg%regions(1)%velocity == [0.1_wp, 0.0_wp, 0.0_wp]), 'region 1 velocity')
+      call check_equal_int(cfg%regions(1)%ppc, 2, 'region 1 default ppc')
+      call check(cfg%regions(1)%placement == 'regular', 'region 1 default placement')
+      call check(cfg%regions(2)%shape == 'polygon', 'region 2 shape')
+      call check_equal_int(cfg%regions(2)%npoly, 3, 'region 2 npoly')
+      call check(all(cfg%regions(2)%poly(1, 1:3) == [0.1_wp, 0.9_wp, 0.1_wp]), 'poly_x')
+      call check(all(cfg%regions(2)%poly(2, 1:3) == [0.0_wp, 0.0_wp, 0.4_wp]), 'poly_y')
+      call check_equal_int(cfg%regions(2)%material, 5, 'region 2 material')
+      call check_equal_int(cfg%regions(2)%ppc, 3, 'region 2 ppc')
+      call check(cfg%regions(2)%placement == 'random', 'region 2 placement')
+      call check_equal_int(cfg%regions(2)%seed, 7, 'region 2 seed')
+      call check(cfg%regions(2)%phase == 'solid', 'region 2 default phase')
+      call check(all(cfg%regions(2)%stress == [-1.0e3_wp, -2.0e3_wp, 0.0_wp, 5.0_wp, 0.0_wp, &
+                                               0.0_wp]), 'region 2 stress')
+      call check(all(cfg%regions(2)%velocity == 0.0_wp), 'region 2 default velocity')
+    end if
+    call check(all(cfg%bc == [bc_fixed, bc_free, bc_roller, bc_free, bc_free, bc_free]), &
+               'boundary conditions per face')
+    call check_equal_int(size(cfg%loads), 2, 'number of loads')
+    if (size(cfg%loads) == 2) then
+      call check_equal_int(cfg%loads(1)%face, face_index('x+'), 'load 1 face')
+      call check(all(cfg%loads(1)%traction == [1.0e5_wp, 0.0_wp, 0.0_wp]), 'load 1 traction')
+      call check_close(cfg%loads(1)%ramp_time, 1.0e-3_wp, 0.0_wp, 0.0_wp, 'load 1 ramp')
+      call check_equal_int(cfg%loads(2)%face, face_index('y+'), 'load 2 face')
+      call check(all(cfg%loads(2)%traction == [0.0_wp, -2.0e4_wp, 0.0_wp]), 'load 2 traction')
+      call check_close(cfg%loads(2)%ramp_time, 0.0_wp, 0.0_wp, 0.0_wp, 'load 2 default ramp')
+    end if
+    call check(cfg%output_dir == 'results/bar', 'output dir')
+    call check_close(cfg%frame_interval, 0.01_wp, 0.0_wp, 0.0_wp, 'frame_interval')
+    call check_equal_int(cfg%diag_every, 50, 'diag_every')
+    call check(cfg%benchmark == 'axial_bar', 'benchmark')
+    call check_close(cfg%amplitude, 0.1_wp, 0.0_wp, 0.0_wp, 'amplitude')
+  end subroutine check_full_scene
+
+  subroutine test_valid_file_gives_values_on_every_rank()
+    type(config_t) :: cfg
+    character(len=:), allocatable :: file
+    integer :: u, n
+    character(len=:), allocatable :: text
+    call begin_test('valid_file_gives_values_on_every_rank')
+    file = 'test_input_'//trim(tag)//'_full.nml'
+    call write_full_scene(file)
+    call read_input(file, MPI_COMM_WORLD, cfg)
+    call check_full_scene(cfg)
+    call check(cfg%input_file == file, 'input_file')
+    ! The whole file text, as on disk, is on every rank.
+    open (newunit=u, file=file, access='stream', form='unformatted', action='read')
+    inquire (unit=u, size=n)
+    allocate (character(len=n) :: text)
+    read (u) text
+    close (u)
+    call check(allocated(cfg%input_text), 'input_text allocated')
+    if (allocated(cfg%input_text)) call check(cfg%input_text == text .and. &
+                                              len(cfg%input_text) == n, 'input_text')
+  end subroutine test_valid_file_gives_values_on_every_rank
+
+  subroutine test_optional_groups_give_defaults()
+    type(config_t) :: cfg, def
+    character(len=:), allocatable :: file
+    call begin_test('optional_groups_give_defaults')
+    file = 'test_input_'//trim(tag)//'_minimal.nml'
+    call write_file(file, [character(len=80) :: &
+      '&grid ncells = 16, 16 /', &
+      '&material /', &
+      '&region lo = 0.25, 0.25, hi = 0.75, 0.75 /'])
+    call read_input(file, MPI_COMM_WORLD, cfg)
+    call check(cfg%name == def%name, 'name')
+    call check(cfg%t_end == def%t_end .and. cfg%dt == def%dt .and. cfg%cfl == def%cfl, &
+               't_end, dt, cfl')
+    call check(cfg%max_steps == def%max_steps, 'max_steps')
+    call check(cfg%scheme == def%scheme .and. cfg%flip == def%flip, 'scheme, flip')
+    call check(all(cfg%gravity == def%gravity), 'gravity')
+    call check(cfg%progress_seconds == def%progress_seconds, 'progress_seconds')
+    call check_equal_int(cfg%ndim, def%ndim, 'ndim')
+    call check(all(cfg%origin == def%origin) .and. all(cfg%length == def%length), 'grid box')
+    call check(all(cfg%dims == def%dims), 'dims')
+    call check(cfg%kernel == def%kernel, 'kernel')
+    call check_equal_int(size(cfg%materials), 1, 'one material')
+    call check_equal_int(cfg%materials(1)%id, 1, 'default material id')
+    call check_equal_int(size(cfg%regions), 1, 'one region')
+    call check_equal_int(cfg%regions(1)%material, 1, 'default region material')
+    call check_equal_int(size(cfg%loads), 0, 'no loads')
+    call check(all(cfg%bc == bc_free), 'all faces free')
+    call check(cfg%output_dir == def%output_dir, 'output dir')
+    call check(cfg%frame_interval == def%frame_interval, 'frame_interval')
+    call check_equal_int(cfg%diag_every, def%diag_every, 'diag_every')
+    call check(cfg%benchmark == def%benchmark .and. cfg%amplitude == def%amplitude, 'benchmark')
+  end subroutine test_optional_groups_give_defaults
+
+  subroutine test_print_config_reads_back()
+    type(config_t) :: cfg, again
+    character(len=:), allocatable :: file, printed
+    integer :: u
+    call begin_test('print_config_reads_back')
+    file = 'test_input_'//trim(tag)//'_full.nml'
+    printed = 'test_input_'//trim(tag)//'_printed.nml'
+    call write_full_scene(file)
+    call read_input(file, MPI_COMM_WORLD, cfg)
+    if (rank == 0) then
+      open (newunit=u, file=printed, status='replace', action='write')
+      call print_config(cfg, u)
+      close (u)
+      if (nranks == 1) call print_config(cfg, output_unit)
+    end if
+    call MPI_Barrier(MPI_COMM_WORLD)
+    call read_input(printed, MPI_COMM_WORLD, again)
+    call check_full_scene(again)
+  end subroutine test_print_config_reads_back
+
+end program test_input

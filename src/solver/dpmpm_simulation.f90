@@ -580,44 +580,24 @@ contains
     integer, intent(in) :: d, a, b
     real(wp), intent(in) :: sg(:)
     logical, intent(in) :: accumulate
-    integer :: ia, ib, i, j
-    ia = a
-    ib = b
-    select case (d)
-    case (1)
-      do j = 1, size(f, 4)
-        do i = 1, size(f, 3)
-          if (accumulate) then
-            f(:, ib, i, j) = f(:, ib, i, j) + sg*f(:, ia, i, j)
-            f(:, ia, i, j) = 0.0_wp
-          else
-            f(:, ib, i, j) = sg*f(:, ia, i, j)
-          end if
-        end do
-      end do
-    case (2)
-      do j = 1, size(f, 4)
-        do i = 1, size(f, 2)
-          if (accumulate) then
-            f(:, i, ib, j) = f(:, i, ib, j) + sg*f(:, i, ia, j)
-            f(:, i, ia, j) = 0.0_wp
-          else
-            f(:, i, ib, j) = sg*f(:, i, ia, j)
-          end if
-        end do
-      end do
-    case (3)
-      do j = 1, size(f, 3)
-        do i = 1, size(f, 2)
-          if (accumulate) then
-            f(:, i, j, ib) = f(:, i, j, ib) + sg*f(:, i, j, ia)
-            f(:, i, j, ia) = 0.0_wp
-          else
-            f(:, i, j, ib) = sg*f(:, i, j, ia)
-          end if
-        end do
-      end do
-    end select
+    integer :: la(3), ha(3), lb(3), hb(3), c
+    la = 1
+    ha = [size(f, 2), size(f, 3), size(f, 4)]
+    lb = la
+    hb = ha
+    la(d) = a; ha(d) = a
+    lb(d) = b; hb(d) = b
+    do c = 1, size(f, 1)
+      associate (fa => f(c, la(1):ha(1), la(2):ha(2), la(3):ha(3)), &
+                 fb => f(c, lb(1):hb(1), lb(2):hb(2), lb(3):hb(3)))
+        if (accumulate) then
+          fb = fb + sg(c)*fa
+          fa = 0.0_wp
+        else
+          fb = sg(c)*fa
+        end if
+      end associate
+    end do
   end subroutine plane_op
 
   !> Stop with the point's id and position when a point has left the grid.

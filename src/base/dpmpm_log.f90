@@ -1,6 +1,6 @@
 !> Rank-0 logging: one helper for everything printed to stdout.
 module dpmpm_log
-  use, intrinsic :: iso_fortran_env, only: output_unit
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank
   implicit none
   private
@@ -12,6 +12,7 @@ module dpmpm_log
   contains
     procedure :: init => log_init
     procedure :: info => log_info
+    procedure :: error => log_error
   end type log_t
 
 contains
@@ -33,5 +34,14 @@ contains
     write (output_unit, '(a)') trim(line)
     flush (output_unit)
   end subroutine log_info
+
+  !> Print one error line on rank 0 to stderr, prefixed "dpmpm: error: ".
+  subroutine log_error(self, line)
+    class(log_t), intent(in) :: self
+    character(len=*), intent(in) :: line
+    if (.not. self%root) return
+    write (error_unit, '(a)') 'dpmpm: error: '//trim(line)
+    flush (error_unit)
+  end subroutine log_error
 
 end module dpmpm_log

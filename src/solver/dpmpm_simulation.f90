@@ -55,6 +55,7 @@ module dpmpm_simulation
     integer(i8) :: step = 0
     real(wp) :: wall_start = 0.0_wp
     integer :: nframes = 0
+    integer(i8) :: last_frame_step = -1       !< step of the last frame written
     real(wp) :: next_frame = 0.0_wp
     real(wp), allocatable :: err_hist(:, :)   !< benchmark errors over diagnostics (time, errors)
     integer :: nerr = 0
@@ -93,8 +94,18 @@ contains
     integer :: nmin, nmax
     integer(i8) :: ntot
     character(len=256) :: line
+    call self%free()
     self%cfg = cfg
+    self%write_output = .true.
     if (present(write_output)) self%write_output = write_output
+    self%ext_work = 0.0_wp
+    self%energy0 = 0.0_wp
+    self%energy_scale = 0.0_wp
+    self%energy_drift = 0.0_wp
+    self%nframes = 0
+    self%last_frame_step = -1
+    self%next_frame = 0.0_wp
+    self%nerr = 0
     call self%log%init(comm)
     self%wall_start = MPI_Wtime()
     self%nd = cfg%ndim
@@ -117,7 +128,7 @@ contains
       ' solid points; per rank min ', nmin, ' max ', nmax
     call self%log%info(line)
     if (ntot == 0) then
-      call self%log%info('dpmpm: error: the regions produced no points')
+      call self%log%error('the regions produced no points')
       call clean_stop(2)
     end if
 
@@ -166,8 +177,7 @@ contains
     end do
     call self%timers%toc(t_total)
     if (mod(self%step, diag_every) /= 0) call self%diagnostics()
-    if (self%nframes == 0 .or. self%cfg%frame_interval <= 0.0_wp .or. &
-        self%time < self%next_frame - self%cfg%frame_interval) call self%write_frame()
+    if (self%last_frame_step /= self%step) call self%write_frame()
     if (self%write_output .and. self%cfg%benchmark /= 'none') then
       call self%out%write_verification('time', self%err_hist(1, 1:self%nerr))
       do k = 1, nbench_err
@@ -209,16 +219,17 @@ contains
     end do
     call MPI_Allreduce(MPI_IN_PLACE, rate, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
     if (.not. ieee_is_finite(rate)) then
-      call self%log%info('dpmpm: error: non-finite wave speed or velocity; the run became unstable')
+      call self%log%error('non-finite wave speed or velocity at step '//itoa(self%step)// &
+                          '; the run became unstable')
       call clean_stop(3)
     end if
     crit = minval(self%grid%h(1:self%nd))/rate
     if (self%cfg%dt > 0.0_wp) then
       if (self%cfg%dt > crit) then
-        write (line, '(a,es11.4,a,es11.4,a,i0,a)') 'dpmpm: error: &run dt = ', self%cfg%dt, &
+        write (line, '(a,es11.4,a,es11.4,a,i0,a)') '&run dt = ', self%cfg%dt, &
           ' s is above the stable time step ', crit, ' s (Courant number 1) at step ', self%step, &
           '; use a smaller dt or dt = 0 for the automatic step'
-        call self%log%info(line)
+        call self%log%error(line)
         call clean_stop(2)
       end if
       dt = self%cfg%dt
@@ -664,6 +675,7 @@ contains
   subroutine sim_write_frame(self)
     class(simulation_t), intent(inout) :: self
     self%nframes = self%nframes + 1
+    self%last_frame_step = self%step
     self%next_frame = self%next_frame + self%cfg%frame_interval
     if (.not. self%write_output) return
     call self%timers%tic(t_output)
@@ -749,6 +761,14 @@ contains
     end do
   end function sort_index
 
+  pure function itoa(k) result(s)
+    integer(i8), intent(in) :: k
+    character(len=:), allocatable :: s
+    character(len=24) :: buf
+    write (buf, '(i0)') k
+    s = trim(buf)
+  end function itoa
+
   !> Release everything.
   subroutine sim_free(self)
     class(simulation_t), intent(inout) :: self
@@ -758,6 +778,8 @@ contains
     if (allocated(self%nvel)) deallocate (self%nvel)
     if (allocated(self%i0)) deallocate (self%i0, self%sw, self%sdw)
     if (allocated(self%vgrad)) deallocate (self%vgrad)
+    if (allocated(self%err_hist)) deallocate (self%err_hist)
+    if (allocated(self%mats)) deallocate (self%mats)
   end subroutine sim_free
 
 end module dpmpm_simulation

@@ -13,6 +13,7 @@ module dpmpm_input
                           name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, bc_names
   use dpmpm_kernels, only: kernel_from_name, kernel_ghost_width, kernel_names
   use dpmpm_error, only: clean_stop
+  use dpmpm_strings, only: itoa, i8toa
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_Dims_create, &
                      MPI_INTEGER, MPI_CHARACTER
   implicit none
@@ -1144,22 +1145,6 @@ contains
     end do
     q = q//"'"
   end function quote
-
-  pure function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write (buf, '(i0)') i
-    s = trim(buf)
-  end function itoa
-
-  pure function i8toa(i) result(s)
-    integer(i8), intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    write (buf, '(i0)') i
-    s = trim(buf)
-  end function i8toa
 
   pure function itoa_list(v) result(s)
     integer, intent(in) :: v(:)

@@ -7,6 +7,7 @@ module dpmpm_simulation
   use dpmpm_kinds, only: wp, i8
   use dpmpm_error, only: fatal, clean_stop
   use dpmpm_log, only: log_t
+  use dpmpm_strings, only: i8toa
   use dpmpm_timer, only: timer_set_t, t_total, t_stencil, t_p2g, t_halo, t_nodal, t_g2p, t_stress, &
                          t_migrate, t_output, ntimers, timer_names
   use dpmpm_config, only: config_t, bc_free, bc_fixed
@@ -219,7 +220,7 @@ contains
     end do
     call MPI_Allreduce(MPI_IN_PLACE, rate, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
     if (.not. ieee_is_finite(rate)) then
-      call self%log%error('non-finite wave speed or velocity at step '//itoa(self%step)// &
+      call self%log%error('non-finite wave speed or velocity at step '//i8toa(self%step)// &
                           '; the run became unstable')
       call clean_stop(3)
     end if
@@ -760,14 +761,6 @@ contains
       width = 2*width
     end do
   end function sort_index
-
-  pure function itoa(k) result(s)
-    integer(i8), intent(in) :: k
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    write (buf, '(i0)') k
-    s = trim(buf)
-  end function itoa
 
   !> Release everything.
   subroutine sim_free(self)

@@ -4,7 +4,9 @@ program test_kernels
   use mpi_f08, only: MPI_Init, MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: kernel_eval_1d, kernel_width, max_stencil, kernel_linear, &
-                           kernel_quadratic, kernel_names
+                           kernel_quadratic, kernel_cubic, kernel_names, ngrid_kernels, &
+                           kernel_weight, kernel_radial, kernel_reach, kernel_wendland_c2, &
+                           kernel_wendland_c4
   use dpmpm_assert, only: begin_test, check_close, check, finish_tests
   implicit none
   integer :: status
@@ -13,6 +15,8 @@ program test_kernels
   call test_tensor_partition_of_unity_3d()
   call test_gradient_matches_finite_difference()
   call test_linear_field_reproduced()
+  call test_weight_gradient_matches_finite_difference()
+  call test_radial_profiles_vanish_at_support()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -23,7 +27,7 @@ contains
     integer :: k, j, i0
     real(wp) :: s, w(max_stencil), dw(max_stencil)
     call begin_test('partition_of_unity_1d')
-    do k = 1, 2
+    do k = 1, ngrid_kernels
       do j = 0, 200
         s = 3.0_wp + real(j, wp)/200.0_wp*0.999999_wp
         call kernel_eval_1d(k, s, i0, w, dw)
@@ -38,7 +42,7 @@ contains
     integer :: k, j, a, b, c, i0(3)
     real(wp) :: s(3), w(max_stencil, 3), dw(max_stencil, 3), tot, g(3)
     call begin_test('tensor_partition_of_unity_3d')
-    do k = 1, 2
+    do k = 1, ngrid_kernels
       do j = 1, 50
         s = [1.0_wp + 0.0137_wp*j, 2.0_wp + 0.0191_wp*j, 5.0_wp + 0.0173_wp*j]
         do a = 1, 3
@@ -64,7 +68,7 @@ contains
     real(wp) :: s, w(max_stencil), dw(max_stencil), wp_(max_stencil), wm(max_stencil), tmp(max_stencil)
     real(wp), parameter :: eps = 1.0e-6_wp
     call begin_test('gradient_matches_finite_difference')
-    do k = 1, 2
+    do k = 1, ngrid_kernels
       n = kernel_width(k)
       do j = 1, 97
         s = 4.0_wp + real(j, wp)/98.0_wp
@@ -83,7 +87,7 @@ contains
     integer :: k, j, i0, i, n
     real(wp) :: s, w(max_stencil), dw(max_stencil), f, df
     call begin_test('linear_field_reproduced')
-    do k = kernel_linear, kernel_quadratic
+    do k = kernel_linear, kernel_cubic
       n = kernel_width(k)
       do j = 0, 100
         s = 7.0_wp + real(j, wp)/101.0_wp
@@ -98,5 +102,52 @@ contains
       end do
     end do
   end subroutine test_linear_field_reproduced
+
+  subroutine test_weight_gradient_matches_finite_difference()
+    ! kernel_weight's gradient against central differences, tensor and radial forms, 1D-3D.
+    integer :: k, nd, j, m
+    logical :: radial
+    real(wp) :: d(3), e(3), w, dw(3), wp_, wm, tmp(3), fd
+    real(wp), parameter :: eps = 1.0e-6_wp
+    call begin_test('weight_gradient_matches_finite_difference')
+    do k = 1, size(kernel_names)
+      do nd = 1, 3
+        do j = 1, 40
+          radial = k > ngrid_kernels .or. mod(j, 2) == 0
+          d = [0.61_wp*sin(1.3_wp*j), 0.57_wp*cos(0.7_wp*j), 0.43_wp*sin(2.1_wp*j + 0.3_wp)]
+          call kernel_weight(k, 1.9_wp, radial, nd, d(1:nd), w, dw(1:nd))
+          call check(w >= 0.0_wp, trim(kernel_names(k))//' weight non-negative')
+          do m = 1, nd
+            e = d
+            e(m) = d(m) + eps
+            call kernel_weight(k, 1.9_wp, radial, nd, e(1:nd), wp_, tmp(1:nd))
+            e(m) = d(m) - eps
+            call kernel_weight(k, 1.9_wp, radial, nd, e(1:nd), wm, tmp(1:nd))
+            fd = (wp_ - wm)/(2*eps)
+            call check(abs(fd - dw(m)) < 1.0e-7_wp, trim(kernel_names(k))//' weight gradient')
+          end do
+        end do
+      end do
+    end do
+  end subroutine test_weight_gradient_matches_finite_difference
+
+  subroutine test_radial_profiles_vanish_at_support()
+    ! Every radial profile is positive inside r < 1, zero (value and slope) at r = 1,
+    ! and kernel_reach bounds the support.
+    integer :: k
+    real(wp) :: w, dwdr
+    call begin_test('radial_profiles_vanish_at_support')
+    do k = 1, size(kernel_names)
+      call kernel_radial(k, 0.999_wp, w, dwdr)
+      call check(w > 0.0_wp, trim(kernel_names(k))//' positive inside the support')
+      call kernel_radial(k, 1.0_wp, w, dwdr)
+      call check(w == 0.0_wp .and. dwdr == 0.0_wp, trim(kernel_names(k))//' zero at r = 1')
+      call check_close(kernel_reach(k, 2.5_wp, .true.), 2.5_wp, 0.0_wp, 0.0_wp, 'radial reach')
+    end do
+    call kernel_radial(kernel_wendland_c2, 0.0_wp, w, dwdr)
+    call check_close(w, 1.0_wp, 1.0e-15_wp, 0.0_wp, 'Wendland C2 at 0')
+    call kernel_radial(kernel_wendland_c4, 0.0_wp, w, dwdr)
+    call check_close(w, 1.0_wp, 1.0e-15_wp, 0.0_wp, 'Wendland C4 at 0')
+  end subroutine test_radial_profiles_vanish_at_support
 
 end program test_kernels

@@ -11,7 +11,8 @@ module dpmpm_input
   use dpmpm_kinds, only: wp, i8, mpi_wp, mpi_i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
                           name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, bc_names
-  use dpmpm_kernels, only: kernel_from_name, kernel_ghost_width, kernel_names
+  use dpmpm_kernels, only: kernel_from_name, kernel_ghost_width, kernel_names, ngrid_kernels, &
+                           is_grid_kernel
   use dpmpm_error, only: clean_stop
   use dpmpm_strings, only: itoa, i8toa
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_Dims_create, &
@@ -707,8 +708,8 @@ contains
     end do
 
     ! &shape
-    if (kernel_from_name(cfg%kernel) <= 0) call add_value(rd, g_shape, 1, 'kernel', &
-      quote(cfg%kernel), 'the kernels are '//all_kernels())
+    if (.not. is_grid_kernel(kernel_from_name(cfg%kernel))) call add_value(rd, g_shape, 1, &
+      'kernel', quote(cfg%kernel), 'the grid kernels are '//all_kernels(ngrid_kernels))
 
     if (grid_ok) call check_decomposition(rd, cfg, nranks)
 
@@ -1265,11 +1266,13 @@ contains
     end do
   end function all_faces
 
-  function all_kernels() result(s)
+  !> The names of the first n kernels, comma separated.
+  function all_kernels(n) result(s)
+    integer, intent(in) :: n
     character(len=:), allocatable :: s
     integer :: k
     s = ''
-    do k = 1, size(kernel_names)
+    do k = 1, n
       if (k > 1) s = s//', '
       s = s//trim(kernel_names(k))
     end do

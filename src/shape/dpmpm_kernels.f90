@@ -1,18 +1,27 @@
-!> Grid kernels (1D functions combined as tensor products): the linear hat of
-!> Standard MPM and the quadratic B-spline. All share one interface: for a
-!> coordinate in cell units, the first node of the stencil and the weights and
-!> their derivatives on the stencil's nodes.
+!> Kernels of dpmpm. Two uses share one set of functions:
+!> - grid functions (linear, quadratic, cubic B-spline) as tensor products on the
+!>   regular grid: kernel_eval_1d gives a point's stencil of nodes and weights;
+!> - reconstruction weights of MLS (any B-spline, tensor product or radial, and
+!>   the radial Wendland C2 and C4 functions): kernel_weight gives the weight of
+!>   a data site at an offset from an evaluation point (physics.md 3.3).
+!> Offsets and radii are in cell units; derivatives are with respect to them.
 module dpmpm_kernels
   use dpmpm_kinds, only: wp
   implicit none
   private
-  public :: kernel_linear, kernel_quadratic, kernel_names, kernel_from_name
+  public :: kernel_linear, kernel_quadratic, kernel_cubic, kernel_wendland_c2, kernel_wendland_c4
+  public :: kernel_names, kernel_from_name, ngrid_kernels, is_grid_kernel
   public :: kernel_width, kernel_ghost_width, kernel_eval_1d, max_stencil
+  public :: bspline_1d, kernel_radial, kernel_weight, kernel_reach
 
-  integer, parameter :: kernel_linear = 1, kernel_quadratic = 2
-  character(len=12), parameter :: kernel_names(2) = ['linear      ', 'quadratic   ']
-  !> Largest number of nodes per axis of any kernel's stencil.
-  integer, parameter :: max_stencil = 3
+  integer, parameter :: kernel_linear = 1, kernel_quadratic = 2, kernel_cubic = 3
+  integer, parameter :: kernel_wendland_c2 = 4, kernel_wendland_c4 = 5
+  !> The first ngrid_kernels kernels are B-splines and can serve as grid functions.
+  integer, parameter :: ngrid_kernels = 3
+  character(len=12), parameter :: kernel_names(5) = ['linear      ', 'quadratic   ', &
+                                                     'cubic       ', 'wendland_c2 ', 'wendland_c4 ']
+  !> Largest number of nodes per axis of any grid kernel's stencil.
+  integer, parameter :: max_stencil = 4
 
 contains
 
@@ -26,18 +35,27 @@ contains
     end do
   end function kernel_from_name
 
-  !> Nodes per axis in the kernel's stencil.
+  !> True for the B-splines, which are a partition of unity on the grid.
+  pure logical function is_grid_kernel(kernel)
+    integer, intent(in) :: kernel
+    is_grid_kernel = kernel >= 1 .and. kernel <= ngrid_kernels
+  end function is_grid_kernel
+
+  !> Nodes per axis in a grid kernel's stencil.
   pure integer function kernel_width(kernel) result(n)
     integer, intent(in) :: kernel
     select case (kernel)
     case (kernel_linear)
       n = 2
-    case default
+    case (kernel_quadratic)
       n = 3
+    case default
+      n = 4
     end select
   end function kernel_width
 
-  !> Ghost layer (in nodes) that a point inside a rank's cells can reach beyond them.
+  !> Ghost layer (in nodes) that a point inside a rank's cells can reach beyond
+  !> them with a grid kernel's stencil.
   pure integer function kernel_ghost_width(kernel) result(g)
     integer, intent(in) :: kernel
     select case (kernel)
@@ -48,37 +66,148 @@ contains
     end select
   end function kernel_ghost_width
 
-  !> Evaluate the 1D kernel at s = (x - origin)/h (cell units). Returns the first
-  !> stencil node i0 and, for nodes i0..i0+width-1, the weights w and derivatives
-  !> dw with respect to s (divide by h for d/dx).
+  !> Evaluate a 1D grid kernel at s = (x - origin)/h (cell units). Returns the
+  !> first stencil node i0 and, for nodes i0..i0+width-1, the weights w and
+  !> derivatives dw with respect to s (divide by h for d/dx).
   pure subroutine kernel_eval_1d(kernel, s, i0, w, dw)
     integer, intent(in) :: kernel
     real(wp), intent(in) :: s
     integer, intent(out) :: i0
     real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
-    real(wp) :: r
+    integer :: j
     w = 0.0_wp
     dw = 0.0_wp
     select case (kernel)
     case (kernel_linear)
-      ! N = 1 - |xi| on the two nodes of the cell.
       i0 = floor(s)
-      r = s - real(i0, wp)
-      w(1) = 1.0_wp - r
-      w(2) = r
-      dw(1) = -1.0_wp
-      dw(2) = 1.0_wp
     case (kernel_quadratic)
-      ! N = 3/4 - xi^2 (|xi| <= 1/2), (3/2 - |xi|)^2/2 (1/2 <= |xi| <= 3/2).
       i0 = floor(s - 0.5_wp)
-      r = s - real(i0, wp)            ! in [0.5, 1.5): distance to the first node
-      w(1) = 0.5_wp*(1.5_wp - r)**2
-      dw(1) = -(1.5_wp - r)
-      w(2) = 0.75_wp - (r - 1.0_wp)**2
-      dw(2) = -2.0_wp*(r - 1.0_wp)
-      w(3) = 0.5_wp*(r - 0.5_wp)**2
-      dw(3) = (r - 0.5_wp)
+    case default
+      i0 = floor(s) - 1
     end select
+    do j = 1, kernel_width(kernel)
+      call bspline_1d(kernel, s - real(i0 + j - 1, wp), w(j), dw(j))
+    end do
   end subroutine kernel_eval_1d
+
+  !> 1D B-spline of the given order (linear, quadratic, cubic) centred at 0, at
+  !> xi in cell units, with its derivative (physics.md 3.3).
+  elemental subroutine bspline_1d(kernel, xi, w, dw)
+    integer, intent(in) :: kernel
+    real(wp), intent(in) :: xi
+    real(wp), intent(out) :: w, dw
+    real(wp) :: a, sg
+    a = abs(xi)
+    sg = sign(1.0_wp, xi)
+    w = 0.0_wp
+    dw = 0.0_wp
+    select case (kernel)
+    case (kernel_linear)
+      ! Closed at |xi| = 1 so that a point on a node keeps its cell's gradient.
+      if (a <= 1.0_wp) then
+        w = 1.0_wp - a
+        dw = -sg
+      end if
+    case (kernel_quadratic)
+      if (a <= 0.5_wp) then
+        w = 0.75_wp - a*a
+        dw = -2.0_wp*xi
+      else if (a < 1.5_wp) then
+        w = 0.5_wp*(1.5_wp - a)**2
+        dw = -sg*(1.5_wp - a)
+      end if
+    case (kernel_cubic)
+      if (a <= 1.0_wp) then
+        w = 0.5_wp*a**3 - a*a + 2.0_wp/3.0_wp
+        dw = sg*(1.5_wp*a*a - 2.0_wp*a)
+      else if (a < 2.0_wp) then
+        w = (2.0_wp - a)**3/6.0_wp
+        dw = -sg*0.5_wp*(2.0_wp - a)**2
+      end if
+    end select
+  end subroutine bspline_1d
+
+  !> Radial profile of a kernel on r in [0, 1] (r = distance / support radius),
+  !> with dw/dr. B-splines are their 1D shape stretched to unit support;
+  !> constant factors are irrelevant in MLS, where they cancel.
+  elemental subroutine kernel_radial(kernel, r, w, dwdr)
+    integer, intent(in) :: kernel
+    real(wp), intent(in) :: r
+    real(wp), intent(out) :: w, dwdr
+    real(wp) :: q
+    w = 0.0_wp
+    dwdr = 0.0_wp
+    if (r >= 1.0_wp) return
+    select case (kernel)
+    case (kernel_linear)
+      w = 1.0_wp - r
+      dwdr = -1.0_wp
+    case (kernel_quadratic)
+      call bspline_1d(kernel_quadratic, 1.5_wp*r, w, dwdr)
+      dwdr = 1.5_wp*dwdr
+    case (kernel_cubic)
+      call bspline_1d(kernel_cubic, 2.0_wp*r, w, dwdr)
+      dwdr = 2.0_wp*dwdr
+    case (kernel_wendland_c2)
+      ! (1 - r)^4 (1 + 4 r)
+      q = 1.0_wp - r
+      w = q**4*(1.0_wp + 4.0_wp*r)
+      dwdr = -20.0_wp*r*q**3
+    case (kernel_wendland_c4)
+      ! (1 - r)^6 (35 r^2 + 18 r + 3) / 3
+      q = 1.0_wp - r
+      w = q**6*(35.0_wp*r*r + 18.0_wp*r + 3.0_wp)/3.0_wp
+      dwdr = -(56.0_wp/3.0_wp)*r*(1.0_wp + 5.0_wp*r)*q**5
+    end select
+  end subroutine kernel_radial
+
+  !> Reconstruction weight of a data site seen from an evaluation point at
+  !> offset d (evaluation point minus site, cell units) and its gradient with
+  !> respect to the evaluation point. Radial kernels use w(|d|/radius); the
+  !> tensor form (B-splines only) is the product of 1D B-splines of natural
+  !> support, and radius is then ignored. Wendland kernels are always radial.
+  pure subroutine kernel_weight(kernel, radius, radial, nd, d, w, dw)
+    integer, intent(in) :: kernel, nd
+    real(wp), intent(in) :: radius
+    logical, intent(in) :: radial
+    real(wp), intent(in) :: d(nd)
+    real(wp), intent(out) :: w, dw(nd)
+    real(wp) :: r, dwdr, wk(nd), dwk(nd)
+    integer :: k
+    if (radial .or. .not. is_grid_kernel(kernel)) then
+      r = norm2(d)/radius
+      call kernel_radial(kernel, r, w, dwdr)
+      if (r > 0.0_wp) then
+        dw = dwdr*d/(r*radius*radius)
+      else
+        dw = 0.0_wp
+      end if
+    else
+      call bspline_1d(kernel, d, wk, dwk)
+      w = product(wk)
+      do k = 1, nd
+        dw(k) = dwk(k)*product(wk(1:k - 1))*product(wk(k + 1:nd))
+      end do
+    end if
+  end subroutine kernel_weight
+
+  !> Half-width (cell units) of the region where kernel_weight can be non-zero.
+  pure real(wp) function kernel_reach(kernel, radius, radial) result(reach)
+    integer, intent(in) :: kernel
+    real(wp), intent(in) :: radius
+    logical, intent(in) :: radial
+    if (radial .or. .not. is_grid_kernel(kernel)) then
+      reach = radius
+    else
+      select case (kernel)
+      case (kernel_linear)
+        reach = 1.0_wp
+      case (kernel_quadratic)
+        reach = 1.5_wp
+      case default
+        reach = 2.0_wp
+      end select
+    end if
+  end function kernel_reach
 
 end module dpmpm_kernels

@@ -20,6 +20,7 @@ program test_biot_column
   call test_zero_ahead_of_fast_front()
   call test_incompressible_closed_form()
   call test_total_stress_behind_front()
+  call test_w1_drained_top_layer_is_terzaghi()
   call test_terzaghi_degree_limits()
   call test_terzaghi_pressure_limits()
   call test_terzaghi_settlement_is_strain_integral()
@@ -194,6 +195,33 @@ contains
     call check(abs(p(7, 2)) < 5.0e-8_wp .and. abs(sig(7, 2)) < 5.0e-8_wp, 'zero ahead (z = 6 m)')
     call check(vs(8, 2) == 0.0_wp .and. vf(8, 2) == 0.0_wp, 'rigid bottom: v_s = v_f = 0')
   end subroutine test_total_stress_behind_front
+
+  !> Both references together: in W1 the drained top lets the pore pressure dissipate in a thin
+  !> layer (sqrt(c_v t) = 1.6 cm at 0.05 s) that is Terzaghi consolidation of a half-space (the
+  !> layer images are negligible, H = L = 10 m). The dynamic solution there equals the
+  !> quasi-static series up to inertia: measured |p_A - p_Terzaghi| at z = 2 mm ... 8 cm:
+  !> 6.7e-6 q at 0.025 s, 4.6e-6 q at 0.05 s. Bound 2e-5 q (3x).
+  subroutine test_w1_drained_top_layer_is_terzaghi()
+    integer, parameter :: nz = 6
+    type(biot_column_t) :: col
+    type(terzaghi_t) :: ter
+    real(wp) :: z(nz), t(2), p(nz, 2), sig(nz, 2), vs(nz, 2), vf(nz, 2)
+    integer :: i, j
+    call begin_test('w1_drained_top_layer_is_terzaghi')
+    col = w1_column()
+    ter = terzaghi_t(height=col%length, porosity=col%porosity, e_c=col%e_c, k_f=col%k_f, &
+                     conductivity=col%conductivity, rho_f=col%rho_f, gravity=col%gravity, &
+                     load=col%load)
+    z = [0.002_wp, 0.005_wp, 0.01_wp, 0.02_wp, 0.04_wp, 0.08_wp]
+    t = [0.025_wp, 0.05_wp]
+    call biot_column_solve(col, 0.05_wp, nz, z, 2, t, p, sig, vs, vf)
+    do j = 1, 2
+      do i = 1, nz
+        call check_close(p(i, j), terzaghi_pressure(ter, z(i), t(j)), 0.0_wp, 2.0e-5_wp, &
+                         'dynamic p = Terzaghi p near the drained top')
+      end do
+    end do
+  end subroutine test_w1_drained_top_layer_is_terzaghi
 
   !> T1 of physics.md section 0.
   function t1_layer() result(ter)

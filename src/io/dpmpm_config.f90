@@ -69,8 +69,17 @@ module dpmpm_config
     real(wp) :: origin(3) = 0.0_wp
     real(wp) :: length(3) = [1.0_wp, 1.0_wp, 1.0_wp]
     integer :: dims(3) = [0, 0, 0]                   !< ranks per axis; 0 = MPI_Dims_create
-    ! &shape
-    character(len=name_len) :: kernel = 'linear'     !< linear | quadratic
+    ! &shape: grid functions, and how velocities and the force-integral fields are
+    ! reconstructed from the points (doc/input.md, physics.md 3)
+    character(len=name_len) :: kernel = 'linear'     !< grid functions: linear | quadratic | cubic
+    character(len=name_len) :: velocity_kernel = ''  !< MLS weight of nodal velocities; '' = projection
+    character(len=name_len) :: velocity_basis = 'constant'
+    real(wp) :: velocity_radius = 0.0_wp             !< cells; 0 = tensor B-spline of natural support
+    character(len=name_len) :: quadrature = 'points' !< points | gauss (force integrals)
+    integer :: gauss_points = 2                      !< Gauss points per cell per axis
+    character(len=name_len) :: field_kernel = 'wendland_c2' !< MLS weight of stress at Gauss points
+    character(len=name_len) :: field_basis = 'constant'
+    real(wp) :: field_radius = 2.0_wp                !< cells; 0 = tensor B-spline of natural support
     ! &material, &region, &load (repeatable)
     type(material_cfg_t), allocatable :: materials(:)
     type(region_cfg_t), allocatable :: regions(:)
@@ -82,8 +91,8 @@ module dpmpm_config
     real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only
     integer :: diag_every = 0                        !< steps between diagnostics; 0 = automatic
     ! &benchmark
-    character(len=name_len) :: benchmark = 'none'   !< none | axial_bar
-    real(wp) :: amplitude = 0.0_wp                   !< benchmark amplitude (m/s for axial_bar)
+    character(len=name_len) :: benchmark = 'none'   !< none | axial_bar | mms
+    real(wp) :: amplitude = 0.0_wp                   !< benchmark amplitude (m/s bar, m mms)
   end type config_t
 
 contains

@@ -11,8 +11,9 @@ module dpmpm_input
   use dpmpm_kinds, only: wp, i8, mpi_wp, mpi_i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
                           name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, bc_names
-  use dpmpm_kernels, only: kernel_from_name, kernel_ghost_width, kernel_names, ngrid_kernels, &
-                           is_grid_kernel
+  use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
+  use dpmpm_mls, only: basis_from_name
+  use dpmpm_shape_plan, only: shape_plan_t, max_gauss
   use dpmpm_error, only: clean_stop
   use dpmpm_strings, only: itoa, i8toa
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_Dims_create, &
@@ -31,7 +32,8 @@ module dpmpm_input
   character(len=*), parameter :: group_vars(ngroups) = [character(len=120) :: &
     'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds', &
     'ndim, ncells, origin, length, dims', &
-    'kernel', &
+    'kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, gauss_points, '// &
+    'field_kernel, field_basis, field_radius', &
     'id, model, density, youngs_modulus, poisson_ratio', &
     'shape, lo, hi, npoly, poly_x, poly_y, material, phase, ppc, placement, seed, velocity, '// &
     'stress', &
@@ -123,6 +125,14 @@ contains
     call put_i(unit, 'dims', cfg%dims)
     write (unit, '(a)') '/', '&shape'
     call put_s(unit, 'kernel', cfg%kernel)
+    call put_s(unit, 'velocity_kernel', cfg%velocity_kernel)
+    call put_s(unit, 'velocity_basis', cfg%velocity_basis)
+    call put_r(unit, 'velocity_radius', [cfg%velocity_radius])
+    call put_s(unit, 'quadrature', cfg%quadrature)
+    call put_i(unit, 'gauss_points', [cfg%gauss_points])
+    call put_s(unit, 'field_kernel', cfg%field_kernel)
+    call put_s(unit, 'field_basis', cfg%field_basis)
+    call put_r(unit, 'field_radius', [cfg%field_radius])
     write (unit, '(a)') '/'
     if (allocated(cfg%materials)) then
       do k = 1, size(cfg%materials)
@@ -439,11 +449,19 @@ contains
     integer, intent(in) :: u
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: kernel
+    character(len=name_len) :: kernel, velocity_kernel, velocity_basis, quadrature, field_kernel, &
+                               field_basis
+    real(wp) :: velocity_radius, field_radius
+    integer :: gauss_points
     integer :: ios
     character(len=512) :: msg
-    namelist /shape/ kernel
+    namelist /shape/ kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, &
+      gauss_points, field_kernel, field_basis, field_radius
     kernel = cfg%kernel
+    velocity_kernel = cfg%velocity_kernel; velocity_basis = cfg%velocity_basis
+    velocity_radius = cfg%velocity_radius; quadrature = cfg%quadrature
+    gauss_points = cfg%gauss_points; field_kernel = cfg%field_kernel
+    field_basis = cfg%field_basis; field_radius = cfg%field_radius
     read (u, nml=shape, iostat=ios, iomsg=msg)
     ok = ios == 0
     if (.not. ok) then
@@ -451,6 +469,10 @@ contains
       return
     end if
     cfg%kernel = kernel
+    cfg%velocity_kernel = velocity_kernel; cfg%velocity_basis = velocity_basis
+    cfg%velocity_radius = velocity_radius; cfg%quadrature = quadrature
+    cfg%gauss_points = gauss_points; cfg%field_kernel = field_kernel
+    cfg%field_basis = field_basis; cfg%field_radius = field_radius
   end subroutine read_shape
 
   !> Read every &material.
@@ -710,6 +732,17 @@ contains
     ! &shape
     if (.not. is_grid_kernel(kernel_from_name(cfg%kernel))) call add_value(rd, g_shape, 1, &
       'kernel', quote(cfg%kernel), 'the grid kernels are '//all_kernels(ngrid_kernels))
+    call check_mls_choice(rd, 'velocity', cfg%velocity_kernel, cfg%velocity_basis, &
+                          cfg%velocity_radius, len_trim(cfg%velocity_kernel) > 0)
+    if (.not. any(cfg%quadrature == [character(len=6) :: 'points', 'gauss'])) &
+      call add_value(rd, g_shape, 1, 'quadrature', quote(cfg%quadrature), &
+                     'the quadratures are points (at the material points), gauss (Gauss points '// &
+                     'of the grid cells with MLS-reconstructed stresses)')
+    if (cfg%gauss_points < 1 .or. cfg%gauss_points > max_gauss) call add_value(rd, g_shape, 1, &
+      'gauss_points', itoa(cfg%gauss_points), 'must be 1 to '//itoa(max_gauss)// &
+      ' (Gauss points per cell per axis)')
+    call check_mls_choice(rd, 'field', cfg%field_kernel, cfg%field_basis, cfg%field_radius, &
+                          cfg%quadrature == 'gauss')
 
     if (grid_ok) call check_decomposition(rd, cfg, nranks)
 
@@ -757,12 +790,37 @@ contains
       'must name a directory')
 
     ! &benchmark
-    if (.not. any(cfg%benchmark == [character(len=9) :: 'none', 'axial_bar'])) &
+    if (.not. any(cfg%benchmark == [character(len=9) :: 'none', 'axial_bar', 'mms'])) &
       call add_value(rd, g_benchmark, 1, 'name', quote(cfg%benchmark), &
-                     'the benchmarks are none, axial_bar')
+                     'the benchmarks are none, axial_bar, mms')
+    if (cfg%benchmark == 'mms' .and. cfg%ndim /= 2) call add_value(rd, g_benchmark, 1, 'name', &
+      quote(cfg%benchmark), 'the manufactured solution is 2D: set &grid ndim = 2')
     if (.not. real_ok(cfg%amplitude)) call add_value(rd, g_benchmark, 1, 'amplitude', &
       rtoa(cfg%amplitude), 'must be a finite number')
   end subroutine check_config
+
+  !> Check one MLS reconstruction choice of &shape (prefix velocity or field) when it is used.
+  subroutine check_mls_choice(rd, prefix, kernel, basis, radius, used)
+    type(reader_t), intent(inout) :: rd
+    character(len=*), intent(in) :: prefix, kernel, basis
+    real(wp), intent(in) :: radius
+    logical, intent(in) :: used
+    integer :: k
+    if (.not. used) return
+    k = kernel_from_name(kernel)
+    if (k <= 0) then
+      call add_value(rd, g_shape, 1, prefix//'_kernel', quote(kernel), 'the MLS weights are '// &
+                     all_kernels(size(kernel_names)))
+    else if (.not. is_grid_kernel(k) .and. .not. real_ok(radius, gt=0.0_wp)) then
+      call add_value(rd, g_shape, 1, prefix//'_radius', rtoa(radius), 'the '//trim(kernel)// &
+                     ' weight is radial and needs a support radius > 0 (in cells)')
+    end if
+    if (.not. real_ok(radius, ge=0.0_wp, le=4.0_wp)) call add_value(rd, g_shape, 1, &
+      prefix//'_radius', rtoa(radius), 'must be in [0, 4] cells (0 = tensor-product B-spline '// &
+      'of natural support)')
+    if (basis_from_name(basis) < 0) call add_value(rd, g_shape, 1, prefix//'_basis', &
+      quote(basis), 'the bases are constant, linear, quadratic')
+  end subroutine check_mls_choice
 
   !> Check that the ranks can be laid out over the grid as the solver will do it, with at least
   !> the kernel's ghost width of cells per rank along every axis.
@@ -770,7 +828,8 @@ contains
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: nranks
-    integer :: nd, d, nfixed, gw, kernel
+    integer :: nd, d, nfixed, gw
+    type(shape_plan_t) :: plan
     integer :: dims(3)
     character(len=:), allocatable :: advice
     nd = cfg%ndim
@@ -792,12 +851,11 @@ contains
       return
     end if
     call MPI_Dims_create(nranks, nd, dims(1:nd))
-    kernel = kernel_from_name(cfg%kernel)
-    gw = 1
-    if (kernel > 0) gw = kernel_ghost_width(kernel)
+    call plan%init(cfg)
+    gw = plan%ghost_width()
     advice = ': every rank needs at least '//itoa(gw)//' cell'//trim(merge('s', ' ', gw > 1))// &
-             ' along each axis with the '//trim(cfg%kernel)//' kernel; use fewer ranks or '// &
-             'more cells'
+             ' along each axis with the '//trim(cfg%kernel)//' kernel and the reach of the '// &
+             'MLS weights; use fewer ranks or more cells'
     do d = 1, nd
       if (dims(d) > cfg%ncells(d)) then
         call add_value(rd, g_grid, 1, 'ncells('//itoa(d)//')', itoa(cfg%ncells(d)), &
@@ -1024,6 +1082,14 @@ contains
     call bcast(cfg%length, comm)
     call bcast(cfg%dims, comm)
     call bcast(cfg%kernel, comm)
+    call bcast(cfg%velocity_kernel, comm)
+    call bcast(cfg%velocity_basis, comm)
+    call bcast(cfg%velocity_radius, comm)
+    call bcast(cfg%quadrature, comm)
+    call bcast(cfg%gauss_points, comm)
+    call bcast(cfg%field_kernel, comm)
+    call bcast(cfg%field_basis, comm)
+    call bcast(cfg%field_radius, comm)
     do k = 1, n(2)
       call bcast(cfg%materials(k)%id, comm)
       call bcast(cfg%materials(k)%model, comm)

@@ -13,8 +13,13 @@ module dpmpm_simulation
   use dpmpm_config, only: config_t, bc_free, bc_fixed
   use dpmpm_grid, only: grid_t
   use dpmpm_decomp, only: decomp_t
-  use dpmpm_kernels, only: kernel_from_name, kernel_ghost_width, kernel_width, kernel_eval_1d, &
-                           max_stencil
+  use dpmpm_kernels, only: kernel_width, max_stencil
+  use dpmpm_shape_plan, only: shape_plan_t
+  use dpmpm_mls, only: mls_stats_t, basis_size, packed_size
+  use dpmpm_reconstruct, only: psi_stencil, weight_integral, velocity_accumulate, velocity_solve, &
+                               velocity_fold_signs, gauss_accumulate, gauss_solve, gauss_forces, &
+                               gauss_velocity_gradient, gauss_strain, gauss_cell_components, &
+                               gauss_solution_components
   use dpmpm_particles, only: particle_set_t
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
@@ -22,7 +27,8 @@ module dpmpm_simulation
   use dpmpm_migrate, only: migrate
   use dpmpm_output, only: output_t
   use dpmpm_diagnostics, only: diag_record_t
-  use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err
+  use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err, &
+                              benchmark_body_force, benchmark_nerr
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_INTEGER8, &
                      MPI_SUM, MPI_MAX, MPI_MIN, MPI_Wtime, MPI_Gather, MPI_Gatherv, MPI_INTEGER
   implicit none
@@ -40,8 +46,18 @@ module dpmpm_simulation
     type(timer_set_t) :: timers
     type(output_t) :: out
     logical :: write_output = .true.
+    type(shape_plan_t) :: plan                !< grid functions and MLS choices (&shape)
     integer :: kernel = 1
     integer :: nw(3) = 1                      !< stencil nodes per axis
+    ! MLS reconstruction (allocated only when the plan uses it): nodal velocity
+    ! moments, Gauss-point sums, their solution and velocity gradients (cell arrays),
+    ! positions and volumes at the force evaluation, effective point volumes.
+    real(wp), allocatable :: vacc(:, :, :, :), gacc(:, :, :, :), gsol(:, :, :, :), glg(:, :, :, :)
+    real(wp), allocatable :: xold(:, :), volold(:), vt(:)
+    real(wp), allocatable :: bacc(:, :)       !< body acceleration per point (manufactured solution)
+    real(wp) :: wint = 1.0_wp                 !< integral of the field weight (cell units)
+    type(mls_stats_t) :: mls_stats            !< fallback counts of the MLS solves on this rank
+    integer(i8) :: nkept = 0                  !< point gradients left point-wise (no quadrature weight)
     integer :: nd = 1
     ! Per-point stencil: first node, weights and x-derivatives per axis.
     integer, allocatable :: i0(:, :)
@@ -92,7 +108,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
     logical, intent(in), optional :: write_output
-    integer :: nmin, nmax
+    integer :: nmin, nmax, nb
     integer(i8) :: ntot
     character(len=256) :: line
     call self%free()
@@ -110,11 +126,14 @@ contains
     call self%log%init(comm)
     self%wall_start = MPI_Wtime()
     self%nd = cfg%ndim
-    self%kernel = kernel_from_name(cfg%kernel)
+    call self%plan%init(cfg)
+    self%kernel = self%plan%grid_kernel
     self%nw = 1
     self%nw(1:self%nd) = kernel_width(self%kernel)
+    self%mls_stats = mls_stats_t()
+    self%nkept = 0
     call self%grid%init(cfg)
-    call self%dec%init(comm, cfg%ndim, cfg%ncells, kernel_ghost_width(self%kernel), cfg%dims)
+    call self%dec%init(comm, cfg%ndim, cfg%ncells, self%plan%ghost_width(), cfg%dims)
     call materials_from_config(cfg%materials, self%mats)
     call self%solid%init('solid', self%nd, any(self%mats%model == model_neo_hookean))
     call generate_points(cfg, self%grid, self%dec, self%mats, self%solid)
@@ -136,6 +155,21 @@ contains
     associate (lo => self%dec%alo, hi => self%dec%ahi)
       allocate (self%node(1 + 2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
       allocate (self%nvel(2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+      if (self%plan%velocity_mls) then
+        nb = basis_size(self%plan%velocity_basis, self%nd)
+        allocate (self%vacc(1 + packed_size(nb) + nb*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+      end if
+      if (self%plan%gauss) then
+        associate (ng => self%plan%ngauss, basis => self%plan%field_basis, nd => self%nd)
+          allocate (self%gacc(gauss_cell_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), &
+                              lo(3):hi(3)))
+          allocate (self%gsol(gauss_solution_components(nd, ng, basis), lo(1):hi(1), &
+                              lo(2):hi(2), lo(3):hi(3)))
+          allocate (self%glg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        end associate
+        self%wint = weight_integral(self%plan%field_kernel, self%plan%field_radius, &
+                                    self%plan%field_radial, self%nd)
+      end if
     end associate
     allocate (self%err_hist(1 + nbench_err, 64))
     self%time = 0.0_wp
@@ -181,15 +215,22 @@ contains
     if (self%last_frame_step /= self%step) call self%write_frame()
     if (self%write_output .and. self%cfg%benchmark /= 'none') then
       call self%out%write_verification('time', self%err_hist(1, 1:self%nerr))
-      do k = 1, nbench_err
+      do k = 1, benchmark_nerr(self%cfg%benchmark)
         call self%out%write_verification(trim(benchmark_error_names(k)), &
                                          self%err_hist(1 + k, 1:self%nerr))
         call self%out%write_verification_attr('max_'//trim(benchmark_error_names(k)), &
                                               maxval(self%err_hist(1 + k, 1:self%nerr)))
         call self%out%write_verification_attr('final_'//trim(benchmark_error_names(k)), &
                                               self%err_hist(1 + k, self%nerr))
+        ! Time average over the records after the start (the paper's eq. 15 with
+        ! diagnostics at every step).
+        if (self%nerr > 1) call self%out%write_verification_attr('mean_'// &
+          trim(benchmark_error_names(k)), sum(self%err_hist(1 + k, 2:self%nerr))/(self%nerr - 1))
       end do
+      call self%out%write_verification_attr('steps', real(self%step, wp))
+      call self%out%write_verification_attr('wall_time_step_loop', self%timers%acc(t_total))
     end if
+    call report_mls(self)
     write (line, '(a,i0,a,es12.5,a,f0.2,a)') 'dpmpm: done, ', self%step, ' steps to t = ', &
       self%time, ' in ', MPI_Wtime() - self%wall_start, ' s'
     call self%log%info(line)
@@ -204,6 +245,29 @@ contains
       call self%log%info('dpmpm: output '//trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5')
     end if
   end subroutine sim_run
+
+  !> Log how often each MLS path was taken (summed over ranks) and store the
+  !> counts as attributes of /verification when the run writes one.
+  subroutine report_mls(self)
+    type(simulation_t), intent(inout) :: self
+    integer(i8) :: c(6)
+    character(len=256) :: line
+    character(len=16), parameter :: names(6) = [character(len=16) :: 'mls_full', 'mls_reduced', &
+      'mls_regularised', 'mls_constant', 'mls_empty', 'strain_pointwise']
+    integer :: k
+    if (.not. (self%plan%velocity_mls .or. self%plan%gauss)) return
+    c = [self%mls_stats%nfull, self%mls_stats%nreduced, self%mls_stats%nregularised, &
+         self%mls_stats%nconstant, self%mls_stats%nempty, self%nkept]
+    call MPI_Allreduce(MPI_IN_PLACE, c, 6, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+    write (line, '(a,5(1x,i0),a,i0)') '  MLS solves: full, reduced basis, regularised, constant '// &
+      'basis, empty:', c(1:5), '; point gradients left point-wise: ', c(6)
+    call self%log%info(line)
+    if (self%write_output .and. self%cfg%benchmark /= 'none') then
+      do k = 1, 6
+        call self%out%write_verification_attr(trim(names(k)), real(c(k), wp))
+      end do
+    end if
+  end subroutine report_mls
 
   !> Stable step: Courant number times the smallest cell size over the fastest
   !> signal (wave speed plus point speed). A fixed dt above the critical step
@@ -243,22 +307,44 @@ contains
   subroutine sim_advance(self, dt)
     class(simulation_t), intent(inout) :: self
     real(wp), intent(in) :: dt
-    integer :: m, nlost
+    integer :: m, nlost, n, nkept
+    n = self%solid%n
     call self%timers%tic(t_stencil)
     call compute_stencils(self)
     call self%timers%toc(t_stencil)
 
     call self%timers%tic(t_p2g)
     self%node = 0.0_wp
-    call p2g(self%nd, self%nw, self%solid%n, self%i0, self%sw, self%sdw, self%solid%mass, &
-             self%solid%v, self%solid%vol, self%solid%stress, self%dec%alo, self%node)
+    if (allocated(self%bacc)) then
+      call benchmark_body_force(self%cfg, self%mats, self%solid, self%time, self%bacc)
+      call p2g(self%nd, self%nw, n, self%i0, self%sw, self%sdw, self%solid%mass, self%solid%v, &
+               self%solid%vol, self%solid%stress, .not. self%plan%gauss, self%dec%alo, self%node, &
+               self%bacc)
+    else
+      call p2g(self%nd, self%nw, n, self%i0, self%sw, self%sdw, self%solid%mass, self%solid%v, &
+               self%solid%vol, self%solid%stress, .not. self%plan%gauss, self%dec%alo, self%node)
+    end if
+    if (self%plan%gauss) call gauss_force_integrals(self)
     call fold_exterior(self, self%node, 1)
+    if (self%plan%velocity_mls) then
+      self%vacc = 0.0_wp
+      associate (pl => self%plan)
+        call velocity_accumulate(self%nd, n, self%solid%x, self%solid%mass, self%solid%v, &
+                                 self%grid%origin, self%grid%h, pl%velocity_kernel, &
+                                 pl%velocity_radius, pl%velocity_radial, pl%velocity_basis, &
+                                 self%dec%alo, self%vacc)
+      end associate
+      call fold_planes(self, self%vacc, velocity_signs(self), .true.)
+    end if
     call self%timers%toc(t_p2g)
     call self%timers%tic(t_halo)
     call self%dec%halo_sum(self%node)
+    if (self%plan%velocity_mls) call self%dec%halo_sum(self%vacc)
     call self%timers%toc(t_halo)
 
     call self%timers%tic(t_nodal)
+    if (self%plan%velocity_mls) call velocity_solve(self%nd, self%plan%velocity_basis, &
+      self%dec%alo, self%dec%olo, self%dec%ohi, self%vacc, self%node, self%mls_stats)
     call nodal_update(self, dt)
     call self%timers%toc(t_nodal)
     call self%timers%tic(t_halo)
@@ -267,9 +353,23 @@ contains
     call self%timers%toc(t_halo)
 
     call self%timers%tic(t_g2p)
-    call g2p(self%nd, self%nw, self%solid%n, self%i0, self%sw, self%sdw, self%dec%alo, self%nvel, &
+    call g2p(self%nd, self%nw, n, self%i0, self%sw, self%sdw, self%dec%alo, self%nvel, &
              self%cfg%flip, dt, self%solid%v, self%solid%x, self%vgrad)
     if (self%cfg%scheme == 'musl') call musl_remap(self)
+    if (self%plan%gauss) then
+      ! Strain rates by the transpose of the quadrature force operator (physics.md 3.5).
+      call gauss_velocity_gradient(self%nd, self%plan%ngauss, self%kernel, self%grid%h, &
+                                   self%dec%alo, self%dec%clo, self%dec%chi, self%gsol, self%nvel, &
+                                   self%glg)
+      call self%dec%halo_copy(self%glg)
+      associate (pl => self%plan)
+        call gauss_strain(self%nd, n, self%xold, self%volold, self%grid%origin, self%grid%h, &
+                          self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                          pl%field_radial, pl%field_basis, self%dec%alo, self%gsol, self%glg, &
+                          self%vgrad, self%vt, nkept)
+      end associate
+      self%nkept = self%nkept + nkept
+    end if
     call self%timers%toc(t_g2p)
 
     call self%timers%tic(t_stress)
@@ -287,11 +387,43 @@ contains
     call self%timers%toc(t_migrate)
   end subroutine sim_advance
 
+  !> Internal forces by Gauss quadrature of MLS-reconstructed stresses, added to
+  !> node(); keeps the positions and volumes for the transposed strain operator.
+  subroutine gauss_force_integrals(self)
+    type(simulation_t), intent(inout) :: self
+    integer :: n
+    n = self%solid%n
+    if (size(self%volold) < n) then
+      deallocate (self%xold, self%volold, self%vt)
+      allocate (self%xold(self%nd, self%solid%cap), self%volold(self%solid%cap), &
+                self%vt(self%solid%cap))
+    end if
+    self%xold(:, 1:n) = self%solid%x(:, 1:n)
+    self%volold(1:n) = self%solid%vol(1:n)
+    self%gacc = 0.0_wp
+    associate (pl => self%plan)
+      call gauss_accumulate(self%nd, n, self%solid%x, self%solid%vol, self%solid%stress, &
+                            self%grid%origin, self%grid%h, self%grid%ncells, pl%ngauss, &
+                            pl%field_kernel, pl%field_radius, pl%field_radial, pl%field_basis, &
+                            self%wint, self%dec%alo, self%gacc)
+      call self%timers%tic(t_halo)
+      call self%dec%halo_sum(self%gacc)
+      call self%timers%toc(t_halo)
+      call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, self%dec%clo, &
+                       self%dec%chi, self%gacc, self%gsol, self%mls_stats)
+      call self%timers%tic(t_halo)
+      call self%dec%halo_copy(self%gsol)
+      call self%timers%toc(t_halo)
+      call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
+                        self%dec%alo, self%dec%clo, self%dec%chi, self%gsol, self%node)
+    end associate
+  end subroutine gauss_force_integrals
+
   !> Kernel weights and derivatives of every point, evaluated once per step.
   subroutine compute_stencils(self)
     type(simulation_t), intent(inout) :: self
     integer :: p, d, n
-    real(wp) :: w(max_stencil), dw(max_stencil)
+    real(wp) :: y(3)
     n = self%solid%n
     if (.not. allocated(self%i0)) then
       allocate (self%i0(3, 0), self%sw(max_stencil, 3, 0), self%sdw(max_stencil, 3, 0))
@@ -303,37 +435,45 @@ contains
       if (allocated(self%vgrad)) deallocate (self%vgrad)
     end if
     if (.not. allocated(self%vgrad)) allocate (self%vgrad(9, size(self%i0, 2)))
+    if (self%plan%gauss .and. .not. allocated(self%xold)) &
+      allocate (self%xold(self%nd, size(self%i0, 2)), self%volold(size(self%i0, 2)), &
+                self%vt(size(self%i0, 2)))
+    if (allocated(self%bacc)) then
+      if (size(self%bacc, 2) < n) deallocate (self%bacc)
+    end if
+    if (self%cfg%benchmark == 'mms' .and. .not. allocated(self%bacc)) &
+      allocate (self%bacc(self%nd, size(self%i0, 2)))
     do p = 1, n
-      do d = 1, 3
-        if (d <= self%nd) then
-          call kernel_eval_1d(self%kernel, (self%solid%x(d, p) - self%grid%origin(d))/self%grid%h(d), &
-                              self%i0(d, p), w, dw)
-          self%sw(:, d, p) = w
-          self%sdw(:, d, p) = dw/self%grid%h(d)
-        else
-          self%i0(d, p) = 0
-          self%sw(:, d, p) = 0.0_wp
-          self%sw(1, d, p) = 1.0_wp
-          self%sdw(:, d, p) = 0.0_wp
-        end if
+      y = 0.0_wp
+      do d = 1, self%nd
+        y(d) = (self%solid%x(d, p) - self%grid%origin(d))/self%grid%h(d)
       end do
+      call psi_stencil(self%nd, self%kernel, y, self%grid%h, self%i0(:, p), self%sw(:, :, p), &
+                       self%sdw(:, :, p))
     end do
   end subroutine compute_stencils
 
   !> Particle to grid: mass, momentum and internal force -sum_p V_p sigma_p grad N_I.
-  subroutine p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, lo, node)
+  !> Point quadrature of the stress (point_forces) is skipped when the forces
+  !> come from Gauss points; bacc adds a body acceleration per point as m_p N_I b_p.
+  subroutine p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
     integer, intent(in) :: nd, nw(3), n
     integer, intent(in) :: i0(:, :)
     real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
     real(wp), intent(in) :: mass(:), v(:, :), vol(:), stress(:, :)
+    logical, intent(in) :: point_forces
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in), optional :: bacc(:, :)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, g(3), s(3, 3), mv(3), fs(3)
+    real(wp) :: nn, g(3), s(3, 3), mv(3), fs(3), mb(3)
     do p = 1, n
-      s = voigt_to_tensor(stress(:, p))
+      s = 0.0_wp
+      if (point_forces) s = voigt_to_tensor(stress(:, p))
       mv = 0.0_wp
       mv(1:nd) = mass(p)*v(:, p)
+      mb = 0.0_wp
+      if (present(bacc)) mb(1:nd) = mass(p)*bacc(:, p)
       do c = 1, nw(3)
         k = i0(3, p) + c - 1
         do b = 1, nw(2)
@@ -344,7 +484,7 @@ contains
             g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
             g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
             g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
-            fs = -vol(p)*matmul(s, g)
+            fs = nn*mb - vol(p)*matmul(s, g)
             node(1, i, j, k) = node(1, i, j, k) + nn*mass(p)
             node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mv(1:nd)
             node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + fs(1:nd)
@@ -525,6 +665,37 @@ contains
     if (bc == bc_fixed .or. c == d) sg = -1.0_wp
   end function mirror_sign
 
+  !> Per-face signs of the components of a field with nscalar scalars followed
+  !> by vectors of nd components, under reflection in each face (mirror_sign).
+  function scalar_vector_signs(self, ncomp, nscalar) result(sg)
+    type(simulation_t), intent(in) :: self
+    integer, intent(in) :: ncomp, nscalar
+    real(wp) :: sg(ncomp, 6)
+    integer :: f, c
+    sg = 1.0_wp
+    do f = 1, 2*self%nd
+      do c = nscalar + 1, ncomp
+        sg(c, f) = mirror_sign(self%grid%bc(f), (f + 1)/2, mod(c - nscalar - 1, self%nd) + 1)
+      end do
+    end do
+  end function scalar_vector_signs
+
+  !> Per-face signs of the nodal velocity moment sums (count, moments, right-hand sides).
+  function velocity_signs(self) result(sg)
+    type(simulation_t), intent(in) :: self
+    real(wp) :: sg(size(self%vacc, 1), 6)
+    real(wp) :: vsign(3)
+    integer :: f, c, d
+    sg = 1.0_wp
+    do f = 1, 2*self%nd
+      d = (f + 1)/2
+      do c = 1, self%nd
+        vsign(c) = mirror_sign(self%grid%bc(f), d, c)
+      end do
+      call velocity_fold_signs(self%nd, self%plan%velocity_basis, d, vsign(1:self%nd), sg(:, f))
+    end do
+  end function velocity_signs
+
   !> Fold the exterior nodes beyond fixed and roller faces onto their mirror
   !> images inside the grid (node -k onto +k, ncells+k onto ncells-k), as if the
   !> points had mirror images behind the wall. Scalars (the first nscalar
@@ -534,27 +705,7 @@ contains
     type(simulation_t), intent(in) :: self
     real(wp), intent(inout) :: f(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     integer, intent(in) :: nscalar
-    integer :: d, side, k, src, dst, bc, c
-    real(wp) :: sg(size(f, 1))
-    do d = 1, self%nd
-      do side = 1, 2
-        bc = self%grid%bc(2*(d - 1) + side)
-        if (bc == bc_free) cycle
-        sg = 1.0_wp
-        do c = nscalar + 1, size(f, 1)
-          sg(c) = mirror_sign(bc, d, mod(c - nscalar - 1, self%nd) + 1)
-        end do
-        do k = 1, self%dec%gw(d)
-          if (side == 1) then
-            src = -k; dst = k
-          else
-            src = self%grid%ncells(d) + k; dst = self%grid%ncells(d) - k
-          end if
-          if (src < self%dec%alo(d) .or. src > self%dec%ahi(d)) cycle
-          call plane_op(f, d, src - self%dec%alo(d) + 1, dst - self%dec%alo(d) + 1, sg, .true.)
-        end do
-      end do
-    end do
+    call fold_planes(self, f, scalar_vector_signs(self, size(f, 1), nscalar), .true.)
   end subroutine fold_exterior
 
   !> Set the exterior nodes from their mirror images (the inverse of fold_exterior
@@ -562,28 +713,39 @@ contains
   subroutine unfold_exterior(self, f)
     type(simulation_t), intent(in) :: self
     real(wp), intent(inout) :: f(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    integer :: d, side, k, src, dst, bc, c
-    real(wp) :: sg(size(f, 1))
+    call fold_planes(self, f, scalar_vector_signs(self, size(f, 1), 0), .false.)
+  end subroutine unfold_exterior
+
+  !> The plane loop of fold_exterior (fold: exterior added onto its image and
+  !> cleared) and unfold_exterior (exterior set from its image), with the
+  !> component signs sg(:, face) of each fixed or roller face.
+  subroutine fold_planes(self, f, sg, fold)
+    type(simulation_t), intent(in) :: self
+    real(wp), intent(inout) :: f(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in) :: sg(:, :)
+    logical, intent(in) :: fold
+    integer :: d, side, k, ext, img, face
     do d = 1, self%nd
       do side = 1, 2
-        bc = self%grid%bc(2*(d - 1) + side)
-        if (bc == bc_free) cycle
-        do c = 1, size(f, 1)
-          sg(c) = mirror_sign(bc, d, mod(c - 1, self%nd) + 1)
-        end do
+        face = 2*(d - 1) + side
+        if (self%grid%bc(face) == bc_free) cycle
         do k = 1, self%dec%gw(d)
           if (side == 1) then
-            src = -k; dst = k
+            ext = -k; img = k
           else
-            src = self%grid%ncells(d) + k; dst = self%grid%ncells(d) - k
+            ext = self%grid%ncells(d) + k; img = self%grid%ncells(d) - k
           end if
-          if (src < self%dec%alo(d) .or. src > self%dec%ahi(d)) cycle
-          if (dst < self%dec%alo(d) .or. dst > self%dec%ahi(d)) cycle
-          call plane_op(f, d, dst - self%dec%alo(d) + 1, src - self%dec%alo(d) + 1, sg, .false.)
+          if (ext < self%dec%alo(d) .or. ext > self%dec%ahi(d)) cycle
+          if (img < self%dec%alo(d) .or. img > self%dec%ahi(d)) cycle
+          if (fold) then
+            call plane_op(f, d, ext - self%dec%alo(d) + 1, img - self%dec%alo(d) + 1, sg(:, face), .true.)
+          else
+            call plane_op(f, d, img - self%dec%alo(d) + 1, ext - self%dec%alo(d) + 1, sg(:, face), .false.)
+          end if
         end do
       end do
     end do
-  end subroutine unfold_exterior
+  end subroutine fold_planes
 
   !> On planes normal to axis d (1-based indices ia, ib of the array): with
   !> accumulate, f(ib) += sg f(ia) and f(ia) = 0; otherwise f(ib) = sg f(ia).

@@ -1,0 +1,548 @@
+!> MLS reconstruction inside the time step (physics.md 3.2 and 3.5).
+!>
+!> Nodal velocities: the moment sums of every node, sum_p m_p W p p^T and
+!> sum_p m_p W p v_p, are accumulated from the points like masses, pass through
+!> halo_sum, and are solved node by node (dpmpm_mls, with its fallbacks).
+!>
+!> Force integrals at Gauss points: every grid cell carries ng^nd Gauss points.
+!> Stresses are reconstructed there from the points (weights V_p W), and the
+!> internal force is f_I = -sum_g w_g sigma_h(x_g) grad Psi_I(x_g) with the grid
+!> functions Psi. The point velocity gradient is the transpose of that
+!> operator, L_p = sum_g C_gp L_g / sum_g C_gp with C_gp = w_g Phi_p(x_g) and
+!> L_g = sum_I v_I (x) grad Psi_I(x_g), so that the discrete stress power equals
+!> the nodal force power (physics.md 3.5): the pair neither creates nor
+!> destroys energy.
+!>
+!> Cells take part in the quadrature when the reconstructed volume fraction at
+!> their centre, theta = sum_p (V_p/h^d) W / int W, is at least 1/2: cells
+!> inside the body count even when no point lies in them, cells beyond a free
+!> surface do not.
+!>
+!> Cell arrays are indexed like nodes by the cell's lower corner, so they use
+!> the same storage bounds and the same halo_sum / halo_copy.
+module dpmpm_reconstruct
+  use dpmpm_kinds, only: wp
+  use dpmpm_kernels, only: kernel_weight, kernel_reach, kernel_radial, kernel_eval_1d, &
+                           is_grid_kernel, max_stencil, kernel_width
+  use dpmpm_mls, only: basis_size, packed_size, basis_eval, moment_add, mls_gamma, mls_stats_t
+  use dpmpm_materials, only: voigt_to_tensor
+  implicit none
+  private
+  public :: gauss_rule, weight_integral, field_components, stress_voigt_index
+  public :: velocity_accumulate, velocity_solve, velocity_fold_signs
+  public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
+  public :: psi_stencil, gauss_cell_components, gauss_solution_components
+
+  !> Most Gauss points of one cell (4 per axis in 3D).
+  integer, parameter :: max_gauss_cell = 64
+
+contains
+
+  !> Gauss-Legendre points (in [0, 1]) and weights (summing to 1) of n = 1..4 points.
+  pure subroutine gauss_rule(n, xi, w)
+    integer, intent(in) :: n
+    real(wp), intent(out) :: xi(n), w(n)
+    real(wp) :: a, b
+    select case (n)
+    case (1)
+      xi = 0.5_wp; w = 1.0_wp
+    case (2)
+      a = 0.5_wp/sqrt(3.0_wp)
+      xi = [0.5_wp - a, 0.5_wp + a]; w = 0.5_wp
+    case (3)
+      a = 0.5_wp*sqrt(0.6_wp)
+      xi = [0.5_wp - a, 0.5_wp, 0.5_wp + a]
+      w = [5.0_wp, 8.0_wp, 5.0_wp]/18.0_wp
+    case default
+      a = 0.5_wp*sqrt(3.0_wp/7.0_wp - 2.0_wp/7.0_wp*sqrt(1.2_wp))
+      b = 0.5_wp*sqrt(3.0_wp/7.0_wp + 2.0_wp/7.0_wp*sqrt(1.2_wp))
+      xi = [0.5_wp - b, 0.5_wp - a, 0.5_wp + a, 0.5_wp + b]
+      w(2) = 0.25_wp + sqrt(30.0_wp)/72.0_wp
+      w(3) = w(2)
+      w(1) = 0.5_wp - w(2)
+      w(4) = w(1)
+    end select
+  end subroutine gauss_rule
+
+  !> Integral of a weight over space in cell units: 1 for tensor B-splines (a
+  !> partition of unity), S_d R^d int_0^1 w(r) r^(d-1) dr for radial weights.
+  real(wp) function weight_integral(kernel, radius, radial, nd) result(s)
+    integer, intent(in) :: kernel, nd
+    real(wp), intent(in) :: radius
+    logical, intent(in) :: radial
+    integer, parameter :: m = 4000
+    integer :: k
+    real(wp) :: r, w, dw
+    real(wp), parameter :: pi = acos(-1.0_wp)
+    if (.not. radial .and. is_grid_kernel(kernel)) then
+      s = 1.0_wp
+      return
+    end if
+    s = 0.0_wp
+    do k = 1, m
+      r = (real(k, wp) - 0.5_wp)/m
+      call kernel_radial(kernel, r, w, dw)
+      s = s + w*r**(nd - 1)
+    end do
+    s = s/m*radius**nd
+    select case (nd)
+    case (1)
+      s = 2.0_wp*s
+    case (2)
+      s = 2.0_wp*pi*s
+    case default
+      s = 4.0_wp*pi*s
+    end select
+  end function weight_integral
+
+  !> Stress components that enter the force integrals in nd dimensions.
+  pure integer function field_components(nd) result(n)
+    integer, intent(in) :: nd
+    n = nd*(nd + 1)/2
+  end function field_components
+
+  !> Voigt index (xx yy zz yz xz xy) of the k-th reconstructed stress component.
+  pure integer function stress_voigt_index(nd, k) result(v)
+    integer, intent(in) :: nd, k
+    integer, parameter :: map2(3) = [1, 2, 6]
+    select case (nd)
+    case (1)
+      v = 1
+    case (2)
+      v = map2(k)
+    case default
+      v = k
+    end select
+  end function stress_voigt_index
+
+  !> Components per cell of the Gauss-point sums (gauss_accumulate).
+  pure integer function gauss_cell_components(nd, ng, basis) result(n)
+    integer, intent(in) :: nd, ng, basis
+    integer :: nb
+    nb = basis_size(basis, nd)
+    n = 1 + ng**nd*(1 + packed_size(nb) + nb*field_components(nd))
+  end function gauss_cell_components
+
+  !> Components per cell of the Gauss-point solution (gauss_solve).
+  pure integer function gauss_solution_components(nd, ng, basis) result(n)
+    integer, intent(in) :: nd, ng, basis
+    n = 1 + ng**nd*(basis_size(basis, nd) + field_components(nd))
+  end function gauss_solution_components
+
+  !> Index range of nodes (or cell-centre lattice, shift 0.5) within reach of s.
+  pure subroutine reach_range(s, reach, shift, lo, hi)
+    real(wp), intent(in) :: s, reach, shift
+    integer, intent(out) :: lo, hi
+    lo = ceiling(s - shift - reach)
+    hi = floor(s - shift + reach)
+  end subroutine reach_range
+
+  ! ----------------------------------------------------------------------------
+  ! Nodal velocities
+
+  !> Add every point's MLS moment sums to the nodes within reach of its weight.
+  !> acc(1 + packed + nb*nd, nodes): count of sites, packed sum m W p p^T,
+  !> then sum m W p v_c for each velocity component c.
+  subroutine velocity_accumulate(nd, n, x, mass, v, origin, h, kernel, radius, radial, basis, &
+                                 lo, acc)
+    integer, intent(in) :: nd, n, kernel, basis
+    real(wp), intent(in) :: x(:, :), mass(:), v(:, :), origin(3), h(3), radius
+    logical, intent(in) :: radial
+    integer, intent(in) :: lo(3)
+    real(wp), intent(inout) :: acc(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, i, j, k, nb, np, c, ilo(3), ihi(3), d
+    real(wp) :: s(3), dcell(3), wk, dwk(3), w, pv(10), reach
+    nb = basis_size(basis, nd)
+    np = packed_size(nb)
+    reach = kernel_reach(kernel, radius, radial)
+    ilo = 0; ihi = 0
+    do p = 1, n
+      s = 0.0_wp
+      do d = 1, nd
+        s(d) = (x(d, p) - origin(d))/h(d)
+        call reach_range(s(d), reach, 0.0_wp, ilo(d), ihi(d))
+      end do
+      do k = ilo(3), ihi(3)
+        do j = ilo(2), ihi(2)
+          do i = ilo(1), ihi(1)
+            dcell = real([i, j, k], wp) - s
+            call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
+            if (wk <= 0.0_wp) cycle
+            w = mass(p)*wk
+            call basis_eval(basis, nd, -dcell(1:nd), pv(1:nb))
+            acc(1, i, j, k) = acc(1, i, j, k) + 1.0_wp
+            call moment_add(nb, pv(1:nb), w, acc(2:1 + np, i, j, k))
+            do c = 1, nd
+              acc(2 + np + (c - 1)*nb:1 + np + c*nb, i, j, k) = &
+                acc(2 + np + (c - 1)*nb:1 + np + c*nb, i, j, k) + w*v(c, p)*pv(1:nb)
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine velocity_accumulate
+
+  !> Signs of the velocity moment components under a reflection across a plane
+  !> normal to axis d, with the velocity component signs vsign(nd): the basis
+  !> monomials odd in y_d change sign.
+  pure subroutine velocity_fold_signs(nd, basis, d, vsign, sg)
+    integer, intent(in) :: nd, basis, d
+    real(wp), intent(in) :: vsign(nd)
+    real(wp), intent(out) :: sg(:)
+    real(wp) :: y(nd), sb(10)
+    integer :: nb, np, i, j, c
+    nb = basis_size(basis, nd)
+    np = packed_size(nb)
+    y = 1.0_wp
+    y(d) = -1.0_wp
+    call basis_eval(basis, nd, y, sb(1:nb))
+    sg(1) = 1.0_wp
+    do j = 1, nb
+      do i = 1, j
+        sg(1 + j*(j - 1)/2 + i) = sb(i)*sb(j)
+      end do
+    end do
+    do c = 1, nd
+      sg(2 + np + (c - 1)*nb:1 + np + c*nb) = vsign(c)*sb(1:nb)
+    end do
+  end subroutine velocity_fold_signs
+
+  !> Nodal velocities of the owned nodes [olo, ohi] from the summed moments;
+  !> the momentum slots of node (2:1+nd) become m_I v_I.
+  subroutine velocity_solve(nd, basis, lo, olo, ohi, acc, node, stats)
+    integer, intent(in) :: nd, basis, lo(3), olo(3), ohi(3)
+    real(wp), intent(in) :: acc(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    type(mls_stats_t), intent(inout) :: stats
+    integer :: i, j, k, nb, np, c, level
+    real(wp) :: gam(10)
+    nb = basis_size(basis, nd)
+    np = packed_size(nb)
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          if (node(1, i, j, k) <= 0.0_wp) cycle
+          call mls_gamma(basis, nd, acc(2:1 + np, i, j, k), acc(1, i, j, k), gam(1:nb), level, stats)
+          do c = 1, nd
+            node(1 + c, i, j, k) = node(1, i, j, k)* &
+              dot_product(gam(1:nb), acc(2 + np + (c - 1)*nb:1 + np + c*nb, i, j, k))
+          end do
+        end do
+      end do
+    end do
+  end subroutine velocity_solve
+
+  ! ----------------------------------------------------------------------------
+  ! Gauss-point quadrature
+
+  !> Gauss-point offsets inside a cell (cell units) and weights (cell-volume
+  !> fractions) in lexicographic order, ng^nd of them.
+  pure subroutine gauss_points_of_cell(nd, ng, yg, wg)
+    integer, intent(in) :: nd, ng
+    real(wp), intent(out) :: yg(:, :), wg(:)
+    real(wp) :: xi(ng), w(ng)
+    integer :: a, b, c, g, nb_, nc_
+    call gauss_rule(ng, xi, w)
+    nb_ = merge(ng, 1, nd >= 2)
+    nc_ = merge(ng, 1, nd >= 3)
+    g = 0
+    do c = 1, nc_
+      do b = 1, nb_
+        do a = 1, ng
+          g = g + 1
+          yg(:, g) = 0.0_wp
+          yg(1, g) = xi(a)
+          wg(g) = w(a)
+          if (nd >= 2) then
+            yg(2, g) = xi(b)
+            wg(g) = wg(g)*w(b)
+          end if
+          if (nd >= 3) then
+            yg(3, g) = xi(c)
+            wg(g) = wg(g)*w(c)
+          end if
+        end do
+      end do
+    end do
+  end subroutine gauss_points_of_cell
+
+  !> Cells (inside the grid) within reach of a point at s.
+  pure subroutine cell_range(nd, s, reach, ncells, clo, chi)
+    integer, intent(in) :: nd, ncells(3)
+    real(wp), intent(in) :: s(3), reach
+    integer, intent(out) :: clo(3), chi(3)
+    integer :: d
+    clo = 0; chi = 0
+    do d = 1, nd
+      clo(d) = max(0, floor(s(d) - reach))
+      chi(d) = min(ncells(d) - 1, floor(s(d) + reach))
+    end do
+  end subroutine cell_range
+
+  !> Add every point's volume fraction at cell centres and the MLS sums of its
+  !> stress at the Gauss points within reach. acc per cell: theta, then per
+  !> Gauss point: count, packed sum V W p p^T, sum V W p sigma_f (nf fields).
+  subroutine gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, ng, kernel, radius, &
+                              radial, basis, wint, lo, acc)
+    integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis
+    real(wp), intent(in) :: x(:, :), vol(:), stress(:, :), origin(3), h(3), radius, wint
+    logical, intent(in) :: radial
+    integer, intent(in) :: lo(3)
+    real(wp), intent(inout) :: acc(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, i, j, k, g, nb, np, nf, ncg, ngp, f, clo(3), chi(3), base, d
+    real(wp) :: s(3), dcell(3), wk, dwk(3), w, pv(10), reach, yg(3, max_gauss_cell), &
+                wg(max_gauss_cell), vcell, sig(6)
+    nb = basis_size(basis, nd)
+    np = packed_size(nb)
+    nf = field_components(nd)
+    ncg = 1 + np + nb*nf
+    ngp = ng**nd
+    call gauss_points_of_cell(nd, ng, yg, wg)
+    reach = kernel_reach(kernel, radius, radial)
+    do p = 1, n
+      s = 0.0_wp
+      do d = 1, nd
+        s(d) = (x(d, p) - origin(d))/h(d)
+      end do
+      vcell = vol(p)/product(h(1:nd))
+      do f = 1, nf
+        sig(f) = stress(stress_voigt_index(nd, f), p)
+      end do
+      call cell_range(nd, s, reach, ncells, clo, chi)
+      do k = clo(3), chi(3)
+        do j = clo(2), chi(2)
+          do i = clo(1), chi(1)
+            dcell = real([i, j, k], wp) + 0.5_wp - s
+            call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
+            acc(1, i, j, k) = acc(1, i, j, k) + vcell*wk/wint
+            do g = 1, ngp
+              dcell = real([i, j, k], wp) + yg(:, g) - s
+              call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
+              if (wk <= 0.0_wp) cycle
+              w = vol(p)*wk
+              call basis_eval(basis, nd, -dcell(1:nd), pv(1:nb))
+              base = 1 + (g - 1)*ncg
+              acc(base + 1, i, j, k) = acc(base + 1, i, j, k) + 1.0_wp
+              call moment_add(nb, pv(1:nb), w, acc(base + 2:base + 1 + np, i, j, k))
+              do f = 1, nf
+                acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) = &
+                  acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) + w*sig(f)*pv(1:nb)
+              end do
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine gauss_accumulate
+
+  !> Solve the Gauss-point reconstructions of the owned cells. sol per cell:
+  !> occupied flag (1 or 0), then per Gauss point gamma(nb) and the fields (nf).
+  subroutine gauss_solve(nd, ng, basis, lo, clo, chi, acc, sol, stats)
+    integer, intent(in) :: nd, ng, basis, lo(3), clo(3), chi(3)
+    real(wp), intent(in) :: acc(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: sol(:, lo(1):, lo(2):, lo(3):)
+    type(mls_stats_t), intent(inout) :: stats
+    integer :: i, j, k, g, nb, np, nf, ncg, ngp, f, level, ba, bs
+    real(wp) :: gam(10)
+    nb = basis_size(basis, nd)
+    np = packed_size(nb)
+    nf = field_components(nd)
+    ncg = 1 + np + nb*nf
+    ngp = ng**nd
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        do i = clo(1), chi(1)
+          sol(:, i, j, k) = 0.0_wp
+          if (acc(1, i, j, k) < 0.5_wp) cycle
+          sol(1, i, j, k) = 1.0_wp
+          do g = 1, ngp
+            ba = 1 + (g - 1)*ncg
+            bs = 1 + (g - 1)*(nb + nf)
+            call mls_gamma(basis, nd, acc(ba + 2:ba + 1 + np, i, j, k), acc(ba + 1, i, j, k), &
+                           gam(1:nb), level, stats)
+            sol(bs + 1:bs + nb, i, j, k) = gam(1:nb)
+            do f = 1, nf
+              sol(bs + nb + f, i, j, k) = dot_product(gam(1:nb), &
+                acc(ba + 2 + np + (f - 1)*nb:ba + 1 + np + f*nb, i, j, k))
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine gauss_solve
+
+  !> Grid-function weights and gradients (per metre) at a position y in cell units.
+  pure subroutine psi_stencil(nd, kernel, y, h, i0, sw, sdw)
+    integer, intent(in) :: nd, kernel
+    real(wp), intent(in) :: y(3), h(3)
+    integer, intent(out) :: i0(3)
+    real(wp), intent(out) :: sw(max_stencil, 3), sdw(max_stencil, 3)
+    integer :: d
+    do d = 1, 3
+      if (d <= nd) then
+        call kernel_eval_1d(kernel, y(d), i0(d), sw(:, d), sdw(:, d))
+        sdw(:, d) = sdw(:, d)/h(d)
+      else
+        i0(d) = 0
+        sw(:, d) = 0.0_wp
+        sw(1, d) = 1.0_wp
+        sdw(:, d) = 0.0_wp
+      end if
+    end do
+  end subroutine psi_stencil
+
+  !> Internal forces of the owned occupied cells' Gauss points added to node
+  !> (components 2+nd:1+2nd): f_I -= w_g sigma_h(x_g) grad Psi_I(x_g).
+  subroutine gauss_forces(nd, ng, basis, kernel, h, lo, clo, chi, sol, node)
+    integer, intent(in) :: nd, ng, basis, kernel, lo(3), clo(3), chi(3)
+    real(wp), intent(in) :: h(3)
+    real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k, g, nb, nf, ngp, bs, a, b, c, ia, ja, ka, i0(3), nw(3), f
+    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), sw(max_stencil, 3), &
+                sdw(max_stencil, 3), vv(6), s(3, 3), gr(3), fs(3), wq
+    nb = basis_size(basis, nd)
+    nf = field_components(nd)
+    ngp = ng**nd
+    nw = 1
+    nw(1:nd) = kernel_width(kernel)
+    call gauss_points_of_cell(nd, ng, yg, wg)
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        do i = clo(1), chi(1)
+          if (sol(1, i, j, k) < 0.5_wp) cycle
+          do g = 1, ngp
+            bs = 1 + (g - 1)*(nb + nf)
+            vv = 0.0_wp
+            do f = 1, nf
+              vv(stress_voigt_index(nd, f)) = sol(bs + nb + f, i, j, k)
+            end do
+            s = voigt_to_tensor(vv)
+            wq = wg(g)*product(h(1:nd))
+            call psi_stencil(nd, kernel, real([i, j, k], wp) + yg(:, g), h, i0, sw, sdw)
+            do c = 1, nw(3)
+              ka = i0(3) + c - 1
+              do b = 1, nw(2)
+                ja = i0(2) + b - 1
+                do a = 1, nw(1)
+                  ia = i0(1) + a - 1
+                  gr(1) = sdw(a, 1)*sw(b, 2)*sw(c, 3)
+                  gr(2) = sw(a, 1)*sdw(b, 2)*sw(c, 3)
+                  gr(3) = sw(a, 1)*sw(b, 2)*sdw(c, 3)
+                  fs = -wq*matmul(s, gr)
+                  node(2 + nd:1 + 2*nd, ia, ja, ka) = node(2 + nd:1 + 2*nd, ia, ja, ka) + fs(1:nd)
+                end do
+              end do
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine gauss_forces
+
+  !> Velocity gradients L_g = sum_I v_I (x) grad Psi_I(x_g) at the Gauss points of
+  !> the owned occupied cells, from the nodal velocities nvel(nd+1:2nd).
+  !> lg per cell: nd*nd components (column-major) per Gauss point.
+  subroutine gauss_velocity_gradient(nd, ng, kernel, h, lo, clo, chi, sol, nvel, lg)
+    integer, intent(in) :: nd, ng, kernel, lo(3), clo(3), chi(3)
+    real(wp), intent(in) :: h(3)
+    real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):), nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: lg(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k, g, ngp, a, b, c, ia, ja, ka, i0(3), nw(3), d, bl
+    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), sw(max_stencil, 3), &
+                sdw(max_stencil, 3), gr(3), l(3, 3)
+    ngp = ng**nd
+    nw = 1
+    nw(1:nd) = kernel_width(kernel)
+    call gauss_points_of_cell(nd, ng, yg, wg)
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        do i = clo(1), chi(1)
+          lg(:, i, j, k) = 0.0_wp
+          if (sol(1, i, j, k) < 0.5_wp) cycle
+          do g = 1, ngp
+            call psi_stencil(nd, kernel, real([i, j, k], wp) + yg(:, g), h, i0, sw, sdw)
+            l = 0.0_wp
+            do c = 1, nw(3)
+              ka = i0(3) + c - 1
+              do b = 1, nw(2)
+                ja = i0(2) + b - 1
+                do a = 1, nw(1)
+                  ia = i0(1) + a - 1
+                  gr(1) = sdw(a, 1)*sw(b, 2)*sw(c, 3)
+                  gr(2) = sw(a, 1)*sdw(b, 2)*sw(c, 3)
+                  gr(3) = sw(a, 1)*sw(b, 2)*sdw(c, 3)
+                  do d = 1, nd
+                    l(1:nd, d) = l(1:nd, d) + nvel(nd + 1:2*nd, ia, ja, ka)*gr(d)
+                  end do
+                end do
+              end do
+            end do
+            bl = (g - 1)*nd*nd
+            lg(bl + 1:bl + nd*nd, i, j, k) = reshape(l(1:nd, 1:nd), [nd*nd])
+          end do
+        end do
+      end do
+    end do
+  end subroutine gauss_velocity_gradient
+
+  !> Point velocity gradients by the transpose of the force operator:
+  !> L_p = sum_g C_gp L_g / sum_g C_gp, C_gp = w_g V_p W_gp gamma_g . p_gp, with the
+  !> positions and volumes of the force evaluation (x, vol). Points whose
+  !> effective volume sum_g C_gp is not positive keep their vgrad; nkept counts them.
+  subroutine gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, &
+                          lo, sol, lg, vgrad, vt, nkept)
+    integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis, lo(3)
+    real(wp), intent(in) :: x(:, :), vol(:), origin(3), h(3), radius
+    logical, intent(in) :: radial
+    real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):), lg(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: vgrad(:, :), vt(:)
+    integer, intent(out) :: nkept
+    integer :: p, i, j, k, g, nb, nf, ngp, clo(3), chi(3), bs, bl, d
+    real(wp) :: s(3), dcell(3), wk, dwk(3), pv(10), reach, yg(3, max_gauss_cell), &
+                wg(max_gauss_cell), cgp, ctot, l(9), lm(3, 3), wcell
+    nb = basis_size(basis, nd)
+    nf = field_components(nd)
+    ngp = ng**nd
+    call gauss_points_of_cell(nd, ng, yg, wg)
+    reach = kernel_reach(kernel, radius, radial)
+    wcell = product(h(1:nd))
+    nkept = 0
+    do p = 1, n
+      s = 0.0_wp
+      do d = 1, nd
+        s(d) = (x(d, p) - origin(d))/h(d)
+      end do
+      call cell_range(nd, s, reach, ncells, clo, chi)
+      ctot = 0.0_wp
+      l = 0.0_wp
+      do k = clo(3), chi(3)
+        do j = clo(2), chi(2)
+          do i = clo(1), chi(1)
+            if (sol(1, i, j, k) < 0.5_wp) cycle
+            do g = 1, ngp
+              dcell = real([i, j, k], wp) + yg(:, g) - s
+              call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
+              if (wk <= 0.0_wp) cycle
+              call basis_eval(basis, nd, -dcell(1:nd), pv(1:nb))
+              bs = 1 + (g - 1)*(nb + nf)
+              cgp = wg(g)*wcell*vol(p)*wk*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
+              bl = (g - 1)*nd*nd
+              ctot = ctot + cgp
+              l(1:nd*nd) = l(1:nd*nd) + cgp*lg(bl + 1:bl + nd*nd, i, j, k)
+            end do
+          end do
+        end do
+      end do
+      vt(p) = ctot
+      if (ctot <= 0.0_wp) then
+        nkept = nkept + 1
+        cycle
+      end if
+      lm = 0.0_wp
+      lm(1:nd, 1:nd) = reshape(l(1:nd*nd)/ctot, [nd, nd])
+      vgrad(:, p) = reshape(lm, [9])
+    end do
+  end subroutine gauss_strain
+
+end module dpmpm_reconstruct

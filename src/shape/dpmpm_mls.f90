@@ -11,9 +11,10 @@
 !>
 !> Fallback policy (physics.md 3.4), applied per evaluation point in mls_gamma:
 !> 1. mom(1) <= 0 (no site in range): gamma = 0, level -1 (counted nempty).
-!> 2. The requested level is accepted when count >= basis size and the Cholesky factor of the
-!>    diagonally equilibrated Mhat exists with a 1-norm reciprocal condition estimate
-!>    >= mls_rcond_min (counted nfull; the constant basis taken directly counts as nfull).
+!> 2. The requested level is accepted when count >= basis size, the Cholesky factor of Mhat
+!>    exists (pivots of the diagonally equilibrated matrix above nb*epsilon) and a 1-norm
+!>    reciprocal condition estimate of Mhat (cell units) is >= mls_rcond_min
+!>    (counted nfull; the constant basis taken directly counts as nfull).
 !> 3. Otherwise quadratic falls to linear and the same test is made (counted nreduced).
 !> 4. If the linear level fails too but count >= 2: linear with Tikhonov regularisation
 !>    Mhat + eps I, eps = 1e-6 trace(Mhat)/nb (counted nregularised).
@@ -370,36 +371,35 @@ contains
     x(1:m) = sc(1:m)*x(1:m)
   end subroutine scaled_solve
 
-  !> Reciprocal 1-norm condition estimate of the equilibrated matrix B = S A S (unit
-  !> diagonal) from its Cholesky factor: 1/(|B|_1 |B^{-1}|_1), with |B^{-1}|_1 from Hager's
-  !> estimator (B is symmetric, so B^{-T} = B^{-1}); a few solves of order m.
+  !> Reciprocal 1-norm condition estimate 1/(|A|_1 |A^{-1}|_1) of the moment matrix A itself
+  !> (shifted basis in cell units, not the equilibrated one: equilibration would hide a cloud
+  !> that is nearly flat on the scale of h, whose gradients are then huge). |A^{-1}|_1 comes
+  !> from Hager's estimator with solves through the factor (A symmetric: A^{-T} = A^{-1}).
   pure real(wp) function rcond_estimate(m, a, u, sc) result(rc)
     integer, intent(in) :: m
     real(wp), intent(in) :: a(:), u(:), sc(:)
-    real(wp) :: v(mls_max_basis), z(mls_max_basis), colsum, anorm, ainv, zx
+    real(wp) :: v(mls_max_basis), sg(mls_max_basis), z(mls_max_basis), colsum, anorm, ainv
     integer :: i, j, it, jmax
     anorm = 0.0_wp
     do j = 1, m
       colsum = 0.0_wp
       do i = 1, m
-        colsum = colsum + abs(a(merge(j*(j - 1)/2 + i, i*(i - 1)/2 + j, i <= j)))*sc(i)
+        colsum = colsum + abs(a(merge(j*(j - 1)/2 + i, i*(i - 1)/2 + j, i <= j)))
       end do
-      anorm = max(anorm, colsum*sc(j))
+      anorm = max(anorm, colsum)
     end do
     v(1:m) = 1.0_wp/real(m, wp)
     ainv = 0.0_wp
     do it = 1, 5
-      z(1:m) = v(1:m)
-      call cholesky_solve(m, u, z)
+      call scaled_solve(m, u, sc, v, z)
       ainv = max(ainv, sum(abs(z(1:m))))
-      zx = 0.0_wp
       do i = 1, m
-        z(i) = sign(1.0_wp, z(i))
+        sg(i) = sign(1.0_wp, z(i))
       end do
-      call cholesky_solve(m, u, z)
-      zx = dot_product(z(1:m), v(1:m))
+      call scaled_solve(m, u, sc, sg, z)
+      ! z = A^{-1} sign(A^{-1} v); stop when no unit vector improves on v (Hager 1984).
       jmax = maxloc(abs(z(1:m)), dim=1)
-      if (it > 1 .and. abs(z(jmax)) <= zx) exit
+      if (it > 1 .and. abs(z(jmax)) <= dot_product(z(1:m), v(1:m))) exit
       v(1:m) = 0.0_wp
       v(jmax) = 1.0_wp
     end do

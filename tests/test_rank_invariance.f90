@@ -18,6 +18,11 @@ program test_rank_invariance
   call test_same_fields_on_1_2_4_ranks('linear', 'musl')
   call test_same_fields_on_1_2_4_ranks('quadratic', 'musl')
   call test_same_fields_on_1_2_4_ranks('quadratic', 'usl')
+  ! MLS: the transposed Gauss-point pair, MLS velocities with a linear basis, and
+  ! radial Wendland velocities (moment sums and Gauss sums cross rank boundaries).
+  call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'pair')
+  call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'cubic_linear')
+  call test_same_fields_on_1_2_4_ranks('quadratic', 'musl', 'wendland')
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -25,8 +30,9 @@ program test_rank_invariance
 contains
 
   !> A 2D neo-Hookean block thrown sideways on a fixed floor under gravity.
-  function scene(kernel, scheme) result(cfg)
+  function scene(kernel, scheme, mls) result(cfg)
     character(len=*), intent(in) :: kernel, scheme
+    character(len=*), intent(in), optional :: mls
     type(config_t) :: cfg
     cfg%name = 'rank_invariance'
     cfg%ndim = 2
@@ -51,6 +57,25 @@ contains
     cfg%bc(3) = bc_fixed
     cfg%bc(1) = bc_roller
     cfg%bc(2) = bc_roller
+    if (.not. present(mls)) return
+    select case (mls)
+    case ('pair')
+      cfg%quadrature = 'gauss'
+      cfg%field_kernel = 'wendland_c2'
+      cfg%field_radius = 2.0_wp
+    case ('cubic_linear')
+      cfg%velocity_kernel = 'cubic'
+      cfg%velocity_basis = 'linear'
+      cfg%quadrature = 'gauss'
+      cfg%field_kernel = 'cubic'
+      cfg%field_radius = 0.0_wp
+    case ('wendland')
+      cfg%velocity_kernel = 'wendland_c2'
+      cfg%velocity_radius = 2.0_wp
+      cfg%quadrature = 'gauss'
+      cfg%field_kernel = 'quadratic'
+      cfg%field_radius = 0.0_wp
+    end select
   end function scene
 
   subroutine run_on(n, cfg, ids, x, v, s, steps)
@@ -82,19 +107,23 @@ contains
     reldiff = maxval(abs(a - b))/max(maxval(abs(b)), tiny(1.0_wp))
   end function reldiff
 
-  subroutine test_same_fields_on_1_2_4_ranks(kernel, scheme)
+  subroutine test_same_fields_on_1_2_4_ranks(kernel, scheme, mls)
     character(len=*), intent(in) :: kernel, scheme
+    character(len=*), intent(in), optional :: mls
     integer(i8), allocatable :: id1(:), idn(:)
     real(wp), allocatable :: x1(:, :), v1(:, :), s1(:, :), xn(:, :), vn(:, :), sn(:, :)
     real(wp) :: dev
     integer(i8) :: steps1, stepsn
     integer :: n
     character(len=64) :: tag
-    call begin_test('same_fields_on_1_2_4_ranks_'//kernel//'_'//scheme)
-    call run_on(1, scene(kernel, scheme), id1, x1, v1, s1, steps1)
+    character(len=:), allocatable :: variant
+    variant = ''
+    if (present(mls)) variant = '_'//mls
+    call begin_test('same_fields_on_1_2_4_ranks_'//kernel//'_'//scheme//variant)
+    call run_on(1, scene(kernel, scheme, mls), id1, x1, v1, s1, steps1)
     do n = 2, 4, 2
       if (n > nworld) cycle
-      call run_on(n, scene(kernel, scheme), idn, xn, vn, sn, stepsn)
+      call run_on(n, scene(kernel, scheme, mls), idn, xn, vn, sn, stepsn)
       if (rank /= 0) cycle
       write (tag, '(a,i0,a)') ' (', n, ' ranks vs 1)'
       call check(size(idn) == size(id1), 'same number of points'//trim(tag))

@@ -23,7 +23,7 @@
 module dpmpm_reconstruct
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: kernel_weight, kernel_reach, kernel_radial, kernel_eval_1d, &
-                           is_grid_kernel, max_stencil, kernel_width
+                           is_grid_kernel, max_stencil, kernel_width, bspline_1d
   use dpmpm_mls, only: basis_size, packed_size, basis_eval, moment_add, mls_gamma, mls_stats_t
   use dpmpm_materials, only: voigt_to_tensor
   implicit none
@@ -35,6 +35,10 @@ module dpmpm_reconstruct
 
   !> Most Gauss points of one cell (4 per axis in 3D).
   integer, parameter :: max_gauss_cell = 64
+  !> Most Gauss points along one axis within reach of a point (radius 4, 4 per cell).
+  integer, parameter :: max_lattice = 40
+  !> Most Gauss points within reach of a point.
+  integer, parameter :: max_reach = max_lattice**3
 
 contains
 
@@ -266,6 +270,82 @@ contains
     end do
   end subroutine gauss_points_of_cell
 
+  !> Size of the per-point Gauss-point lists for a reach (cell units).
+  pure integer function max_reach_of(nd, ng, reach) result(m)
+    integer, intent(in) :: nd, ng
+    real(wp), intent(in) :: reach
+    m = ((2*ceiling(reach) + 1)*ng)**nd
+  end function max_reach_of
+
+  !> Gauss-point lattice along one axis within reach of a point at s (cell units):
+  !> for each entry the cell, the Gauss index and the offset (point to Gauss point).
+  pure subroutine axis_lattice(s, reach, ncell, ng, xi, nl, cell, ga, off)
+    real(wp), intent(in) :: s, reach, xi(:)
+    integer, intent(in) :: ncell, ng
+    integer, intent(out) :: nl, cell(:), ga(:)
+    real(wp), intent(out) :: off(:)
+    integer :: i, a
+    real(wp) :: dx
+    nl = 0
+    do i = max(0, floor(s - reach)), min(ncell - 1, floor(s + reach))
+      do a = 1, ng
+        dx = real(i, wp) + xi(a) - s
+        if (abs(dx) >= reach) cycle
+        nl = nl + 1
+        cell(nl) = i
+        ga(nl) = a
+        off(nl) = dx
+      end do
+    end do
+  end subroutine axis_lattice
+
+  !> The Gauss points within reach of a point at s, in nd dimensions: their cells,
+  !> indices within the cell (lexicographic), offsets (Gauss point minus point, cell
+  !> units) and weights. Radial weights are evaluated only inside the radius.
+  pure subroutine points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, np, &
+                                  cells, gidx, offs, w)
+    integer, intent(in) :: nd, ncells(3), ng, kernel
+    real(wp), intent(in) :: s(3), xi(:), radius, reach
+    logical, intent(in) :: radial
+    integer, intent(out) :: np, cells(:, :), gidx(:)
+    real(wp), intent(out) :: offs(:, :), w(:)
+    integer :: nl(3), cl(max_lattice, 3), gl(max_lattice, 3), a, b, c, d
+    real(wp) :: ol(max_lattice, 3), wl(max_lattice, 3), dwl, r2, wk, dwk(3), r
+    logical :: rad
+    rad = radial .or. .not. is_grid_kernel(kernel)
+    nl = 1
+    cl(1, :) = 0; gl(1, :) = 1; ol(1, :) = 0.0_wp; wl(1, :) = 1.0_wp
+    do d = 1, nd
+      call axis_lattice(s(d), reach, ncells(d), ng, xi, nl(d), cl(:, d), gl(:, d), ol(:, d))
+      if (.not. rad) then
+        do a = 1, nl(d)
+          call bspline_1d(kernel, ol(a, d), wl(a, d), dwl)
+        end do
+      end if
+    end do
+    np = 0
+    do c = 1, nl(3)
+      do b = 1, nl(2)
+        do a = 1, nl(1)
+          if (rad) then
+            r2 = ol(a, 1)**2 + ol(b, 2)**2 + ol(c, 3)**2
+            if (r2 >= radius*radius) cycle
+            r = sqrt(r2)/radius
+            call kernel_radial(kernel, r, wk, dwk(1))
+          else
+            wk = wl(a, 1)*wl(b, 2)*wl(c, 3)
+          end if
+          if (wk <= 0.0_wp) cycle
+          np = np + 1
+          cells(:, np) = [cl(a, 1), cl(b, 2), cl(c, 3)]
+          gidx(np) = gl(a, 1) + ng*(gl(b, 2) - 1) + ng*ng*(gl(c, 3) - 1)
+          offs(:, np) = [ol(a, 1), ol(b, 2), ol(c, 3)]
+          w(np) = wk
+        end do
+      end do
+    end do
+  end subroutine points_in_reach
+
   !> Cells (inside the grid) within reach of a point at s.
   pure subroutine cell_range(nd, s, reach, ncells, clo, chi)
     integer, intent(in) :: nd, ncells(3)
@@ -289,16 +369,18 @@ contains
     logical, intent(in) :: radial
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: acc(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, i, j, k, g, nb, np, nf, ncg, ngp, f, clo(3), chi(3), base, d
-    real(wp) :: s(3), dcell(3), wk, dwk(3), w, pv(10), reach, yg(3, max_gauss_cell), &
-                wg(max_gauss_cell), vcell, sig(6)
+    integer :: p, i, j, k, q, nb, np, nf, ncg, f, clo(3), chi(3), base, d, nq
+    integer, allocatable :: cells(:, :), gidx(:)
+    real(wp), allocatable :: offs(:, :), wq(:)
+    real(wp) :: s(3), dcell(3), wk, dwk(3), w, pv(10), reach, xi(ng), wxi(ng), vcell, sig(6)
     nb = basis_size(basis, nd)
     np = packed_size(nb)
     nf = field_components(nd)
     ncg = 1 + np + nb*nf
-    ngp = ng**nd
-    call gauss_points_of_cell(nd, ng, yg, wg)
+    call gauss_rule(ng, xi, wxi)
     reach = kernel_reach(kernel, radius, radial)
+    allocate (cells(3, max_reach_of(nd, ng, reach)), gidx(max_reach_of(nd, ng, reach)), &
+              offs(3, max_reach_of(nd, ng, reach)), wq(max_reach_of(nd, ng, reach)))
     do p = 1, n
       s = 0.0_wp
       do d = 1, nd
@@ -308,6 +390,7 @@ contains
       do f = 1, nf
         sig(f) = stress(stress_voigt_index(nd, f), p)
       end do
+      ! Volume fraction at the cell centres.
       call cell_range(nd, s, reach, ncells, clo, chi)
       do k = clo(3), chi(3)
         do j = clo(2), chi(2)
@@ -315,21 +398,22 @@ contains
             dcell = real([i, j, k], wp) + 0.5_wp - s
             call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
             acc(1, i, j, k) = acc(1, i, j, k) + vcell*wk/wint
-            do g = 1, ngp
-              dcell = real([i, j, k], wp) + yg(:, g) - s
-              call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
-              if (wk <= 0.0_wp) cycle
-              w = vol(p)*wk
-              call basis_eval(basis, nd, -dcell(1:nd), pv(1:nb))
-              base = 1 + (g - 1)*ncg
-              acc(base + 1, i, j, k) = acc(base + 1, i, j, k) + 1.0_wp
-              call moment_add(nb, pv(1:nb), w, acc(base + 2:base + 1 + np, i, j, k))
-              do f = 1, nf
-                acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) = &
-                  acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) + w*sig(f)*pv(1:nb)
-              end do
-            end do
           end do
+        end do
+      end do
+      ! MLS sums at the Gauss points.
+      call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
+                           offs, wq)
+      do q = 1, nq
+        i = cells(1, q); j = cells(2, q); k = cells(3, q)
+        w = vol(p)*wq(q)
+        call basis_eval(basis, nd, -offs(1:nd, q), pv(1:nb))
+        base = 1 + (gidx(q) - 1)*ncg
+        acc(base + 1, i, j, k) = acc(base + 1, i, j, k) + 1.0_wp
+        call moment_add(nb, pv(1:nb), w, acc(base + 2:base + 1 + np, i, j, k))
+        do f = 1, nf
+          acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) = &
+            acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) + w*sig(f)*pv(1:nb)
         end do
       end do
     end do
@@ -498,14 +582,18 @@ contains
     real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):), lg(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: vgrad(:, :), vt(:)
     integer, intent(out) :: nkept
-    integer :: p, i, j, k, g, nb, nf, ngp, clo(3), chi(3), bs, bl, d
-    real(wp) :: s(3), dcell(3), wk, dwk(3), pv(10), reach, yg(3, max_gauss_cell), &
+    integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d
+    integer, allocatable :: cells(:, :), gidx(:)
+    real(wp), allocatable :: offs(:, :), wq(:)
+    real(wp) :: s(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
                 wg(max_gauss_cell), cgp, ctot, l(9), lm(3, 3), wcell
     nb = basis_size(basis, nd)
     nf = field_components(nd)
-    ngp = ng**nd
+    call gauss_rule(ng, xi, wxi)
     call gauss_points_of_cell(nd, ng, yg, wg)
     reach = kernel_reach(kernel, radius, radial)
+    allocate (cells(3, max_reach_of(nd, ng, reach)), gidx(max_reach_of(nd, ng, reach)), &
+              offs(3, max_reach_of(nd, ng, reach)), wq(max_reach_of(nd, ng, reach)))
     wcell = product(h(1:nd))
     nkept = 0
     do p = 1, n
@@ -513,26 +601,23 @@ contains
       do d = 1, nd
         s(d) = (x(d, p) - origin(d))/h(d)
       end do
-      call cell_range(nd, s, reach, ncells, clo, chi)
+      call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
+                           offs, wq)
       ctot = 0.0_wp
       l = 0.0_wp
-      do k = clo(3), chi(3)
-        do j = clo(2), chi(2)
-          do i = clo(1), chi(1)
-            if (sol(1, i, j, k) < 0.5_wp) cycle
-            do g = 1, ngp
-              dcell = real([i, j, k], wp) + yg(:, g) - s
-              call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
-              if (wk <= 0.0_wp) cycle
-              call basis_eval(basis, nd, -dcell(1:nd), pv(1:nb))
-              bs = 1 + (g - 1)*(nb + nf)
-              cgp = wg(g)*wcell*vol(p)*wk*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
-              bl = (g - 1)*nd*nd
-              ctot = ctot + cgp
-              l(1:nd*nd) = l(1:nd*nd) + cgp*lg(bl + 1:bl + nd*nd, i, j, k)
-            end do
-          end do
-        end do
+      do q = 1, nq
+        i = cells(1, q); j = cells(2, q); k = cells(3, q)
+        if (sol(1, i, j, k) < 0.5_wp) cycle
+        bs = 1 + (gidx(q) - 1)*(nb + nf)
+        if (nb == 1) then
+          cgp = wg(gidx(q))*wcell*vol(p)*wq(q)*sol(bs + 1, i, j, k)
+        else
+          call basis_eval(basis, nd, -offs(1:nd, q), pv(1:nb))
+          cgp = wg(gidx(q))*wcell*vol(p)*wq(q)*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
+        end if
+        bl = (gidx(q) - 1)*nd*nd
+        ctot = ctot + cgp
+        l(1:nd*nd) = l(1:nd*nd) + cgp*lg(bl + 1:bl + nd*nd, i, j, k)
       end do
       vt(p) = ctot
       if (ctot <= 0.0_wp) then

@@ -6,6 +6,8 @@
 !>   /peaks/h         (nh)                   site spacing
 !>   /peaks/radius    (nkernel, nbasis)      kernel radius in units of h (0: tensor product)
 !>   /peaks/fallback  (nkernel, nbasis, nh, 5) evaluation points per fallback path
+!>   /peaks/seed_error (nkernel, nbasis, nh, nseed) the errors for other jitter draws
+!>                    (seeds peaks_seed + 0..nseed-1; the first is /peaks/error)
 !>   /peaks/field/{x, y (49), exact, reconstruction (49, 49) indexed [j_y, i_x]} for one case
 !>   attributes on /peaks: kernels, bases, fallback_paths (comma-separated), seed, jitter;
 !>   on /peaks/field: kernel, basis, h.
@@ -26,15 +28,16 @@ program dpmpm_peaks_table
   use dpmpm_peaks, only: peaks_error, peaks_case, peaks_neval, peaks_eval_grid, peaks, &
                          peaks_seed, peaks_jitter
   implicit none
-  integer, parameter :: nkernel = 5, nbasis = 3, nh = 3, npath = 5
+  integer, parameter :: nkernel = 5, nbasis = 3, nh = 3, npath = 5, nseed = 8
   real(wp), parameter :: hs(nh) = [0.3_wp, 0.15_wp, 0.075_wp]
   ! The case saved as a field for a figure.
   integer, parameter :: field_kernel = kernel_cubic, field_basis = basis_linear, field_ih = 1
   real(wp) :: err(nh, nbasis, nkernel), radius(nbasis, nkernel), r
+  real(wp) :: serr(nseed, nh, nbasis, nkernel)
   integer(i8) :: counts(npath, nh, nbasis, nkernel)
   real(wp), allocatable :: fh(:), xe(:, :)
   type(mls_stats_t) :: st
-  integer :: k, b, ih, nargs
+  integer :: k, b, ih, nargs, is
   logical :: radial
   character(len=512) :: path
 
@@ -60,6 +63,11 @@ program dpmpm_peaks_table
         end if
         counts(:, ih, b + 1, k) = [st%nfull, st%nreduced, st%nregularised, st%nconstant, &
                                    st%nempty]
+        serr(1, ih, b + 1, k) = err(ih, b + 1, k)
+        do is = 2, nseed
+          st = mls_stats_t()
+          call peaks_error(k, b, hs(ih), serr(is, ih, b + 1, k), st, seed=peaks_seed + is - 1)
+        end do
       end do
       write (output_unit, '(a12,a11,a8,3es11.3,a,5(1x,i0))') trim(kernel_names(k)), &
         trim(basis_names(b)), merge(fmt_r(r), 'tensor', radial), err(:, b + 1, k), '  ', &
@@ -101,6 +109,8 @@ contains
     call put_real(gid, 'error', reshape(err, [size(err)]), &
                   [integer(hsize_t) :: nh, nbasis, nkernel])
     call put_real(gid, 'h', hs, [integer(hsize_t) :: nh])
+    call put_real(gid, 'seed_error', reshape(serr, [size(serr)]), &
+                  [integer(hsize_t) :: nseed, nh, nbasis, nkernel])
     call put_real(gid, 'radius', reshape(radius, [size(radius)]), &
                   [integer(hsize_t) :: nbasis, nkernel])
     call put_i8(gid, 'fallback', reshape(counts, [size(counts)]), &

@@ -141,13 +141,15 @@ contains
   end function relative_l2_error
 
   !> P1 error for one kernel, basis and spacing h with the supports of peaks_case.
-  !> Optionally returns the reconstruction on the evaluation grid (49*49 values).
-  subroutine peaks_error(kernel, basis, h, err, stats, fh_out)
+  !> Optionally returns the reconstruction on the evaluation grid (49*49 values); seed
+  !> (default peaks_seed) selects another jitter draw, to see how much the draw matters.
+  subroutine peaks_error(kernel, basis, h, err, stats, fh_out, seed)
     integer, intent(in) :: kernel, basis
     real(wp), intent(in) :: h
     real(wp), intent(out) :: err
     type(mls_stats_t), intent(inout) :: stats
     real(wp), intent(out), optional :: fh_out(:)
+    integer, intent(in), optional :: seed
     real(wp), allocatable :: sites(:, :), f(:), xe(:, :), fe(:), fh(:)
     real(wp) :: radius
     logical :: radial
@@ -155,7 +157,11 @@ contains
     ns = peaks_nside(h)
     allocate (sites(2, ns*ns), f(ns*ns), xe(2, peaks_neval**2), fe(peaks_neval**2), &
               fh(peaks_neval**2))
-    call peaks_sites(h, peaks_seed, sites)
+    if (present(seed)) then
+      call peaks_sites(h, seed, sites)
+    else
+      call peaks_sites(h, peaks_seed, sites)
+    end if
     f = peaks(sites(1, :), sites(2, :))
     call peaks_eval_grid(xe)
     fe = peaks(xe(1, :), xe(2, :))

@@ -58,6 +58,7 @@ module dpmpm_simulation
     real(wp) :: wint = 1.0_wp                 !< integral of the field weight (cell units)
     type(mls_stats_t) :: mls_stats            !< fallback counts of the MLS solves on this rank
     integer(i8) :: nkept = 0                  !< point gradients left point-wise (no quadrature weight)
+    integer(i8) :: nwall = 0                  !< points put back inside a wall they had crossed
     integer :: nd = 1
     ! Per-point stencil: first node, weights and x-derivatives per axis.
     integer, allocatable :: i0(:, :)
@@ -132,6 +133,7 @@ contains
     self%nw(1:self%nd) = kernel_width(self%kernel)
     self%mls_stats = mls_stats_t()
     self%nkept = 0
+    self%nwall = 0
     call self%grid%init(cfg)
     call self%dec%init(comm, cfg%ndim, cfg%ncells, self%plan%ghost_width(), cfg%dims)
     call materials_from_config(cfg%materials, self%mats)
@@ -185,7 +187,7 @@ contains
   !> Step to t_end (or max_steps), with diagnostics, frames and progress lines.
   subroutine sim_run(self)
     class(simulation_t), intent(inout) :: self
-    integer(i8) :: diag_every
+    integer(i8) :: diag_every, nwall
     real(wp) :: last_progress, now, eta
     character(len=256) :: line
     integer :: k
@@ -236,6 +238,10 @@ contains
     call self%log%info(line)
     write (line, '(a,es10.3)') '  largest relative change of the total energy: ', self%energy_drift
     call self%log%info(line)
+    nwall = self%nwall
+    call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+    if (nwall > 0) call self%log%info('  points put back inside a wall they had crossed: '// &
+                                      i8toa(nwall))
     do k = 2, ntimers
       write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
       call self%log%info(line)
@@ -774,12 +780,30 @@ contains
     end do
   end subroutine plane_op
 
-  !> Stop with the point's id and position when a point has left the grid.
+  !> Points that crossed a fixed or roller face (walls are impenetrable) are put
+  !> back just inside it and counted; wide kernels interpolate a small normal
+  !> velocity next to a wall. A point beyond a free face stops the run with its id.
   subroutine check_inside(self)
-    type(simulation_t), intent(in) :: self
-    integer :: p
+    type(simulation_t), intent(inout) :: self
+    integer :: p, d, side
+    real(wp) :: wall(2), eps
     character(len=256) :: msg
     do p = 1, self%solid%n
+      if (self%grid%inside(self%solid%x(:, p))) cycle
+      do d = 1, self%nd
+        wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
+        eps = 1.0e-9_wp*self%grid%h(d)
+        do side = 1, 2
+          if (self%grid%bc(2*(d - 1) + side) == bc_free) cycle
+          if (side == 1 .and. self%solid%x(d, p) < wall(1)) then
+            self%solid%x(d, p) = wall(1) + eps
+            self%nwall = self%nwall + 1
+          else if (side == 2 .and. self%solid%x(d, p) >= wall(2)) then
+            self%solid%x(d, p) = wall(2) - eps
+            self%nwall = self%nwall + 1
+          end if
+        end do
+      end do
       if (.not. self%grid%inside(self%solid%x(:, p))) then
         write (msg, '(a,i0,a,3es12.4)') 'point ', self%solid%id(p), ' left the grid at x =', &
           self%solid%x(:, p)

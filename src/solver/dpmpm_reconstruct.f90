@@ -475,6 +475,38 @@ contains
     end do
   end subroutine psi_stencil
 
+  !> Grid-function gradients (per metre) at the Gauss points of a cell, the same
+  !> for every cell: for Gauss point g and stencil node m, the node's offset from
+  !> the cell's lower corner (off) and grad Psi (gr). Returns the nodes per point.
+  subroutine gauss_psi_table(nd, ng, kernel, h, nn, off, gr)
+    integer, intent(in) :: nd, ng, kernel
+    real(wp), intent(in) :: h(3)
+    integer, intent(out) :: nn
+    integer, allocatable, intent(out) :: off(:, :, :)
+    real(wp), allocatable, intent(out) :: gr(:, :, :)
+    integer :: g, a, b, c, m, i0(3), nw(3)
+    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), sw(max_stencil, 3), sdw(max_stencil, 3)
+    nw = 1
+    nw(1:nd) = kernel_width(kernel)
+    nn = product(nw)
+    allocate (off(3, nn, ng**nd), gr(3, nn, ng**nd))
+    call gauss_points_of_cell(nd, ng, yg, wg)
+    do g = 1, ng**nd
+      call psi_stencil(nd, kernel, yg(:, g), h, i0, sw, sdw)
+      m = 0
+      do c = 1, nw(3)
+        do b = 1, nw(2)
+          do a = 1, nw(1)
+            m = m + 1
+            off(:, m, g) = i0 + [a, b, c] - 1
+            gr(:, m, g) = [sdw(a, 1)*sw(b, 2)*sw(c, 3), sw(a, 1)*sdw(b, 2)*sw(c, 3), &
+                           sw(a, 1)*sw(b, 2)*sdw(c, 3)]
+          end do
+        end do
+      end do
+    end do
+  end subroutine gauss_psi_table
+
   !> Internal forces of the owned occupied cells' Gauss points added to node
   !> (components 2+nd:1+2nd): f_I -= w_g sigma_h(x_g) grad Psi_I(x_g).
   subroutine gauss_forces(nd, ng, basis, kernel, h, lo, clo, chi, sol, node)
@@ -482,20 +514,19 @@ contains
     real(wp), intent(in) :: h(3)
     real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k, g, nb, nf, ngp, bs, a, b, c, ia, ja, ka, i0(3), nw(3), f
-    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), sw(max_stencil, 3), &
-                sdw(max_stencil, 3), vv(6), s(3, 3), gr(3), fs(3), wq
+    integer :: i, j, k, g, nb, nf, bs, m, nn, f, idx(3)
+    integer, allocatable :: off(:, :, :)
+    real(wp), allocatable :: gr(:, :, :)
+    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), vv(6), s(3, 3), fs(3), wq
     nb = basis_size(basis, nd)
     nf = field_components(nd)
-    ngp = ng**nd
-    nw = 1
-    nw(1:nd) = kernel_width(kernel)
     call gauss_points_of_cell(nd, ng, yg, wg)
+    call gauss_psi_table(nd, ng, kernel, h, nn, off, gr)
     do k = clo(3), chi(3)
       do j = clo(2), chi(2)
         do i = clo(1), chi(1)
           if (sol(1, i, j, k) < 0.5_wp) cycle
-          do g = 1, ngp
+          do g = 1, ng**nd
             bs = 1 + (g - 1)*(nb + nf)
             vv = 0.0_wp
             do f = 1, nf
@@ -503,20 +534,11 @@ contains
             end do
             s = voigt_to_tensor(vv)
             wq = wg(g)*product(h(1:nd))
-            call psi_stencil(nd, kernel, real([i, j, k], wp) + yg(:, g), h, i0, sw, sdw)
-            do c = 1, nw(3)
-              ka = i0(3) + c - 1
-              do b = 1, nw(2)
-                ja = i0(2) + b - 1
-                do a = 1, nw(1)
-                  ia = i0(1) + a - 1
-                  gr(1) = sdw(a, 1)*sw(b, 2)*sw(c, 3)
-                  gr(2) = sw(a, 1)*sdw(b, 2)*sw(c, 3)
-                  gr(3) = sw(a, 1)*sw(b, 2)*sdw(c, 3)
-                  fs = -wq*matmul(s, gr)
-                  node(2 + nd:1 + 2*nd, ia, ja, ka) = node(2 + nd:1 + 2*nd, ia, ja, ka) + fs(1:nd)
-                end do
-              end do
+            do m = 1, nn
+              idx = [i, j, k] + off(:, m, g)
+              fs = -wq*matmul(s, gr(:, m, g))
+              node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) = &
+                node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) + fs(1:nd)
             end do
           end do
         end do
@@ -532,34 +554,22 @@ contains
     real(wp), intent(in) :: h(3)
     real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):), nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: lg(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k, g, ngp, a, b, c, ia, ja, ka, i0(3), nw(3), d, bl
-    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), sw(max_stencil, 3), &
-                sdw(max_stencil, 3), gr(3), l(3, 3)
-    ngp = ng**nd
-    nw = 1
-    nw(1:nd) = kernel_width(kernel)
-    call gauss_points_of_cell(nd, ng, yg, wg)
+    integer :: i, j, k, g, m, nn, d, bl, idx(3)
+    integer, allocatable :: off(:, :, :)
+    real(wp), allocatable :: gr(:, :, :)
+    real(wp) :: l(3, 3)
+    call gauss_psi_table(nd, ng, kernel, h, nn, off, gr)
     do k = clo(3), chi(3)
       do j = clo(2), chi(2)
         do i = clo(1), chi(1)
           lg(:, i, j, k) = 0.0_wp
           if (sol(1, i, j, k) < 0.5_wp) cycle
-          do g = 1, ngp
-            call psi_stencil(nd, kernel, real([i, j, k], wp) + yg(:, g), h, i0, sw, sdw)
+          do g = 1, ng**nd
             l = 0.0_wp
-            do c = 1, nw(3)
-              ka = i0(3) + c - 1
-              do b = 1, nw(2)
-                ja = i0(2) + b - 1
-                do a = 1, nw(1)
-                  ia = i0(1) + a - 1
-                  gr(1) = sdw(a, 1)*sw(b, 2)*sw(c, 3)
-                  gr(2) = sw(a, 1)*sdw(b, 2)*sw(c, 3)
-                  gr(3) = sw(a, 1)*sw(b, 2)*sdw(c, 3)
-                  do d = 1, nd
-                    l(1:nd, d) = l(1:nd, d) + nvel(nd + 1:2*nd, ia, ja, ka)*gr(d)
-                  end do
-                end do
+            do m = 1, nn
+              idx = [i, j, k] + off(:, m, g)
+              do d = 1, nd
+                l(1:nd, d) = l(1:nd, d) + nvel(nd + 1:2*nd, idx(1), idx(2), idx(3))*gr(d, m, g)
               end do
             end do
             bl = (g - 1)*nd*nd

@@ -13,15 +13,14 @@
 !>   on /peaks/field: kernel, basis, h.
 program dpmpm_peaks_table
   use, intrinsic :: iso_fortran_env, only: output_unit
-  use, intrinsic :: iso_c_binding, only: c_loc, c_char
+  use, intrinsic :: iso_c_binding, only: c_loc
   use mpi_f08, only: MPI_Init, MPI_Finalize
-  use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, &
-                  h5gcreate_f, h5gclose_f, h5screate_f, h5screate_simple_f, h5sclose_f, &
-                  h5dcreate_f, h5dwrite_f, h5dclose_f, h5acreate_f, h5awrite_f, h5aclose_f, &
-                  h5tcopy_f, h5tset_size_f, h5tclose_f, H5F_ACC_TRUNC_F, H5S_SCALAR_F, &
-                  H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, H5T_STD_I64LE, H5T_C_S1, &
-                  h5kind_to_type, H5_INTEGER_KIND
-  use dpmpm_kinds, only: wp, i8
+  use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, &
+                  h5gcreate_f, h5gclose_f, h5screate_simple_f, h5sclose_f, &
+                  h5dcreate_f, h5dwrite_f, h5dclose_f, H5F_ACC_TRUNC_F, &
+                  H5T_NATIVE_DOUBLE, H5T_STD_I64LE, h5kind_to_type, H5_INTEGER_KIND
+  use dpmpm_kinds, only: wp, i8, i4
+  use dpmpm_h5, only: h5check, make_dir, attr_string, attr_i4, attr_real
   use dpmpm_error, only: fatal
   use dpmpm_kernels, only: kernel_names, kernel_cubic
   use dpmpm_mls, only: basis_names, basis_linear, mls_stats_t
@@ -87,11 +86,6 @@ contains
     write (s, '(f6.1)') x
   end function fmt_r
 
-  subroutine h5check(ierr, what)
-    integer, intent(in) :: ierr
-    character(len=*), intent(in) :: what
-    if (ierr < 0) call fatal(what//' failed', 'dpmpm_peaks')
-  end subroutine h5check
 
   !> Write the table, the counts and the field case (serial HDF5 file access).
   subroutine write_file(fname)
@@ -99,13 +93,14 @@ contains
     integer(hid_t) :: fid, gid, fgid
     integer :: ierr, i
     real(wp) :: ax(peaks_neval)
-    call make_parent(fname)
+    if (index(fname, '/', back=.true.) > 1) &
+      call make_dir(fname(1:index(fname, '/', back=.true.) - 1))
     call h5open_f(ierr)
-    call h5check(ierr, 'h5open_f')
+    call h5check(ierr, 'h5open_f', 'dpmpm_peaks')
     call h5fcreate_f(fname, H5F_ACC_TRUNC_F, fid, ierr)
-    call h5check(ierr, 'h5fcreate_f('//fname//')')
+    call h5check(ierr, 'h5fcreate_f('//fname//')', 'dpmpm_peaks')
     call h5gcreate_f(fid, 'peaks', gid, ierr)
-    call h5check(ierr, 'h5gcreate_f(/peaks)')
+    call h5check(ierr, 'h5gcreate_f(/peaks)', 'dpmpm_peaks')
     call put_real(gid, 'error', reshape(err, [size(err)]), &
                   [integer(hsize_t) :: nh, nbasis, nkernel])
     call put_real(gid, 'h', hs, [integer(hsize_t) :: nh])
@@ -115,13 +110,13 @@ contains
                   [integer(hsize_t) :: nbasis, nkernel])
     call put_i8(gid, 'fallback', reshape(counts, [size(counts)]), &
                 [integer(hsize_t) :: npath, nh, nbasis, nkernel])
-    call put_string_attr(gid, 'kernels', join_names(kernel_names))
-    call put_string_attr(gid, 'bases', join_names(basis_names))
-    call put_string_attr(gid, 'fallback_paths', 'full,reduced,regularised,constant,empty')
-    call put_int_attr(gid, 'seed', peaks_seed)
-    call put_real_attr(gid, 'jitter', peaks_jitter)
+    call attr_string(gid, 'kernels', join_names(kernel_names))
+    call attr_string(gid, 'bases', join_names(basis_names))
+    call attr_string(gid, 'fallback_paths', 'full,reduced,regularised,constant,empty')
+    call attr_i4(gid, 'seed', int(peaks_seed, i4))
+    call attr_real(gid, 'jitter', peaks_jitter)
     call h5gcreate_f(gid, 'field', fgid, ierr)
-    call h5check(ierr, 'h5gcreate_f(/peaks/field)')
+    call h5check(ierr, 'h5gcreate_f(/peaks/field)', 'dpmpm_peaks')
     call peaks_eval_grid(xe)
     ax = xe(1, 1:peaks_neval)
     call put_real(fgid, 'x', ax, [integer(hsize_t) :: peaks_neval])
@@ -129,17 +124,17 @@ contains
     call put_real(fgid, 'exact', [(peaks(xe(1, i), xe(2, i)), i = 1, size(xe, 2))], &
                   [integer(hsize_t) :: peaks_neval, peaks_neval])
     call put_real(fgid, 'reconstruction', fh, [integer(hsize_t) :: peaks_neval, peaks_neval])
-    call put_string_attr(fgid, 'kernel', trim(kernel_names(field_kernel)))
-    call put_string_attr(fgid, 'basis', trim(basis_names(field_basis)))
-    call put_real_attr(fgid, 'h', hs(field_ih))
+    call attr_string(fgid, 'kernel', trim(kernel_names(field_kernel)))
+    call attr_string(fgid, 'basis', trim(basis_names(field_basis)))
+    call attr_real(fgid, 'h', hs(field_ih))
     call h5gclose_f(fgid, ierr)
-    call h5check(ierr, 'h5gclose_f(/peaks/field)')
+    call h5check(ierr, 'h5gclose_f(/peaks/field)', 'dpmpm_peaks')
     call h5gclose_f(gid, ierr)
-    call h5check(ierr, 'h5gclose_f(/peaks)')
+    call h5check(ierr, 'h5gclose_f(/peaks)', 'dpmpm_peaks')
     call h5fclose_f(fid, ierr)
-    call h5check(ierr, 'h5fclose_f')
+    call h5check(ierr, 'h5fclose_f', 'dpmpm_peaks')
     call h5close_f(ierr)
-    call h5check(ierr, 'h5close_f')
+    call h5check(ierr, 'h5close_f', 'dpmpm_peaks')
   end subroutine write_file
 
   !> Names joined by commas, blanks trimmed.
@@ -153,17 +148,6 @@ contains
     end do
   end function join_names
 
-  !> Create the directory part of fname if there is one.
-  subroutine make_parent(fname)
-    character(len=*), intent(in) :: fname
-    integer :: i, estat, cstat
-    i = index(fname, '/', back=.true.)
-    if (i <= 1) return
-    estat = 0
-    cstat = 0
-    call execute_command_line('mkdir -p "'//fname(1:i - 1)//'"', exitstat=estat, cmdstat=cstat)
-    if (estat /= 0 .or. cstat /= 0) call fatal('cannot create '//fname(1:i - 1), 'dpmpm_peaks')
-  end subroutine make_parent
 
   !> A double dataset of the given (Fortran-order) dims from the flat values v.
   subroutine put_real(loc, name, v, dims)
@@ -174,15 +158,15 @@ contains
     integer(hid_t) :: space, dset
     integer :: ierr
     call h5screate_simple_f(size(dims), dims, space, ierr)
-    call h5check(ierr, 'h5screate_simple_f('//name//')')
+    call h5check(ierr, 'h5screate_simple_f('//name//')', 'dpmpm_peaks')
     call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, ierr)
-    call h5check(ierr, 'h5dcreate_f('//name//')')
+    call h5check(ierr, 'h5dcreate_f('//name//')', 'dpmpm_peaks')
     call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, v, dims, ierr)
-    call h5check(ierr, 'h5dwrite_f('//name//')')
+    call h5check(ierr, 'h5dwrite_f('//name//')', 'dpmpm_peaks')
     call h5dclose_f(dset, ierr)
-    call h5check(ierr, 'h5dclose_f('//name//')')
+    call h5check(ierr, 'h5dclose_f('//name//')', 'dpmpm_peaks')
     call h5sclose_f(space, ierr)
-    call h5check(ierr, 'h5sclose_f('//name//')')
+    call h5check(ierr, 'h5sclose_f('//name//')', 'dpmpm_peaks')
   end subroutine put_real
 
   !> An int64 dataset of the given (Fortran-order) dims from the flat values v.
@@ -194,81 +178,18 @@ contains
     integer(hid_t) :: space, dset
     integer :: ierr
     call h5screate_simple_f(size(dims), dims, space, ierr)
-    call h5check(ierr, 'h5screate_simple_f('//name//')')
+    call h5check(ierr, 'h5screate_simple_f('//name//')', 'dpmpm_peaks')
     call h5dcreate_f(loc, name, H5T_STD_I64LE, space, dset, ierr)
-    call h5check(ierr, 'h5dcreate_f('//name//')')
+    call h5check(ierr, 'h5dcreate_f('//name//')', 'dpmpm_peaks')
     call h5dwrite_f(dset, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(v), ierr)
-    call h5check(ierr, 'h5dwrite_f('//name//')')
+    call h5check(ierr, 'h5dwrite_f('//name//')', 'dpmpm_peaks')
     call h5dclose_f(dset, ierr)
-    call h5check(ierr, 'h5dclose_f('//name//')')
+    call h5check(ierr, 'h5dclose_f('//name//')', 'dpmpm_peaks')
     call h5sclose_f(space, ierr)
-    call h5check(ierr, 'h5sclose_f('//name//')')
+    call h5check(ierr, 'h5sclose_f('//name//')', 'dpmpm_peaks')
   end subroutine put_i8
 
-  !> A scalar fixed-length string attribute.
-  subroutine put_string_attr(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name, value
-    character(kind=c_char, len=len(value)), target :: buf
-    integer(hid_t) :: stype, space, attr
-    integer :: ierr
-    buf = value
-    call h5tcopy_f(H5T_C_S1, stype, ierr)
-    call h5check(ierr, 'h5tcopy_f')
-    call h5tset_size_f(stype, int(len(value), size_t), ierr)
-    call h5check(ierr, 'h5tset_size_f')
-    call h5screate_f(H5S_SCALAR_F, space, ierr)
-    call h5check(ierr, 'h5screate_f')
-    call h5acreate_f(loc, name, stype, space, attr, ierr)
-    call h5check(ierr, 'h5acreate_f('//name//')')
-    call h5awrite_f(attr, stype, c_loc(buf), ierr)
-    call h5check(ierr, 'h5awrite_f('//name//')')
-    call h5aclose_f(attr, ierr)
-    call h5check(ierr, 'h5aclose_f')
-    call h5sclose_f(space, ierr)
-    call h5check(ierr, 'h5sclose_f')
-    call h5tclose_f(stype, ierr)
-    call h5check(ierr, 'h5tclose_f')
-  end subroutine put_string_attr
 
-  !> A scalar integer attribute.
-  subroutine put_int_attr(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: value
-    integer(hid_t) :: space, attr
-    integer :: ierr
-    integer(hsize_t) :: d(1) = [1]
-    call h5screate_f(H5S_SCALAR_F, space, ierr)
-    call h5check(ierr, 'h5screate_f')
-    call h5acreate_f(loc, name, H5T_NATIVE_INTEGER, space, attr, ierr)
-    call h5check(ierr, 'h5acreate_f('//name//')')
-    call h5awrite_f(attr, H5T_NATIVE_INTEGER, value, d, ierr)
-    call h5check(ierr, 'h5awrite_f('//name//')')
-    call h5aclose_f(attr, ierr)
-    call h5check(ierr, 'h5aclose_f')
-    call h5sclose_f(space, ierr)
-    call h5check(ierr, 'h5sclose_f')
-  end subroutine put_int_attr
 
-  !> A scalar double attribute.
-  subroutine put_real_attr(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: value
-    integer(hid_t) :: space, attr
-    integer :: ierr
-    integer(hsize_t) :: d(1) = [1]
-    call h5screate_f(H5S_SCALAR_F, space, ierr)
-    call h5check(ierr, 'h5screate_f')
-    call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, space, attr, ierr)
-    call h5check(ierr, 'h5acreate_f('//name//')')
-    call h5awrite_f(attr, H5T_NATIVE_DOUBLE, value, d, ierr)
-    call h5check(ierr, 'h5awrite_f('//name//')')
-    call h5aclose_f(attr, ierr)
-    call h5check(ierr, 'h5aclose_f')
-    call h5sclose_f(space, ierr)
-    call h5check(ierr, 'h5sclose_f')
-  end subroutine put_real_attr
 
 end program dpmpm_peaks_table

@@ -8,23 +8,22 @@ module dpmpm_output
   use mpi_f08, only: MPI_Comm, MPI_Comm_dup, MPI_Comm_free, MPI_Comm_rank, MPI_Comm_size, &
                      MPI_Barrier, MPI_Bcast, MPI_Exscan, MPI_Allreduce, MPI_INTEGER, &
                      MPI_SUM, MPI_MIN, MPI_MAX, MPI_INFO_NULL, MPI_CHARACTER
-  use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
+  use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
                   h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
                   h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5screate_f, h5screate_simple_f, &
-                  h5gopen_f, h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5acreate_f, &
-                  h5awrite_f, h5aclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5dset_extent_f, &
-                  h5dget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
-                  h5lexists_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, &
-                  H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
+                  h5gopen_f, h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5dcreate_f, &
+                  h5dwrite_f, h5dclose_f, h5dset_extent_f, h5dget_space_f, h5tclose_f, &
+                  h5lexists_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, H5F_ACC_TRUNC_F, &
+                  H5F_SCOPE_GLOBAL_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
                   H5P_DATASET_CREATE_F, H5P_DEFAULT_F, H5FD_MPIO_COLLECTIVE_F, H5S_SCALAR_F, &
-                  H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_C_S1, H5T_STR_NULLPAD_F, &
-                  H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE
+                  H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE
   use dpmpm_kinds, only: wp, i8, i4, mpi_i8
   use dpmpm_error, only: fatal
   use dpmpm_config, only: config_t
   use dpmpm_particles, only: particle_set_t
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
+  use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real
   implicit none
   private
   public :: output_t, output_h5_path, output_xmf_path
@@ -387,28 +386,7 @@ contains
 
   ! ---------------------------------------------------------------- helpers
 
-  !> Abort with the failing HDF5 call named when err reports a failure.
-  subroutine h5check(err, call_name, where)
-    integer, intent(in) :: err
-    character(len=*), intent(in) :: call_name, where
-    if (err < 0) call fatal(call_name//' failed', where)
-  end subroutine h5check
 
-  !> Create a directory (and its parents) unless it exists. Called on one rank.
-  subroutine make_dir(dir)
-    character(len=*), intent(in) :: dir
-    logical :: exists
-    integer :: estat, cstat
-    character(len=256) :: cmsg
-    inquire (file=dir//'/.', exist=exists)
-    if (exists) return
-    estat = 0
-    cstat = 0
-    cmsg = ''
-    call execute_command_line('mkdir -p "'//dir//'"', exitstat=estat, cmdstat=cstat, cmdmsg=cmsg)
-    if (cstat /= 0 .or. estat /= 0) call fatal('cannot create output directory '//dir//' '// &
-                                               trim(cmsg), 'output%open')
-  end subroutine make_dir
 
   !> /input: the input file as one fixed-length string (scalar dataset). Rank 0's text is
   !> broadcast so that every rank writes the same bytes.
@@ -441,82 +419,11 @@ contains
     call h5check(err, 'h5tclose_f', where)
   end subroutine write_input
 
-  !> A fixed-length, null-padded string type of n bytes (h5py reads it as bytes).
-  function string_type(n) result(t)
-    integer, intent(in) :: n
-    integer(hid_t) :: t
-    integer :: err
-    call h5tcopy_f(H5T_C_S1, t, err)
-    call h5check(err, 'h5tcopy_f(H5T_C_S1)', 'output')
-    call h5tset_size_f(t, int(n, size_t), err)
-    call h5check(err, 'h5tset_size_f', 'output')
-    call h5tset_strpad_f(t, H5T_STR_NULLPAD_F, err)
-    call h5check(err, 'h5tset_strpad_f', 'output')
-  end function string_type
 
-  !> Create and write one scalar attribute from the bytes at ptr.
-  subroutine put_attr(loc, name, ftype, mtype, ptr)
-    integer(hid_t), intent(in) :: loc, ftype, mtype
-    character(len=*), intent(in) :: name
-    type(c_ptr), intent(in) :: ptr
-    integer(hid_t) :: space, attr
-    integer :: err
-    call h5screate_f(H5S_SCALAR_F, space, err)
-    call h5check(err, 'h5screate_f(scalar)', 'attribute '//name)
-    call h5acreate_f(loc, name, ftype, space, attr, err)
-    call h5check(err, 'h5acreate_f', 'attribute '//name)
-    call h5awrite_f(attr, mtype, ptr, err)
-    call h5check(err, 'h5awrite_f', 'attribute '//name)
-    call h5aclose_f(attr, err)
-    call h5check(err, 'h5aclose_f', 'attribute '//name)
-    call h5sclose_f(space, err)
-    call h5check(err, 'h5sclose_f', 'attribute '//name)
-  end subroutine put_attr
 
-  !> Scalar string attribute.
-  subroutine attr_string(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name, value
-    character(kind=c_char, len=max(len(value), 1)), target :: buf
-    integer(hid_t) :: stype
-    integer :: err
-    buf = value
-    if (len(value) == 0) buf = c_null_char
-    stype = string_type(len(buf))
-    call put_attr(loc, name, stype, stype, c_loc(buf))
-    call h5tclose_f(stype, err)
-    call h5check(err, 'h5tclose_f', 'attribute '//name)
-  end subroutine attr_string
 
-  !> Scalar int32 attribute.
-  subroutine attr_i4(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    integer(i4), intent(in) :: value
-    integer(i4), target :: buf
-    buf = value
-    call put_attr(loc, name, H5T_STD_I32LE, h5kind_to_type(i4, H5_INTEGER_KIND), c_loc(buf))
-  end subroutine attr_i4
 
-  !> Scalar int64 attribute.
-  subroutine attr_i8(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    integer(i8), intent(in) :: value
-    integer(i8), target :: buf
-    buf = value
-    call put_attr(loc, name, H5T_STD_I64LE, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(buf))
-  end subroutine attr_i8
 
-  !> Scalar double attribute.
-  subroutine attr_real(loc, name, value)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: value
-    real(wp), target :: buf
-    buf = value
-    call put_attr(loc, name, H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), c_loc(buf))
-  end subroutine attr_real
 
   !> Create one empty extendible 1D dataset under /diagnostics.
   subroutine create_diag_dset(gid, name, ftype, dset)

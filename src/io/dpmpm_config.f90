@@ -8,6 +8,7 @@ module dpmpm_config
   public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t
   public :: max_poly, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
+  public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
 
   integer, parameter :: name_len = 64
   !> Largest number of vertices of a 2D polygon region.
@@ -17,14 +18,22 @@ module dpmpm_config
   !> Boundary condition types on a grid face.
   integer, parameter :: bc_free = 0, bc_fixed = 1, bc_roller = 2
   character(len=6), parameter :: bc_names(0:2) = ['free  ', 'fixed ', 'roller']
+  !> Conditions of the pore fluid on a grid face. Drained: the fluid may cross the
+  !> face and the pore pressure there is prescribed (0 unless given); impermeable:
+  !> the normal fluid velocity equals the normal solid velocity. The default is
+  !> drained at free faces and impermeable at fixed and roller faces.
+  integer, parameter :: fbc_default = 0, fbc_drained = 1, fbc_impermeable = 2
+  character(len=11), parameter :: fbc_names(0:2) = ['default    ', 'drained    ', 'impermeable']
 
   !> One &material group.
   type :: material_cfg_t
     integer :: id = 1
-    character(len=name_len) :: model = 'linear_elastic'   !< linear_elastic | neo_hookean
-    real(wp) :: density = 1000.0_wp          !< kg/m^3
-    real(wp) :: youngs_modulus = 1.0e6_wp    !< Pa
+    character(len=name_len) :: model = 'linear_elastic'   !< linear_elastic | neo_hookean | fluid
+    real(wp) :: density = 1000.0_wp          !< kg/m^3 (grain density of a soil, intrinsic)
+    real(wp) :: youngs_modulus = 1.0e6_wp    !< Pa (of the skeleton)
     real(wp) :: poisson_ratio = 0.3_wp
+    real(wp) :: bulk_modulus = 2.2e9_wp      !< Pa, fluid K_f (model fluid)
+    real(wp) :: conductivity = 0.0_wp        !< m/s, hydraulic conductivity k of a soil; 0 = none
   end type material_cfg_t
 
   !> One &region group: a box or a 2D polygon filled with points of one material.
@@ -34,10 +43,14 @@ module dpmpm_config
     integer :: npoly = 0                             !< polygon vertex count
     real(wp) :: poly(2, max_poly) = 0.0_wp           !< polygon vertices (x, y)
     integer :: material = 1                          !< material id
-    character(len=name_len) :: phase = 'solid'      !< solid (fluid, saturated later)
+    character(len=name_len) :: phase = 'solid'      !< solid | fluid | saturated
+    integer :: fluid_material = 0                    !< material id of the pore fluid (saturated)
+    real(wp) :: porosity = 0.0_wp                    !< initial porosity n_f (saturated)
     integer :: ppc = 2                               !< points per cell per direction
-    character(len=name_len) :: placement = 'regular' !< regular | random (scattered in each cell)
+    !> regular | random (scattered in each cell) | uniform (scattered over the whole region)
+    character(len=name_len) :: placement = 'regular'
     integer :: seed = 1                              !< seed of the random placement
+    integer :: fluid_seed = -1                       !< seed of the fluid points; -1 = seed + 1
     real(wp) :: velocity(3) = 0.0_wp                 !< initial velocity (m/s)
     real(wp) :: stress(6) = 0.0_wp                   !< initial stress (Pa, Voigt, tension positive)
   end type region_cfg_t
@@ -63,6 +76,10 @@ module dpmpm_config
     real(wp) :: flip = 1.0_wp                        !< FLIP fraction of the FLIP/PIC blend
     real(wp) :: gravity(3) = 0.0_wp                  !< m/s^2
     real(wp) :: progress_seconds = 10.0_wp           !< wall seconds between progress lines
+    ! two-phase coupling (&run)
+    character(len=name_len) :: drag = 'explicit'     !< explicit | implicit (per-node 2x2 solve)
+    real(wp) :: drag_safety = 0.8_wp                 !< fraction of the nodal drag limit (explicit)
+    logical :: porosity_gradient = .false.           !< grad n_f term of the pressure equation
     ! &grid
     integer :: ndim = 2
     integer :: ncells(3) = [1, 1, 1]
@@ -86,12 +103,14 @@ module dpmpm_config
     type(load_cfg_t), allocatable :: loads(:)
     ! &boundary: one type per face (face_names order)
     integer :: bc(6) = bc_free
+    integer :: fluid_bc(6) = fbc_default             !< pore-fluid condition per face
+    real(wp) :: pore_pressure(6) = 0.0_wp            !< Pa, prescribed on drained faces
     ! &output
     character(len=1024) :: output_dir = '.'
     real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only
     integer :: diag_every = 0                        !< steps between diagnostics; 0 = automatic
     ! &benchmark
-    character(len=name_len) :: benchmark = 'none'   !< none | axial_bar | mms
+    character(len=name_len) :: benchmark = 'none'   !< none | axial_bar | mms | biot_column | terzaghi
     real(wp) :: amplitude = 0.0_wp                   !< benchmark amplitude (m/s bar, m mms)
   end type config_t
 

@@ -6,11 +6,11 @@ module dpmpm_materials
   use dpmpm_config, only: material_cfg_t
   implicit none
   private
-  public :: material_t, model_linear_elastic, model_neo_hookean, model_from_name
+  public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
   public :: materials_from_config, stress_update, strain_energy, wave_speed
   public :: voigt_to_tensor, tensor_to_voigt
 
-  integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2
+  integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
 
   !> Parameters of one material, with the derived elastic constants.
   type :: material_t
@@ -20,6 +20,8 @@ module dpmpm_materials
     real(wp) :: youngs = 1.0_wp, poisson = 0.0_wp
     real(wp) :: lambda = 0.0_wp, mu = 0.0_wp, bulk = 0.0_wp
     real(wp) :: pwave = 0.0_wp          !< constrained modulus lambda + 2 mu
+    real(wp) :: bulk_fluid = 0.0_wp     !< K_f of a fluid
+    real(wp) :: conductivity = 0.0_wp   !< hydraulic conductivity of a soil (m/s), 0 = none
   end type material_t
 
 contains
@@ -32,6 +34,8 @@ contains
       m = model_linear_elastic
     case ('neo_hookean')
       m = model_neo_hookean
+    case ('fluid')
+      m = model_fluid
     case default
       m = 0
     end select
@@ -56,6 +60,12 @@ contains
       mats(k)%mu = e/(2.0_wp*(1.0_wp + nu))
       mats(k)%bulk = e/(3.0_wp*(1.0_wp - 2.0_wp*nu))
       mats(k)%pwave = mats(k)%lambda + 2.0_wp*mats(k)%mu
+      mats(k)%bulk_fluid = cfgs(k)%bulk_modulus
+      mats(k)%conductivity = cfgs(k)%conductivity
+      if (mats(k)%model == model_fluid) then
+        mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
+        mats(k)%bulk = cfgs(k)%bulk_modulus
+      end if
     end do
   end subroutine materials_from_config
 

@@ -1,6 +1,8 @@
 !> A set of material points (solid or fluid) as a structure of arrays.
 !> Only the fields that the scene needs are allocated: the deformation gradient
-!> only when a material needs it (neo-Hookean). Capacity grows geometrically.
+!> only when a material needs it (neo-Hookean), porosity only in two-phase
+!> scenes, pore pressure and inverse conductivity only on fluid points.
+!> Capacity grows geometrically.
 module dpmpm_particles
   use dpmpm_kinds, only: wp, i8
   implicit none
@@ -14,6 +16,8 @@ module dpmpm_particles
     integer :: n = 0                         !< points held by this rank
     integer :: cap = 0                       !< allocated capacity
     logical :: has_defgrad = .false.         !< F stored (finite-strain materials)
+    logical :: has_porosity = .false.        !< porosity stored (two-phase scenes)
+    logical :: has_pressure = .false.        !< pore pressure and 1/k stored (fluid points)
     integer(i8), allocatable :: id(:)        !< global id, unique, never changes
     integer, allocatable :: mat(:)           !< material index (1..nmat) into the scene's materials
     real(wp), allocatable :: x(:, :)         !< position (ndim, cap)
@@ -24,6 +28,9 @@ module dpmpm_particles
     real(wp), allocatable :: vol0(:)         !< initial volume
     real(wp), allocatable :: stress(:, :)    !< Cauchy stress (6, cap), Voigt xx yy zz yz xz xy
     real(wp), allocatable :: defgrad(:, :)   !< deformation gradient (9, cap), column-major 3x3
+    real(wp), allocatable :: porosity(:)     !< volume fraction of the pores n_f
+    real(wp), allocatable :: pressure(:)     !< pore pressure (Pa, positive in compression)
+    real(wp), allocatable :: kinv(:)         !< 1 / hydraulic conductivity (s/m); 0 = no drag
   contains
     procedure :: init => ps_init
     procedure :: reserve => ps_reserve
@@ -37,17 +44,23 @@ module dpmpm_particles
 
 contains
 
-  !> Empty set for ndim dimensions; has_defgrad allocates F.
-  subroutine ps_init(self, name, ndim, has_defgrad, capacity)
+  !> Empty set for ndim dimensions; has_defgrad allocates F, has_porosity the
+  !> porosity, has_pressure the pore pressure and inverse conductivity.
+  subroutine ps_init(self, name, ndim, has_defgrad, capacity, has_porosity, has_pressure)
     class(particle_set_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     integer, intent(in) :: ndim
     logical, intent(in) :: has_defgrad
     integer, intent(in), optional :: capacity
+    logical, intent(in), optional :: has_porosity, has_pressure
     call self%free()
     self%name = name
     self%ndim = ndim
     self%has_defgrad = has_defgrad
+    self%has_porosity = .false.
+    if (present(has_porosity)) self%has_porosity = has_porosity
+    self%has_pressure = .false.
+    if (present(has_pressure)) self%has_pressure = has_pressure
     self%n = 0
     self%cap = 0
     if (present(capacity)) then
@@ -70,6 +83,9 @@ contains
     if (allocated(self%vol0)) deallocate (self%vol0)
     if (allocated(self%stress)) deallocate (self%stress)
     if (allocated(self%defgrad)) deallocate (self%defgrad)
+    if (allocated(self%porosity)) deallocate (self%porosity)
+    if (allocated(self%pressure)) deallocate (self%pressure)
+    if (allocated(self%kinv)) deallocate (self%kinv)
     self%n = 0
     self%cap = 0
   end subroutine ps_free
@@ -91,15 +107,22 @@ contains
     call grow_r1(self%vol0, newcap, self%n)
     call grow_r2(self%stress, 6, newcap, self%n)
     if (self%has_defgrad) call grow_r2(self%defgrad, 9, newcap, self%n)
+    if (self%has_porosity) call grow_r1(self%porosity, newcap, self%n)
+    if (self%has_pressure) then
+      call grow_r1(self%pressure, newcap, self%n)
+      call grow_r1(self%kinv, newcap, self%n)
+    end if
     self%cap = newcap
   end subroutine ps_reserve
 
-  !> Append one new point at rest in its reference state (F = I, zero stress).
-  subroutine ps_append(self, id, mat, x, v, mass, vol, stress)
+  !> Append one new point at rest in its reference state (F = I, zero stress);
+  !> porosity, pressure and kinv (default 0) fill the fields the set stores.
+  subroutine ps_append(self, id, mat, x, v, mass, vol, stress, porosity, pressure, kinv)
     class(particle_set_t), intent(inout) :: self
     integer(i8), intent(in) :: id
     integer, intent(in) :: mat
     real(wp), intent(in) :: x(:), v(:), mass, vol, stress(6)
+    real(wp), intent(in), optional :: porosity, pressure, kinv
     integer :: k
     if (self%n + 1 > self%cap) call self%reserve(self%n + 1)
     k = self%n + 1
@@ -114,6 +137,16 @@ contains
     self%stress(:, k) = stress
     if (self%has_defgrad) self%defgrad(:, k) = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
                                                 0.0_wp, 0.0_wp, 1.0_wp]
+    if (self%has_porosity) then
+      self%porosity(k) = 0.0_wp
+      if (present(porosity)) self%porosity(k) = porosity
+    end if
+    if (self%has_pressure) then
+      self%pressure(k) = 0.0_wp
+      if (present(pressure)) self%pressure(k) = pressure
+      self%kinv(k) = 0.0_wp
+      if (present(kinv)) self%kinv(k) = kinv
+    end if
     self%n = k
   end subroutine ps_append
 
@@ -122,6 +155,8 @@ contains
     class(particle_set_t), intent(in) :: self
     m = 2 + 3*self%ndim + 3 + 6
     if (self%has_defgrad) m = m + 9
+    if (self%has_porosity) m = m + 1
+    if (self%has_pressure) m = m + 2
   end function ps_nreal_packed
 
   !> Pack the points listed in idx into buf(nreal_packed, size(idx)) for migration or checkpoints.
@@ -143,7 +178,16 @@ contains
       buf(o + 2, j) = self%vol(k)
       buf(o + 3, j) = self%vol0(k); o = o + 3
       buf(o + 1:o + 6, j) = self%stress(:, k); o = o + 6
-      if (self%has_defgrad) buf(o + 1:o + 9, j) = self%defgrad(:, k)
+      if (self%has_defgrad) then
+        buf(o + 1:o + 9, j) = self%defgrad(:, k); o = o + 9
+      end if
+      if (self%has_porosity) then
+        buf(o + 1, j) = self%porosity(k); o = o + 1
+      end if
+      if (self%has_pressure) then
+        buf(o + 1, j) = self%pressure(k)
+        buf(o + 2, j) = self%kinv(k)
+      end if
     end do
   end subroutine ps_pack
 
@@ -166,7 +210,16 @@ contains
       self%vol(k) = buf(o + 2, j)
       self%vol0(k) = buf(o + 3, j); o = o + 3
       self%stress(:, k) = buf(o + 1:o + 6, j); o = o + 6
-      if (self%has_defgrad) self%defgrad(:, k) = buf(o + 1:o + 9, j)
+      if (self%has_defgrad) then
+        self%defgrad(:, k) = buf(o + 1:o + 9, j); o = o + 9
+      end if
+      if (self%has_porosity) then
+        self%porosity(k) = buf(o + 1, j); o = o + 1
+      end if
+      if (self%has_pressure) then
+        self%pressure(k) = buf(o + 1, j)
+        self%kinv(k) = buf(o + 2, j)
+      end if
     end do
     self%n = self%n + size(buf, 2)
   end subroutine ps_unpack
@@ -191,6 +244,11 @@ contains
       self%vol0(m) = self%vol0(k)
       self%stress(:, m) = self%stress(:, k)
       if (self%has_defgrad) self%defgrad(:, m) = self%defgrad(:, k)
+      if (self%has_porosity) self%porosity(m) = self%porosity(k)
+      if (self%has_pressure) then
+        self%pressure(m) = self%pressure(k)
+        self%kinv(m) = self%kinv(k)
+      end if
     end do
     self%n = m
   end subroutine ps_remove

@@ -6,7 +6,7 @@ program test_rank_invariance
                      MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_UNDEFINED, MPI_COMM_NULL, &
                      operator(/=)
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, finish_tests, am_root
   implicit none
@@ -23,6 +23,11 @@ program test_rank_invariance
   call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'pair')
   call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'cubic_linear')
   call test_same_fields_on_1_2_4_ranks('quadratic', 'musl', 'wendland')
+  ! Two-phase: the 1D shock column W1 as a 2D column, and a 2D saturated block
+  ! settling under gravity (solid and fluid points cross rank boundaries).
+  call test_same_fields_on_1_2_4_ranks('linear', 'musl', 'column_2d')
+  call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'saturated_block')
+  call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'saturated_block_pair')
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -59,6 +64,25 @@ contains
     cfg%bc(2) = bc_roller
     if (.not. present(mls)) return
     select case (mls)
+    case ('column_2d')
+      cfg = column_2d(kernel, scheme)
+    case ('saturated_block', 'saturated_block_pair')
+      cfg%materials(1)%model = 'linear_elastic'
+      cfg%materials(1)%conductivity = 1.0e-3_wp
+      cfg%materials = [cfg%materials(1), material_cfg_t(id=4, model='fluid', density=1000.0_wp, &
+                                                        bulk_modulus=2.0e6_wp)]
+      cfg%regions(1)%phase = 'saturated'
+      cfg%regions(1)%fluid_material = 4
+      cfg%regions(1)%porosity = 0.35_wp
+      cfg%regions(1)%velocity = [0.3_wp, 0.1_wp, 0.0_wp]
+      cfg%t_end = 0.15_wp
+      cfg%drag = 'implicit'
+      if (mls == 'saturated_block_pair') then
+        cfg%quadrature = 'gauss'
+        cfg%field_kernel = 'wendland_c2'
+        cfg%field_radius = 2.0_wp
+        cfg%t_end = 0.08_wp
+      end if
     case ('pair')
       cfg%quadrature = 'gauss'
       cfg%field_kernel = 'wendland_c2'
@@ -78,12 +102,47 @@ contains
     end select
   end function scene
 
-  subroutine run_on(n, cfg, ids, x, v, s, steps)
+  !> W1 (physics.md section 0) as a 2D column of 100 x 2 cells along x with roller
+  !> sides, explicit drag, to 5 ms.
+  function column_2d(kernel, scheme) result(cfg)
+    character(len=*), intent(in) :: kernel, scheme
+    type(config_t) :: cfg
+    cfg%name = 'column_2d'
+    cfg%ndim = 2
+    cfg%ncells = [100, 2, 1]
+    cfg%length = [10.0_wp, 0.2_wp, 1.0_wp]
+    cfg%kernel = kernel
+    cfg%scheme = scheme
+    cfg%t_end = 5.0e-3_wp
+    cfg%cfl = 0.5_wp
+    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
+    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
+                                      youngs_modulus=1.0e7_wp, poisson_ratio=0.0_wp, &
+                                      conductivity=1.0e-5_wp)
+    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=3.0e6_wp)
+    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
+    cfg%regions(1)%hi = [10.0_wp, 0.2_wp, 0.0_wp]
+    cfg%regions(1)%material = 1
+    cfg%regions(1)%fluid_material = 2
+    cfg%regions(1)%phase = 'saturated'
+    cfg%regions(1)%porosity = 0.3_wp
+    cfg%regions(1)%ppc = 2
+    cfg%regions(1)%placement = 'random'
+    cfg%regions(1)%seed = 3
+    cfg%loads(1) = load_cfg_t(face=1, traction=[1.0_wp, 0.0_wp, 0.0_wp], ramp_time=0.0_wp)
+    cfg%bc(2) = bc_fixed
+    cfg%bc(3) = bc_roller
+    cfg%bc(4) = bc_roller
+  end function column_2d
+
+  subroutine run_on(n, cfg, ids, x, v, s, steps, fids, fx, fv, fs)
     integer, intent(in) :: n
     type(config_t), intent(in) :: cfg
     integer(i8), allocatable, intent(out) :: ids(:)
     real(wp), allocatable, intent(out) :: x(:, :), v(:, :), s(:, :)
     integer(i8), intent(out) :: steps
+    integer(i8), allocatable, intent(out) :: fids(:)
+    real(wp), allocatable, intent(out) :: fx(:, :), fv(:, :), fs(:, :)
     type(MPI_Comm) :: sub
     type(simulation_t) :: sim
     integer :: color
@@ -95,6 +154,7 @@ contains
       call sim%init(cfg, sub, write_output=.false.)
       call sim%run()
       call sim%gather_points(ids, x, v, s)
+      call sim%gather_points(fids, fx, fv, fs, fluid=.true.)
       steps = sim%step
       call sim%free()
       call MPI_Comm_free(sub)
@@ -110,8 +170,9 @@ contains
   subroutine test_same_fields_on_1_2_4_ranks(kernel, scheme, mls)
     character(len=*), intent(in) :: kernel, scheme
     character(len=*), intent(in), optional :: mls
-    integer(i8), allocatable :: id1(:), idn(:)
+    integer(i8), allocatable :: id1(:), idn(:), fid1(:), fidn(:)
     real(wp), allocatable :: x1(:, :), v1(:, :), s1(:, :), xn(:, :), vn(:, :), sn(:, :)
+    real(wp), allocatable :: fx1(:, :), fv1(:, :), fs1(:, :), fxn(:, :), fvn(:, :), fsn(:, :)
     real(wp) :: dev
     integer(i8) :: steps1, stepsn
     integer :: n
@@ -120,10 +181,10 @@ contains
     variant = ''
     if (present(mls)) variant = '_'//mls
     call begin_test('same_fields_on_1_2_4_ranks_'//kernel//'_'//scheme//variant)
-    call run_on(1, scene(kernel, scheme, mls), id1, x1, v1, s1, steps1)
+    call run_on(1, scene(kernel, scheme, mls), id1, x1, v1, s1, steps1, fid1, fx1, fv1, fs1)
     do n = 2, 4, 2
       if (n > nworld) cycle
-      call run_on(n, scene(kernel, scheme, mls), idn, xn, vn, sn, stepsn)
+      call run_on(n, scene(kernel, scheme, mls), idn, xn, vn, sn, stepsn, fidn, fxn, fvn, fsn)
       if (rank /= 0) cycle
       write (tag, '(a,i0,a)') ' (', n, ' ranks vs 1)'
       call check(size(idn) == size(id1), 'same number of points'//trim(tag))
@@ -132,10 +193,19 @@ contains
       call check(stepsn == steps1, 'same number of steps'//trim(tag))
       dev = max(reldiff(xn - spread(x1(:, 1), 2, size(x1, 2)), x1 - spread(x1(:, 1), 2, size(x1, 2))), &
                 reldiff(vn, v1), reldiff(sn, s1))
+      if (size(fid1) > 0) then
+        call check(size(fidn) == size(fid1), 'same number of fluid points'//trim(tag))
+        if (size(fidn) /= size(fid1)) cycle
+        call check(all(fidn == fid1), 'same fluid ids'//trim(tag))
+        dev = max(dev, reldiff(fxn - spread(fx1(:, 1), 2, size(fx1, 2)), &
+                               fx1 - spread(fx1(:, 1), 2, size(fx1, 2))), &
+                  reldiff(fvn, fv1), reldiff(fsn, fs1))
+      end if
       print '(a,i0,a,es10.3)', '  largest relative deviation on ', n, ' ranks: ', dev
       call check(dev <= 1.0e-10_wp, 'positions, velocities and stresses agree to 1e-10'//trim(tag))
     end do
-    if (rank == 0) print '(a,i0,a,i0,a)', '  ', size(id1), ' points, ', steps1, ' steps'
+    if (rank == 0) print '(a,i0,a,i0,a,i0,a)', '  ', size(id1), ' solid points, ', size(fid1), &
+      ' fluid points, ', steps1, ' steps'
   end subroutine test_same_fields_on_1_2_4_ranks
 
 end program test_rank_invariance

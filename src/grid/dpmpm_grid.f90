@@ -45,12 +45,16 @@ contains
 
   !> Which velocity components are held at zero at node (i, j, k): a fixed face
   !> holds all components, a roller the normal one. Exterior nodes beyond a face
-  !> (reached by wide kernels) follow the face's condition.
-  pure function grid_constrained(self, idx) result(fix)
+  !> (reached by wide kernels) follow the face's condition. bc replaces the
+  !> grid's face conditions (e.g. those that hold the pore fluid).
+  pure function grid_constrained(self, idx, bc) result(fix)
     class(grid_t), intent(in) :: self
     integer, intent(in) :: idx(3)
+    integer, intent(in), optional :: bc(6)
     logical :: fix(3)
-    integer :: d, f
+    integer :: d, f, bcs(6)
+    bcs = self%bc
+    if (present(bc)) bcs = bc
     fix = .false.
     do d = 1, self%ndim
       do f = 1, 2
@@ -59,7 +63,7 @@ contains
         else
           if (idx(d) < self%ncells(d)) cycle
         end if
-        select case (self%bc(2*(d - 1) + f))
+        select case (bcs(2*(d - 1) + f))
         case (bc_fixed)
           fix = .true.
         case (bc_roller)

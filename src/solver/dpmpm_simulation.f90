@@ -10,7 +10,8 @@ module dpmpm_simulation
   use dpmpm_strings, only: i8toa
   use dpmpm_timer, only: timer_set_t, t_total, t_stencil, t_p2g, t_halo, t_nodal, t_g2p, t_stress, &
                          t_migrate, t_output, ntimers, timer_names
-  use dpmpm_config, only: config_t, bc_free, bc_fixed
+  use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller, fbc_default, fbc_drained, &
+                          fbc_impermeable, fbc_names, face_names
   use dpmpm_grid, only: grid_t
   use dpmpm_decomp, only: decomp_t
   use dpmpm_kernels, only: kernel_width, max_stencil
@@ -23,10 +24,13 @@ module dpmpm_simulation
   use dpmpm_particles, only: particle_set_t
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
-                             wave_speed, voigt_to_tensor, model_neo_hookean
+                             wave_speed, voigt_to_tensor, model_neo_hookean, model_fluid
+  use dpmpm_two_phase, only: fluid_p2g, solid_porosity_p2g, drag_solve, drag_limit, interp_scalar, &
+                             pressure_update, fluid_density
   use dpmpm_migrate, only: migrate
   use dpmpm_output, only: output_t
   use dpmpm_diagnostics, only: diag_record_t
+  use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err, &
                               benchmark_body_force, benchmark_nerr
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_INTEGER8, &
@@ -35,6 +39,25 @@ module dpmpm_simulation
   private
   public :: simulation_t, run_scene
 
+  !> Grid-transfer work arrays of one point set: per-point stencils, velocity
+  !> gradients, the node fields of its phase, and (with Gauss quadrature) the
+  !> reconstruction sums and solutions with the positions and volumes they used.
+  type :: transfer_t
+    ! Per-point stencil: first node, weights and x-derivatives per axis.
+    integer, allocatable :: i0(:, :)
+    real(wp), allocatable :: sw(:, :, :), sdw(:, :, :)
+    real(wp), allocatable :: vgrad(:, :)      !< velocity gradient of the set's phase (9, n)
+    real(wp), allocatable :: vgrad2(:, :)     !< fluid points: solid velocity gradient (9, n)
+    ! Node fields on the stored nodes (owned + ghosts).
+    real(wp), allocatable :: node(:, :, :, :) !< mass, momentum(nd), force(nd)
+    real(wp), allocatable :: nvel(:, :, :, :) !< velocity before (nd) and after (nd) the update
+    ! Gauss quadrature: reconstruction sums and solutions (cell arrays), velocity
+    ! gradients at the Gauss points, positions and volumes at the force evaluation,
+    ! effective point volumes. Fluid sets: gsol2 is the solid share -n_s p.
+    real(wp), allocatable :: gacc(:, :, :, :), gsol(:, :, :, :), gsol2(:, :, :, :), glg(:, :, :, :)
+    real(wp), allocatable :: xold(:, :), volold(:), vt(:)
+  end type transfer_t
+
   !> The state of a run.
   type :: simulation_t
     type(config_t) :: cfg
@@ -42,6 +65,8 @@ module dpmpm_simulation
     type(grid_t) :: grid
     type(material_t), allocatable :: mats(:)
     type(particle_set_t) :: solid
+    type(particle_set_t) :: fluid             !< pore or free fluid (two-phase scenes only)
+    logical :: two_phase = .false.            !< the scene has fluid points
     type(log_t) :: log
     type(timer_set_t) :: timers
     type(output_t) :: out
@@ -49,27 +74,27 @@ module dpmpm_simulation
     type(shape_plan_t) :: plan                !< grid functions and MLS choices (&shape)
     integer :: kernel = 1
     integer :: nw(3) = 1                      !< stencil nodes per axis
-    ! MLS reconstruction (allocated only when the plan uses it): nodal velocity
-    ! moments, Gauss-point sums, their solution and velocity gradients (cell arrays),
-    ! positions and volumes at the force evaluation, effective point volumes.
-    real(wp), allocatable :: vacc(:, :, :, :), gacc(:, :, :, :), gsol(:, :, :, :), glg(:, :, :, :)
-    real(wp), allocatable :: xold(:, :), volold(:), vt(:)
+    type(transfer_t) :: ts                    !< transfer arrays of the solid points
+    type(transfer_t) :: tf                    !< transfer arrays of the fluid points
+    ! Two-phase node fields: sum N m_s n_f of the solid points (then the nodal
+    ! porosity, 1 where there is no solid), and the drag coefficient D (kg/s).
+    real(wp), allocatable :: nporo(:, :, :, :), ndrag(:, :, :, :)
+    integer :: fbc(6) = 0                     !< resolved pore-fluid condition per face
+    real(wp) :: kf_max = 0.0_wp, rhof_min = 0.0_wp !< stiffest, lightest pore fluid (CFL)
+    real(wp) :: dt_wave = 0.0_wp, dt_drag = huge(1.0_wp) !< the two limits of the last step
+    integer :: governing = 0                  !< limit that set the last step: 1 wave, 2 drag
+    ! MLS nodal velocities (allocated only when the plan uses them).
+    real(wp), allocatable :: vacc(:, :, :, :)
     real(wp), allocatable :: bacc(:, :)       !< body acceleration per point (manufactured solution)
     real(wp) :: wint = 1.0_wp                 !< integral of the field weight (cell units)
     type(mls_stats_t) :: mls_stats            !< fallback counts of the MLS solves on this rank
     integer(i8) :: nkept = 0                  !< point gradients left point-wise (no quadrature weight)
     integer(i8) :: nwall = 0                  !< points put back inside a wall they had crossed
     integer :: nd = 1
-    ! Per-point stencil: first node, weights and x-derivatives per axis.
-    integer, allocatable :: i0(:, :)
-    real(wp), allocatable :: sw(:, :, :), sdw(:, :, :)
-    real(wp), allocatable :: vgrad(:, :)      !< velocity gradient (9, n), column-major 3x3
-    ! Node fields on the stored nodes (owned + ghosts).
-    real(wp), allocatable :: node(:, :, :, :) !< mass, momentum(nd), force(nd)
-    real(wp), allocatable :: nvel(:, :, :, :) !< velocity before (nd) and after (nd) the update
     real(wp) :: time = 0.0_wp
     real(wp) :: dt = 0.0_wp
-    real(wp) :: ext_work = 0.0_wp             !< work of gravity and tractions on this rank
+    !> work of gravity and tractions on this rank, minus the energy dissipated by drag
+    real(wp) :: ext_work = 0.0_wp
     integer(i8) :: step = 0
     real(wp) :: wall_start = 0.0_wp
     integer :: nframes = 0
@@ -77,6 +102,10 @@ module dpmpm_simulation
     real(wp) :: next_frame = 0.0_wp
     real(wp), allocatable :: err_hist(:, :)   !< benchmark errors over diagnostics (time, errors)
     integer :: nerr = 0
+    !> Two-phase benchmarks: error names and their values at each frame (time, errors).
+    character(len=error_name_len), allocatable :: fnames(:)
+    real(wp), allocatable :: ferr(:, :)
+    integer :: nferr = 0
     real(wp) :: energy0 = 0.0_wp              !< kinetic + strain - external work at the start
     real(wp) :: energy_scale = 0.0_wp         !< largest of |energy0| and kinetic + strain so far
     real(wp) :: energy_drift = 0.0_wp         !< largest |energy - energy0| / energy_scale so far
@@ -110,7 +139,7 @@ contains
     type(MPI_Comm), intent(in) :: comm
     logical, intent(in), optional :: write_output
     integer :: nmin, nmax, nb
-    integer(i8) :: ntot
+    integer(i8) :: ntot, nfl
     character(len=256) :: line
     call self%free()
     self%cfg = cfg
@@ -137,9 +166,16 @@ contains
     call self%grid%init(cfg)
     call self%dec%init(comm, cfg%ndim, cfg%ncells, self%plan%ghost_width(), cfg%dims)
     call materials_from_config(cfg%materials, self%mats)
-    call self%solid%init('solid', self%nd, any(self%mats%model == model_neo_hookean))
+    self%two_phase = any(cfg%regions%phase /= 'solid')
+    call self%solid%init('solid', self%nd, any(self%mats%model == model_neo_hookean), &
+                         has_porosity=self%two_phase)
     call generate_points(cfg, self%grid, self%dec, self%mats, self%solid)
     call benchmark_setup(cfg, self%mats, self%solid)
+    if (self%two_phase) then
+      call self%fluid%init('fluid', self%nd, .false., has_porosity=.true., has_pressure=.true.)
+      call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, 'fluid')
+      call init_two_phase(self)
+    end if
 
     ntot = self%solid%n
     call MPI_Allreduce(MPI_IN_PLACE, ntot, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
@@ -149,28 +185,48 @@ contains
       self%dec%dims(1), ' x ', self%dec%dims(2), ' x ', self%dec%dims(3), '); ', ntot, &
       ' solid points; per rank min ', nmin, ' max ', nmax
     call self%log%info(line)
+    if (self%two_phase) then
+      nfl = self%fluid%n
+      call MPI_Allreduce(MPI_IN_PLACE, nfl, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+      write (line, '(a,i0,a,a)') 'dpmpm: ', nfl, ' fluid points; drag ', trim(cfg%drag)
+      if (cfg%porosity_gradient) line = trim(line)//'; with the porosity-gradient term'
+      call self%log%info(trim(line))
+      ntot = ntot + nfl
+    end if
     if (ntot == 0) then
       call self%log%error('the regions produced no points')
       call clean_stop(2)
     end if
 
     associate (lo => self%dec%alo, hi => self%dec%ahi)
-      allocate (self%node(1 + 2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-      allocate (self%nvel(2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+      allocate (self%ts%node(1 + 2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+      allocate (self%ts%nvel(2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
       if (self%plan%velocity_mls) then
         nb = basis_size(self%plan%velocity_basis, self%nd)
         allocate (self%vacc(1 + packed_size(nb) + nb*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
       end if
       if (self%plan%gauss) then
         associate (ng => self%plan%ngauss, basis => self%plan%field_basis, nd => self%nd)
-          allocate (self%gacc(gauss_cell_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), &
+          allocate (self%ts%gacc(gauss_cell_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), &
                               lo(3):hi(3)))
-          allocate (self%gsol(gauss_solution_components(nd, ng, basis), lo(1):hi(1), &
+          allocate (self%ts%gsol(gauss_solution_components(nd, ng, basis), lo(1):hi(1), &
                               lo(2):hi(2), lo(3):hi(3)))
-          allocate (self%glg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          allocate (self%ts%glg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         end associate
         self%wint = weight_integral(self%plan%field_kernel, self%plan%field_radius, &
                                     self%plan%field_radial, self%nd)
+      end if
+      if (self%two_phase) then
+        allocate (self%tf%node, mold=self%ts%node)
+        allocate (self%tf%nvel, mold=self%ts%nvel)
+        allocate (self%nporo(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (self%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        if (self%plan%gauss) then
+          allocate (self%tf%gacc, mold=self%ts%gacc)
+          allocate (self%tf%gsol, mold=self%ts%gsol)
+          allocate (self%tf%gsol2, mold=self%ts%gsol)
+          allocate (self%tf%glg, mold=self%ts%glg)
+        end if
       end if
     end associate
     allocate (self%err_hist(1 + nbench_err, 64))
@@ -184,11 +240,69 @@ contains
     call self%write_frame()
   end subroutine sim_init
 
+  !> Two-phase set-up: the pore-fluid condition of each face (drained at free
+  !> faces, impermeable at fixed and roller faces unless given), and the stiffest
+  !> and lightest fluid for the undrained wave speed of the time step.
+  subroutine init_two_phase(self)
+    type(simulation_t), intent(inout) :: self
+    integer :: f, m
+    character(len=256) :: line
+    do f = 1, 2*self%nd
+      self%fbc(f) = self%cfg%fluid_bc(f)
+      if (self%fbc(f) == fbc_default) then
+        self%fbc(f) = merge(fbc_drained, fbc_impermeable, self%grid%bc(f) == bc_free)
+      end if
+    end do
+    self%kf_max = 0.0_wp
+    self%rhof_min = huge(1.0_wp)
+    do m = 1, size(self%mats)
+      if (self%mats(m)%model /= model_fluid) cycle
+      self%kf_max = max(self%kf_max, self%mats(m)%bulk_fluid)
+      self%rhof_min = min(self%rhof_min, self%mats(m)%density)
+    end do
+    line = '  pore fluid at the faces:'
+    do f = 1, 2*self%nd
+      line = trim(line)//' '//face_names(f)//' '//trim(fbc_names(self%fbc(f)))
+    end do
+    call self%log%info(trim(line))
+  end subroutine init_two_phase
+
+  !> Conditions under which the fluid nodes beyond a face are folded: an
+  !> impermeable face at a fixed or roller solid face is a plane of symmetry of
+  !> the fluid (roller); elsewhere the fluid is free.
+  pure function fluid_mirror_bc(self) result(bc)
+    type(simulation_t), intent(in) :: self
+    integer :: bc(6)
+    integer :: f
+    bc = bc_free
+    do f = 1, 2*self%nd
+      if (self%fbc(f) == fbc_impermeable .and. self%grid%bc(f) /= bc_free) bc(f) = bc_roller
+    end do
+  end function fluid_mirror_bc
+
+  !> Fluid velocity components tied to the solid at node idx: the normal
+  !> components at impermeable faces where the solid is free to move.
+  pure function fluid_ties(self, idx) result(tie)
+    type(simulation_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    logical :: tie(3)
+    integer :: d, side, f
+    tie = .false.
+    do d = 1, self%nd
+      do side = 1, 2
+        f = 2*(d - 1) + side
+        if (self%fbc(f) /= fbc_impermeable .or. self%grid%bc(f) /= bc_free) cycle
+        if (side == 1 .and. idx(d) <= 0) tie(d) = .true.
+        if (side == 2 .and. idx(d) >= self%grid%ncells(d)) tie(d) = .true.
+      end do
+    end do
+  end function fluid_ties
+
   !> Step to t_end (or max_steps), with diagnostics, frames and progress lines.
   subroutine sim_run(self)
     class(simulation_t), intent(inout) :: self
     integer(i8) :: diag_every, nwall
-    real(wp) :: last_progress, now, eta
+    real(wp) :: last_progress, now, eta, dt
     character(len=256) :: line
     integer :: k
     diag_every = self%cfg%diag_every
@@ -196,10 +310,14 @@ contains
     last_progress = MPI_Wtime()
     call self%timers%tic(t_total)
     do while (self%time < self%cfg%t_end*(1.0_wp - 1.0e-12_wp) .and. self%step < self%cfg%max_steps)
-      self%dt = min(self%stable_dt(), self%cfg%t_end - self%time)
-      call self%advance(self%dt)
+      dt = min(self%stable_dt(), self%cfg%t_end - self%time)
+      call self%advance(dt)
+      self%dt = dt
       self%time = self%time + self%dt
       self%step = self%step + 1
+      ! With explicit drag the first step may be far shorter than the wave step.
+      if (self%step == 1 .and. self%cfg%diag_every <= 0) &
+        diag_every = max(1_i8, int(self%cfg%t_end/self%dt/500.0_wp, i8))
       if (mod(self%step, diag_every) == 0) call self%diagnostics()
       if (self%cfg%frame_interval > 0.0_wp .and. &
           self%time >= self%next_frame - 1.0e-9_wp*self%cfg%frame_interval) call self%write_frame()
@@ -232,6 +350,7 @@ contains
       call self%out%write_verification_attr('steps', real(self%step, wp))
       call self%out%write_verification_attr('wall_time_step_loop', self%timers%acc(t_total))
     end if
+    if (self%write_output .and. two_phase_benchmark(self)) call write_two_phase_verification(self)
     call report_mls(self)
     write (line, '(a,i0,a,es12.5,a,f0.2,a)') 'dpmpm: done, ', self%step, ' steps to t = ', &
       self%time, ' in ', MPI_Wtime() - self%wall_start, ' s'
@@ -251,6 +370,68 @@ contains
       call self%log%info('dpmpm: output '//trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5')
     end if
   end subroutine sim_run
+
+  !> Does the run compare with a two-phase reference (column or Terzaghi)?
+  logical function two_phase_benchmark(self)
+    type(simulation_t), intent(in) :: self
+    two_phase_benchmark = self%two_phase .and. (self%cfg%benchmark == 'biot_column' .or. &
+                                                self%cfg%benchmark == 'terzaghi')
+  end function two_phase_benchmark
+
+  !> Errors against the two-phase reference at the current frame, kept for the
+  !> output and logged (collective).
+  subroutine record_two_phase_errors(self)
+    type(simulation_t), intent(inout) :: self
+    character(len=error_name_len), allocatable :: names(:)
+    real(wp), allocatable :: values(:), tmp(:, :)
+    character(len=512) :: line
+    integer :: k
+    call two_phase_errors(self%cfg, self%mats, self%solid, self%fluid, self%time, self%dec%comm, &
+                          names, values)
+    if (.not. allocated(self%ferr)) then
+      self%fnames = names
+      allocate (self%ferr(1 + size(values), 8))
+      self%nferr = 0
+    end if
+    if (self%nferr == size(self%ferr, 2)) then
+      allocate (tmp(size(self%ferr, 1), 2*self%nferr))
+      tmp(:, 1:self%nferr) = self%ferr
+      call move_alloc(tmp, self%ferr)
+    end if
+    self%nferr = self%nferr + 1
+    self%ferr(:, self%nferr) = [self%time, values]
+    if (self%time <= 0.0_wp) return
+    write (line, '(a,es11.4,a)') '  errors at t = ', self%time, ':'
+    do k = 1, size(names)
+      write (line, '(a,1x,a,1x,es10.3)') trim(line), trim(names(k)), values(k)
+    end do
+    call self%log%info(trim(line))
+  end subroutine record_two_phase_errors
+
+  !> /verification of a two-phase benchmark: the frame times, each error over the
+  !> frames and at the last frame (final_<name>), and the reference profiles at
+  !> the final time on 401 depths (profile_z, profile_p, profile_sigma_eff,
+  !> profile_v_s, profile_v_f).
+  subroutine write_two_phase_verification(self)
+    type(simulation_t), intent(inout) :: self
+    integer, parameter :: nz = 401
+    character(len=17), parameter :: pnames(4) = [character(len=17) :: 'profile_p', &
+      'profile_sigma_eff', 'profile_v_s', 'profile_v_f']
+    real(wp) :: z(nz), fields(4, nz)
+    integer :: k
+    if (self%nferr == 0) return
+    call self%out%write_verification('frame_time', self%ferr(1, 1:self%nferr))
+    do k = 1, size(self%fnames)
+      call self%out%write_verification(trim(self%fnames(k)), self%ferr(1 + k, 1:self%nferr))
+      call self%out%write_verification_attr('final_'//trim(self%fnames(k)), &
+                                            self%ferr(1 + k, self%nferr))
+    end do
+    call two_phase_profiles(self%cfg, self%mats, self%time, nz, z, fields)
+    call self%out%write_verification('profile_z', z)
+    do k = 1, 4
+      call self%out%write_verification(trim(pnames(k)), fields(k, :))
+    end do
+  end subroutine write_two_phase_verification
 
   !> Log how often each MLS path was taken (summed over ranks) and store the
   !> counts as attributes of /verification when the run writes one.
@@ -280,13 +461,26 @@ contains
   !> (Courant number 1) is refused.
   real(wp) function sim_stable_dt(self) result(dt)
     class(simulation_t), intent(inout) :: self
-    real(wp) :: rate, c, crit
+    real(wp) :: rate, c, crit, rho, nf
     integer :: p
     character(len=256) :: line
     rate = 0.0_wp
     do p = 1, self%solid%n
-      c = wave_speed(self%mats(self%solid%mat(p)), self%solid%mass(p)/self%solid%vol(p))
+      rho = self%solid%mass(p)/self%solid%vol(p)
+      c = wave_speed(self%mats(self%solid%mat(p)), rho)
+      if (self%two_phase) then
+        ! Undrained wave of the mixture, c_u^2 = (E_c + K_f/n) / rho_sat (physics.md 5).
+        nf = self%solid%porosity(p)
+        if (nf > 0.0_wp) c = sqrt((self%mats(self%solid%mat(p))%pwave + self%kf_max/nf)/ &
+                                  (rho + nf*self%rhof_min))
+      end if
       rate = max(rate, c + norm2(self%solid%v(:, p)))
+    end do
+    do p = 1, self%fluid%n
+      associate (mat => self%mats(self%fluid%mat(p)))
+        c = sqrt(mat%bulk_fluid/mat%density)
+      end associate
+      rate = max(rate, c + norm2(self%fluid%v(:, p)))
     end do
     call MPI_Allreduce(MPI_IN_PLACE, rate, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
     if (.not. ieee_is_finite(rate)) then
@@ -307,31 +501,37 @@ contains
     else
       dt = self%cfg%cfl*crit
     end if
+    self%dt_wave = dt
   end function sim_stable_dt
 
   !> One explicit step of length dt.
   subroutine sim_advance(self, dt)
     class(simulation_t), intent(inout) :: self
-    real(wp), intent(in) :: dt
-    integer :: m, nlost, n, nkept
+    real(wp), intent(inout) :: dt
+    integer :: m, nlost, n
+    if (self%two_phase) then
+      call advance_two_phase(self, dt)
+      return
+    end if
     n = self%solid%n
     call self%timers%tic(t_stencil)
-    call compute_stencils(self)
+    call compute_stencils(self, self%solid, self%ts)
     call self%timers%toc(t_stencil)
 
     call self%timers%tic(t_p2g)
-    self%node = 0.0_wp
+    self%ts%node = 0.0_wp
     if (allocated(self%bacc)) then
       call benchmark_body_force(self%cfg, self%mats, self%solid, self%time, self%bacc)
-      call p2g(self%nd, self%nw, n, self%i0, self%sw, self%sdw, self%solid%mass, self%solid%v, &
-               self%solid%vol, self%solid%stress, .not. self%plan%gauss, self%dec%alo, self%node, &
+      call p2g(self%nd, self%nw, n, self%ts%i0, self%ts%sw, self%ts%sdw, self%solid%mass, self%solid%v, &
+               self%solid%vol, self%solid%stress, .not. self%plan%gauss, self%dec%alo, self%ts%node, &
                self%bacc)
     else
-      call p2g(self%nd, self%nw, n, self%i0, self%sw, self%sdw, self%solid%mass, self%solid%v, &
-               self%solid%vol, self%solid%stress, .not. self%plan%gauss, self%dec%alo, self%node)
+      call p2g(self%nd, self%nw, n, self%ts%i0, self%ts%sw, self%ts%sdw, self%solid%mass, self%solid%v, &
+               self%solid%vol, self%solid%stress, .not. self%plan%gauss, self%dec%alo, self%ts%node)
     end if
-    if (self%plan%gauss) call gauss_force_integrals(self)
-    call fold_exterior(self, self%node, 1)
+    if (self%plan%gauss) call gauss_force_integrals(self, self%solid, self%ts, self%solid%stress, &
+                                                    self%ts%gsol, self%ts%node)
+    call fold_exterior(self, self%ts%node, 1)
     if (self%plan%velocity_mls) then
       self%vacc = 0.0_wp
       associate (pl => self%plan)
@@ -340,122 +540,334 @@ contains
                                  pl%velocity_radius, pl%velocity_radial, pl%velocity_basis, &
                                  self%dec%alo, self%vacc)
       end associate
-      call fold_planes(self, self%vacc, velocity_signs(self), .true.)
+      call fold_planes(self, self%vacc, velocity_signs(self), .true., self%grid%bc)
     end if
     call self%timers%toc(t_p2g)
     call self%timers%tic(t_halo)
-    call self%dec%halo_sum(self%node)
+    call self%dec%halo_sum(self%ts%node)
     if (self%plan%velocity_mls) call self%dec%halo_sum(self%vacc)
     call self%timers%toc(t_halo)
 
     call self%timers%tic(t_nodal)
     if (self%plan%velocity_mls) call velocity_solve(self%nd, self%plan%velocity_basis, &
-      self%dec%alo, self%dec%olo, self%dec%ohi, self%vacc, self%node, self%mls_stats)
+      self%dec%alo, self%dec%olo, self%dec%ohi, self%vacc, self%ts%node, self%mls_stats)
     call nodal_update(self, dt)
     call self%timers%toc(t_nodal)
     call self%timers%tic(t_halo)
-    call self%dec%halo_copy(self%nvel)
-    call unfold_exterior(self, self%nvel)
+    call self%dec%halo_copy(self%ts%nvel)
+    call unfold_exterior(self, self%ts%nvel)
     call self%timers%toc(t_halo)
 
     call self%timers%tic(t_g2p)
-    call g2p(self%nd, self%nw, n, self%i0, self%sw, self%sdw, self%dec%alo, self%nvel, &
-             self%cfg%flip, dt, self%solid%v, self%solid%x, self%vgrad)
+    call g2p(self%nd, self%nw, n, self%ts%i0, self%ts%sw, self%ts%sdw, self%dec%alo, self%ts%nvel, &
+             self%cfg%flip, dt, self%solid%v, self%solid%x, self%ts%vgrad)
     if (self%cfg%scheme == 'musl') call musl_remap(self)
     if (self%plan%gauss) then
       ! Strain rates by the transpose of the quadrature force operator (physics.md 3.5).
-      call gauss_velocity_gradient(self%nd, self%plan%ngauss, self%kernel, self%grid%h, &
-                                   self%dec%alo, self%dec%clo, self%dec%chi, self%gsol, self%nvel, &
-                                   self%glg)
-      call self%dec%halo_copy(self%glg)
-      associate (pl => self%plan)
-        call gauss_strain(self%nd, n, self%xold, self%volold, self%grid%origin, self%grid%h, &
-                          self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
-                          pl%field_radial, pl%field_basis, self%dec%alo, self%gsol, self%glg, &
-                          self%vgrad, self%vt, nkept)
-      end associate
-      self%nkept = self%nkept + nkept
+      call gauss_point_gradients(self, self%solid, self%ts, self%ts%gsol, self%ts%nvel, self%ts%vgrad)
     end if
     call self%timers%toc(t_g2p)
 
     call self%timers%tic(t_stress)
     do m = 1, size(self%mats)
-      call stress_update(self%mats(m), m, dt, self%solid%n, self%solid%mat, self%vgrad, &
+      call stress_update(self%mats(m), m, dt, self%solid%n, self%solid%mat, self%ts%vgrad, &
                          self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad)
     end do
     call self%timers%toc(t_stress)
 
     call self%timers%tic(t_migrate)
-    call check_inside(self)
+    call check_inside(self, self%solid)
     call migrate(self%dec, self%grid%origin, self%grid%h, self%solid, nlost)
     if (nlost > 0) call fatal('points were lost in migration (moved more than one rank width in a step)', &
                               'migrate')
     call self%timers%toc(t_migrate)
   end subroutine sim_advance
 
-  !> Internal forces by Gauss quadrature of MLS-reconstructed stresses, added to
-  !> node(); keeps the positions and volumes for the transposed strain operator.
-  subroutine gauss_force_integrals(self)
+  !> One step of the double-point scheme (physics.md 6; the 3.5 pair with Gauss
+  !> quadrature). dt may shrink to the explicit-drag limit of this step's nodes.
+  subroutine advance_two_phase(self, dt)
     type(simulation_t), intent(inout) :: self
-    integer :: n
-    n = self%solid%n
-    if (size(self%volold) < n) then
-      deallocate (self%xold, self%volold, self%vt)
-      allocate (self%xold(self%nd, self%solid%cap), self%volold(self%solid%cap), &
-                self%vt(self%solid%cap))
+    real(wp), intent(inout) :: dt
+    integer :: m, nlost, ns, nf, mbc(6)
+    real(wp), allocatable :: volb(:), pseudo(:, :), nval(:), ngrad(:, :), gnrel(:), kf(:)
+    ns = self%solid%n
+    nf = self%fluid%n
+    mbc = fluid_mirror_bc(self)
+    call self%timers%tic(t_stencil)
+    call compute_stencils(self, self%solid, self%ts)
+    call compute_stencils(self, self%fluid, self%tf)
+    call self%timers%toc(t_stencil)
+
+    call self%timers%tic(t_p2g)
+    self%ts%node = 0.0_wp
+    self%tf%node = 0.0_wp
+    self%nporo = 0.0_wp
+    self%ndrag = 0.0_wp
+    call p2g(self%nd, self%nw, ns, self%ts%i0, self%ts%sw, self%ts%sdw, self%solid%mass, &
+             self%solid%v, self%solid%vol, self%solid%stress, .not. self%plan%gauss, self%dec%alo, &
+             self%ts%node)
+    call p2g(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%fluid%mass, &
+             self%fluid%v, self%fluid%vol, self%fluid%stress, .false., self%dec%alo, self%tf%node)
+    call solid_porosity_p2g(self%nw, ns, self%ts%i0, self%ts%sw, self%solid%mass, &
+                            self%solid%porosity, self%dec%alo, self%nporo)
+    call fluid_p2g(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%fluid%mass, &
+                   self%fluid%vol, self%fluid%porosity, self%fluid%pressure, self%fluid%kinv, &
+                   .not. self%plan%gauss, self%dec%alo, self%ts%node, self%tf%node, self%ndrag)
+    if (self%plan%gauss) then
+      call gauss_force_integrals(self, self%solid, self%ts, self%solid%stress, self%ts%gsol, &
+                                 self%ts%node)
+      ! Pore pressure at the Gauss points from the fluid points: -n_f p on the
+      ! fluid, -(1 - n_f) p on the solid (physics.md 3.5 step 5).
+      allocate (pseudo(6, nf))
+      pseudo = 0.0_wp
+      do m = 1, 3
+        pseudo(m, :) = -self%fluid%porosity(1:nf)*self%fluid%pressure(1:nf)
+      end do
+      call gauss_force_integrals(self, self%fluid, self%tf, pseudo, self%tf%gsol, self%tf%node)
+      do m = 1, 3
+        pseudo(m, :) = -(1.0_wp - self%fluid%porosity(1:nf))*self%fluid%pressure(1:nf)
+      end do
+      call gauss_force_integrals(self, self%fluid, self%tf, pseudo, self%tf%gsol2, self%ts%node)
     end if
-    self%xold(:, 1:n) = self%solid%x(:, 1:n)
-    self%volold(1:n) = self%solid%vol(1:n)
-    self%gacc = 0.0_wp
+    call fold_exterior(self, self%ts%node, 1)
+    call fold_exterior(self, self%nporo, 1)
+    call fold_exterior(self, self%tf%node, 1, mbc)
+    call fold_exterior(self, self%ndrag, 1, mbc)
+    call self%timers%toc(t_p2g)
+    call self%timers%tic(t_halo)
+    call self%dec%halo_sum(self%ts%node)
+    call self%dec%halo_sum(self%tf%node)
+    call self%dec%halo_sum(self%nporo)
+    call self%dec%halo_sum(self%ndrag)
+    call self%timers%toc(t_halo)
+
+    call self%timers%tic(t_nodal)
+    self%dt_drag = huge(1.0_wp)
+    if (self%cfg%drag == 'explicit') then
+      self%dt_drag = self%cfg%drag_safety*nodal_drag_limit(self)
+      dt = min(dt, self%dt_drag)
+    end if
+    call report_governing(self, dt)
+    call nodal_update_two_phase(self, dt)
+    call self%timers%toc(t_nodal)
+    call self%timers%tic(t_halo)
+    call self%dec%halo_copy(self%ts%nvel)
+    call unfold_exterior(self, self%ts%nvel)
+    call self%dec%halo_copy(self%tf%nvel)
+    call unfold_exterior(self, self%tf%nvel, bc=mbc)
+    call self%dec%halo_copy(self%nporo)
+    call unfold_exterior(self, self%nporo, nscalar=1)
+    call self%timers%toc(t_halo)
+
+    call self%timers%tic(t_g2p)
+    ! Porosity at the fluid points from the nodal porosity of the solid (start-of-step
+    ! positions, physics.md 6 step 5) and its gradient.
+    allocate (nval(nf), ngrad(3, nf), gnrel(nf), kf(nf))
+    call interp_scalar(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%dec%alo, &
+                       self%nporo, nval, ngrad)
+    self%fluid%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-6_wp))
+    gnrel = 0.0_wp
+    if (self%cfg%porosity_gradient) call relative_flux(self, ngrad, gnrel)
+    call g2p(self%nd, self%nw, ns, self%ts%i0, self%ts%sw, self%ts%sdw, self%dec%alo, self%ts%nvel, &
+             self%cfg%flip, dt, self%solid%v, self%solid%x, self%ts%vgrad)
+    call g2p(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%dec%alo, self%tf%nvel, &
+             self%cfg%flip, dt, self%fluid%v, self%fluid%x, self%tf%vgrad)
+    if (self%cfg%scheme == 'musl') then
+      call musl_remap_two_phase(self)
+    else
+      call point_gradient(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, &
+                          self%dec%alo, self%ts%nvel, self%tf%vgrad2)
+    end if
+    if (self%plan%gauss) then
+      call gauss_point_gradients(self, self%solid, self%ts, self%ts%gsol, self%ts%nvel, &
+                                 self%ts%vgrad)
+      call gauss_point_gradients(self, self%fluid, self%tf, self%tf%gsol, self%tf%nvel, &
+                                 self%tf%vgrad)
+      call gauss_point_gradients(self, self%fluid, self%tf, self%tf%gsol, self%ts%nvel, &
+                                 self%tf%vgrad2)
+    end if
+    call self%timers%toc(t_g2p)
+
+    call self%timers%tic(t_stress)
+    ! Skeleton: effective stress, volume, and porosity from the volume change
+    ! with incompressible grains, n' = 1 - (1 - n) V / V'.
+    volb = self%solid%vol(1:ns)
+    do m = 1, size(self%mats)
+      if (self%mats(m)%model == model_fluid) cycle
+      call stress_update(self%mats(m), m, dt, ns, self%solid%mat, self%ts%vgrad, &
+                         self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad)
+    end do
+    self%solid%porosity(1:ns) = 1.0_wp - (1.0_wp - self%solid%porosity(1:ns))*volb/ &
+                                self%solid%vol(1:ns)
+    ! Fluid: pore pressure (eq. 10), then the volume the point represents,
+    ! V = m / (n rho_f(p)), and the stress -p I it exerts.
+    do m = 1, nf
+      kf(m) = self%mats(self%fluid%mat(m))%bulk_fluid
+    end do
+    call pressure_update(nf, dt, kf, self%fluid%porosity, self%tf%vgrad, self%tf%vgrad2, gnrel, &
+                         self%fluid%pressure)
+    do m = 1, nf
+      associate (mat => self%mats(self%fluid%mat(m)))
+        self%fluid%vol(m) = self%fluid%mass(m)/(self%fluid%porosity(m)* &
+                            fluid_density(mat%density, mat%bulk_fluid, self%fluid%pressure(m)))
+      end associate
+      self%fluid%stress(1:3, m) = -self%fluid%pressure(m)
+    end do
+    call self%timers%toc(t_stress)
+
+    call self%timers%tic(t_migrate)
+    call check_inside(self, self%solid)
+    call check_inside(self, self%fluid)
+    call migrate(self%dec, self%grid%origin, self%grid%h, self%solid, nlost)
+    if (nlost > 0) call fatal('points were lost in migration (moved more than one rank width in a step)', &
+                              'migrate')
+    call migrate(self%dec, self%grid%origin, self%grid%h, self%fluid, nlost)
+    if (nlost > 0) call fatal('fluid points were lost in migration (moved more than one rank width '// &
+                              'in a step)', 'migrate')
+    call self%timers%toc(t_migrate)
+  end subroutine advance_two_phase
+
+  !> grad n . (v_f - v_s) at the fluid points, with both velocities interpolated
+  !> from the new nodal velocities (the porosity-gradient term of eq. 10).
+  subroutine relative_flux(self, ngrad, gnrel)
+    type(simulation_t), intent(in) :: self
+    real(wp), intent(in) :: ngrad(:, :)
+    real(wp), intent(out) :: gnrel(:)
+    integer :: p, a, b, c, i, j, k, nd
+    real(wp) :: nn, w(3)
+    nd = self%nd
+    do p = 1, self%fluid%n
+      w = 0.0_wp
+      do c = 1, self%nw(3)
+        k = self%tf%i0(3, p) + c - 1
+        do b = 1, self%nw(2)
+          j = self%tf%i0(2, p) + b - 1
+          do a = 1, self%nw(1)
+            i = self%tf%i0(1, p) + a - 1
+            nn = self%tf%sw(a, 1, p)*self%tf%sw(b, 2, p)*self%tf%sw(c, 3, p)
+            w(1:nd) = w(1:nd) + nn*(self%tf%nvel(nd + 1:2*nd, i, j, k) - &
+                                    self%ts%nvel(nd + 1:2*nd, i, j, k))
+          end do
+        end do
+      end do
+      gnrel(p) = dot_product(ngrad(1:nd, p), w(1:nd))
+    end do
+  end subroutine relative_flux
+
+  !> Log which limit sets the time step when it changes (wave CFL or the drag
+  !> limit of explicit drag), with both values.
+  subroutine report_governing(self, dt)
+    type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    integer :: gov
+    character(len=256) :: line
+    gov = merge(2, 1, self%dt_drag < self%dt_wave)
+    if (gov == self%governing) return
+    self%governing = gov
+    if (gov == 2) then
+      write (line, '(a,i0,a,es10.3,a,es10.3,a)') 'step ', self%step, ': time step ', dt, &
+        ' s set by the explicit drag (relative motion of the phases at the nodes); wave CFL ', &
+        self%dt_wave, ' s'
+    else if (self%cfg%drag == 'explicit') then
+      write (line, '(a,i0,a,es10.3,a,es10.3,a)') 'step ', self%step, ': time step ', dt, &
+        ' s set by the wave CFL (undrained wave); explicit-drag limit ', self%dt_drag, ' s'
+    else
+      write (line, '(a,i0,a,es10.3,a)') 'step ', self%step, ': time step ', dt, &
+        ' s set by the wave CFL (undrained wave); implicit drag has no step limit'
+    end if
+    call self%log%info(trim(line))
+  end subroutine report_governing
+
+  !> Internal forces by Gauss quadrature of the stress-like field fields(6, :) of
+  !> the points of ps, reconstructed by MLS (solution in sol), added to node;
+  !> keeps the positions and volumes for the transposed strain operator.
+  subroutine gauss_force_integrals(self, ps, tr, fields, sol, node)
+    type(simulation_t), intent(inout) :: self
+    type(particle_set_t), intent(in) :: ps
+    type(transfer_t), intent(inout) :: tr
+    real(wp), intent(in) :: fields(:, :)
+    real(wp), intent(inout) :: sol(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(inout) :: node(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    integer :: n
+    n = ps%n
+    tr%xold(:, 1:n) = ps%x(:, 1:n)
+    tr%volold(1:n) = ps%vol(1:n)
+    tr%gacc = 0.0_wp
     associate (pl => self%plan)
-      call gauss_accumulate(self%nd, n, self%solid%x, self%solid%vol, self%solid%stress, &
-                            self%grid%origin, self%grid%h, self%grid%ncells, pl%ngauss, &
-                            pl%field_kernel, pl%field_radius, pl%field_radial, pl%field_basis, &
-                            self%wint, self%dec%alo, self%gacc)
+      call gauss_accumulate(self%nd, n, ps%x, ps%vol, fields, self%grid%origin, self%grid%h, &
+                            self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                            pl%field_radial, pl%field_basis, self%wint, self%dec%alo, tr%gacc)
       call self%timers%tic(t_halo)
-      call self%dec%halo_sum(self%gacc)
+      call self%dec%halo_sum(tr%gacc)
       call self%timers%toc(t_halo)
       call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, self%dec%clo, &
-                       self%dec%chi, self%gacc, self%gsol, self%mls_stats)
+                       self%dec%chi, tr%gacc, sol, self%mls_stats)
       call self%timers%tic(t_halo)
-      call self%dec%halo_copy(self%gsol)
+      call self%dec%halo_copy(sol)
       call self%timers%toc(t_halo)
       call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
-                        self%dec%alo, self%dec%clo, self%dec%chi, self%gsol, self%node)
+                        self%dec%alo, self%dec%clo, self%dec%chi, sol, node)
     end associate
   end subroutine gauss_force_integrals
 
-  !> Kernel weights and derivatives of every point, evaluated once per step.
-  subroutine compute_stencils(self)
+  !> Point velocity gradients vgrad of the points of ps by the transpose of the
+  !> quadrature force operator of their reconstruction sol, from the nodal
+  !> velocities nvel (physics.md 3.5 step 7).
+  subroutine gauss_point_gradients(self, ps, tr, sol, nvel, vgrad)
     type(simulation_t), intent(inout) :: self
+    type(particle_set_t), intent(in) :: ps
+    type(transfer_t), intent(inout) :: tr
+    real(wp), intent(in) :: sol(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in) :: nvel(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(inout) :: vgrad(:, :)
+    integer :: nkept
+    call gauss_velocity_gradient(self%nd, self%plan%ngauss, self%kernel, self%grid%h, &
+                                 self%dec%alo, self%dec%clo, self%dec%chi, sol, nvel, tr%glg)
+    call self%dec%halo_copy(tr%glg)
+    associate (pl => self%plan)
+      call gauss_strain(self%nd, ps%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
+                        self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                        pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, vgrad, tr%vt, &
+                        nkept)
+    end associate
+    self%nkept = self%nkept + nkept
+  end subroutine gauss_point_gradients
+
+  !> Kernel weights and derivatives of every point of ps, evaluated once per step,
+  !> with the per-point work arrays of tr sized to the set's capacity.
+  subroutine compute_stencils(self, ps, tr)
+    type(simulation_t), intent(inout) :: self
+    type(particle_set_t), intent(in) :: ps
+    type(transfer_t), intent(inout) :: tr
     integer :: p, d, n
     real(wp) :: y(3)
-    n = self%solid%n
-    if (.not. allocated(self%i0)) then
-      allocate (self%i0(3, 0), self%sw(max_stencil, 3, 0), self%sdw(max_stencil, 3, 0))
+    n = ps%n
+    if (.not. allocated(tr%i0)) then
+      allocate (tr%i0(3, 0), tr%sw(max_stencil, 3, 0), tr%sdw(max_stencil, 3, 0))
     end if
-    if (size(self%i0, 2) < n) then
-      deallocate (self%i0, self%sw, self%sdw)
-      allocate (self%i0(3, self%solid%cap), self%sw(max_stencil, 3, self%solid%cap), &
-                self%sdw(max_stencil, 3, self%solid%cap))
-      if (allocated(self%vgrad)) deallocate (self%vgrad)
+    if (size(tr%i0, 2) < n) then
+      deallocate (tr%i0, tr%sw, tr%sdw)
+      allocate (tr%i0(3, ps%cap), tr%sw(max_stencil, 3, ps%cap), tr%sdw(max_stencil, 3, ps%cap))
+      if (allocated(tr%vgrad)) deallocate (tr%vgrad)
+      if (allocated(tr%vgrad2)) deallocate (tr%vgrad2)
+      if (allocated(tr%xold)) deallocate (tr%xold, tr%volold, tr%vt)
     end if
-    if (.not. allocated(self%vgrad)) allocate (self%vgrad(9, size(self%i0, 2)))
-    if (self%plan%gauss .and. .not. allocated(self%xold)) &
-      allocate (self%xold(self%nd, size(self%i0, 2)), self%volold(size(self%i0, 2)), &
-                self%vt(size(self%i0, 2)))
-    if (allocated(self%bacc)) then
+    if (.not. allocated(tr%vgrad)) allocate (tr%vgrad(9, size(tr%i0, 2)))
+    if (ps%has_pressure .and. .not. allocated(tr%vgrad2)) allocate (tr%vgrad2(9, size(tr%i0, 2)))
+    if (self%plan%gauss .and. .not. allocated(tr%xold)) &
+      allocate (tr%xold(self%nd, size(tr%i0, 2)), tr%volold(size(tr%i0, 2)), tr%vt(size(tr%i0, 2)))
+    if (allocated(self%bacc) .and. .not. ps%has_pressure) then
       if (size(self%bacc, 2) < n) deallocate (self%bacc)
     end if
     if (self%cfg%benchmark == 'mms' .and. .not. allocated(self%bacc)) &
-      allocate (self%bacc(self%nd, size(self%i0, 2)))
+      allocate (self%bacc(self%nd, size(tr%i0, 2)))
     do p = 1, n
       y = 0.0_wp
       do d = 1, self%nd
-        y(d) = (self%solid%x(d, p) - self%grid%origin(d))/self%grid%h(d)
+        y(d) = (ps%x(d, p) - self%grid%origin(d))/self%grid%h(d)
       end do
-      call psi_stencil(self%nd, self%kernel, y, self%grid%h, self%i0(:, p), self%sw(:, :, p), &
-                       self%sdw(:, :, p))
+      call psi_stencil(self%nd, self%kernel, y, self%grid%h, tr%i0(:, p), tr%sw(:, :, p), &
+                       tr%sdw(:, :, p))
     end do
   end subroutine compute_stencils
 
@@ -505,64 +917,213 @@ contains
   subroutine nodal_update(self, dt)
     type(simulation_t), intent(inout) :: self
     real(wp), intent(in) :: dt
-    integer :: i, j, k, nd, l, d, f
-    real(wp) :: m, vold(3), vnew(3), fext(3), ramp, area
+    integer :: i, j, k, nd
+    real(wp) :: m, vold(3), vnew(3), fext(3)
     logical :: fix(3)
     nd = self%nd
-    self%nvel = 0.0_wp
+    self%ts%nvel = 0.0_wp
     do k = self%dec%olo(3), self%dec%ohi(3)
       do j = self%dec%olo(2), self%dec%ohi(2)
         do i = self%dec%olo(1), self%dec%ohi(1)
-          m = self%node(1, i, j, k)
+          m = self%ts%node(1, i, j, k)
           if (m <= 0.0_wp) cycle
           fix = self%grid%constrained([i, j, k])
           vold = 0.0_wp
-          vold(1:nd) = self%node(2:1 + nd, i, j, k)/m
-          fext = 0.0_wp
-          fext(1:nd) = m*self%cfg%gravity(1:nd)
-          do l = 1, size(self%cfg%loads)
-            f = self%cfg%loads(l)%face
-            d = (f + 1)/2
-            if (.not. on_face([i, j, k], d, f)) cycle
-            ramp = 1.0_wp
-            if (self%cfg%loads(l)%ramp_time > 0.0_wp) ramp = min(1.0_wp, self%time/self%cfg%loads(l)%ramp_time)
-            area = face_area([i, j, k], d)
-            fext(1:nd) = fext(1:nd) + ramp*area*self%cfg%loads(l)%traction(1:nd)
-          end do
+          vold(1:nd) = self%ts%node(2:1 + nd, i, j, k)/m
+          fext = m*self%cfg%gravity + face_traction(self, [i, j, k])
           vnew = 0.0_wp
-          vnew(1:nd) = vold(1:nd) + dt*(self%node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
+          vnew(1:nd) = vold(1:nd) + dt*(self%ts%node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
           where (fix) vold = 0.0_wp
           where (fix) vnew = 0.0_wp
-          self%nvel(1:nd, i, j, k) = vold(1:nd)
-          self%nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
+          self%ts%nvel(1:nd, i, j, k) = vold(1:nd)
+          self%ts%nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
           self%ext_work = self%ext_work + 0.5_wp*dt*dot_product(fext(1:nd), vold(1:nd) + vnew(1:nd))
         end do
       end do
     end do
-  contains
-    logical function on_face(idx, d, f)
-      integer, intent(in) :: idx(3), d, f
-      integer :: t
-      if (mod(f, 2) == 1) then
-        on_face = idx(d) == 0
-      else
-        on_face = idx(d) == self%grid%ncells(d)
-      end if
-      do t = 1, nd
-        if (idx(t) < 0 .or. idx(t) > self%grid%ncells(t)) on_face = .false.
-      end do
-    end function on_face
-    real(wp) function face_area(idx, d)
-      integer, intent(in) :: idx(3), d
-      integer :: t
-      face_area = 1.0_wp
-      do t = 1, nd
-        if (t == d) cycle
-        face_area = face_area*self%grid%h(t)
-        if (idx(t) == 0 .or. idx(t) == self%grid%ncells(t)) face_area = 0.5_wp*face_area
-      end do
-    end function face_area
   end subroutine nodal_update
+
+  !> Nodal update of both phases on the owned nodes (physics.md 6 steps 7-8):
+  !> forces, gravity, the total-stress traction (on the solid where there is
+  !> solid) and the prescribed pore pressure of drained faces, the drag solve
+  !> (explicit or implicit) where both phases meet, each phase alone elsewhere,
+  !> and the per-phase conditions: solid fixed/roller components are zero; at
+  !> impermeable faces the normal fluid velocity is zero (solid held) or the
+  !> solid's (solid free: the mixture moves together in that component).
+  !> Also the nodal porosity (1 where there is no solid).
+  subroutine nodal_update_two_phase(self, dt)
+    type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    integer :: i, j, k, nd, c, mbc(6)
+    real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fp(3), v
+    logical :: sfix(3), ffix(3), tie(3), implicit
+    nd = self%nd
+    implicit = self%cfg%drag == 'implicit'
+    mbc = fluid_mirror_bc(self)
+    self%ts%nvel = 0.0_wp
+    self%tf%nvel = 0.0_wp
+    do k = self%dec%olo(3), self%dec%ohi(3)
+      do j = self%dec%olo(2), self%dec%ohi(2)
+        do i = self%dec%olo(1), self%dec%ohi(1)
+          ms = self%ts%node(1, i, j, k)
+          mf = self%tf%node(1, i, j, k)
+          dn = self%ndrag(1, i, j, k)
+          if (ms > 0.0_wp) then
+            self%nporo(1, i, j, k) = self%nporo(1, i, j, k)/ms
+          else
+            self%nporo(1, i, j, k) = 1.0_wp
+          end if
+          if (ms <= 0.0_wp .and. mf <= 0.0_wp) cycle
+          if (ms <= 0.0_wp .or. mf <= 0.0_wp) dn = 0.0_wp
+          vs = 0.0_wp; vf = 0.0_wp; fs = 0.0_wp; ff = 0.0_wp
+          tr = face_traction(self, [i, j, k])
+          fp = face_pore_pressure(self, [i, j, k])
+          if (ms > 0.0_wp) then
+            vs(1:nd) = self%ts%node(2:1 + nd, i, j, k)/ms
+            fs(1:nd) = self%ts%node(2 + nd:1 + 2*nd, i, j, k)
+            fs = fs + ms*self%cfg%gravity + tr + self%nporo(1, i, j, k)*fp
+          end if
+          if (mf > 0.0_wp) then
+            vf(1:nd) = self%tf%node(2:1 + nd, i, j, k)/mf
+            ff(1:nd) = self%tf%node(2 + nd:1 + 2*nd, i, j, k)
+            ff = ff + mf*self%cfg%gravity - self%nporo(1, i, j, k)*fp
+            if (ms <= 0.0_wp) ff = ff + tr
+          end if
+          sfix = self%grid%constrained([i, j, k])
+          ffix = self%grid%constrained([i, j, k], mbc)
+          tie = fluid_ties(self, [i, j, k])
+          vsn = 0.0_wp; vfn = 0.0_wp
+          do c = 1, nd
+            if (ms > 0.0_wp .and. mf > 0.0_wp .and. tie(c)) then
+              ! The mixture moves together normal to an impermeable face.
+              v = (ms*vs(c) + mf*vf(c))/(ms + mf)
+              vs(c) = v; vf(c) = v
+              v = v + dt*(fs(c) + ff(c))/(ms + mf)
+              vsn(c) = v; vfn(c) = v
+            else if (ms > 0.0_wp .and. mf > 0.0_wp) then
+              if (sfix(c)) then
+                ! Solid held: the fluid moves against a resting skeleton.
+                vs(c) = 0.0_wp
+                af = (ff(c) - dn*vf(c))/merge(mf + dt*dn, mf, implicit)
+              else
+                call drag_solve(ms, mf, dn, fs(c), ff(c), vs(c), vf(c), dt, implicit, as, af)
+                vsn(c) = vs(c) + dt*as
+              end if
+              vfn(c) = vf(c) + dt*af
+              ! Energy dissipated by the drag: the drag force (at the old relative
+              ! velocity w, or the new one when implicit) times the mid-step w.
+              self%ext_work = self%ext_work - dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)* &
+                              0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
+            else if (ms > 0.0_wp) then
+              vsn(c) = vs(c) + dt*fs(c)/ms
+            else
+              vfn(c) = vf(c) + dt*ff(c)/mf
+            end if
+            if (sfix(c)) then
+              vs(c) = 0.0_wp; vsn(c) = 0.0_wp
+            end if
+            if (ffix(c)) then
+              vf(c) = 0.0_wp; vfn(c) = 0.0_wp
+            end if
+          end do
+          self%ts%nvel(1:nd, i, j, k) = vs(1:nd)
+          self%ts%nvel(nd + 1:2*nd, i, j, k) = vsn(1:nd)
+          self%tf%nvel(1:nd, i, j, k) = vf(1:nd)
+          self%tf%nvel(nd + 1:2*nd, i, j, k) = vfn(1:nd)
+          ! Work of the external forces (gravity, tractions, boundary pore pressure).
+          if (ms > 0.0_wp) self%ext_work = self%ext_work + 0.5_wp*dt*dot_product( &
+            ms*self%cfg%gravity(1:nd) + tr(1:nd) + self%nporo(1, i, j, k)*fp(1:nd), vs(1:nd) + vsn(1:nd))
+          if (mf > 0.0_wp) self%ext_work = self%ext_work + 0.5_wp*dt*dot_product( &
+            mf*self%cfg%gravity(1:nd) - self%nporo(1, i, j, k)*fp(1:nd) + &
+            merge(tr(1:nd), 0.0_wp*tr(1:nd), ms <= 0.0_wp), vf(1:nd) + vfn(1:nd))
+        end do
+      end do
+    end do
+  end subroutine nodal_update_two_phase
+
+  !> Largest stable step of explicit drag over the owned nodes, from the summed
+  !> node fields (collective: the minimum over all ranks).
+  real(wp) function nodal_drag_limit(self) result(dtmin)
+    type(simulation_t), intent(in) :: self
+    integer :: i, j, k
+    dtmin = huge(1.0_wp)
+    do k = self%dec%olo(3), self%dec%ohi(3)
+      do j = self%dec%olo(2), self%dec%ohi(2)
+        do i = self%dec%olo(1), self%dec%ohi(1)
+          dtmin = min(dtmin, drag_limit(self%ts%node(1, i, j, k), self%tf%node(1, i, j, k), &
+                                        self%ndrag(1, i, j, k)))
+        end do
+      end do
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, dtmin, 1, MPI_DOUBLE_PRECISION, MPI_MIN, self%dec%comm)
+  end function nodal_drag_limit
+
+  !> Nodal force of the &load tractions at node idx (zero away from the loaded
+  !> faces): the traction, ramped over its ramp time, times the node's share of
+  !> the face area.
+  function face_traction(self, idx) result(fext)
+    type(simulation_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    real(wp) :: fext(3)
+    integer :: l, f
+    real(wp) :: ramp
+    fext = 0.0_wp
+    do l = 1, size(self%cfg%loads)
+      f = self%cfg%loads(l)%face
+      if (.not. on_face(self, idx, f)) cycle
+      ramp = 1.0_wp
+      if (self%cfg%loads(l)%ramp_time > 0.0_wp) ramp = min(1.0_wp, self%time/self%cfg%loads(l)%ramp_time)
+      fext(1:self%nd) = fext(1:self%nd) + ramp*face_area(self, idx, (f + 1)/2)* &
+                        self%cfg%loads(l)%traction(1:self%nd)
+    end do
+  end function face_traction
+
+  !> Nodal force of the prescribed pore pressure p_b of drained faces at node idx,
+  !> per unit porosity: A p_b n_out. The solid takes n_f times it, the fluid minus
+  !> n_f times it (the split of the total traction of the weak form, paper eq. 5).
+  function face_pore_pressure(self, idx) result(fp)
+    type(simulation_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    real(wp) :: fp(3)
+    integer :: f, d
+    fp = 0.0_wp
+    do f = 1, 2*self%nd
+      if (self%fbc(f) /= fbc_drained .or. self%cfg%pore_pressure(f) == 0.0_wp) cycle
+      if (.not. on_face(self, idx, f)) cycle
+      d = (f + 1)/2
+      fp(d) = fp(d) + merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)* &
+              self%cfg%pore_pressure(f)
+    end do
+  end function face_pore_pressure
+
+  !> Is node idx on grid face f (and inside the grid along the other axes)?
+  logical function on_face(self, idx, f)
+    type(simulation_t), intent(in) :: self
+    integer, intent(in) :: idx(3), f
+    integer :: t, d
+    d = (f + 1)/2
+    if (mod(f, 2) == 1) then
+      on_face = idx(d) == 0
+    else
+      on_face = idx(d) == self%grid%ncells(d)
+    end if
+    do t = 1, self%nd
+      if (idx(t) < 0 .or. idx(t) > self%grid%ncells(t)) on_face = .false.
+    end do
+  end function on_face
+
+  !> Share of the face area (normal to axis d) that node idx carries.
+  real(wp) function face_area(self, idx, d)
+    type(simulation_t), intent(in) :: self
+    integer, intent(in) :: idx(3), d
+    integer :: t
+    face_area = 1.0_wp
+    do t = 1, self%nd
+      if (t == d) cycle
+      face_area = face_area*self%grid%h(t)
+      if (idx(t) == 0 .or. idx(t) == self%grid%ncells(t)) face_area = 0.5_wp*face_area
+    end do
+  end function face_area
 
   !> Grid to particle: FLIP/PIC blend of the velocity, position update with the
   !> new nodal velocity, and the velocity gradient from the new nodal velocity (USL).
@@ -605,62 +1166,126 @@ contains
   !> take the velocity gradient from these smoother nodal velocities.
   subroutine musl_remap(self)
     type(simulation_t), intent(inout) :: self
-    integer :: p, a, b, c, i, j, k, nd
-    real(wp) :: nn, g(3), lg(3, 3), m
-    logical :: fix(3)
+    call remap_velocities(self, self%solid, self%ts, self%grid%bc)
+    call self%dec%halo_copy(self%ts%nvel)
+    call unfold_exterior(self, self%ts%nvel)
+    call point_gradient(self%nd, self%nw, self%solid%n, self%ts%i0, self%ts%sw, self%ts%sdw, &
+                        self%dec%alo, self%ts%nvel, self%ts%vgrad)
+  end subroutine musl_remap
+
+  !> The MUSL remap of both phases: solid and fluid nodal velocities from the
+  !> updated point momenta, the fluid tied to the solid at impermeable faces, then
+  !> the solid velocity gradient at the solid points and both at the fluid points.
+  subroutine musl_remap_two_phase(self)
+    type(simulation_t), intent(inout) :: self
+    call remap_velocities(self, self%solid, self%ts, self%grid%bc)
+    call remap_velocities(self, self%fluid, self%tf, fluid_mirror_bc(self))
+    call tie_fluid(self)
+    call self%dec%halo_copy(self%ts%nvel)
+    call unfold_exterior(self, self%ts%nvel)
+    call self%dec%halo_copy(self%tf%nvel)
+    call unfold_exterior(self, self%tf%nvel, bc=fluid_mirror_bc(self))
+    call point_gradient(self%nd, self%nw, self%solid%n, self%ts%i0, self%ts%sw, self%ts%sdw, &
+                        self%dec%alo, self%ts%nvel, self%ts%vgrad)
+    call point_gradient(self%nd, self%nw, self%fluid%n, self%tf%i0, self%tf%sw, self%tf%sdw, &
+                        self%dec%alo, self%tf%nvel, self%tf%vgrad)
+    call point_gradient(self%nd, self%nw, self%fluid%n, self%tf%i0, self%tf%sw, self%tf%sdw, &
+                        self%dec%alo, self%ts%nvel, self%tf%vgrad2)
+  end subroutine musl_remap_two_phase
+
+  !> Set the fluid velocity components tied to the solid (fluid_ties) to the solid's
+  !> on the owned nodes, in the new-velocity slots of nvel.
+  subroutine tie_fluid(self)
+    type(simulation_t), intent(inout) :: self
+    integer :: i, j, k, nd
+    logical :: tie(3)
     nd = self%nd
-    ! Reuse the momentum slots of node(); the masses are unchanged.
-    self%node(2:1 + 2*nd, :, :, :) = 0.0_wp
-    do p = 1, self%solid%n
-      do c = 1, self%nw(3)
-        k = self%i0(3, p) + c - 1
-        do b = 1, self%nw(2)
-          j = self%i0(2, p) + b - 1
-          do a = 1, self%nw(1)
-            i = self%i0(1, p) + a - 1
-            nn = self%sw(a, 1, p)*self%sw(b, 2, p)*self%sw(c, 3, p)
-            self%node(2:1 + nd, i, j, k) = self%node(2:1 + nd, i, j, k) + &
-                                           nn*self%solid%mass(p)*self%solid%v(:, p)
-          end do
-        end do
-      end do
-    end do
-    call fold_exterior(self, self%node, 1)
-    call self%dec%halo_sum(self%node)
-    self%nvel = 0.0_wp
     do k = self%dec%olo(3), self%dec%ohi(3)
       do j = self%dec%olo(2), self%dec%ohi(2)
         do i = self%dec%olo(1), self%dec%ohi(1)
-          m = self%node(1, i, j, k)
-          if (m <= 0.0_wp) cycle
-          fix = self%grid%constrained([i, j, k])
-          self%nvel(nd + 1:2*nd, i, j, k) = self%node(2:1 + nd, i, j, k)/m
-          where (fix(1:nd)) self%nvel(nd + 1:2*nd, i, j, k) = 0.0_wp
+          tie = fluid_ties(self, [i, j, k])
+          if (.not. any(tie)) cycle
+          if (self%ts%node(1, i, j, k) <= 0.0_wp .or. self%tf%node(1, i, j, k) <= 0.0_wp) cycle
+          where (tie(1:nd)) self%tf%nvel(nd + 1:2*nd, i, j, k) = self%ts%nvel(nd + 1:2*nd, i, j, k)
         end do
       end do
     end do
-    call self%dec%halo_copy(self%nvel)
-    call unfold_exterior(self, self%nvel)
-    do p = 1, self%solid%n
-      lg = 0.0_wp
+  end subroutine tie_fluid
+
+  !> Nodal velocities (new slots of tr%nvel, owned nodes) from the point momenta
+  !> of ps mapped to the grid again; the masses in tr%node are those of the step.
+  !> Components held by the face conditions bc are zero.
+  subroutine remap_velocities(self, ps, tr, bc)
+    type(simulation_t), intent(inout) :: self
+    type(particle_set_t), intent(in) :: ps
+    type(transfer_t), intent(inout) :: tr
+    integer, intent(in) :: bc(6)
+    integer :: p, a, b, c, i, j, k, nd
+    real(wp) :: nn, m
+    logical :: fix(3)
+    nd = self%nd
+    ! Reuse the momentum slots of node(); the masses are unchanged.
+    tr%node(2:1 + 2*nd, :, :, :) = 0.0_wp
+    do p = 1, ps%n
       do c = 1, self%nw(3)
-        k = self%i0(3, p) + c - 1
+        k = tr%i0(3, p) + c - 1
         do b = 1, self%nw(2)
-          j = self%i0(2, p) + b - 1
+          j = tr%i0(2, p) + b - 1
           do a = 1, self%nw(1)
-            i = self%i0(1, p) + a - 1
-            g(1) = self%sdw(a, 1, p)*self%sw(b, 2, p)*self%sw(c, 3, p)
-            g(2) = self%sw(a, 1, p)*self%sdw(b, 2, p)*self%sw(c, 3, p)
-            g(3) = self%sw(a, 1, p)*self%sw(b, 2, p)*self%sdw(c, 3, p)
-            lg(1:nd, 1) = lg(1:nd, 1) + self%nvel(nd + 1:2*nd, i, j, k)*g(1)
-            lg(1:nd, 2) = lg(1:nd, 2) + self%nvel(nd + 1:2*nd, i, j, k)*g(2)
-            lg(1:nd, 3) = lg(1:nd, 3) + self%nvel(nd + 1:2*nd, i, j, k)*g(3)
+            i = tr%i0(1, p) + a - 1
+            nn = tr%sw(a, 1, p)*tr%sw(b, 2, p)*tr%sw(c, 3, p)
+            tr%node(2:1 + nd, i, j, k) = tr%node(2:1 + nd, i, j, k) + nn*ps%mass(p)*ps%v(:, p)
           end do
         end do
       end do
-      self%vgrad(:, p) = reshape(lg, [9])
     end do
-  end subroutine musl_remap
+    call fold_exterior(self, tr%node, 1, bc)
+    call self%dec%halo_sum(tr%node)
+    tr%nvel = 0.0_wp
+    do k = self%dec%olo(3), self%dec%ohi(3)
+      do j = self%dec%olo(2), self%dec%ohi(2)
+        do i = self%dec%olo(1), self%dec%ohi(1)
+          m = tr%node(1, i, j, k)
+          if (m <= 0.0_wp) cycle
+          fix = self%grid%constrained([i, j, k], bc)
+          tr%nvel(nd + 1:2*nd, i, j, k) = tr%node(2:1 + nd, i, j, k)/m
+          where (fix(1:nd)) tr%nvel(nd + 1:2*nd, i, j, k) = 0.0_wp
+        end do
+      end do
+    end do
+  end subroutine remap_velocities
+
+  !> Velocity gradients of the points, sum_I v_I (x) grad N_I from the new nodal
+  !> velocities nvel(nd+1:2nd), as 3x3 column-major.
+  subroutine point_gradient(nd, nw, n, i0, sw, sdw, lo, nvel, vgrad)
+    integer, intent(in) :: nd, nw(3), n
+    integer, intent(in) :: i0(:, :)
+    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: vgrad(:, :)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: g(3), lg(3, 3)
+    do p = 1, n
+      lg = 0.0_wp
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
+            lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
+            lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+          end do
+        end do
+      end do
+      vgrad(:, p) = reshape(lg, [9])
+    end do
+  end subroutine point_gradient
 
   !> Sign of vector component c under reflection in the face of axis d with
   !> condition bc: a fixed wall mirrors every component oddly (zero velocity on
@@ -673,15 +1298,15 @@ contains
 
   !> Per-face signs of the components of a field with nscalar scalars followed
   !> by vectors of nd components, under reflection in each face (mirror_sign).
-  function scalar_vector_signs(self, ncomp, nscalar) result(sg)
+  function scalar_vector_signs(self, ncomp, nscalar, bc) result(sg)
     type(simulation_t), intent(in) :: self
-    integer, intent(in) :: ncomp, nscalar
+    integer, intent(in) :: ncomp, nscalar, bc(6)
     real(wp) :: sg(ncomp, 6)
     integer :: f, c
     sg = 1.0_wp
     do f = 1, 2*self%nd
       do c = nscalar + 1, ncomp
-        sg(c, f) = mirror_sign(self%grid%bc(f), (f + 1)/2, mod(c - nscalar - 1, self%nd) + 1)
+        sg(c, f) = mirror_sign(bc(f), (f + 1)/2, mod(c - nscalar - 1, self%nd) + 1)
       end do
     end do
   end function scalar_vector_signs
@@ -707,34 +1332,47 @@ contains
   !> points had mirror images behind the wall. Scalars (the first nscalar
   !> components) fold evenly, vector components with mirror_sign. Linear in f,
   !> so it is applied before halo_sum on every rank that stores exterior nodes.
-  subroutine fold_exterior(self, f, nscalar)
+  !> bc replaces the grid's face conditions (the fluid's, fluid_mirror_bc).
+  subroutine fold_exterior(self, f, nscalar, bc)
     type(simulation_t), intent(in) :: self
     real(wp), intent(inout) :: f(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     integer, intent(in) :: nscalar
-    call fold_planes(self, f, scalar_vector_signs(self, size(f, 1), nscalar), .true.)
+    integer, intent(in), optional :: bc(6)
+    integer :: bcs(6)
+    bcs = self%grid%bc
+    if (present(bc)) bcs = bc
+    call fold_planes(self, f, scalar_vector_signs(self, size(f, 1), nscalar, bcs), .true., bcs)
   end subroutine fold_exterior
 
   !> Set the exterior nodes from their mirror images (the inverse of fold_exterior
   !> for velocities), after halo_copy so that the images are present.
-  subroutine unfold_exterior(self, f)
+  subroutine unfold_exterior(self, f, nscalar, bc)
     type(simulation_t), intent(in) :: self
     real(wp), intent(inout) :: f(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    call fold_planes(self, f, scalar_vector_signs(self, size(f, 1), 0), .false.)
+    integer, intent(in), optional :: nscalar
+    integer, intent(in), optional :: bc(6)
+    integer :: bcs(6), ns
+    bcs = self%grid%bc
+    if (present(bc)) bcs = bc
+    ns = 0
+    if (present(nscalar)) ns = nscalar
+    call fold_planes(self, f, scalar_vector_signs(self, size(f, 1), ns, bcs), .false., bcs)
   end subroutine unfold_exterior
 
   !> The plane loop of fold_exterior (fold: exterior added onto its image and
   !> cleared) and unfold_exterior (exterior set from its image), with the
   !> component signs sg(:, face) of each fixed or roller face.
-  subroutine fold_planes(self, f, sg, fold)
+  subroutine fold_planes(self, f, sg, fold, bc)
     type(simulation_t), intent(in) :: self
     real(wp), intent(inout) :: f(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     real(wp), intent(in) :: sg(:, :)
     logical, intent(in) :: fold
+    integer, intent(in) :: bc(6)
     integer :: d, side, k, ext, img, face
     do d = 1, self%nd
       do side = 1, 2
         face = 2*(d - 1) + side
-        if (self%grid%bc(face) == bc_free) cycle
+        if (bc(face) == bc_free) cycle
         do k = 1, self%dec%gw(d)
           if (side == 1) then
             ext = -k; img = k
@@ -783,30 +1421,31 @@ contains
   !> Points that crossed a fixed or roller face (walls are impenetrable) are put
   !> back just inside it and counted; wide kernels interpolate a small normal
   !> velocity next to a wall. A point beyond a free face stops the run with its id.
-  subroutine check_inside(self)
+  subroutine check_inside(self, ps)
     type(simulation_t), intent(inout) :: self
+    type(particle_set_t), intent(inout) :: ps
     integer :: p, d, side
     real(wp) :: wall(2), eps
     character(len=256) :: msg
-    do p = 1, self%solid%n
-      if (self%grid%inside(self%solid%x(:, p))) cycle
+    do p = 1, ps%n
+      if (self%grid%inside(ps%x(:, p))) cycle
       do d = 1, self%nd
         wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
         eps = 1.0e-9_wp*self%grid%h(d)
         do side = 1, 2
           if (self%grid%bc(2*(d - 1) + side) == bc_free) cycle
-          if (side == 1 .and. self%solid%x(d, p) < wall(1)) then
-            self%solid%x(d, p) = wall(1) + eps
+          if (side == 1 .and. ps%x(d, p) < wall(1)) then
+            ps%x(d, p) = wall(1) + eps
             self%nwall = self%nwall + 1
-          else if (side == 2 .and. self%solid%x(d, p) >= wall(2)) then
-            self%solid%x(d, p) = wall(2) - eps
+          else if (side == 2 .and. ps%x(d, p) >= wall(2)) then
+            ps%x(d, p) = wall(2) - eps
             self%nwall = self%nwall + 1
           end if
         end do
       end do
-      if (.not. self%grid%inside(self%solid%x(:, p))) then
-        write (msg, '(a,i0,a,3es12.4)') 'point ', self%solid%id(p), ' left the grid at x =', &
-          self%solid%x(:, p)
+      if (.not. self%grid%inside(ps%x(:, p))) then
+        write (msg, '(a,a,a,i0,a,3es12.4)') trim(ps%name), ' ', 'point ', ps%id(p), ' left the grid at x =', &
+          ps%x(:, p)
         call fatal(trim(msg)//'; enlarge the grid or add a boundary condition', 'step')
       end if
     end do
@@ -828,11 +1467,24 @@ contains
       vmax = max(vmax, norm2(self%solid%v(:, p)))
     end do
     do m = 1, size(self%mats)
+      if (self%mats(m)%model == model_fluid) cycle
       s(2) = s(2) + strain_energy(self%mats(m), m, self%solid%n, self%solid%mat, self%solid%stress, &
                                   self%solid%vol, self%solid%vol0, self%solid%defgrad)
     end do
+    if (self%two_phase) then
+      do p = 1, self%fluid%n
+        s(1) = s(1) + 0.5_wp*self%fluid%mass(p)*sum(self%fluid%v(:, p)**2)
+        s(4) = s(4) + self%fluid%mass(p)
+        s(5:4 + self%nd) = s(5:4 + self%nd) + self%fluid%mass(p)*self%fluid%v(:, p)
+        vmax = max(vmax, norm2(self%fluid%v(:, p)))
+        ! Stored energy of the compressed pore fluid, n p^2 / (2 K_f) per mixture volume.
+        s(2) = s(2) + 0.5_wp*self%fluid%porosity(p)*self%fluid%pressure(p)**2/ &
+               self%mats(self%fluid%mat(p))%bulk_fluid*self%fluid%vol(p)
+      end do
+      s(8) = s(8) + real(self%fluid%n, wp)
+    end if
     s(3) = self%ext_work
-    s(8) = real(self%solid%n, wp)
+    s(8) = s(8) + real(self%solid%n, wp)
     call MPI_Allreduce(MPI_IN_PLACE, s, 8, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
     call MPI_Allreduce(MPI_IN_PLACE, vmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
     rec%step = self%step
@@ -868,25 +1520,38 @@ contains
     call self%timers%tic(t_output)
     call self%out%begin_frame(self%step, self%time)
     call self%out%write_set(self%solid, self%cfg)
+    if (self%two_phase) call self%out%write_set(self%fluid, self%cfg)
     call self%out%end_frame()
     call self%timers%toc(t_output)
+    if (two_phase_benchmark(self)) call record_two_phase_errors(self)
   end subroutine sim_write_frame
 
   !> Gather the points of all ranks on rank 0, sorted by id: ids, positions,
-  !> velocities and stresses (for comparisons between runs).
-  subroutine sim_gather_points(self, ids, x, v, stress)
-    class(simulation_t), intent(in) :: self
+  !> velocities and stresses (for comparisons between runs); of the fluid points
+  !> (stress -p I) when fluid is true.
+  subroutine sim_gather_points(self, ids, x, v, stress, fluid)
+    class(simulation_t), intent(in), target :: self
     integer(i8), allocatable, intent(out) :: ids(:)
     real(wp), allocatable, intent(out) :: x(:, :), v(:, :), stress(:, :)
+    logical, intent(in), optional :: fluid
+    type(particle_set_t), pointer :: ps
     integer, allocatable :: counts(:), displs(:), order(:)
     integer(i8), allocatable :: gid(:)
     real(wp), allocatable :: buf(:, :), gbuf(:, :)
     integer :: nr, m, k, ntot, nd
     nd = self%nd
+    ps => self%solid
+    if (present(fluid)) then
+      if (fluid) ps => self%fluid
+    end if
+    if (ps%ndim == 0) then
+      allocate (ids(0), x(nd, 0), v(nd, 0), stress(6, 0))
+      return
+    end if
     m = 2*nd + 6
     nr = self%dec%nranks
     allocate (counts(nr), displs(nr))
-    call MPI_Gather(self%solid%n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, self%dec%comm)
+    call MPI_Gather(ps%n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, self%dec%comm)
     ntot = 0
     if (self%dec%rank == 0) then
       displs(1) = 0
@@ -895,13 +1560,13 @@ contains
       end do
       ntot = sum(counts)
     end if
-    allocate (gid(max(ntot, 1)), gbuf(m, max(ntot, 1)), buf(m, self%solid%n))
-    buf(1:nd, :) = self%solid%x(:, 1:self%solid%n)
-    buf(nd + 1:2*nd, :) = self%solid%v(:, 1:self%solid%n)
-    buf(2*nd + 1:m, :) = self%solid%stress(:, 1:self%solid%n)
-    call MPI_Gatherv(self%solid%id, self%solid%n, MPI_INTEGER8, gid, counts, displs, MPI_INTEGER8, &
+    allocate (gid(max(ntot, 1)), gbuf(m, max(ntot, 1)), buf(m, ps%n))
+    buf(1:nd, :) = ps%x(:, 1:ps%n)
+    buf(nd + 1:2*nd, :) = ps%v(:, 1:ps%n)
+    buf(2*nd + 1:m, :) = ps%stress(:, 1:ps%n)
+    call MPI_Gatherv(ps%id, ps%n, MPI_INTEGER8, gid, counts, displs, MPI_INTEGER8, &
                      0, self%dec%comm)
-    call MPI_Gatherv(buf, m*self%solid%n, MPI_DOUBLE_PRECISION, gbuf, m*counts, m*displs, &
+    call MPI_Gatherv(buf, m*ps%n, MPI_DOUBLE_PRECISION, gbuf, m*counts, m*displs, &
                      MPI_DOUBLE_PRECISION, 0, self%dec%comm)
     if (self%dec%rank /= 0) then
       allocate (ids(0), x(nd, 0), v(nd, 0), stress(6, 0))
@@ -952,12 +1617,18 @@ contains
   subroutine sim_free(self)
     class(simulation_t), intent(inout) :: self
     call self%solid%free()
+    call self%fluid%free()
     call self%dec%free()
-    if (allocated(self%node)) deallocate (self%node)
-    if (allocated(self%nvel)) deallocate (self%nvel)
-    if (allocated(self%i0)) deallocate (self%i0, self%sw, self%sdw)
-    if (allocated(self%vgrad)) deallocate (self%vgrad)
+    self%ts = transfer_t()
+    self%tf = transfer_t()
+    if (allocated(self%nporo)) deallocate (self%nporo, self%ndrag)
+    if (allocated(self%vacc)) deallocate (self%vacc)
+    if (allocated(self%bacc)) deallocate (self%bacc)
+    self%governing = 0
+    self%two_phase = .false.
     if (allocated(self%err_hist)) deallocate (self%err_hist)
+    if (allocated(self%ferr)) deallocate (self%ferr, self%fnames)
+    self%nferr = 0
     if (allocated(self%mats)) deallocate (self%mats)
   end subroutine sim_free
 

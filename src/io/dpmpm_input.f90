@@ -1023,6 +1023,9 @@ contains
             itoa(r%material), 'material '//itoa(r%material)//' has model '// &
             quote(cfg%materials(m)%model)//"; a fluid region needs a 'fluid' material")
         end if
+        if (any(r%stress /= 0.0_wp)) call add_value(rd, g_region, k, 'stress', &
+          rtoa_list(r%stress), 'a fluid region starts at zero stress and zero pore pressure; '// &
+          'leave stress out')
       case ('saturated')
         call check_saturated(rd, cfg, k, materials_ok)
       case default
@@ -1357,14 +1360,7 @@ contains
     integer, intent(in) :: unit
     character(len=*), intent(in) :: var
     real(wp), intent(in) :: values(:)
-    character(len=:), allocatable :: s
-    integer :: j
-    s = ''
-    do j = 1, size(values)
-      if (j > 1) s = s//', '
-      s = s//rtoa(values(j))
-    end do
-    write (unit, '(a)') '  '//var//' = '//s
+    write (unit, '(a)') '  '//var//' = '//rtoa_list(values)
   end subroutine put_r
 
   !> "  var = .true." or "  var = .false.".
@@ -1395,6 +1391,18 @@ contains
     end do
     q = q//"'"
   end function quote
+
+  !> "a, b, c" for reals.
+  function rtoa_list(v) result(s)
+    real(wp), intent(in) :: v(:)
+    character(len=:), allocatable :: s
+    integer :: j
+    s = ''
+    do j = 1, size(v)
+      if (j > 1) s = s//', '
+      s = s//rtoa(v(j))
+    end do
+  end function rtoa_list
 
   pure function itoa_list(v) result(s)
     integer, intent(in) :: v(:)

@@ -23,6 +23,7 @@ DIAG_NAMES = ("step", "npoints", "time", "dt", "kinetic_energy", "strain_energy"
               "external_work", "max_speed", "wall_time", "total_mass",
               "momentum_x", "momentum_y", "momentum_z")
 SET_NAMES = ("solid", "fluid")
+OPTIONAL_SET_DATASETS = ("porosity", "pore_pressure")
 
 
 def check_h5(path, bad):
@@ -94,6 +95,15 @@ def check_set(g, where, ndim, bad):
         elif g[name].shape != shape or g[name].dtype != dtype:
             bad.append(f"{where}/{name}: {g[name].dtype} {g[name].shape}, "
                        f"expected {np.dtype(dtype)} {shape}")
+    # Two-phase scenes only: one float64 per point when present.
+    for name in OPTIONAL_SET_DATASETS:
+        if name in g and (g[name].shape != (n,) or g[name].dtype != np.float64):
+            bad.append(f"{where}/{name}: {g[name].dtype} {g[name].shape}, "
+                       f"expected float64 {(n,)}")
+    if "porosity" in g and n > 0:
+        por = g["porosity"][...]
+        if not np.all((por >= 0.0) & (por <= 1.0)):
+            bad.append(f"{where}/porosity outside [0, 1]")
     ids = g["id"][...]
     if len(np.unique(ids)) != len(ids):
         bad.append(f"{where}/id not unique")

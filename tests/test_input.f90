@@ -1,12 +1,14 @@
 !> Input tests: a valid namelist file gives the expected resolved parameters on every rank,
 !> optional groups give the config_t defaults, and the output of print_config reads back to
-!> the same parameters.
+!> the same parameters; a two-phase scene resolves its phases, pore fluid, drag options and
+!> fluid face conditions.
 program test_input
   use, intrinsic :: iso_fortran_env, only: output_unit
   use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size, &
                      MPI_Barrier
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller, face_index
+  use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller, face_index, fbc_default, &
+                          fbc_drained, fbc_impermeable
   use dpmpm_input, only: read_input, print_config
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
   implicit none
@@ -22,6 +24,7 @@ program test_input
   call test_valid_file_gives_values_on_every_rank()
   call test_optional_groups_give_defaults()
   call test_print_config_reads_back()
+  call test_two_phase_scene()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -212,5 +215,84 @@ contains
     call read_input(printed, MPI_COMM_WORLD, again)
     call check_full_scene(again)
   end subroutine test_print_config_reads_back
+
+  !> A saturated layer under free water: the phases, the pore fluid, the drag options and the
+  !> fluid face conditions (given, and left to their default) as resolved on every rank, and
+  !> again after print_config and reading back.
+  subroutine test_two_phase_scene()
+    type(config_t) :: cfg, again
+    character(len=:), allocatable :: file, printed
+    integer :: u
+    call begin_test('two_phase_scene')
+    file = 'test_input_'//trim(tag)//'_two_phase.nml'
+    printed = 'test_input_'//trim(tag)//'_two_phase_printed.nml'
+    call write_file(file, [character(len=100) :: &
+      '&run t_end = 0.1, drag = ''implicit'', drag_safety = 0.6, porosity_gradient = .true. /', &
+      '&grid ndim = 2, ncells = 8, 16, length = 1.0, 2.0 /', &
+      '&material id = 4, model = ''fluid'', density = 998.0, bulk_modulus = 2.0e9 /', &
+      '&material id = 9, density = 2650.0, youngs_modulus = 1.0e7, poisson_ratio = 0.25,', &
+      '          conductivity = 1.0e-3 /', &
+      '&region lo = 0.0, 0.0, hi = 1.0, 1.0, phase = ''saturated'', material = 9,', &
+      '        fluid_material = 4, porosity = 0.35, seed = 3, fluid_seed = 11 /', &
+      '&region lo = 0.0, 1.0, hi = 1.0, 1.5, phase = ''fluid'', material = 4,', &
+      '        placement = ''uniform'', ppc = 3 /', &
+      '&boundary face = ''y-'', condition = ''fixed'' /', &
+      '&boundary face = ''x-'', condition = ''roller'', fluid = ''drained'',', &
+      '          pore_pressure = 2.5e3 /', &
+      '&boundary face = ''x+'', condition = ''roller'', fluid = ''default'' /', &
+      '&boundary face = ''y+'', fluid = ''impermeable'' /', &
+      '&benchmark name = ''terzaghi'' /'])
+    call read_input(file, MPI_COMM_WORLD, cfg)
+    call check_two_phase(cfg)
+    if (rank == 0) then
+      open (newunit=u, file=printed, status='replace', action='write')
+      call print_config(cfg, u)
+      close (u)
+    end if
+    call MPI_Barrier(MPI_COMM_WORLD)
+    call read_input(printed, MPI_COMM_WORLD, again)
+    call check_two_phase(again)
+  end subroutine test_two_phase_scene
+
+  !> Every value of the two-phase scene as read on this rank.
+  subroutine check_two_phase(c)
+    type(config_t), intent(in) :: c
+    call check(c%drag == 'implicit', 'drag')
+    call check_close(c%drag_safety, 0.6_wp, 0.0_wp, 0.0_wp, 'drag_safety')
+    call check(c%porosity_gradient, 'porosity_gradient')
+    call check_equal_int(size(c%materials), 2, 'number of materials')
+    if (size(c%materials) == 2) then
+      call check(c%materials(1)%model == 'fluid', 'fluid model')
+      call check_close(c%materials(1)%density, 998.0_wp, 0.0_wp, 0.0_wp, 'fluid density')
+      call check_close(c%materials(1)%bulk_modulus, 2.0e9_wp, 0.0_wp, 0.0_wp, 'bulk_modulus')
+      call check_close(c%materials(1)%conductivity, 0.0_wp, 0.0_wp, 0.0_wp, &
+                       'fluid conductivity default')
+      call check(c%materials(2)%model == 'linear_elastic', 'soil model')
+      call check_close(c%materials(2)%conductivity, 1.0e-3_wp, 0.0_wp, 0.0_wp, 'conductivity')
+      call check_close(c%materials(2)%bulk_modulus, 2.2e9_wp, 0.0_wp, 0.0_wp, &
+                       'soil bulk_modulus keeps its default')
+    end if
+    call check_equal_int(size(c%regions), 2, 'number of regions')
+    if (size(c%regions) == 2) then
+      call check(c%regions(1)%phase == 'saturated', 'region 1 phase')
+      call check_equal_int(c%regions(1)%material, 9, 'region 1 soil')
+      call check_equal_int(c%regions(1)%fluid_material, 4, 'region 1 fluid_material')
+      call check_close(c%regions(1)%porosity, 0.35_wp, 0.0_wp, 0.0_wp, 'region 1 porosity')
+      call check_equal_int(c%regions(1)%seed, 3, 'region 1 seed')
+      call check_equal_int(c%regions(1)%fluid_seed, 11, 'region 1 fluid_seed')
+      call check(c%regions(2)%phase == 'fluid', 'region 2 phase')
+      call check_equal_int(c%regions(2)%material, 4, 'region 2 material')
+      call check(c%regions(2)%placement == 'uniform', 'region 2 placement')
+      call check_equal_int(c%regions(2)%ppc, 3, 'region 2 ppc')
+      call check_equal_int(c%regions(2)%fluid_material, 0, 'region 2 fluid_material default')
+      call check_equal_int(c%regions(2)%fluid_seed, -1, 'region 2 fluid_seed default')
+    end if
+    call check(all(c%bc(1:4) == [bc_roller, bc_roller, bc_fixed, bc_free]), 'solid conditions')
+    call check(all(c%fluid_bc(1:4) == [fbc_drained, fbc_default, fbc_default, &
+                                       fbc_impermeable]), 'fluid conditions per face')
+    call check(all(c%pore_pressure == [2.5e3_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]), &
+               'pore pressure per face')
+    call check(c%benchmark == 'terzaghi', 'benchmark')
+  end subroutine check_two_phase
 
 end program test_input

@@ -2,8 +2,8 @@
 !> ranks) into the collective HDF5 file; rank 0 reads the file back serially and checks
 !> the layout, the counts, that every id appears once and that the values written by
 !> every rank arrived (matched by id). Several files are written in one process, so a
-!> second open/close is covered too. The 2-rank files are checked again by
-!> scripts/check_output.py (ctest output_layout_np2).
+!> second open/close is covered too. A two-phase frame adds porosity and pore pressure.
+!> The 2-rank files are checked again by scripts/check_output.py (ctest output_layout_np2).
 program test_output
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr, c_char, c_null_char
   use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_rank, &
@@ -32,6 +32,7 @@ program test_output
   call test_two_frames_2d(MPI_COMM_WORLD)
   call test_second_file_3d(MPI_COMM_WORLD)
   call test_1d_with_empty_set(MPI_COMM_WORLD)
+  call test_two_phase_sets(MPI_COMM_WORLD)
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -134,6 +135,77 @@ contains
     call MPI_Barrier(comm)
   end subroutine test_1d_with_empty_set
 
+  !> A two-phase frame: a solid set with porosity and a fluid set with porosity and pore
+  !> pressure. The values arrive (matched by id), each set holds exactly the optional
+  !> datasets it has, and the sidecar lists them as attributes of their set.
+  subroutine test_two_phase_sets(comm)
+    type(MPI_Comm), intent(in) :: comm
+    type(config_t) :: cfg
+    type(output_t) :: out
+    type(particle_set_t) :: solid, fluid
+    integer(hid_t) :: fid
+    integer(i8), allocatable :: ids(:)
+    real(wp), allocatable :: por(:), pp(:)
+    integer(hsize_t), allocatable :: dims(:)
+    character(len=:), allocatable :: xmf
+    integer :: err, n, r, j, u
+    logical :: exists, values_ok
+    character(len=*), parameter :: g = 'frames/000000/'
+    call begin_test('two_phase_sets')
+    call make_config(cfg, 'test_output_2p', 2, comm)
+    call out%open(cfg, comm)
+    call out%add_diag(diag_record(1))
+    call make_points(solid, 2, comm, frame=0, two_phase=.true.)
+    call make_points(fluid, 2, comm, frame=0, name='fluid', two_phase=.true.)
+    call out%begin_frame(0_i8, 0.0_wp)
+    call out%write_set(solid, cfg)
+    call out%write_set(fluid, cfg)
+    call out%end_frame()
+    call out%close()
+    if (rank == 0) then
+      call verify_file(output_h5_path(cfg), 2, 1, 1, .false.)
+      n = sum([(npoints_of(r, nranks), r=0, nranks - 1)])
+      call h5fopen_f(output_h5_path(cfg), H5F_ACC_RDONLY_F, fid, err)
+      call ok(err, 'h5fopen_f')
+      call verify_frame(fid, g//'fluid', 2, 0)
+      dims = read_dims(fid, g//'fluid/pore_pressure')
+      call check(all(dims == [int(n, hsize_t)]), 'fluid/pore_pressure holds one value per point')
+      dims = read_dims(fid, g//'fluid/porosity')
+      call check(all(dims == [int(n, hsize_t)]), 'fluid/porosity holds one value per point')
+      ids = read_i8(fid, g//'fluid/id', n)
+      por = read_real(fid, g//'fluid/porosity', n)
+      pp = read_real(fid, g//'fluid/pore_pressure', n)
+      values_ok = .true.
+      do j = 1, n
+        values_ok = values_ok .and. por(j) == porosity_of(ids(j)) .and. &
+                    pp(j) == pressure_of(ids(j))
+      end do
+      call check(values_ok, 'fluid porosity and pore pressure match by id')
+      ids = read_i8(fid, g//'solid/id', n)
+      por = read_real(fid, g//'solid/porosity', n)
+      call check(all([(por(j) == porosity_of(ids(j)), j=1, n)]), &
+                 'solid porosity matches by id')
+      call h5lexists_f(fid, g//'solid/pore_pressure', exists, err)
+      call ok(err, 'h5lexists_f')
+      call check(.not. exists, 'no pore_pressure in a set without pressure')
+      call h5fclose_f(fid, err)
+      call ok(err, 'h5fclose_f')
+      open (newunit=u, file=output_xmf_path(cfg), access='stream', form='unformatted', &
+            action='read')
+      inquire (unit=u, size=j)
+      allocate (character(len=j) :: xmf)
+      read (u) xmf
+      close (u)
+      call check(index(xmf, 'Name="pore_pressure"') > 0 .and. &
+                 index(xmf, '/fluid/pore_pressure<') > 0, 'sidecar lists fluid pore_pressure')
+      call check(index(xmf, '/fluid/porosity<') > 0 .and. index(xmf, '/solid/porosity<') > 0, &
+                 'sidecar lists porosity of both sets')
+      call check(index(xmf, '/solid/pore_pressure') == 0, 'no pore_pressure listed for solid')
+    end if
+    call check_xmf_exists(output_xmf_path(cfg))
+    call MPI_Barrier(comm)
+  end subroutine test_two_phase_sets
+
   ! ------------------------------------------------------------------ scene
 
   !> A config with two materials (user ids 7 and 12) writing to out/<name>_np<nranks>.
@@ -193,29 +265,51 @@ contains
     mass_of = 1.0_wp + 0.01_wp*real(id, wp)
   end function mass_of
 
+  !> Porosity and pore pressure (Pa) of a point of a two-phase set.
+  pure real(wp) function porosity_of(id)
+    integer(i8), intent(in) :: id
+    porosity_of = 0.2_wp + 1.0e-4_wp*real(id, wp)
+  end function porosity_of
+
+  pure real(wp) function pressure_of(id)
+    integer(i8), intent(in) :: id
+    pressure_of = 1.0e3_wp*real(id, wp) - 5.0e5_wp
+  end function pressure_of
+
   pure integer function mat_of(id)
     integer(i8), intent(in) :: id
     mat_of = 1 + int(mod(id, 2_i8))
   end function mat_of
 
-  !> This rank's points for a frame; odd frames hold them in reverse order.
-  subroutine make_points(ps, ndim, comm, frame)
+  !> This rank's points for a frame; odd frames hold them in reverse order. The set is
+  !> called solid unless name is given; two_phase adds porosity, and pore pressure to a
+  !> set called fluid.
+  subroutine make_points(ps, ndim, comm, frame, name, two_phase)
     type(particle_set_t), intent(inout) :: ps
     integer, intent(in) :: ndim, frame
     type(MPI_Comm), intent(in) :: comm
+    character(len=*), intent(in), optional :: name
+    logical, intent(in), optional :: two_phase
+    character(len=16) :: set_name
+    logical :: porous
     integer :: r, np, k, kk, n
     integer(i8) :: id
     real(wp) :: v(ndim)
     call MPI_Comm_rank(comm, r)
     call MPI_Comm_size(comm, np)
     n = npoints_of(r, np)
-    call ps%init('solid', ndim, .false., max(n, 1))
+    set_name = 'solid'
+    if (present(name)) set_name = name
+    porous = .false.
+    if (present(two_phase)) porous = two_phase
+    call ps%init(set_name, ndim, .false., max(n, 1), has_porosity=porous, &
+                 has_pressure=porous .and. set_name == 'fluid')
     do kk = 1, n
       k = merge(n + 1 - kk, kk, mod(frame, 2) == 1)
       id = id_of(r, k)
       v = -real(id, wp)
       call ps%append(id, mat_of(id), x_of(id, ndim, 0), v, mass_of(id), 0.5_wp*mass_of(id), &
-                     stress_of(id, frame))
+                     stress_of(id, frame), porosity=porosity_of(id), pressure=pressure_of(id))
       ps%x(:, ps%n) = x_of(id, ndim, frame)
     end do
   end subroutine make_points

@@ -10,14 +10,15 @@ module dpmpm_input
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use dpmpm_kinds, only: wp, i8, mpi_wp, mpi_i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
-                          name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, bc_names
+                          name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, &
+                          bc_names, fbc_default, fbc_drained, fbc_impermeable, fbc_names
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
   use dpmpm_mls, only: basis_from_name
   use dpmpm_shape_plan, only: shape_plan_t, max_gauss
   use dpmpm_error, only: clean_stop
   use dpmpm_strings, only: itoa, i8toa
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_Dims_create, &
-                     MPI_INTEGER, MPI_CHARACTER
+                     MPI_INTEGER, MPI_CHARACTER, MPI_LOGICAL
   implicit none
   private
   public :: read_input, print_config
@@ -29,15 +30,16 @@ module dpmpm_input
   logical, parameter :: repeatable(ngroups) = [.false., .false., .false., .true., .true., &
                                                .true., .true., .false., .false.]
   !> The variables of each group, for messages about a group that cannot be read.
-  character(len=*), parameter :: group_vars(ngroups) = [character(len=120) :: &
-    'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds', &
+  character(len=*), parameter :: group_vars(ngroups) = [character(len=160) :: &
+    'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, drag, '// &
+    'drag_safety, porosity_gradient', &
     'ndim, ncells, origin, length, dims', &
     'kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, gauss_points, '// &
     'field_kernel, field_basis, field_radius', &
-    'id, model, density, youngs_modulus, poisson_ratio', &
-    'shape, lo, hi, npoly, poly_x, poly_y, material, phase, ppc, placement, seed, velocity, '// &
-    'stress', &
-    'face, condition', &
+    'id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity', &
+    'shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, porosity, ppc, '// &
+    'placement, seed, fluid_seed, velocity, stress', &
+    'face, condition, fluid, pore_pressure', &
     'face, traction, ramp_time', &
     'dir, frame_interval, diag_every', &
     'name, amplitude']
@@ -61,7 +63,7 @@ module dpmpm_input
   !> Broadcast from rank 0 of a value or an array of values.
   interface bcast
     module procedure bcast_int, bcast_int_1d, bcast_i8, bcast_real, bcast_real_1d, &
-      bcast_real_2d, bcast_str
+      bcast_real_2d, bcast_str, bcast_logical
   end interface bcast
 
 contains
@@ -117,6 +119,9 @@ contains
     call put_r(unit, 'flip', [cfg%flip])
     call put_r(unit, 'gravity', cfg%gravity)
     call put_r(unit, 'progress_seconds', [cfg%progress_seconds])
+    call put_s(unit, 'drag', cfg%drag)
+    call put_r(unit, 'drag_safety', [cfg%drag_safety])
+    call put_l(unit, 'porosity_gradient', cfg%porosity_gradient)
     write (unit, '(a)') '/', '&grid'
     call put_i(unit, 'ndim', [cfg%ndim])
     call put_i(unit, 'ncells', cfg%ncells)
@@ -143,6 +148,8 @@ contains
           call put_r(unit, 'density', [m%density])
           call put_r(unit, 'youngs_modulus', [m%youngs_modulus])
           call put_r(unit, 'poisson_ratio', [m%poisson_ratio])
+          call put_r(unit, 'bulk_modulus', [m%bulk_modulus])
+          call put_r(unit, 'conductivity', [m%conductivity])
           write (unit, '(a)') '/'
         end associate
       end do
@@ -162,9 +169,12 @@ contains
           end if
           call put_i(unit, 'material', [r%material])
           call put_s(unit, 'phase', r%phase)
+          call put_i(unit, 'fluid_material', [r%fluid_material])
+          call put_r(unit, 'porosity', [r%porosity])
           call put_i(unit, 'ppc', [r%ppc])
           call put_s(unit, 'placement', r%placement)
           call put_i(unit, 'seed', [r%seed])
+          call put_i(unit, 'fluid_seed', [r%fluid_seed])
           call put_r(unit, 'velocity', r%velocity)
           call put_r(unit, 'stress', r%stress)
           write (unit, '(a)') '/'
@@ -175,6 +185,8 @@ contains
       write (unit, '(a)') '&boundary'
       call put_s(unit, 'face', face_names(f))
       call put_s(unit, 'condition', bc_names(cfg%bc(f)))
+      call put_s(unit, 'fluid', fbc_names(cfg%fluid_bc(f)))
+      call put_r(unit, 'pore_pressure', [cfg%pore_pressure(f)])
       write (unit, '(a)') '/'
     end do
     if (allocated(cfg%loads)) then
@@ -400,15 +412,18 @@ contains
     integer, intent(in) :: u
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: name, scheme
-    real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds
+    character(len=name_len) :: name, scheme, drag
+    real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety
+    logical :: porosity_gradient
     integer(i8) :: max_steps
     integer :: ios
     character(len=512) :: msg
-    namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds
+    namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
+      drag, drag_safety, porosity_gradient
     name = cfg%name; t_end = cfg%t_end; dt = cfg%dt; cfl = cfg%cfl; max_steps = cfg%max_steps
     scheme = cfg%scheme; flip = cfg%flip; gravity = cfg%gravity
     progress_seconds = cfg%progress_seconds
+    drag = cfg%drag; drag_safety = cfg%drag_safety; porosity_gradient = cfg%porosity_gradient
     read (u, nml=run, iostat=ios, iomsg=msg)
     ok = ios == 0
     if (.not. ok) then
@@ -418,6 +433,7 @@ contains
     cfg%name = name; cfg%t_end = t_end; cfg%dt = dt; cfg%cfl = cfl; cfg%max_steps = max_steps
     cfg%scheme = scheme; cfg%flip = flip; cfg%gravity = gravity
     cfg%progress_seconds = progress_seconds
+    cfg%drag = drag; cfg%drag_safety = drag_safety; cfg%porosity_gradient = porosity_gradient
   end subroutine read_run
 
   !> Read &grid.
@@ -485,15 +501,17 @@ contains
     type(material_cfg_t), allocatable :: list(:)
     integer :: id, k, n, ios
     character(len=name_len) :: model
-    real(wp) :: density, youngs_modulus, poisson_ratio
+    real(wp) :: density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity
     character(len=512) :: msg
-    namelist /material/ id, model, density, youngs_modulus, poisson_ratio
+    namelist /material/ id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, &
+      conductivity
     allocate (list(rd%count(g_material)))
     n = 0
     ok = .true.
     do k = 1, size(list)
       id = def%id; model = def%model; density = def%density
       youngs_modulus = def%youngs_modulus; poisson_ratio = def%poisson_ratio
+      bulk_modulus = def%bulk_modulus; conductivity = def%conductivity
       read (u, nml=material, iostat=ios, iomsg=msg)
       if (ios /= 0) then
         call read_error(rd, g_material, k, ios, msg)
@@ -501,7 +519,9 @@ contains
         exit
       end if
       n = k
-      list(k) = material_cfg_t(id, model, density, youngs_modulus, poisson_ratio)
+      list(k) = material_cfg_t(id=id, model=model, density=density, &
+                               youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, &
+                               bulk_modulus=bulk_modulus, conductivity=conductivity)
     end do
     cfg%materials = list(1:n)
   end subroutine read_materials
@@ -515,11 +535,12 @@ contains
     type(region_cfg_t) :: def
     type(region_cfg_t), allocatable :: list(:)
     character(len=name_len) :: shape, phase, placement
-    real(wp) :: lo(3), hi(3), poly_x(max_poly), poly_y(max_poly), velocity(3), stress(6)
-    integer :: npoly, material, ppc, seed, k, n, ios
+    real(wp) :: lo(3), hi(3), poly_x(max_poly), poly_y(max_poly), velocity(3), stress(6), &
+                porosity
+    integer :: npoly, material, fluid_material, ppc, seed, fluid_seed, k, n, ios
     character(len=512) :: msg
-    namelist /region/ shape, lo, hi, npoly, poly_x, poly_y, material, phase, ppc, placement, &
-      seed, velocity, stress
+    namelist /region/ shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, &
+      porosity, ppc, placement, seed, fluid_seed, velocity, stress
     allocate (list(rd%count(g_region)))
     n = 0
     ok = .true.
@@ -528,6 +549,7 @@ contains
       poly_x = def%poly(1, :); poly_y = def%poly(2, :); material = def%material
       phase = def%phase; ppc = def%ppc; placement = def%placement; seed = def%seed
       velocity = def%velocity; stress = def%stress
+      fluid_material = def%fluid_material; porosity = def%porosity; fluid_seed = def%fluid_seed
       read (u, nml=region, iostat=ios, iomsg=msg)
       if (ios /= 0) then
         call read_error(rd, g_region, k, ios, msg)
@@ -539,25 +561,32 @@ contains
       list(k)%poly(1, :) = poly_x; list(k)%poly(2, :) = poly_y; list(k)%material = material
       list(k)%phase = phase; list(k)%ppc = ppc; list(k)%placement = placement
       list(k)%seed = seed; list(k)%velocity = velocity; list(k)%stress = stress
+      list(k)%fluid_material = fluid_material; list(k)%porosity = porosity
+      list(k)%fluid_seed = fluid_seed
     end do
     cfg%regions = list(1:n)
   end subroutine read_regions
 
-  !> Read every &boundary and set cfg%bc; the names are checked here as they are not kept.
+  !> Read every &boundary and set cfg%bc, cfg%fluid_bc and cfg%pore_pressure; the names are
+  !> checked here as they are not kept. A fluid condition left out (or 'default') stays
+  !> fbc_default: the solver makes it drained at free faces and impermeable at fixed and
+  !> roller faces.
   subroutine read_boundaries(rd, u, cfg, ok)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: u
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: face, condition
-    logical :: seen(6)
-    integer :: k, f, c, ios
+    character(len=name_len) :: face, condition, fluid
+    real(wp) :: pore_pressure
+    logical :: seen(6), impermeable
+    integer :: k, f, c, fc, ios
     character(len=512) :: msg
-    namelist /boundary/ face, condition
+    character(len=:), allocatable :: why
+    namelist /boundary/ face, condition, fluid, pore_pressure
     seen = .false.
     ok = .true.
     do k = 1, rd%count(g_boundary)
-      face = ''; condition = bc_names(bc_free)
+      face = ''; condition = bc_names(bc_free); fluid = ''; pore_pressure = 0.0_wp
       read (u, nml=boundary, iostat=ios, iomsg=msg)
       if (ios /= 0) then
         call read_error(rd, g_boundary, k, ios, msg)
@@ -577,6 +606,36 @@ contains
         call add_value(rd, g_boundary, k, 'condition', quote(condition), &
                        'the conditions are free, fixed, roller')
       end select
+      select case (trim(adjustl(fluid)))
+      case ('', 'default')
+        fc = fbc_default
+      case ('drained')
+        fc = fbc_drained
+      case ('impermeable')
+        fc = fbc_impermeable
+      case default
+        fc = -1
+        call add_value(rd, g_boundary, k, 'fluid', quote(fluid), 'the fluid conditions are '// &
+                       'default (drained at a free face, impermeable at a fixed or roller '// &
+                       'face), drained, impermeable')
+      end select
+      if (.not. real_ok(pore_pressure)) then
+        call add_value(rd, g_boundary, k, 'pore_pressure', rtoa(pore_pressure), &
+                       'must be a finite number (Pa)')
+      else if (pore_pressure /= 0.0_wp .and. c >= 0 .and. fc >= 0) then
+        impermeable = fc == fbc_impermeable .or. (fc == fbc_default .and. c /= bc_free)
+        if (impermeable) then
+          if (fc == fbc_impermeable) then
+            why = "fluid = 'impermeable'"
+          else
+            why = 'fluid left to its default at a '//trim(bc_names(c))//' face'
+          end if
+          call add_value(rd, g_boundary, k, 'pore_pressure', rtoa(pore_pressure), &
+                         'only a drained face takes a pore pressure, and face '// &
+                         trim(adjustl(face))//' is impermeable ('//why// &
+                         "); set fluid = 'drained' or leave pore_pressure out")
+        end if
+      end if
       if (f == 0) then
         call add_value(rd, g_boundary, k, 'face', quote(face), 'the faces are '//all_faces())
       else if (.not. face_in_grid(f, cfg%ndim)) then
@@ -585,9 +644,11 @@ contains
       else if (seen(f)) then
         call add_value(rd, g_boundary, k, 'face', quote(face), &
                        'this face has a &boundary already; give each face once')
-      else if (c >= 0) then
+      else if (c >= 0 .and. fc >= 0) then
         seen(f) = .true.
         cfg%bc(f) = c
+        cfg%fluid_bc(f) = fc
+        cfg%pore_pressure(f) = pore_pressure
       end if
     end do
   end subroutine read_boundaries
@@ -700,6 +761,11 @@ contains
     call check_finite(rd, g_run, 1, 'gravity', cfg%gravity)
     if (.not. real_ok(cfg%progress_seconds, gt=0.0_wp)) call add_value(rd, g_run, 1, &
       'progress_seconds', rtoa(cfg%progress_seconds), 'must be > 0 (s)')
+    if (.not. any(cfg%drag == [character(len=8) :: 'explicit', 'implicit'])) call add_value(rd, &
+      g_run, 1, 'drag', quote(cfg%drag), 'the drag treatments are explicit (limited by '// &
+      'drag_safety), implicit (solid and fluid velocities solved together at each node)')
+    if (.not. real_ok(cfg%drag_safety, gt=0.0_wp, le=1.0_wp)) call add_value(rd, g_run, 1, &
+      'drag_safety', rtoa(cfg%drag_safety), 'must be in (0, 1] (fraction of the nodal drag limit)')
 
     ! &grid
     ndim_ok = cfg%ndim >= 1 .and. cfg%ndim <= 3
@@ -734,6 +800,9 @@ contains
       'kernel', quote(cfg%kernel), 'the grid kernels are '//all_kernels(ngrid_kernels))
     call check_mls_choice(rd, 'velocity', cfg%velocity_kernel, cfg%velocity_basis, &
                           cfg%velocity_radius, len_trim(cfg%velocity_kernel) > 0)
+    if (len_trim(cfg%velocity_kernel) > 0 .and. two_phase(cfg)) call add_value(rd, g_shape, 1, &
+      'velocity_kernel', quote(cfg%velocity_kernel), 'MLS nodal velocities are not available '// &
+      "in two-phase scenes; use velocity_kernel = ''")
     if (.not. any(cfg%quadrature == [character(len=6) :: 'points', 'gauss'])) &
       call add_value(rd, g_shape, 1, 'quadrature', quote(cfg%quadrature), &
                      'the quadratures are points (at the material points), gauss (Gauss points '// &
@@ -749,16 +818,25 @@ contains
     ! &material
     do k = 1, size(cfg%materials)
       associate (m => cfg%materials(k))
-        if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean'])) &
+        if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean', &
+                                  'fluid'])) &
           call add_value(rd, g_material, k, 'model', quote(m%model), &
-                         'the models are linear_elastic, neo_hookean')
+                         'the models are linear_elastic, neo_hookean, fluid')
         if (.not. real_ok(m%density, gt=0.0_wp)) call add_value(rd, g_material, k, 'density', &
           rtoa(m%density), 'must be > 0 (kg/m^3)')
-        if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(rd, g_material, k, &
-          'youngs_modulus', rtoa(m%youngs_modulus), 'must be > 0 (Pa)')
-        if (.not. real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) call add_value(rd, &
-          g_material, k, 'poisson_ratio', rtoa(m%poisson_ratio), &
-          'must be in (-1, 0.5): 0.5 is incompressible, which these models cannot represent')
+        if (m%model == 'fluid') then
+          ! A linear compressible fluid: only density and bulk_modulus matter.
+          if (.not. real_ok(m%bulk_modulus, gt=0.0_wp)) call add_value(rd, g_material, k, &
+            'bulk_modulus', rtoa(m%bulk_modulus), 'must be > 0 (Pa) for a fluid')
+        else
+          if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(rd, g_material, k, &
+            'youngs_modulus', rtoa(m%youngs_modulus), 'must be > 0 (Pa)')
+          if (.not. real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) call add_value(rd, &
+            g_material, k, 'poisson_ratio', rtoa(m%poisson_ratio), &
+            'must be in (-1, 0.5): 0.5 is incompressible, which these models cannot represent')
+        end if
+        if (.not. real_ok(m%conductivity, ge=0.0_wp)) call add_value(rd, g_material, k, &
+          'conductivity', rtoa(m%conductivity), 'must be >= 0 (m/s; 0 = no pore fluid flow)')
         do j = 1, k - 1
           if (cfg%materials(j)%id == m%id) then
             call add_value(rd, g_material, k, 'id', itoa(m%id), &
@@ -790,9 +868,10 @@ contains
       'must name a directory')
 
     ! &benchmark
-    if (.not. any(cfg%benchmark == [character(len=9) :: 'none', 'axial_bar', 'mms'])) &
+    if (.not. any(cfg%benchmark == [character(len=11) :: 'none', 'axial_bar', 'mms', &
+                                    'biot_column', 'terzaghi'])) &
       call add_value(rd, g_benchmark, 1, 'name', quote(cfg%benchmark), &
-                     'the benchmarks are none, axial_bar, mms')
+                     'the benchmarks are none, axial_bar, mms, biot_column, terzaghi')
     if (cfg%benchmark == 'mms' .and. cfg%ndim /= 2) call add_value(rd, g_benchmark, 1, 'name', &
       quote(cfg%benchmark), 'the manufactured solution is 2D: set &grid ndim = 2')
     if (.not. real_ok(cfg%amplitude)) call add_value(rd, g_benchmark, 1, 'amplitude', &
@@ -875,7 +954,7 @@ contains
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: k
     logical, intent(in) :: grid_ok, materials_ok
-    integer :: d, j
+    integer :: d, j, m
     real(wp) :: glo, ghi, tol
     character(len=*), parameter :: xy = 'xy'
     associate (r => cfg%regions(k))
@@ -927,26 +1006,109 @@ contains
         call add_value(rd, g_region, k, 'shape', quote(r%shape), &
                        'the shapes are box, polygon (polygon with ndim = 2 only)')
       end select
-      if (materials_ok .and. .not. any(cfg%materials%id == r%material)) &
+      m = 0
+      if (materials_ok) m = findloc(cfg%materials%id, r%material, dim=1)
+      if (materials_ok .and. m == 0) &
         call add_value(rd, g_region, k, 'material', itoa(r%material), 'no &material has this id')
       select case (trim(r%phase))
       case ('solid')
-      case ('fluid', 'saturated')
-        call add_value(rd, g_region, k, 'phase', quote(r%phase), &
-                       'only solid is available: fluid and saturated are not available yet')
+        if (m > 0) then
+          if (cfg%materials(m)%model == 'fluid') call add_value(rd, g_region, k, 'material', &
+            itoa(r%material), "material "//itoa(r%material)//" is a 'fluid' material; a solid "// &
+            "region needs a solid material (or set phase = 'fluid')")
+        end if
+      case ('fluid')
+        if (m > 0) then
+          if (cfg%materials(m)%model /= 'fluid') call add_value(rd, g_region, k, 'material', &
+            itoa(r%material), 'material '//itoa(r%material)//' has model '// &
+            quote(cfg%materials(m)%model)//"; a fluid region needs a 'fluid' material")
+        end if
+        if (any(r%stress /= 0.0_wp)) call add_value(rd, g_region, k, 'stress', &
+          rtoa_list(r%stress), 'a fluid region starts at zero stress and zero pore pressure; '// &
+          'leave stress out')
+      case ('saturated')
+        call check_saturated(rd, cfg, k, materials_ok)
       case default
-        call add_value(rd, g_region, k, 'phase', quote(r%phase), 'only solid is available')
+        call add_value(rd, g_region, k, 'phase', quote(r%phase), &
+                       'the phases are solid, fluid, saturated (soil skeleton with pore fluid)')
       end select
+      if (trim(r%phase) /= 'saturated') then
+        if (r%fluid_material /= 0) call add_value(rd, g_region, k, 'fluid_material', &
+          itoa(r%fluid_material), "only a saturated region has a pore fluid; leave it out "// &
+          "or set phase = 'saturated'")
+        if (r%porosity /= 0.0_wp) call add_value(rd, g_region, k, 'porosity', &
+          rtoa(r%porosity), "only a saturated region has a porosity; leave it out or set "// &
+          "phase = 'saturated'")
+      end if
       if (r%ppc < 1 .or. r%ppc > 10) call add_value(rd, g_region, k, 'ppc', itoa(r%ppc), &
         'must be in 1..10 (points per cell along each axis)')
-      if (.not. any(r%placement == [character(len=7) :: 'regular', 'random'])) &
+      if (.not. any(r%placement == [character(len=7) :: 'regular', 'random', 'uniform'])) &
         call add_value(rd, g_region, k, 'placement', quote(r%placement), &
-                       'the placements are regular, random')
+                       'the placements are regular, random (scattered in each cell), '// &
+                       'uniform (scattered over the whole region)')
       if (r%seed < 0) call add_value(rd, g_region, k, 'seed', itoa(r%seed), 'must be >= 0')
+      if (r%fluid_seed < -1) call add_value(rd, g_region, k, 'fluid_seed', itoa(r%fluid_seed), &
+        'must be >= 0, or -1 for seed + 1')
       call check_finite(rd, g_region, k, 'velocity', r%velocity)
       call check_finite(rd, g_region, k, 'stress', r%stress)
     end associate
   end subroutine check_region
+
+  !> Check the soil skeleton, pore fluid and porosity of saturated region k.
+  subroutine check_saturated(rd, cfg, k, materials_ok)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    logical, intent(in) :: materials_ok
+    integer :: m, mf
+    associate (r => cfg%regions(k))
+      if (materials_ok) then
+        m = findloc(cfg%materials%id, r%material, dim=1)
+        if (m > 0) then
+          if (cfg%materials(m)%model == 'fluid') then
+            call add_value(rd, g_region, k, 'material', itoa(r%material), "material "// &
+                           itoa(r%material)//" is a 'fluid' material; the material of a "// &
+                           'saturated region is its soil skeleton (linear_elastic or '// &
+                           'neo_hookean) and fluid_material its pore fluid')
+          else if (.not. real_ok(cfg%materials(m)%conductivity, gt=0.0_wp)) then
+            call add_value(rd, g_region, k, 'material', itoa(r%material), 'material '// &
+                           itoa(r%material)//' has conductivity = '// &
+                           rtoa(cfg%materials(m)%conductivity)//'; the soil of a saturated '// &
+                           'region needs a hydraulic conductivity > 0 (m/s)')
+          end if
+        end if
+        mf = findloc(cfg%materials%id, r%fluid_material, dim=1)
+        if (r%fluid_material == 0) then
+          call add_value(rd, g_region, k, 'fluid_material', itoa(r%fluid_material), &
+                         "a saturated region needs the id of a 'fluid' &material for its "// &
+                         'pore fluid')
+        else if (mf == 0) then
+          call add_value(rd, g_region, k, 'fluid_material', itoa(r%fluid_material), &
+                         'no &material has this id')
+        else if (cfg%materials(mf)%model /= 'fluid') then
+          call add_value(rd, g_region, k, 'fluid_material', itoa(r%fluid_material), &
+                         'material '//itoa(r%fluid_material)//' has model '// &
+                         quote(cfg%materials(mf)%model)//"; the pore fluid of a saturated "// &
+                         "region must be a 'fluid' material")
+        end if
+      end if
+      if (.not. real_ok(r%porosity, gt=0.0_wp, lt=1.0_wp)) call add_value(rd, g_region, k, &
+        'porosity', rtoa(r%porosity), 'must be in (0, 1) for a saturated region (volume '// &
+        'fraction of the pores)')
+    end associate
+  end subroutine check_saturated
+
+  !> True when any region has a fluid phase (fluid or saturated).
+  pure logical function two_phase(cfg)
+    type(config_t), intent(in) :: cfg
+    integer :: k
+    two_phase = .false.
+    if (.not. allocated(cfg%regions)) return
+    do k = 1, size(cfg%regions)
+      if (any(cfg%regions(k)%phase == [character(len=9) :: 'fluid', 'saturated'])) &
+        two_phase = .true.
+    end do
+  end function two_phase
 
   !> A problem when any value of x is not a finite number.
   subroutine check_finite(rd, g, k, var, x)
@@ -1076,6 +1238,9 @@ contains
     call bcast(cfg%flip, comm)
     call bcast(cfg%gravity, comm)
     call bcast(cfg%progress_seconds, comm)
+    call bcast(cfg%drag, comm)
+    call bcast(cfg%drag_safety, comm)
+    call bcast(cfg%porosity_gradient, comm)
     call bcast(cfg%ndim, comm)
     call bcast(cfg%ncells, comm)
     call bcast(cfg%origin, comm)
@@ -1096,6 +1261,8 @@ contains
       call bcast(cfg%materials(k)%density, comm)
       call bcast(cfg%materials(k)%youngs_modulus, comm)
       call bcast(cfg%materials(k)%poisson_ratio, comm)
+      call bcast(cfg%materials(k)%bulk_modulus, comm)
+      call bcast(cfg%materials(k)%conductivity, comm)
     end do
     do k = 1, n(3)
       call bcast(cfg%regions(k)%shape, comm)
@@ -1105,9 +1272,12 @@ contains
       call bcast(cfg%regions(k)%poly, comm)
       call bcast(cfg%regions(k)%material, comm)
       call bcast(cfg%regions(k)%phase, comm)
+      call bcast(cfg%regions(k)%fluid_material, comm)
+      call bcast(cfg%regions(k)%porosity, comm)
       call bcast(cfg%regions(k)%ppc, comm)
       call bcast(cfg%regions(k)%placement, comm)
       call bcast(cfg%regions(k)%seed, comm)
+      call bcast(cfg%regions(k)%fluid_seed, comm)
       call bcast(cfg%regions(k)%velocity, comm)
       call bcast(cfg%regions(k)%stress, comm)
     end do
@@ -1117,6 +1287,8 @@ contains
       call bcast(cfg%loads(k)%ramp_time, comm)
     end do
     call bcast(cfg%bc, comm)
+    call bcast(cfg%fluid_bc, comm)
+    call bcast(cfg%pore_pressure, comm)
     call bcast(cfg%output_dir, comm)
     call bcast(cfg%frame_interval, comm)
     call bcast(cfg%diag_every, comm)
@@ -1160,6 +1332,12 @@ contains
     call MPI_Bcast(x, size(x), mpi_wp(), 0, comm)
   end subroutine bcast_real_2d
 
+  subroutine bcast_logical(x, comm)
+    logical, intent(inout) :: x
+    type(MPI_Comm), intent(in) :: comm
+    call MPI_Bcast(x, 1, MPI_LOGICAL, 0, comm)
+  end subroutine bcast_logical
+
   subroutine bcast_str(x, comm)
     character(len=*), intent(inout) :: x
     type(MPI_Comm), intent(in) :: comm
@@ -1182,15 +1360,16 @@ contains
     integer, intent(in) :: unit
     character(len=*), intent(in) :: var
     real(wp), intent(in) :: values(:)
-    character(len=:), allocatable :: s
-    integer :: j
-    s = ''
-    do j = 1, size(values)
-      if (j > 1) s = s//', '
-      s = s//rtoa(values(j))
-    end do
-    write (unit, '(a)') '  '//var//' = '//s
+    write (unit, '(a)') '  '//var//' = '//rtoa_list(values)
   end subroutine put_r
+
+  !> "  var = .true." or "  var = .false.".
+  subroutine put_l(unit, var, value)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: var
+    logical, intent(in) :: value
+    write (unit, '(a)') '  '//var//' = '//trim(merge('.true. ', '.false.', value))
+  end subroutine put_l
 
   !> "  var = a, b, c" for integers.
   subroutine put_i(unit, var, values)
@@ -1212,6 +1391,18 @@ contains
     end do
     q = q//"'"
   end function quote
+
+  !> "a, b, c" for reals.
+  function rtoa_list(v) result(s)
+    real(wp), intent(in) :: v(:)
+    character(len=:), allocatable :: s
+    integer :: j
+    s = ''
+    do j = 1, size(v)
+      if (j > 1) s = s//', '
+      s = s//rtoa(v(j))
+    end do
+  end function rtoa_list
 
   pure function itoa_list(v) result(s)
     integer, intent(in) :: v(:)

@@ -39,11 +39,14 @@ module dpmpm_output
     real(wp) :: time = 0.0_wp
   end type frame_rec_t
 
-  !> One point set written in a frame (for the XDMF sidecar).
+  !> One point set written in a frame (for the XDMF sidecar), with the optional
+  !> datasets it holds.
   type :: set_rec_t
     integer :: frame = 0
     character(len=16) :: name = ''
     integer(i8) :: n = 0
+    logical :: has_porosity = .false.
+    logical :: has_pressure = .false.
   end type set_rec_t
 
   !> The output file of one run. open ... (begin_frame, write_set..., end_frame)... close;
@@ -211,6 +214,8 @@ contains
 
   !> Write a point set under the current frame as group ps%name (all ranks, even with no
   !> points). Each rank's points go to a contiguous block at the offset of its rank.
+  !> Sets of two-phase scenes add porosity (when ps%has_porosity) and pore_pressure (when
+  !> ps%has_pressure); every rank must hold the set with the same flags.
   subroutine out_write_set(self, ps, cfg)
     class(output_t), intent(inout) :: self
     type(particle_set_t), intent(in) :: ps
@@ -220,7 +225,7 @@ contains
     integer(i8) :: nloc, offset, nglob
     integer(i4), allocatable :: matid(:)
     type(set_rec_t), allocatable :: tmp(:)
-    integer :: err, k, n, d
+    integer :: err, k, n, d, flags(2), fmin(2), fmax(2)
     if (.not. self%is_open) call fatal('the output file is not open', where)
     if (.not. self%in_frame) call fatal('write_set outside begin_frame/end_frame', where)
     if (ps%ndim /= self%ndim) call fatal('point set '//trim(ps%name)//' has a different ndim '// &
@@ -232,6 +237,12 @@ contains
     call MPI_Exscan(nloc, offset, 1, mpi_i8(), MPI_SUM, self%comm)
     if (self%rank == 0) offset = 0
     call MPI_Allreduce(nloc, nglob, 1, mpi_i8(), MPI_SUM, self%comm)
+    ! The optional datasets are created collectively: all ranks must agree on them.
+    flags = merge(1, 0, [ps%has_porosity, ps%has_pressure])
+    call MPI_Allreduce(flags, fmin, 2, MPI_INTEGER, MPI_MIN, self%comm)
+    call MPI_Allreduce(flags, fmax, 2, MPI_INTEGER, MPI_MAX, self%comm)
+    if (any(fmin /= fmax)) call fatal('ranks hold point set '//trim(ps%name)//' with '// &
+                                      'different optional fields (porosity, pressure)', where)
 
     allocate (matid(n))
     do k = 1, n
@@ -252,6 +263,10 @@ contains
     call write_points_real(self, gid, 'stress', 6, nloc, offset, nglob, &
                            reshape(ps%stress(:, 1:n), [6*n]))
     call write_points_i4(self, gid, 'material', 0, nloc, offset, nglob, matid)
+    if (ps%has_porosity) call write_points_real(self, gid, 'porosity', 0, nloc, offset, nglob, &
+                                                ps%porosity(1:n))
+    if (ps%has_pressure) call write_points_real(self, gid, 'pore_pressure', 0, nloc, offset, &
+                                                nglob, ps%pressure(1:n))
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f('//trim(ps%name)//')', where)
 
@@ -261,7 +276,9 @@ contains
       call move_alloc(tmp, self%sets)
     end if
     self%nsets = self%nsets + 1
-    self%sets(self%nsets) = set_rec_t(frame=self%nframes - 1, name=ps%name, n=nglob)
+    self%sets(self%nsets) = set_rec_t(frame=self%nframes - 1, name=ps%name, n=nglob, &
+                                      has_porosity=ps%has_porosity, &
+                                      has_pressure=ps%has_pressure)
   end subroutine out_write_set
 
   !> Close the current frame, write buffered diagnostics, flush the file to disk and
@@ -684,6 +701,8 @@ contains
     call attribute('volume', 'Scalar', nstr, 'Float', '8')
     call attribute('stress', 'Matrix', nstr//' 6', 'Float', '8')
     call attribute('material', 'Scalar', nstr, 'Int', '4')
+    if (set%has_porosity) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
+    if (set%has_pressure) call attribute('pore_pressure', 'Scalar', nstr, 'Float', '8')
     call attribute('id', 'Scalar', nstr, 'Int', '8')
     write (u, '(a)') '    </Grid>'
 

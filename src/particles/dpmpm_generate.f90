@@ -1,77 +1,280 @@
 !> Filling &region boxes (and 2D polygons) with material points.
-!> Each rank fills only its own cells, and every choice (position, id) depends
-!> only on the global cell, the point's slot in it and the seed, so the points
-!> are the same whatever the number of ranks.
+!>
+!> generate_points fills one point set: the solid set (points of solid regions and the
+!> soil skeleton of saturated regions) or the fluid set (points of fluid regions and the
+!> pore fluid of saturated regions). Each set on its own fills the region: a point's
+!> volume is the mixture volume it stands for, and its mass the mass of its phase in that
+!> volume.
+!>
+!> Placements:
+!>  - regular: ppc points per cell and axis at the centres of a regular sub-grid;
+!>  - random:  ppc**ndim points per cell, each scattered uniformly in its cell;
+!>  - uniform: N points scattered uniformly over the whole region, not per cell, all of
+!>    the same volume (see fill_uniform).
+!> Every choice (position, id) depends only on the global cell or the point's number in
+!> its region, its slot and the seed, so the points are the same whatever the number of
+!> ranks; each rank keeps the points whose cell it owns.
 module dpmpm_generate
   use dpmpm_kinds, only: wp, i8
+  use dpmpm_error, only: fatal
   use dpmpm_config, only: config_t, region_cfg_t
   use dpmpm_grid, only: grid_t
   use dpmpm_decomp, only: decomp_t
   use dpmpm_particles, only: particle_set_t
   use dpmpm_materials, only: material_t
+  use dpmpm_migrate, only: point_cell
   implicit none
   private
   public :: generate_points, hash_uniform, point_in_polygon
 
+  !> What one region puts into the set being filled.
+  type :: fill_t
+    integer :: mat = 0              !< material index (into mats) of the points
+    real(wp) :: rho = 0.0_wp        !< mass of the phase per mixture volume (kg/m^3)
+    real(wp) :: porosity = 0.0_wp   !< n_f stored on the points (when the set keeps it)
+    real(wp) :: kinv = 0.0_wp       !< 1/k stored on fluid points (s/m)
+    integer :: seed = 1             !< seed of the random placements
+    logical :: solid = .true.       !< solid points take the region's initial stress
+  end type fill_t
+
 contains
 
-  !> Append the points of every region that fall in this rank's cells to ps.
-  subroutine generate_points(cfg, grid, dec, mats, ps)
+  !> Append to ps the points of every region that fall in this rank's cells.
+  !> phase = 'solid' (default): points of solid regions (porosity 0) and the skeleton of
+  !> saturated regions (mass (1 - n) rho_s V, porosity n). phase = 'fluid': points of fluid
+  !> regions (mass rho_f V, porosity 1, kinv 0) and the pore fluid of saturated regions
+  !> (mass n rho_f V, porosity n, kinv = 1/conductivity of the soil, material = the fluid
+  !> material), placed independently of the skeleton with seed fluid_seed (seed + 1 when
+  !> fluid_seed = -1). Ids are unique within the set and do not depend on the ranks.
+  subroutine generate_points(cfg, grid, dec, mats, ps, phase)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: grid
     type(decomp_t), intent(in) :: dec
     type(material_t), intent(in) :: mats(:)
     type(particle_set_t), intent(inout) :: ps
-    integer :: r, d, nd, npc, k, slot(3), c(3), clo(3), chi(3), imat, c1, c2, c3
-    integer(i8) :: base, ncell_total, lin
-    real(wp) :: x(3), u, vol, rho
+    character(len=*), intent(in), optional :: phase
+    character(len=8) :: which
+    integer :: r
+    integer(i8) :: base, ncell_total, npc
     type(region_cfg_t) :: reg
-    nd = grid%ndim
+    type(fill_t) :: fill
+    which = 'solid'
+    if (present(phase)) which = phase
+    if (which /= 'solid' .and. which /= 'fluid') &
+      call fatal('unknown phase '''//trim(which)//''' (solid or fluid)', 'generate_points')
     ncell_total = product(int(grid%ncells, i8))
     base = 0
     do r = 1, size(cfg%regions)
       reg = cfg%regions(r)
-      npc = reg%ppc**nd
-      imat = findloc(mats%id, reg%material, dim=1)
-      rho = mats(imat)%density
-      vol = grid%cell_volume/real(npc, wp)
-      ! Cells of the region's bounding box that this rank owns.
-      clo = 0; chi = 0
-      do d = 1, nd
-        clo(d) = max(dec%clo(d), floor((region_lo(reg, d) - grid%origin(d))/grid%h(d)))
-        chi(d) = min(dec%chi(d), ceiling((region_hi(reg, d) - grid%origin(d))/grid%h(d)) - 1)
-      end do
-      do c3 = clo(3), chi(3)
-        do c2 = clo(2), chi(2)
-          do c1 = clo(1), chi(1)
-            c = [c1, c2, c3]
-            lin = int(c(1), i8) + int(grid%ncells(1), i8)*(int(c(2), i8) + &
-                  int(grid%ncells(2), i8)*int(c(3), i8))
-            do k = 0, npc - 1
-              slot = 0
-              slot(1) = mod(k, reg%ppc)
-              if (nd >= 2) slot(2) = mod(k/reg%ppc, reg%ppc)
-              if (nd >= 3) slot(3) = k/(reg%ppc*reg%ppc)
-              x = 0.0_wp
-              do d = 1, nd
-                if (trim(reg%placement) == 'random') then
-                  u = hash_uniform(reg%seed, lin, k, d)
-                  x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + u)
-                else
-                  x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + &
-                         (real(slot(d), wp) + 0.5_wp)/real(reg%ppc, wp))
-                end if
-              end do
-              if (.not. in_region(reg, x, nd)) cycle
-              call ps%append(base + lin*npc + k + 1, imat, x, reg%velocity, rho*vol, vol, &
-                             reg%stress)
+      npc = int(reg%ppc, i8)**grid%ndim
+      if (region_fill(reg, mats, which, fill)) then
+        if (trim(reg%placement) == 'uniform') then
+          call fill_uniform(reg, grid, dec, fill, base, ps)
+        else
+          call fill_cells(reg, grid, dec, fill, base, ps)
+        end if
+      end if
+      ! Each region owns a range of ids wide enough for either placement, and the same
+      ! range in both sets.
+      base = base + max(ncell_total*npc, uniform_count(reg, grid))
+    end do
+  end subroutine generate_points
+
+  !> Does the region put points into the set of this phase, and with what?
+  logical function region_fill(reg, mats, which, fill) result(used)
+    type(region_cfg_t), intent(in) :: reg
+    type(material_t), intent(in) :: mats(:)
+    character(len=*), intent(in) :: which
+    type(fill_t), intent(out) :: fill
+    character(len=*), parameter :: where = 'generate_points'
+    integer :: imat, ifl
+    real(wp) :: n
+    imat = findloc(mats%id, reg%material, dim=1)
+    if (imat == 0) call fatal('a region refers to an unknown material', where)
+    select case (trim(reg%phase))
+    case ('solid')
+      used = which == 'solid'
+      fill = fill_t(mat=imat, rho=mats(imat)%density, porosity=0.0_wp, seed=reg%seed)
+    case ('fluid')
+      used = which == 'fluid'
+      fill = fill_t(mat=imat, rho=mats(imat)%density, porosity=1.0_wp, seed=reg%seed, &
+                    solid=.false.)
+    case ('saturated')
+      used = .true.
+      n = reg%porosity
+      if (.not. (n > 0.0_wp .and. n < 1.0_wp)) &
+        call fatal('a saturated region needs 0 < porosity < 1', where)
+      if (which == 'solid') then
+        fill = fill_t(mat=imat, rho=(1.0_wp - n)*mats(imat)%density, porosity=n, &
+                      seed=reg%seed)
+      else
+        ifl = findloc(mats%id, reg%fluid_material, dim=1)
+        if (ifl == 0) call fatal('a saturated region refers to an unknown fluid material', where)
+        if (.not. mats(imat)%conductivity > 0.0_wp) &
+          call fatal('the soil of a saturated region needs a conductivity > 0', where)
+        fill = fill_t(mat=ifl, rho=n*mats(ifl)%density, porosity=n, &
+                      kinv=1.0_wp/mats(imat)%conductivity, &
+                      seed=merge(reg%seed + 1, reg%fluid_seed, reg%fluid_seed == -1), &
+                      solid=.false.)
+      end if
+    case default
+      used = .false.
+      call fatal('unknown region phase '''//trim(reg%phase)//'''', where)
+    end select
+  end function region_fill
+
+  !> Regular or random placement: ppc**ndim points in every cell of the region's bounding
+  !> box that this rank owns, kept when inside the region; volume = cell volume / ppc**ndim.
+  !> Ids: base + (global cell number)*ppc**ndim + slot + 1.
+  subroutine fill_cells(reg, grid, dec, fill, base, ps)
+    type(region_cfg_t), intent(in) :: reg
+    type(grid_t), intent(in) :: grid
+    type(decomp_t), intent(in) :: dec
+    type(fill_t), intent(in) :: fill
+    integer(i8), intent(in) :: base
+    type(particle_set_t), intent(inout) :: ps
+    integer :: d, nd, npc, k, slot(3), c(3), clo(3), chi(3), c1, c2, c3
+    integer(i8) :: lin
+    real(wp) :: x(3), u, vol
+    logical :: random
+    nd = grid%ndim
+    npc = reg%ppc**nd
+    vol = grid%cell_volume/real(npc, wp)
+    random = trim(reg%placement) == 'random'
+    ! Cells of the region's bounding box that this rank owns.
+    clo = 0; chi = 0
+    do d = 1, nd
+      clo(d) = max(dec%clo(d), floor((region_lo(reg, d) - grid%origin(d))/grid%h(d)))
+      chi(d) = min(dec%chi(d), ceiling((region_hi(reg, d) - grid%origin(d))/grid%h(d)) - 1)
+    end do
+    do c3 = clo(3), chi(3)
+      do c2 = clo(2), chi(2)
+        do c1 = clo(1), chi(1)
+          c = [c1, c2, c3]
+          lin = int(c(1), i8) + int(grid%ncells(1), i8)*(int(c(2), i8) + &
+                int(grid%ncells(2), i8)*int(c(3), i8))
+          do k = 0, npc - 1
+            slot = 0
+            slot(1) = mod(k, reg%ppc)
+            if (nd >= 2) slot(2) = mod(k/reg%ppc, reg%ppc)
+            if (nd >= 3) slot(3) = k/(reg%ppc*reg%ppc)
+            x = 0.0_wp
+            do d = 1, nd
+              if (random) then
+                u = hash_uniform(fill%seed, lin, k, d)
+                x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + u)
+              else
+                x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + &
+                       (real(slot(d), wp) + 0.5_wp)/real(reg%ppc, wp))
+              end if
             end do
+            if (.not. in_region(reg, x, nd)) cycle
+            call add_point(ps, base + lin*npc + k + 1, reg, fill, x, vol)
           end do
         end do
       end do
-      base = base + ncell_total*npc
     end do
-  end subroutine generate_points
+  end subroutine fill_cells
+
+  !> Uniform placement: N points scattered uniformly over the region, not stratified per
+  !> cell. Box: N = nint(region volume / cell volume * ppc**ndim) (at least 1), each of
+  !> volume region volume / N, so the volumes add up to the region exactly. Polygon: N
+  !> candidates over the bounding box (N from its area), the ones inside the polygon kept,
+  !> each of volume cell volume / ppc**2. Point k (0..N-1) lies at
+  !> lo + (hi - lo)*hash_uniform(seed, k, 0, d) along axis d: a function of seed and k only.
+  !> Every rank draws all N positions and keeps those in its cells. Ids: base + k + 1.
+  subroutine fill_uniform(reg, grid, dec, fill, base, ps)
+    type(region_cfg_t), intent(in) :: reg
+    type(grid_t), intent(in) :: grid
+    type(decomp_t), intent(in) :: dec
+    type(fill_t), intent(in) :: fill
+    integer(i8), intent(in) :: base
+    type(particle_set_t), intent(inout) :: ps
+    integer :: d, nd, c(3)
+    integer(i8) :: k, n
+    real(wp) :: lo(3), hi(3), x(3), vol
+    logical :: polygon
+    nd = grid%ndim
+    polygon = trim(reg%shape) == 'polygon'
+    lo = 0.0_wp; hi = 0.0_wp
+    do d = 1, nd
+      lo(d) = region_lo(reg, d)
+      hi(d) = region_hi(reg, d)
+    end do
+    n = uniform_count(reg, grid)
+    if (polygon) then
+      vol = grid%cell_volume/real(reg%ppc, wp)**nd
+    else
+      vol = product(hi(1:nd) - lo(1:nd))/real(n, wp)
+    end if
+    do k = 0, n - 1
+      x = 0.0_wp
+      do d = 1, nd
+        x(d) = lo(d) + (hi(d) - lo(d))*hash_uniform(fill%seed, k, 0, d)
+        ! lo + (hi - lo) u with u < 1 may still round up to hi: keep the region half-open.
+        if (x(d) >= hi(d)) x(d) = nearest(hi(d), -1.0_wp)
+      end do
+      if (polygon) then
+        if (.not. point_in_polygon(x(1:2), reg%poly(:, 1:reg%npoly))) cycle
+      end if
+      call into_grid(grid, x, c)
+      if (any(c < dec%clo .or. c > dec%chi)) cycle
+      call add_point(ps, base + k + 1, reg, fill, x, vol)
+    end do
+  end subroutine fill_uniform
+
+  !> Number of points (box) or candidates (polygon) of a uniform placement, 0 otherwise.
+  integer(i8) function uniform_count(reg, grid) result(n)
+    type(region_cfg_t), intent(in) :: reg
+    type(grid_t), intent(in) :: grid
+    real(wp) :: v
+    integer :: d
+    n = 0
+    if (trim(reg%placement) /= 'uniform') return
+    v = 1.0_wp
+    do d = 1, grid%ndim
+      v = v*(region_hi(reg, d) - region_lo(reg, d))
+    end do
+    n = max(1_i8, nint(v/grid%cell_volume*real(reg%ppc, wp)**grid%ndim, i8))
+  end function uniform_count
+
+  !> The cell holding x, with the cell rule of point migration (floor((x - origin)/h)).
+  !> A point on the upper face of the grid, or one the tolerance of the region check let
+  !> past a face, is moved just inside so that exactly one rank owns it.
+  subroutine into_grid(grid, x, c)
+    type(grid_t), intent(in) :: grid
+    real(wp), intent(inout) :: x(3)
+    integer, intent(out) :: c(3)
+    integer :: d
+    c = point_cell(grid%origin, grid%h, x, grid%ndim)
+    do d = 1, grid%ndim
+      if (c(d) < 0) then
+        x(d) = grid%origin(d)
+      else
+        do while (c(d) > grid%ncells(d) - 1)
+          x(d) = nearest(min(x(d), grid%origin(d) + grid%h(d)*grid%ncells(d)), -1.0_wp)
+          c = point_cell(grid%origin, grid%h, x, grid%ndim)
+        end do
+      end if
+    end do
+    c = point_cell(grid%origin, grid%h, x, grid%ndim)
+  end subroutine into_grid
+
+  !> Append one point of a region to the set.
+  subroutine add_point(ps, id, reg, fill, x, vol)
+    type(particle_set_t), intent(inout) :: ps
+    integer(i8), intent(in) :: id
+    type(region_cfg_t), intent(in) :: reg
+    type(fill_t), intent(in) :: fill
+    real(wp), intent(in) :: x(3), vol
+    real(wp) :: stress(6)
+    ! The region's initial stress is that of the solid (the effective stress of a
+    ! saturated skeleton); fluid points start at zero stress and zero pore pressure.
+    stress = 0.0_wp
+    if (fill%solid) stress = reg%stress
+    call ps%append(id, fill%mat, x, reg%velocity, fill%rho*vol, vol, stress, &
+                   porosity=fill%porosity, pressure=0.0_wp, kinv=fill%kinv)
+  end subroutine add_point
 
   pure real(wp) function region_lo(reg, d)
     type(region_cfg_t), intent(in) :: reg

@@ -49,11 +49,14 @@ module dpmpm_two_phase_verify
 
   !> Length of the error names.
   integer, parameter :: error_name_len = 32
-  character(len=error_name_len), parameter :: column_names(7) = [character(len=error_name_len) :: &
-    'error_sigma_eff', 'error_pore_pressure', 'error_v_s', 'error_v_f', 'overshoot_sigma_eff', &
-    'total_stress_behind_front', 'total_stress_error']
-  character(len=error_name_len), parameter :: terzaghi_names(4) = [character(len=error_name_len) :: &
-    'error_pore_pressure', 'error_displacement', 'error_settlement', 'time_factor']
+  !> Measures of the column benchmark, in the order of the values.
+  character(len=error_name_len), parameter :: column_names(7) = &
+    [character(len=error_name_len) :: 'error_sigma_eff', 'error_pore_pressure', 'error_v_s', &
+     'error_v_f', 'overshoot_sigma_eff', 'total_stress_behind_front', 'total_stress_error']
+  !> Measures of the Terzaghi benchmark, in the order of the values.
+  character(len=error_name_len), parameter :: terzaghi_names(4) = &
+    [character(len=error_name_len) :: 'error_pore_pressure', 'error_displacement', &
+     'error_settlement', 'time_factor']
   !> Points behind the fast front are those with z < c_u t - front_margin h.
   real(wp), parameter :: front_margin = 3.0_wp
   real(wp), parameter :: pi = acos(-1.0_wp)

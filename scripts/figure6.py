@@ -1,0 +1,305 @@
+#!/usr/bin/env python3
+"""Figure 6 analogue: the 1D shock in a saturated column (W1) for several ways of
+reconstructing the fields that enter the force integrals.
+
+Runs W1 (inputs/w1.nml, or the 2D column inputs/w1_2d.nml with --dims 2) with the
+release build for each variant of VARIANTS:
+  * Standard MPM: linear grid functions, point quadrature;
+  * MLS at Gauss points: cubic grid functions, 3 Gauss points per cell and axis, the
+    effective stress and the pore pressure reconstructed there with a constant basis and
+    the linear, quadratic or cubic B-spline weight (natural support) or Wendland C2
+    (radius 2 cells).
+All variants run with the same Courant number (CFL below), hence the same time step.
+
+From each run it reads the last frame (solid x, stress[:, 0] = sigma'_xx, volume; fluid
+x, pore_pressure, volume) and /verification (the attributes final_<measure> of the
+two-phase measures, src/verify/dpmpm_two_phase_verify.f90, and the reference profiles
+profile_z, profile_p, profile_sigma_eff), then
+  * draws one panel per variant with sigma', p and the total stress sigma' - p as means
+    over the grid cells along x (point volumes as weights; in 2D over the whole slab of
+    cells at one x) against the reference, into doc/figures/figure6.png
+    (figure6_2d.png for --dims 2);
+  * writes the table of error_sigma_eff, error_pore_pressure, overshoot_sigma_eff,
+    total_stress_behind_front and the cost per step between <!-- fig6:begin --> and
+    <!-- fig6:end --> (fig6_2d for --dims 2) in doc/verification.md, adding the section
+    "Figure 6: 1D shock in a saturated column" with its markers if they are missing.
+
+Usage: scripts/figure6.py [--dims 1|2] [--build build/release] [--out out/figure6]
+       [--ranks 1] [--jobs 2] [--skip-runs]
+"""
+import argparse
+import concurrent.futures as cf
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+
+import h5py
+import matplotlib
+import numpy as np
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+           "OMPI_MCA_rmaps_base_oversubscribe": "1"}
+CFL = 0.3
+
+# Variant label -> &shape settings (namelist text).
+MLS = "kernel = 'cubic', quadrature = 'gauss', gauss_points = 3, field_basis = 'constant', "
+VARIANTS = {
+    "Standard MPM": "kernel = 'linear', quadrature = 'points'",
+    "MLS linear": MLS + "field_kernel = 'linear', field_radius = 0.0",
+    "MLS quadratic": MLS + "field_kernel = 'quadratic', field_radius = 0.0",
+    "MLS cubic": MLS + "field_kernel = 'cubic', field_radius = 0.0",
+    "MLS Wendland C2": MLS + "field_kernel = 'wendland_c2', field_radius = 2.0",
+}
+MEASURES = ["error_sigma_eff", "error_pore_pressure", "overshoot_sigma_eff",
+            "total_stress_behind_front"]
+
+SECTION = """## Figure 6: 1D shock in a saturated column
+
+W1 of physics.md section 0 (`inputs/w1.nml`): a step total stress of q = 1 Pa on
+the drained top of a 10 m saturated column, 100 cells, 200 solid and 200 fluid
+points scattered uniformly over the column, compared at 0.05 s with the
+column reference (`src/verify/dpmpm_biot_column.f90`). The measures are those of
+`src/verify/dpmpm_two_phase_verify.f90`: error_sigma_eff and
+error_pore_pressure are volume-weighted RMS errors over the points divided by
+q; overshoot_sigma_eff is the largest |sigma' - sigma'_ref| in Pa over the
+solid points more than 3 cells behind the fast front; total_stress_behind_front
+is the mean over the grid cells behind the front of (cell mean sigma' - cell
+mean p), which should be -q = -1 Pa. Regenerate with `scripts/figure6.py`
+(`--dims 2` for the 2D column `inputs/w1_2d.nml`).
+"""
+
+
+def slug(label):
+    return re.sub(r"[^a-z0-9]+", "_", label.lower()).strip("_")
+
+
+def scene_file(dims):
+    return os.path.join(ROOT, "inputs", "w1.nml" if dims == 1 else "w1_2d.nml")
+
+
+def tag_of(label, dims):
+    return f"fig6_{dims}d_{slug(label)}"
+
+
+def make_scene(dims, label, outdir):
+    """Scene text of one variant: W1 with its &shape, the common CFL, own name and dir."""
+    text = open(scene_file(dims)).read()
+    tag = tag_of(label, dims)
+    text = re.sub(r"name = '[^']*'", f"name = '{tag}'", text, count=1)
+    text = re.sub(r"cfl = [0-9.eE+-]+", f"cfl = {CFL}", text, count=1)
+    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {VARIANTS[label]}\n/", text,
+                  flags=re.S | re.M)
+    text = text.replace("dir = 'out'", f"dir = '{outdir}'")
+    return tag, text
+
+
+def run_case(build, outdir, dims, label, ranks):
+    tag, text = make_scene(dims, label, outdir)
+    nml = os.path.join(outdir, tag + ".nml")
+    with open(nml, "w") as f:
+        f.write(text)
+    start = time.time()
+    with open(os.path.join(outdir, tag + ".log"), "w") as log:
+        subprocess.run(["mpirun", "--oversubscribe", "-n", str(ranks),
+                        os.path.join(build, "dpmpm"), nml],
+                       stdout=log, stderr=subprocess.STDOUT,
+                       env=dict(os.environ, **MPI_ENV), check=True)
+    with open(os.path.join(outdir, tag + ".json"), "w") as f:
+        json.dump({"wall_seconds": time.time() - start, "ranks": ranks}, f)
+    return tag
+
+
+def strip_comment(line):
+    """The line without its '!' comment (a '!' inside quotes is kept)."""
+    quote = None
+    for i, c in enumerate(line):
+        if quote:
+            quote = None if c == quote else quote
+        elif c in "'\"":
+            quote = c
+        elif c == "!":
+            return line[:i]
+    return line
+
+
+def namelist_groups(text, group):
+    """Bodies of the &group namelist groups of an input text, comments removed: from the
+    group name to the first '/' outside quotes."""
+    clean = "\n".join(strip_comment(line) for line in text.splitlines())
+    bodies = []
+    for m in re.finditer(rf"&{group}\b", clean, flags=re.I):
+        i, quote = m.end(), None
+        while i < len(clean):
+            c = clean[i]
+            if quote:
+                quote = None if c == quote else quote
+            elif c in "'\"":
+                quote = c
+            elif c == "/":
+                break
+            i += 1
+        bodies.append(clean[m.end():i])
+    return bodies
+
+
+def namelist_value(text, group, name, pick=None):
+    """Numbers given to variable name in the first &group (the first one for which
+    pick(body) is true), or None."""
+    for body in namelist_groups(text, group):
+        if pick is not None and not pick(body):
+            continue
+        v = re.search(rf"\b{name}\s*=\s*([-+0-9.eEdD, ]+)", body)
+        if v:
+            return [float(x.replace("d", "e").replace("D", "e"))
+                    for x in v.group(1).replace(",", " ").split()]
+    return None
+
+
+def load(outdir, tag):
+    with h5py.File(os.path.join(outdir, tag + ".h5"), "r") as f:
+        text = f["input"][()].decode()
+        last = f["frames"][sorted(f["frames"])[-1]]
+        d = {
+            "time": float(last.attrs["time"]),
+            "step": int(last.attrs["step"]),
+            "xs": last["solid"]["x"][:, 0], "sig": last["solid"]["stress"][:, 0],
+            "vs": last["solid"]["volume"][...],
+            "xf": last["fluid"]["x"][:, 0], "p": last["fluid"]["pore_pressure"][...],
+            "vf": last["fluid"]["volume"][...],
+        }
+        ver = f["verification"]
+        for name in MEASURES:
+            d[name] = float(ver.attrs.get("final_" + name, np.nan))
+        for name in ("z", "p", "sigma_eff"):
+            d["ref_" + name] = ver["profile_" + name][...]
+        a = ver.attrs
+        if "wall_time_step_loop" in a and "steps" in a:
+            d["cost"] = float(a["wall_time_step_loop"]) / float(a["steps"])
+        else:
+            wall = f["diagnostics"]["wall_time"][...]
+            d["cost"] = float(wall[-1]) / max(d["step"], 1) if wall.size else np.nan
+    origin = namelist_value(text, "grid", "origin") or [0.0]
+    length = namelist_value(text, "grid", "length")
+    ncells = namelist_value(text, "grid", "ncells")
+    lo = namelist_value(text, "region", "lo", pick=lambda b: "saturated" in b)
+    d["x_top"] = lo[0]
+    d["edges"] = origin[0] + np.linspace(0.0, length[0], int(ncells[0]) + 1)
+    return d
+
+
+def cell_means(x, value, vol, edges):
+    """Volume-weighted mean of value over the points in each cell [edges[i], edges[i+1])."""
+    idx = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(edges) - 2)
+    w = np.bincount(idx, weights=vol, minlength=len(edges) - 1)
+    s = np.bincount(idx, weights=vol * value, minlength=len(edges) - 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(w > 0, s / w, np.nan)
+
+
+def figure(res, path, dims):
+    labels = list(VARIANTS)
+    fig, axes = plt.subplots(len(labels), 1, figsize=(9, 2.6 * len(labels)), sharex=True)
+    for ax, label in zip(np.atleast_1d(axes), labels):
+        d = res[label]
+        edges = d["edges"] - d["x_top"]
+        centres = 0.5 * (edges[:-1] + edges[1:])
+        sig = cell_means(d["xs"] - d["x_top"], d["sig"], d["vs"], edges)
+        p = cell_means(d["xf"] - d["x_top"], d["p"], d["vf"], edges)
+        z = d["ref_z"]
+        ax.plot(z, d["ref_sigma_eff"], "C0-", lw=1, label="sigma' reference")
+        ax.plot(z, d["ref_p"], "C1-", lw=1, label="p reference")
+        ax.plot(z, d["ref_sigma_eff"] - d["ref_p"], "k-", lw=1, label="sigma' - p reference")
+        ax.plot(centres, sig, "C0.", ms=4, label="sigma' (cell mean)")
+        ax.plot(centres, p, "C1.", ms=4, label="p (cell mean)")
+        ax.plot(centres, sig - p, "k.", ms=4, label="sigma' - p (cell mean)")
+        ax.set_ylabel("Pa")
+        ax.set_title(f"{label}: error sigma' {d['error_sigma_eff']:.3g} q, "
+                     f"p {d['error_pore_pressure']:.3g} q", fontsize=9)
+        ax.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("depth below the loaded top z [m]")
+    handles, names = axes[0].get_legend_handles_labels()
+    fig.legend(handles, names, fontsize=8, ncol=3, loc="upper center", bbox_to_anchor=(0.5, 0.985))
+    fig.suptitle(f"W1, {dims}D, t = {res[labels[0]]['time']:.3g} s", fontsize=10, y=0.998)
+    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    fig.savefig(path, dpi=110)
+
+
+def table(res, dims, figname):
+    base = res["Standard MPM"]["cost"]
+    lines = [f"\n{dims}D column, t = {res['Standard MPM']['time']:.3g} s, Courant number "
+             f"{CFL} for every variant (release build).\n",
+             "| variant | error_sigma_eff | error_pore_pressure | overshoot_sigma_eff [Pa] | "
+             "total_stress_behind_front [Pa] | s per step (relative) |",
+             "|---|---|---|---|---|---|"]
+    for label in VARIANTS:
+        d = res[label]
+        lines.append(f"| {label} | {d['error_sigma_eff']:.3e} | {d['error_pore_pressure']:.3e} | "
+                     f"{d['overshoot_sigma_eff']:.3e} | {d['total_stress_behind_front']:.4f} | "
+                     f"{d['cost']:.2e} ({d['cost'] / base:.1f}) |")
+    lines.append(f"\n![Figure 6, {dims}D](figures/{figname})\n")
+    return "\n".join(lines)
+
+
+def replace_section(doc, name, body, heading):
+    text = open(doc).read()
+    begin, end = f"<!-- {name}:begin -->", f"<!-- {name}:end -->"
+    block = f"{begin}\n{body}{end}"
+    if begin in text:
+        text = re.sub(re.escape(begin) + ".*?" + re.escape(end), lambda m: block, text,
+                      flags=re.S)
+    else:
+        text = text.rstrip("\n") + "\n\n" + heading + "\n" + block + "\n"
+    with open(doc, "w") as f:
+        f.write(text)
+
+
+def ensure_build(build):
+    exe = os.path.join(build, "dpmpm")
+    if not os.path.exists(exe):
+        preset = os.path.basename(os.path.normpath(build))
+        subprocess.run(["cmake", "--preset", preset], cwd=ROOT, check=True)
+        subprocess.run(["cmake", "--build", "--preset", preset, "-j", str(os.cpu_count() or 2)],
+                       cwd=ROOT, check=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--dims", type=int, choices=(1, 2), default=1)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "figure6"))
+    ap.add_argument("--ranks", type=int, default=1, help="MPI ranks per run")
+    ap.add_argument("--jobs", type=int, default=2, help="runs at the same time")
+    ap.add_argument("--skip-runs", action="store_true", help="reuse the outputs in --out")
+    args = ap.parse_args()
+    outdir = os.path.abspath(args.out)
+    os.makedirs(outdir, exist_ok=True)
+
+    if not args.skip_runs:
+        ensure_build(args.build)
+        with cf.ThreadPoolExecutor(max_workers=args.jobs) as pool:
+            futs = {pool.submit(run_case, args.build, outdir, args.dims, label, args.ranks): label
+                    for label in VARIANTS}
+            for fut in cf.as_completed(futs):
+                fut.result()
+                print("done", futs[fut], flush=True)
+
+    res = {label: load(outdir, tag_of(label, args.dims)) for label in VARIANTS}
+    figname = "figure6.png" if args.dims == 1 else "figure6_2d.png"
+    os.makedirs(os.path.join(ROOT, "doc", "figures"), exist_ok=True)
+    figure(res, os.path.join(ROOT, "doc", "figures", figname), args.dims)
+    body = table(res, args.dims, figname)
+    heading = SECTION if args.dims == 1 else "### The same column in 2D (`inputs/w1_2d.nml`)\n"
+    replace_section(os.path.join(ROOT, "doc", "verification.md"),
+                    "fig6" if args.dims == 1 else "fig6_2d", body, heading)
+    print(body)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

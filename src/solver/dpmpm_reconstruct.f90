@@ -13,10 +13,12 @@
 !> the nodal force power (physics.md 3.5): the pair neither creates nor
 !> destroys energy.
 !>
-!> Cells take part in the quadrature when the reconstructed volume fraction at
-!> their centre, theta = sum_p (V_p/h^d) W / int W, is at least 1/2: cells
-!> inside the body count even when no point lies in them, cells beyond a free
-!> surface do not.
+!> Cells take part in the quadrature when they hold a point or lie in a gap of
+!> at most 2 r cells between such cells along every axis (a morphological
+!> closing of the occupied cells with a box of half-width r, r the field weight's
+!> reach in whole cells; gauss_occupancy in dpmpm_simulation): scattered points
+!> leave cells empty inside the body, and those must count, while the closing
+!> does not move a free surface.
 !>
 !> Cell arrays are indexed like nodes by the cell's lower corner, so they use
 !> the same storage bounds and the same halo_sum / halo_copy.
@@ -28,10 +30,10 @@ module dpmpm_reconstruct
   use dpmpm_materials, only: voigt_to_tensor
   implicit none
   private
-  public :: gauss_rule, weight_integral, field_components, stress_voigt_index
+  public :: gauss_rule, field_components, stress_voigt_index
   public :: velocity_accumulate, velocity_solve, velocity_fold_signs
   public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
-  public :: psi_stencil, gauss_cell_components, gauss_solution_components
+  public :: psi_stencil, occupancy_pass, gauss_cell_components, gauss_solution_components
 
   !> Most Gauss points of one cell (4 per axis in 3D).
   integer, parameter :: max_gauss_cell = 64
@@ -67,37 +69,6 @@ contains
       w(4) = w(1)
     end select
   end subroutine gauss_rule
-
-  !> Integral of a weight over space in cell units: 1 for tensor B-splines (a
-  !> partition of unity), S_d R^d int_0^1 w(r) r^(d-1) dr for radial weights.
-  real(wp) function weight_integral(kernel, radius, radial, nd) result(s)
-    integer, intent(in) :: kernel, nd
-    real(wp), intent(in) :: radius
-    logical, intent(in) :: radial
-    integer, parameter :: m = 4000
-    integer :: k
-    real(wp) :: r, w, dw
-    real(wp), parameter :: pi = acos(-1.0_wp)
-    if (.not. radial .and. is_grid_kernel(kernel)) then
-      s = 1.0_wp
-      return
-    end if
-    s = 0.0_wp
-    do k = 1, m
-      r = (real(k, wp) - 0.5_wp)/m
-      call kernel_radial(kernel, r, w, dw)
-      s = s + w*r**(nd - 1)
-    end do
-    s = s/m*radius**nd
-    select case (nd)
-    case (1)
-      s = 2.0_wp*s
-    case (2)
-      s = 2.0_wp*pi*s
-    case default
-      s = 4.0_wp*pi*s
-    end select
-  end function weight_integral
 
   !> Stress components that enter the force integrals in nd dimensions.
   pure integer function field_components(nd) result(n)
@@ -346,33 +317,20 @@ contains
     end do
   end subroutine points_in_reach
 
-  !> Cells (inside the grid) within reach of a point at s.
-  pure subroutine cell_range(nd, s, reach, ncells, clo, chi)
-    integer, intent(in) :: nd, ncells(3)
-    real(wp), intent(in) :: s(3), reach
-    integer, intent(out) :: clo(3), chi(3)
-    integer :: d
-    clo = 0; chi = 0
-    do d = 1, nd
-      clo(d) = max(0, floor(s(d) - reach))
-      chi(d) = min(ncells(d) - 1, floor(s(d) + reach))
-    end do
-  end subroutine cell_range
-
-  !> Add every point's volume fraction at cell centres and the MLS sums of its
-  !> stress at the Gauss points within reach. acc per cell: theta, then per
+  !> Add every point to the point count of its cell and its MLS sums of stress
+  !> to the Gauss points within reach. acc per cell: point count, then per
   !> Gauss point: count, packed sum V W p p^T, sum V W p sigma_f (nf fields).
   subroutine gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, ng, kernel, radius, &
-                              radial, basis, wint, lo, acc)
+                              radial, basis, lo, acc)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis
-    real(wp), intent(in) :: x(:, :), vol(:), stress(:, :), origin(3), h(3), radius, wint
+    real(wp), intent(in) :: x(:, :), vol(:), stress(:, :), origin(3), h(3), radius
     logical, intent(in) :: radial
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: acc(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, i, j, k, q, nb, np, nf, ncg, f, clo(3), chi(3), base, d, nq
+    integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, d, nq
     integer, allocatable :: cells(:, :), gidx(:)
     real(wp), allocatable :: offs(:, :), wq(:)
-    real(wp) :: s(3), dcell(3), wk, dwk(3), w, pv(10), reach, xi(ng), wxi(ng), vcell, sig(6)
+    real(wp) :: s(3), w, pv(10), reach, xi(ng), wxi(ng), sig(6)
     nb = basis_size(basis, nd)
     np = packed_size(nb)
     nf = field_components(nd)
@@ -386,21 +344,15 @@ contains
       do d = 1, nd
         s(d) = (x(d, p) - origin(d))/h(d)
       end do
-      vcell = vol(p)/product(h(1:nd))
       do f = 1, nf
         sig(f) = stress(stress_voigt_index(nd, f), p)
       end do
-      ! Volume fraction at the cell centres.
-      call cell_range(nd, s, reach, ncells, clo, chi)
-      do k = clo(3), chi(3)
-        do j = clo(2), chi(2)
-          do i = clo(1), chi(1)
-            dcell = real([i, j, k], wp) + 0.5_wp - s
-            call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
-            acc(1, i, j, k) = acc(1, i, j, k) + vcell*wk/wint
-          end do
-        end do
+      ! Point count of the cell that holds the point (the occupancy of gauss_occupancy).
+      cp = 0
+      do d = 1, nd
+        cp(d) = min(max(floor(s(d)), 0), ncells(d) - 1)
       end do
+      acc(1, cp(1), cp(2), cp(3)) = acc(1, cp(1), cp(2), cp(3)) + 1.0_wp
       ! MLS sums at the Gauss points.
       call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
                            offs, wq)
@@ -418,6 +370,36 @@ contains
       end do
     end do
   end subroutine gauss_accumulate
+
+  !> One pass of the occupancy closing on the owned cells clo..chi: dst(1, c) is the
+  !> largest (grow) or smallest (shrink) src(1, .) over the cells within r of c
+  !> along each of the nd axes that lie in the grid (0..ncells-1), so that the
+  !> grid faces neither add nor remove occupied cells. src needs its ghost cells.
+  pure subroutine occupancy_pass(nd, r, grow, lo, clo, chi, ncells, src, dst)
+    integer, intent(in) :: nd, r, lo(3), clo(3), chi(3), ncells(3)
+    logical, intent(in) :: grow
+    real(wp), intent(in) :: src(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: dst(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k, d, wlo(3), whi(3), c(3)
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        do i = clo(1), chi(1)
+          c = [i, j, k]
+          wlo = c
+          whi = c
+          do d = 1, nd
+            wlo(d) = max(c(d) - r, 0)
+            whi(d) = min(c(d) + r, ncells(d) - 1)
+          end do
+          if (grow) then
+            dst(1, i, j, k) = maxval(src(1, wlo(1):whi(1), wlo(2):whi(2), wlo(3):whi(3)))
+          else
+            dst(1, i, j, k) = minval(src(1, wlo(1):whi(1), wlo(2):whi(2), wlo(3):whi(3)))
+          end if
+        end do
+      end do
+    end do
+  end subroutine occupancy_pass
 
   !> Solve the Gauss-point reconstructions of the owned cells. sol per cell:
   !> occupied flag (1 or 0), then per Gauss point gamma(nb) and the fields (nf).

@@ -105,6 +105,7 @@ module dpmpm_config
     integer :: bc(6) = bc_free
     integer :: fluid_bc(6) = fbc_default             !< pore-fluid condition per face
     real(wp) :: pore_pressure(6) = 0.0_wp            !< Pa, prescribed on drained faces
+    real(wp) :: pore_pressure_ramp(6) = 0.0_wp       !< s, linear ramp of pore_pressure; 0 = step
     ! &output
     character(len=1024) :: output_dir = '.'
     real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only

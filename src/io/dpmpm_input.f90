@@ -39,7 +39,7 @@ module dpmpm_input
     'id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity', &
     'shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, porosity, ppc, '// &
     'placement, seed, fluid_seed, velocity, stress', &
-    'face, condition, fluid, pore_pressure', &
+    'face, condition, fluid, pore_pressure, pore_pressure_ramp', &
     'face, traction, ramp_time', &
     'dir, frame_interval, diag_every', &
     'name, amplitude']
@@ -187,6 +187,7 @@ contains
       call put_s(unit, 'condition', bc_names(cfg%bc(f)))
       call put_s(unit, 'fluid', fbc_names(cfg%fluid_bc(f)))
       call put_r(unit, 'pore_pressure', [cfg%pore_pressure(f)])
+      call put_r(unit, 'pore_pressure_ramp', [cfg%pore_pressure_ramp(f)])
       write (unit, '(a)') '/'
     end do
     if (allocated(cfg%loads)) then
@@ -567,7 +568,8 @@ contains
     cfg%regions = list(1:n)
   end subroutine read_regions
 
-  !> Read every &boundary and set cfg%bc, cfg%fluid_bc and cfg%pore_pressure; the names are
+  !> Read every &boundary and set cfg%bc, cfg%fluid_bc, cfg%pore_pressure and
+  !> cfg%pore_pressure_ramp; the names are
   !> checked here as they are not kept. A fluid condition left out (or 'default') stays
   !> fbc_default: the solver makes it drained at free faces and impermeable at fixed and
   !> roller faces.
@@ -577,16 +579,17 @@ contains
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
     character(len=name_len) :: face, condition, fluid
-    real(wp) :: pore_pressure
+    real(wp) :: pore_pressure, pore_pressure_ramp
     logical :: seen(6), impermeable
     integer :: k, f, c, fc, ios
     character(len=512) :: msg
     character(len=:), allocatable :: why
-    namelist /boundary/ face, condition, fluid, pore_pressure
+    namelist /boundary/ face, condition, fluid, pore_pressure, pore_pressure_ramp
     seen = .false.
     ok = .true.
     do k = 1, rd%count(g_boundary)
       face = ''; condition = bc_names(bc_free); fluid = ''; pore_pressure = 0.0_wp
+      pore_pressure_ramp = 0.0_wp
       read (u, nml=boundary, iostat=ios, iomsg=msg)
       if (ios /= 0) then
         call read_error(rd, g_boundary, k, ios, msg)
@@ -636,6 +639,10 @@ contains
                          "); set fluid = 'drained' or leave pore_pressure out")
         end if
       end if
+      if (.not. real_ok(pore_pressure_ramp) .or. pore_pressure_ramp < 0.0_wp) then
+        call add_value(rd, g_boundary, k, 'pore_pressure_ramp', rtoa(pore_pressure_ramp), &
+                       'must be a finite time >= 0 (s); 0 applies pore_pressure at once')
+      end if
       if (f == 0) then
         call add_value(rd, g_boundary, k, 'face', quote(face), 'the faces are '//all_faces())
       else if (.not. face_in_grid(f, cfg%ndim)) then
@@ -649,6 +656,7 @@ contains
         cfg%bc(f) = c
         cfg%fluid_bc(f) = fc
         cfg%pore_pressure(f) = pore_pressure
+        cfg%pore_pressure_ramp(f) = pore_pressure_ramp
       end if
     end do
   end subroutine read_boundaries
@@ -1289,6 +1297,7 @@ contains
     call bcast(cfg%bc, comm)
     call bcast(cfg%fluid_bc, comm)
     call bcast(cfg%pore_pressure, comm)
+    call bcast(cfg%pore_pressure_ramp, comm)
     call bcast(cfg%output_dir, comm)
     call bcast(cfg%frame_interval, comm)
     call bcast(cfg%diag_every, comm)

@@ -1112,13 +1112,13 @@ contains
     end do
   end function face_traction
 
-  !> Nodal force of the prescribed pore pressure p_b of drained faces at node idx,
-  !> per unit porosity: A p_b n_out. The solid takes n_f times it, the fluid minus
+  !> Nodal force of the prescribed pore pressure p_b of drained faces at node idx
+  !> (ramped over pore_pressure_ramp), per unit porosity: A p_b n_out. The solid takes n_f times it, the fluid minus
   !> n_f times it (the split of the total traction of the weak form, paper eq. 5).
   function face_pore_pressure(self, idx) result(fp)
     type(simulation_t), intent(in) :: self
     integer, intent(in) :: idx(3)
-    real(wp) :: fp(3), w
+    real(wp) :: fp(3), w, ramp
     integer :: f, d
     fp = 0.0_wp
     do f = 1, 2*self%nd
@@ -1126,7 +1126,10 @@ contains
       w = face_weight(self, idx, f)
       if (w == 0.0_wp) cycle
       d = (f + 1)/2
-      fp(d) = fp(d) + w*merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)* &
+      ramp = 1.0_wp
+      if (self%cfg%pore_pressure_ramp(f) > 0.0_wp) &
+        ramp = min(1.0_wp, self%time/self%cfg%pore_pressure_ramp(f))
+      fp(d) = fp(d) + w*ramp*merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)* &
               self%cfg%pore_pressure(f)
     end do
   end function face_pore_pressure

@@ -28,6 +28,8 @@ program test_rank_invariance
   call test_same_fields_on_1_2_4_ranks('linear', 'musl', 'column_2d')
   call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'saturated_block')
   call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'saturated_block_pair')
+  ! Two layers of different porosity with the porosity-gradient term.
+  call test_same_fields_on_1_2_4_ranks('quadratic', 'musl', 'layered_block')
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -66,7 +68,7 @@ contains
     select case (mls)
     case ('column_2d')
       cfg = column_2d(kernel, scheme)
-    case ('saturated_block', 'saturated_block_pair')
+    case ('saturated_block', 'saturated_block_pair', 'layered_block')
       cfg%materials(1)%model = 'linear_elastic'
       cfg%materials(1)%conductivity = 1.0e-3_wp
       cfg%materials = [cfg%materials(1), material_cfg_t(id=4, model='fluid', density=1000.0_wp, &
@@ -82,6 +84,14 @@ contains
         cfg%field_kernel = 'wendland_c2'
         cfg%field_radius = 2.0_wp
         cfg%t_end = 0.08_wp
+      end if
+      if (mls == 'layered_block') then
+        cfg%porosity_gradient = .true.
+        cfg%regions = [cfg%regions(1), cfg%regions(1)]
+        cfg%regions(1)%hi(2) = 0.35_wp
+        cfg%regions(2)%lo(2) = 0.35_wp
+        cfg%regions(2)%porosity = 0.5_wp
+        cfg%regions(2)%seed = 12
       end if
     case ('pair')
       cfg%quadrature = 'gauss'

@@ -25,8 +25,8 @@ module dpmpm_simulation
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
                              wave_speed, voigt_to_tensor, model_neo_hookean, model_fluid
-  use dpmpm_two_phase, only: fluid_p2g, solid_porosity_p2g, drag_solve, drag_limit, interp_scalar, &
-                             pressure_update, fluid_density
+  use dpmpm_two_phase, only: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, drag_limit, &
+                             interp_scalar, pressure_update, fluid_density
   use dpmpm_migrate, only: migrate
   use dpmpm_output, only: output_t
   use dpmpm_diagnostics, only: diag_record_t
@@ -646,6 +646,23 @@ contains
     call self%dec%halo_sum(self%ndrag)
     call self%timers%toc(t_halo)
 
+    ! Porosity at the nodes, then at the fluid points (start-of-step positions,
+    ! physics.md 6 step 5) with its gradient; the interphase force when asked for.
+    call self%timers%tic(t_nodal)
+    call nodal_porosity(self)
+    call self%timers%toc(t_nodal)
+    call self%timers%tic(t_halo)
+    call self%dec%halo_copy(self%nporo)
+    call unfold_exterior(self, self%nporo, nscalar=1)
+    call self%timers%toc(t_halo)
+    call self%timers%tic(t_g2p)
+    allocate (nval(nf), ngrad(3, nf), gnrel(nf), kf(nf))
+    call interp_scalar(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%dec%alo, &
+                       self%nporo, nval, ngrad)
+    self%fluid%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-6_wp))
+    call self%timers%toc(t_g2p)
+    if (self%cfg%porosity_gradient) call add_interphase_force(self, ngrad)
+
     call self%timers%tic(t_nodal)
     self%dt_drag = huge(1.0_wp)
     if (self%cfg%drag == 'explicit') then
@@ -660,19 +677,9 @@ contains
     call unfold_exterior(self, self%ts%nvel)
     call self%dec%halo_copy(self%tf%nvel)
     call unfold_exterior(self, self%tf%nvel, bc=mbc)
-    call self%dec%halo_copy(self%nporo)
-    call unfold_exterior(self, self%nporo, nscalar=1)
     call self%timers%toc(t_halo)
 
     call self%timers%tic(t_g2p)
-    ! Porosity at the fluid points from the nodal porosity of the solid (start-of-step
-    ! positions, physics.md 6 step 5) and its gradient.
-    allocate (nval(nf), ngrad(3, nf), gnrel(nf), kf(nf))
-    call interp_scalar(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%dec%alo, &
-                       self%nporo, nval, ngrad)
-    self%fluid%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-6_wp))
-    gnrel = 0.0_wp
-    if (self%cfg%porosity_gradient) call relative_flux(self, ngrad, gnrel)
     call g2p(self%nd, self%nw, ns, self%ts%i0, self%ts%sw, self%ts%sdw, self%dec%alo, self%ts%nvel, &
              self%cfg%flip, dt, self%solid%v, self%solid%x, self%ts%vgrad)
     call g2p(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%dec%alo, self%tf%nvel, &
@@ -683,6 +690,9 @@ contains
       call point_gradient(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, &
                           self%dec%alo, self%ts%nvel, self%tf%vgrad2)
     end if
+    ! With the same nodal velocities as the point gradients (remapped under MUSL).
+    gnrel = 0.0_wp
+    if (self%cfg%porosity_gradient) call relative_flux(self, gnrel)
     if (self%plan%gauss) then
       call gauss_point_gradients(self, self%solid, self%ts, self%ts%gsol, self%ts%nvel, &
                                  self%ts%vgrad)
@@ -732,30 +742,38 @@ contains
     call self%timers%toc(t_migrate)
   end subroutine advance_two_phase
 
-  !> grad n . (v_f - v_s) at the fluid points, with both velocities interpolated
-  !> from the new nodal velocities (the porosity-gradient term of eq. 10).
-  subroutine relative_flux(self, ngrad, gnrel)
+  !> grad n . (v_f - v_s) at the fluid points from the new nodal velocities (the
+  !> porosity-gradient term of eq. 10), discretised so that the whole bracket of
+  !> eq. 10 is the divergence of the nodal mixture flux,
+  !>   sum_I grad N_I . (n_I v_f,I + (1 - n_I) v_s,I),
+  !> that is sum_I grad N_I . ((n_I - n_p)(v_f,I - v_s,I)). The flux form keeps
+  !> one constraint per cell at steady seepage; the product grad n . w of two
+  !> interpolated fields asks for a different one at each point of the cell
+  !> where n jumps, and their pressures then drift apart.
+  subroutine relative_flux(self, gnrel)
     type(simulation_t), intent(in) :: self
-    real(wp), intent(in) :: ngrad(:, :)
     real(wp), intent(out) :: gnrel(:)
     integer :: p, a, b, c, i, j, k, nd
-    real(wp) :: nn, w(3)
+    real(wp) :: g(3), np
     nd = self%nd
     do p = 1, self%fluid%n
-      w = 0.0_wp
+      np = self%fluid%porosity(p)
+      gnrel(p) = 0.0_wp
       do c = 1, self%nw(3)
         k = self%tf%i0(3, p) + c - 1
         do b = 1, self%nw(2)
           j = self%tf%i0(2, p) + b - 1
           do a = 1, self%nw(1)
             i = self%tf%i0(1, p) + a - 1
-            nn = self%tf%sw(a, 1, p)*self%tf%sw(b, 2, p)*self%tf%sw(c, 3, p)
-            w(1:nd) = w(1:nd) + nn*(self%tf%nvel(nd + 1:2*nd, i, j, k) - &
-                                    self%ts%nvel(nd + 1:2*nd, i, j, k))
+            g(1) = self%tf%sdw(a, 1, p)*self%tf%sw(b, 2, p)*self%tf%sw(c, 3, p)
+            g(2) = self%tf%sw(a, 1, p)*self%tf%sdw(b, 2, p)*self%tf%sw(c, 3, p)
+            g(3) = self%tf%sw(a, 1, p)*self%tf%sw(b, 2, p)*self%tf%sdw(c, 3, p)
+            gnrel(p) = gnrel(p) + (self%nporo(1, i, j, k) - np)* &
+                       dot_product(g(1:nd), self%tf%nvel(nd + 1:2*nd, i, j, k) - &
+                                   self%ts%nvel(nd + 1:2*nd, i, j, k))
           end do
         end do
       end do
-      gnrel(p) = dot_product(ngrad(1:nd, p), w(1:nd))
     end do
   end subroutine relative_flux
 
@@ -983,12 +1001,11 @@ contains
   !> and the per-phase conditions: solid fixed/roller components are zero; at
   !> impermeable faces the normal fluid velocity is zero (solid held) or the
   !> solid's (solid free: the mixture moves together in that component).
-  !> Also the nodal porosity (1 where there is no solid).
   subroutine nodal_update_two_phase(self, dt)
     type(simulation_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     integer :: i, j, k, nd, c, mbc(6)
-    real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fp(3), v
+    real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
     logical :: sfix(3), ffix(3), tie(3), implicit
     nd = self%nd
     implicit = self%cfg%drag == 'implicit'
@@ -1001,25 +1018,21 @@ contains
           ms = self%ts%node(1, i, j, k)
           mf = self%tf%node(1, i, j, k)
           dn = self%ndrag(1, i, j, k)
-          if (ms > 0.0_wp) then
-            self%nporo(1, i, j, k) = self%nporo(1, i, j, k)/ms
-          else
-            self%nporo(1, i, j, k) = 1.0_wp
-          end if
           if (ms <= 0.0_wp .and. mf <= 0.0_wp) cycle
           if (ms <= 0.0_wp .or. mf <= 0.0_wp) dn = 0.0_wp
           vs = 0.0_wp; vf = 0.0_wp; fs = 0.0_wp; ff = 0.0_wp
           tr = face_traction(self, [i, j, k])
-          fp = face_pore_pressure(self, [i, j, k])
+          fps = face_pore_pressure(self, [i, j, k], self%grid%bc)
+          fpf = face_pore_pressure(self, [i, j, k], mbc)
           if (ms > 0.0_wp) then
             vs(1:nd) = self%ts%node(2:1 + nd, i, j, k)/ms
             fs(1:nd) = self%ts%node(2 + nd:1 + 2*nd, i, j, k)
-            fs = fs + ms*self%cfg%gravity + tr + self%nporo(1, i, j, k)*fp
+            fs = fs + ms*self%cfg%gravity + tr + self%nporo(1, i, j, k)*fps
           end if
           if (mf > 0.0_wp) then
             vf(1:nd) = self%tf%node(2:1 + nd, i, j, k)/mf
             ff(1:nd) = self%tf%node(2 + nd:1 + 2*nd, i, j, k)
-            ff = ff + mf*self%cfg%gravity - self%nporo(1, i, j, k)*fp
+            ff = ff + mf*self%cfg%gravity - self%nporo(1, i, j, k)*fpf
             if (ms <= 0.0_wp) ff = ff + tr
           end if
           sfix = self%grid%constrained([i, j, k])
@@ -1065,14 +1078,57 @@ contains
           self%tf%nvel(nd + 1:2*nd, i, j, k) = vfn(1:nd)
           ! Work of the external forces (gravity, tractions, boundary pore pressure).
           if (ms > 0.0_wp) self%ext_work = self%ext_work + 0.5_wp*dt*dot_product( &
-            ms*self%cfg%gravity(1:nd) + tr(1:nd) + self%nporo(1, i, j, k)*fp(1:nd), vs(1:nd) + vsn(1:nd))
+            ms*self%cfg%gravity(1:nd) + tr(1:nd) + self%nporo(1, i, j, k)*fps(1:nd), vs(1:nd) + vsn(1:nd))
           if (mf > 0.0_wp) self%ext_work = self%ext_work + 0.5_wp*dt*dot_product( &
-            mf*self%cfg%gravity(1:nd) - self%nporo(1, i, j, k)*fp(1:nd) + &
+            mf*self%cfg%gravity(1:nd) - self%nporo(1, i, j, k)*fpf(1:nd) + &
             merge(tr(1:nd), 0.0_wp*tr(1:nd), ms <= 0.0_wp), vf(1:nd) + vfn(1:nd))
         end do
       end do
     end do
   end subroutine nodal_update_two_phase
+
+  !> Nodal porosity on the owned nodes: sum N_I m n_f over the nodal solid mass
+  !> (1 where there is no solid).
+  subroutine nodal_porosity(self)
+    type(simulation_t), intent(inout) :: self
+    integer :: i, j, k
+    real(wp) :: ms
+    do k = self%dec%olo(3), self%dec%ohi(3)
+      do j = self%dec%olo(2), self%dec%ohi(2)
+        do i = self%dec%olo(1), self%dec%ohi(1)
+          ms = self%ts%node(1, i, j, k)
+          if (ms > 0.0_wp) then
+            self%nporo(1, i, j, k) = self%nporo(1, i, j, k)/ms
+          else
+            self%nporo(1, i, j, k) = 1.0_wp
+          end if
+        end do
+      end do
+    end do
+  end subroutine nodal_porosity
+
+  !> The interphase force p grad n_f (eq. 2) at the nodes: added to the fluid's
+  !> internal force and taken from the solid's (interphase_p2g), with grad n_f at
+  !> the fluid points from the nodal porosity.
+  subroutine add_interphase_force(self, ngrad)
+    type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: ngrad(:, :)
+    real(wp), allocatable :: ff(:, :, :, :), fs(:, :, :, :)
+    integer :: nd
+    nd = self%nd
+    allocate (ff(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                 self%dec%alo(3):self%dec%ahi(3)))
+    ff = 0.0_wp
+    call interphase_p2g(nd, self%nw, self%fluid%n, self%tf%i0, self%tf%sw, self%fluid%vol, &
+                        self%fluid%pressure, ngrad, self%dec%alo, ff)
+    fs = -ff
+    call fold_exterior(self, ff, 0, fluid_mirror_bc(self))
+    call fold_exterior(self, fs, 0)
+    call self%dec%halo_sum(ff)
+    call self%dec%halo_sum(fs)
+    self%tf%node(2 + nd:1 + 2*nd, :, :, :) = self%tf%node(2 + nd:1 + 2*nd, :, :, :) + ff
+    self%ts%node(2 + nd:1 + 2*nd, :, :, :) = self%ts%node(2 + nd:1 + 2*nd, :, :, :) + fs
+  end subroutine add_interphase_force
 
   !> Largest stable step of explicit drag over the owned nodes, from the summed
   !> node fields (collective: the minimum over all ranks).
@@ -1099,38 +1155,35 @@ contains
     integer, intent(in) :: idx(3)
     real(wp) :: fext(3)
     integer :: l, f
-    real(wp) :: ramp, w
+    real(wp) :: w
     fext = 0.0_wp
     do l = 1, size(self%cfg%loads)
       f = self%cfg%loads(l)%face
-      w = face_weight(self, idx, f)
+      w = face_weight(self, idx, f, self%grid%bc)
       if (w == 0.0_wp) cycle
-      ramp = 1.0_wp
-      if (self%cfg%loads(l)%ramp_time > 0.0_wp) ramp = min(1.0_wp, self%time/self%cfg%loads(l)%ramp_time)
-      fext(1:self%nd) = fext(1:self%nd) + w*ramp*face_area(self, idx, (f + 1)/2)* &
-                        self%cfg%loads(l)%traction(1:self%nd)
+      fext(1:self%nd) = fext(1:self%nd) + w*ramp_factor(self%time, self%cfg%loads(l)%ramp_time)* &
+                        face_area(self, idx, (f + 1)/2)*self%cfg%loads(l)%traction(1:self%nd)
     end do
   end function face_traction
 
   !> Nodal force of the prescribed pore pressure p_b of drained faces at node idx
-  !> (ramped over pore_pressure_ramp), per unit porosity: A p_b n_out. The solid takes n_f times it, the fluid minus
-  !> n_f times it (the split of the total traction of the weak form, paper eq. 5).
-  function face_pore_pressure(self, idx) result(fp)
+  !> (ramped over pore_pressure_ramp), per unit porosity: A p_b n_out, shared with
+  !> the face conditions bc of the phase that takes it (face_weight). The solid
+  !> takes n_f times it, the fluid minus n_f times it (the split of the total
+  !> traction of the weak form, paper eq. 5).
+  function face_pore_pressure(self, idx, bc) result(fp)
     type(simulation_t), intent(in) :: self
-    integer, intent(in) :: idx(3)
-    real(wp) :: fp(3), w, ramp
+    integer, intent(in) :: idx(3), bc(6)
+    real(wp) :: fp(3), w
     integer :: f, d
     fp = 0.0_wp
     do f = 1, 2*self%nd
       if (self%fbc(f) /= fbc_drained .or. self%cfg%pore_pressure(f) == 0.0_wp) cycle
-      w = face_weight(self, idx, f)
+      w = face_weight(self, idx, f, bc)
       if (w == 0.0_wp) cycle
       d = (f + 1)/2
-      ramp = 1.0_wp
-      if (self%cfg%pore_pressure_ramp(f) > 0.0_wp) &
-        ramp = min(1.0_wp, self%time/self%cfg%pore_pressure_ramp(f))
-      fp(d) = fp(d) + w*ramp*merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)* &
-              self%cfg%pore_pressure(f)
+      fp(d) = fp(d) + w*ramp_factor(self%time, self%cfg%pore_pressure_ramp(f))* &
+              merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)*self%cfg%pore_pressure(f)
     end do
   end function face_pore_pressure
 
@@ -1139,10 +1192,12 @@ contains
   !> along the other axes), so that a uniform face load balances the internal
   !> forces of a uniform stress node by node, as in the weak form; with linear
   !> grid functions only the face nodes carry it. Behind a fixed or roller face
-  !> (mirror-folded exterior nodes) the exterior share goes to the mirror image.
-  real(wp) function face_weight(self, idx, f) result(w)
+  !> of bc (mirror-folded exterior nodes) the exterior share goes to the mirror
+  !> image: the solid's conditions for the solid, fluid_mirror_bc for the fluid,
+  !> which is free at a drained face even where the solid is held.
+  real(wp) function face_weight(self, idx, f, bc) result(w)
     type(simulation_t), intent(in) :: self
-    integer, intent(in) :: idx(3), f
+    integer, intent(in) :: idx(3), f, bc(6)
     integer :: t, d, r
     real(wp) :: dw, wm
     d = (f + 1)/2
@@ -1155,7 +1210,7 @@ contains
     else
       r = self%grid%ncells(d) - idx(d)
     end if
-    if (self%grid%bc(f) /= bc_free) then
+    if (bc(f) /= bc_free) then
       if (r < 0) return
       call bspline_1d(self%kernel, real(r, wp), w, dw)
       if (r > 0) then
@@ -1166,6 +1221,13 @@ contains
       call bspline_1d(self%kernel, real(r, wp), w, dw)
     end if
   end function face_weight
+
+  !> Factor of a load ramped linearly from 0 over t_ramp (1 at once when t_ramp = 0).
+  pure real(wp) function ramp_factor(t, t_ramp) result(r)
+    real(wp), intent(in) :: t, t_ramp
+    r = 1.0_wp
+    if (t_ramp > 0.0_wp) r = min(1.0_wp, t/t_ramp)
+  end function ramp_factor
 
   !> Share of the face area (normal to axis d) that node idx carries.
   real(wp) function face_area(self, idx, d)

@@ -9,7 +9,7 @@ module dpmpm_two_phase
   use dpmpm_kinds, only: wp
   implicit none
   private
-  public :: fluid_p2g, solid_porosity_p2g, drag_solve, drag_limit, interp_scalar, pressure_update
+  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, drag_limit, interp_scalar, pressure_update
   public :: fluid_density, gravity_drag
 
   !> Gravity in the drag coefficient n_f^2 rho_f g / k (k is a hydraulic conductivity,
@@ -58,6 +58,35 @@ contains
       end do
     end do
   end subroutine fluid_p2g
+
+  !> Fluid points to the grid: the interphase force p grad n_f of eq. 2 (point
+  !> quadrature), force_I += N_I V p grad n at each fluid point. The weak form of
+  !> eq. 5 integrates n_f p against grad N_I, which is -grad(n_f p) = -n_f grad p
+  !> - p grad n_f on the fluid; adding p grad n_f to the fluid and taking it from
+  !> the solid restores -n_f grad p and -(1 - n_f) grad p of eq. 1 where the
+  !> porosity varies.
+  subroutine interphase_p2g(nd, nw, n, i0, sw, vol, pres, ngrad, lo, force)
+    integer, intent(in) :: nd, nw(3), n
+    integer, intent(in) :: i0(:, :)
+    real(wp), intent(in) :: sw(:, :, :), vol(:), pres(:), ngrad(:, :)
+    integer, intent(in) :: lo(3)
+    real(wp), intent(inout) :: force(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: f(3)
+    do p = 1, n
+      f(1:nd) = vol(p)*pres(p)*ngrad(1:nd, p)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            force(1:nd, i, j, k) = force(1:nd, i, j, k) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(1:nd)
+          end do
+        end do
+      end do
+    end do
+  end subroutine interphase_p2g
 
   !> Solid points to the grid: sum N_I m n_f (the nodal porosity is this over the
   !> nodal solid mass, physics.md 6 step 3).

@@ -33,6 +33,14 @@ program test_two_phase
   ! = 1.362e-3 that consolidation has not yet removed; bounds + 30 %. Without the face
   ! pore pressure: 0.95.
   real(wp), parameter :: IMM_P = 1.8e-3_wp, IMM_S = 1.8e-3_wp
+  ! Energy balance (largest change of kinetic + stored - external work + drag
+  ! dissipation, over the largest kinetic + stored energy): W1 measured 6.94e-3
+  ! (implicit drag) and 2.52e-4 (explicit); T1 at T_v = 0.1 and 0.5 1.37e-3 and
+  ! 5.18e-4; immersed column 1.35e-3. Bounds + 30 %. With the drag dissipation
+  ! counted before the velocities of a held phase were zeroed, T1 and the immersed
+  ! column gave 2.1 and 68.
+  real(wp), parameter :: EN_W1(2) = [9.0e-3_wp, 3.3e-4_wp], EN_T1(2) = [1.8e-3_wp, 6.7e-4_wp], &
+                         EN_IMM = 1.8e-3_wp
   ! Two-layer seepage at 0.5 s (doc/verification.md, "The porosity-gradient term"):
   ! cell means of p / p_b. With the term, away from the two cells at the interface,
   ! measured 5.59e-4 off the linear profile, and 0.0757 in the two cells. Without it,
@@ -114,12 +122,14 @@ contains
 
   !> Run a scene on all ranks and return the errors against its two-phase
   !> reference (src/verify/dpmpm_two_phase_verify.f90), the solid and fluid
-  !> points (rank 0, sorted by id) and the step count.
-  subroutine run_column(cfg, names, values, sx, ss, fx, fs, steps)
+  !> points (rank 0, sorted by id), the step count and, if asked, the energy
+  !> balance (largest change of the total energy / largest kinetic + stored).
+  subroutine run_column(cfg, names, values, sx, ss, fx, fs, steps, drift)
     type(config_t), intent(in) :: cfg
     character(len=error_name_len), allocatable, intent(out) :: names(:)
     real(wp), allocatable, intent(out) :: values(:), sx(:, :), ss(:, :), fx(:, :), fs(:, :)
     integer(i8), intent(out) :: steps
+    real(wp), intent(out), optional :: drift
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
     real(wp), allocatable :: v(:, :)
@@ -130,6 +140,7 @@ contains
     call sim%gather_points(ids, sx, v, ss)
     call sim%gather_points(ids, fx, v, fs, fluid=.true.)
     steps = sim%step
+    if (present(drift)) drift = sim%energy_drift
     call sim%free()
   end subroutine run_column
 
@@ -162,14 +173,15 @@ contains
     real(wp), allocatable :: vi(:), ve(:), sxi(:, :), ssi(:, :), fxi(:, :), fsi(:, :)
     real(wp), allocatable :: sxe(:, :), sse(:, :), fxe(:, :), fse(:, :)
     integer(i8) :: ni, ne
-    real(wp) :: dsig, dp
+    real(wp) :: dsig, dp, eni, ene
     call begin_test('w1_against_reference_and_drag_agreement')
     call run_column(column_scene(100, 1.0e-5_wp, 3.0e6_wp, 0.05_wp, 'implicit'), names, vi, &
-                    sxi, ssi, fxi, fsi, ni)
+                    sxi, ssi, fxi, fsi, ni, eni)
     call print_errors('  W1, implicit drag', names, vi, ni)
     call run_column(column_scene(100, 1.0e-5_wp, 3.0e6_wp, 0.05_wp, 'explicit'), names, ve, &
-                    sxe, sse, fxe, fse, ne)
+                    sxe, sse, fxe, fse, ne, ene)
     call print_errors('  W1, explicit drag', names, ve, ne)
+    if (rank == 0) print '(a,2es11.3)', '  energy balance, implicit and explicit drag:', eni, ene
     if (rank == 0) then
       dsig = sqrt(sum((ssi(1, :) - sse(1, :))**2)/size(ssi, 2))
       dp = sqrt(sum((fsi(1, :) - fse(1, :))**2)/size(fsi, 2))
@@ -182,6 +194,8 @@ contains
       call check(err(names, ve, 'error_sigma_eff') <= W1_SIG, 'explicit: sigma_eff error within bound')
       call check(max(dsig, dp) <= W1_DRAG, 'implicit and explicit drag agree')
       call check(real(ne, wp)/real(ni, wp) > 50.0_wp, 'implicit drag takes far fewer steps')
+      call check(eni <= EN_W1(1), 'implicit: energy balance within bound')
+      call check(ene <= EN_W1(2), 'explicit: energy balance within bound')
     end if
   end subroutine test_w1_against_reference_and_drag_agreement
 
@@ -252,7 +266,7 @@ contains
   subroutine test_immersed_column_pore_pressure_face()
     real(wp), parameter :: pb = 1.0e3_wp
     type(config_t) :: cfg
-    real(wp) :: ep, es, ep0, es0
+    real(wp) :: ep, es, ep0, es0, drift
     call begin_test('immersed_column_pore_pressure_face')
     cfg = column_scene(10, 1.0e-4_wp, 2.2e9_wp, 0.2_wp, 'implicit')
     cfg%length(1) = 1.0_wp
@@ -261,7 +275,7 @@ contains
     cfg%loads(1) = load_cfg_t(face=1, traction=[pb, 0.0_wp, 0.0_wp], ramp_time=0.02_wp)
     cfg%pore_pressure_ramp(1) = 0.02_wp
     cfg%pore_pressure(1) = pb
-    call immersed_errors(cfg, pb, ep, es)
+    call immersed_errors(cfg, pb, ep, es, drift)
     cfg%pore_pressure(1) = 0.0_wp
     call immersed_errors(cfg, pb, ep0, es0)
     if (rank == 0) then
@@ -270,15 +284,17 @@ contains
       call check(ep <= IMM_P, 'pore pressure p_b everywhere')
       call check(es <= IMM_S, 'effective stress 0 everywhere')
       call check(ep0 >= 10.0_wp*IMM_P, 'the face pore pressure is what holds p_b at the top')
+      call check(drift <= EN_IMM, 'energy balance with the face pore pressure within bound')
     end if
   end subroutine test_immersed_column_pore_pressure_face
 
   !> Largest |p - pb| / pb over the fluid points and |sigma'| / pb over the solid
   !> points at the end of scene c (on rank 0).
-  subroutine immersed_errors(c, pb, ep, es)
+  subroutine immersed_errors(c, pb, ep, es, drift)
     type(config_t), intent(in) :: c
     real(wp), intent(in) :: pb
     real(wp), intent(out) :: ep, es
+    real(wp), intent(out), optional :: drift
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
     real(wp), allocatable :: x(:, :), v(:, :), s(:, :)
@@ -289,6 +305,7 @@ contains
     if (rank == 0) ep = maxval(abs(-s(1, :) - pb))/pb
     call sim%gather_points(ids, x, v, s)
     if (rank == 0) es = maxval(abs(s(1, :)))/pb
+    if (present(drift)) drift = sim%energy_drift
     call sim%free()
   end subroutine immersed_errors
 
@@ -455,6 +472,8 @@ contains
       es = abs(u0 - sref)/(ter%load*ter%height/ter%e_c)
       print '(a,3es12.4)', '  settlement, reference, error / (q H / E_c): ', u0, sref, es
       call check(es <= T1_S(merge(1, 2, tv < 0.3_wp)), 'settlement within bound')
+      call check(sim%energy_drift <= EN_T1(merge(1, 2, tv < 0.3_wp)), &
+                 'energy balance (work of the load = stored + dissipated by drag) within bound')
     end if
     call sim%free()
   end subroutine test_t1_terzaghi

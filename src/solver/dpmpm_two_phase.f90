@@ -180,7 +180,9 @@ contains
   !> the velocity gradients of the new nodal velocities, lf (fluid) and ls (solid),
   !> each 3x3 column-major:
   !> p += -(K_f dt / n) [grad n . (v_f - v_s) + (1 - n) div v_s + n div v_f].
-  !> gn_rel is grad n . (v_f - v_s) per point (zero when the term is off).
+  !> gn_rel stands for grad n . (v_f - v_s) per point: the rest of the divergence
+  !> of the nodal mixture flux (relative_flux in dpmpm_simulation), zero when the
+  !> porosity-gradient term is off.
   pure subroutine pressure_update(n, dt, kf, poro, lf, ls, gn_rel, pres)
     integer, intent(in) :: n
     real(wp), intent(in) :: dt, kf(:), poro(:), lf(:, :), ls(:, :), gn_rel(:)

@@ -25,8 +25,8 @@ module dpmpm_simulation
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
                              wave_speed, voigt_to_tensor, model_neo_hookean, model_fluid
-  use dpmpm_two_phase, only: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, drag_limit, &
-                             interp_scalar, pressure_update, fluid_density
+  use dpmpm_two_phase, only: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, &
+                             drag_limit, interp_scalar, pressure_update, fluid_density
   use dpmpm_migrate, only: migrate
   use dpmpm_output, only: output_t
   use dpmpm_diagnostics, only: diag_record_t
@@ -1072,10 +1072,10 @@ contains
             end if
             ! Energy dissipated by the drag: the drag force (at the old relative
             ! velocity w, or the new one when implicit) times the mid-step w, with
-            ! the constrained velocities (a held phase does no work).
-            if (ms > 0.0_wp .and. mf > 0.0_wp .and. .not. tie(c)) &
-              self%ext_work = self%ext_work - dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)* &
-                              0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
+            ! the constrained velocities (a held phase does no work; a tied pair and
+            ! a node with one phase, dn = 0, give none).
+            self%ext_work = self%ext_work - dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)* &
+                            0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
           end do
           self%ts%nvel(1:nd, i, j, k) = vs(1:nd)
           self%ts%nvel(nd + 1:2*nd, i, j, k) = vsn(1:nd)

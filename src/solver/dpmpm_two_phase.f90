@@ -9,7 +9,8 @@ module dpmpm_two_phase
   use dpmpm_kinds, only: wp
   implicit none
   private
-  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, drag_limit, interp_scalar, pressure_update
+  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, drag_limit, interp_scalar
+  public :: pressure_update
   public :: fluid_density, gravity_drag
 
   !> Gravity in the drag coefficient n_f^2 rho_f g / k (k is a hydraulic conductivity,

@@ -4,7 +4,7 @@
 program test_two_phase
   use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained
+  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, fbc_drained
   use dpmpm_simulation, only: simulation_t
   use dpmpm_two_phase, only: drag_solve, drag_limit
   use dpmpm_biot_column, only: biot_column_t, biot_column_solve

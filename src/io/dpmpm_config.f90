@@ -53,6 +53,10 @@ module dpmpm_config
     integer :: fluid_seed = -1                       !< seed of the fluid points; -1 = seed + 1
     real(wp) :: velocity(3) = 0.0_wp                 !< initial velocity (m/s)
     real(wp) :: stress(6) = 0.0_wp                   !< initial stress (Pa, Voigt, tension positive)
+    !> d stress / d x_d (Pa/m): the initial stress at x is stress + sum_d stress_gradient(:, d) x_d
+    real(wp) :: stress_gradient(6, 3) = 0.0_wp
+    real(wp) :: pore_pressure = 0.0_wp               !< initial pore pressure at x = 0 (Pa)
+    real(wp) :: pore_pressure_gradient(3) = 0.0_wp   !< its gradient (Pa/m)
   end type region_cfg_t
 
   !> One &load group: a traction on a grid face, ramped linearly over ramp_time.

@@ -30,7 +30,7 @@ module dpmpm_input
   logical, parameter :: repeatable(ngroups) = [.false., .false., .false., .true., .true., &
                                                .true., .true., .false., .false.]
   !> The variables of each group, for messages about a group that cannot be read.
-  character(len=*), parameter :: group_vars(ngroups) = [character(len=160) :: &
+  character(len=*), parameter :: group_vars(ngroups) = [character(len=192) :: &
     'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, drag, '// &
     'drag_safety, porosity_gradient', &
     'ndim, ncells, origin, length, dims', &
@@ -38,7 +38,8 @@ module dpmpm_input
     'field_kernel, field_basis, field_radius', &
     'id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity', &
     'shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, porosity, ppc, '// &
-    'placement, seed, fluid_seed, velocity, stress', &
+    'placement, seed, fluid_seed, velocity, stress, stress_gradient, pore_pressure, '// &
+    'pore_pressure_gradient', &
     'face, condition, fluid, pore_pressure, pore_pressure_ramp', &
     'face, traction, ramp_time', &
     'dir, frame_interval, diag_every', &
@@ -177,6 +178,9 @@ contains
           call put_i(unit, 'fluid_seed', [r%fluid_seed])
           call put_r(unit, 'velocity', r%velocity)
           call put_r(unit, 'stress', r%stress)
+          call put_r(unit, 'stress_gradient', reshape(r%stress_gradient, [18]))
+          call put_r(unit, 'pore_pressure', [r%pore_pressure])
+          call put_r(unit, 'pore_pressure_gradient', r%pore_pressure_gradient)
           write (unit, '(a)') '/'
         end associate
       end do
@@ -537,11 +541,12 @@ contains
     type(region_cfg_t), allocatable :: list(:)
     character(len=name_len) :: shape, phase, placement
     real(wp) :: lo(3), hi(3), poly_x(max_poly), poly_y(max_poly), velocity(3), stress(6), &
-                porosity
+                porosity, stress_gradient(6, 3), pore_pressure, pore_pressure_gradient(3)
     integer :: npoly, material, fluid_material, ppc, seed, fluid_seed, k, n, ios
     character(len=512) :: msg
     namelist /region/ shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, &
-      porosity, ppc, placement, seed, fluid_seed, velocity, stress
+      porosity, ppc, placement, seed, fluid_seed, velocity, stress, stress_gradient, pore_pressure, &
+      pore_pressure_gradient
     allocate (list(rd%count(g_region)))
     n = 0
     ok = .true.
@@ -549,7 +554,8 @@ contains
       shape = def%shape; lo = def%lo; hi = def%hi; npoly = def%npoly
       poly_x = def%poly(1, :); poly_y = def%poly(2, :); material = def%material
       phase = def%phase; ppc = def%ppc; placement = def%placement; seed = def%seed
-      velocity = def%velocity; stress = def%stress
+      velocity = def%velocity; stress = def%stress; stress_gradient = def%stress_gradient
+      pore_pressure = def%pore_pressure; pore_pressure_gradient = def%pore_pressure_gradient
       fluid_material = def%fluid_material; porosity = def%porosity; fluid_seed = def%fluid_seed
       read (u, nml=region, iostat=ios, iomsg=msg)
       if (ios /= 0) then
@@ -563,7 +569,8 @@ contains
       list(k)%phase = phase; list(k)%ppc = ppc; list(k)%placement = placement
       list(k)%seed = seed; list(k)%velocity = velocity; list(k)%stress = stress
       list(k)%fluid_material = fluid_material; list(k)%porosity = porosity
-      list(k)%fluid_seed = fluid_seed
+      list(k)%fluid_seed = fluid_seed; list(k)%stress_gradient = stress_gradient
+      list(k)%pore_pressure = pore_pressure; list(k)%pore_pressure_gradient = pore_pressure_gradient
     end do
     cfg%regions = list(1:n)
   end subroutine read_regions
@@ -1032,14 +1039,25 @@ contains
             quote(cfg%materials(m)%model)//"; a fluid region needs a 'fluid' material")
         end if
         if (any(r%stress /= 0.0_wp)) call add_value(rd, g_region, k, 'stress', &
-          rtoa_list(r%stress), 'a fluid region starts at zero stress and zero pore pressure; '// &
-          'leave stress out')
+          rtoa_list(r%stress), 'a fluid region has no skeleton stress; leave stress out '// &
+          '(its initial state is pore_pressure)')
+        if (any(r%stress_gradient /= 0.0_wp)) call add_value(rd, g_region, k, 'stress_gradient', &
+          rtoa_list(reshape(r%stress_gradient, [18])), 'a fluid region has no skeleton '// &
+          'stress; leave stress_gradient out (use pore_pressure_gradient)')
       case ('saturated')
         call check_saturated(rd, cfg, k, materials_ok)
       case default
         call add_value(rd, g_region, k, 'phase', quote(r%phase), &
                        'the phases are solid, fluid, saturated (soil skeleton with pore fluid)')
       end select
+      if (trim(r%phase) == 'solid') then
+        if (r%pore_pressure /= 0.0_wp) call add_value(rd, g_region, k, 'pore_pressure', &
+          rtoa(r%pore_pressure), "a solid region has no pore fluid; leave it out or set "// &
+          "phase = 'saturated'")
+        if (any(r%pore_pressure_gradient /= 0.0_wp)) call add_value(rd, g_region, k, &
+          'pore_pressure_gradient', rtoa_list(r%pore_pressure_gradient), 'a solid region has '// &
+          "no pore fluid; leave it out or set phase = 'saturated'")
+      end if
       if (trim(r%phase) /= 'saturated') then
         if (r%fluid_material /= 0) call add_value(rd, g_region, k, 'fluid_material', &
           itoa(r%fluid_material), "only a saturated region has a pore fluid; leave it out "// &
@@ -1059,6 +1077,9 @@ contains
         'must be >= 0, or -1 for seed + 1')
       call check_finite(rd, g_region, k, 'velocity', r%velocity)
       call check_finite(rd, g_region, k, 'stress', r%stress)
+      call check_finite(rd, g_region, k, 'stress_gradient', reshape(r%stress_gradient, [18]))
+      call check_finite(rd, g_region, k, 'pore_pressure', [r%pore_pressure])
+      call check_finite(rd, g_region, k, 'pore_pressure_gradient', r%pore_pressure_gradient)
     end associate
   end subroutine check_region
 
@@ -1288,6 +1309,9 @@ contains
       call bcast(cfg%regions(k)%fluid_seed, comm)
       call bcast(cfg%regions(k)%velocity, comm)
       call bcast(cfg%regions(k)%stress, comm)
+      call bcast(cfg%regions(k)%stress_gradient, comm)
+      call bcast(cfg%regions(k)%pore_pressure, comm)
+      call bcast(cfg%regions(k)%pore_pressure_gradient, comm)
     end do
     do k = 1, n(4)
       call bcast(cfg%loads(k)%face, comm)

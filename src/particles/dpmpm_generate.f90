@@ -33,6 +33,7 @@ module dpmpm_generate
     real(wp) :: rho = 0.0_wp        !< mass of the phase per mixture volume (kg/m^3)
     real(wp) :: porosity = 0.0_wp   !< n_f stored on the points (when the set keeps it)
     real(wp) :: kinv = 0.0_wp       !< 1/k stored on fluid points (s/m)
+    real(wp) :: bulk = 0.0_wp       !< bulk modulus K_f of fluid points (Pa), 0 for solid points
     integer :: seed = 1             !< seed of the random placements
     logical :: solid = .true.       !< solid points take the region's initial stress
   end type fill_t
@@ -98,7 +99,7 @@ contains
     case ('fluid')
       used = which == 'fluid'
       fill = fill_t(mat=imat, rho=mats(imat)%density, porosity=1.0_wp, seed=reg%seed, &
-                    solid=.false.)
+                    bulk=mats(imat)%bulk_fluid, solid=.false.)
     case ('saturated')
       used = .true.
       n = reg%porosity
@@ -113,7 +114,7 @@ contains
         if (.not. mats(imat)%conductivity > 0.0_wp) &
           call fatal('the soil of a saturated region needs a conductivity > 0', where)
         fill = fill_t(mat=ifl, rho=n*mats(ifl)%density, porosity=n, &
-                      kinv=1.0_wp/mats(imat)%conductivity, &
+                      kinv=1.0_wp/mats(imat)%conductivity, bulk=mats(ifl)%bulk_fluid, &
                       seed=merge(reg%seed + 1, reg%fluid_seed, reg%fluid_seed == -1), &
                       solid=.false.)
       end if
@@ -267,13 +268,27 @@ contains
     type(region_cfg_t), intent(in) :: reg
     type(fill_t), intent(in) :: fill
     real(wp), intent(in) :: x(3), vol
-    real(wp) :: stress(6)
+    real(wp) :: stress(6), p, mass
+    integer :: d
     ! The region's initial stress is that of the solid (the effective stress of a
-    ! saturated skeleton); fluid points start at zero stress and zero pore pressure.
+    ! saturated skeleton), its pore pressure that of the fluid points, both linear in x.
+    ! A fluid point at pore pressure p holds the mass n rho_f(p) V (fluid_density), so
+    ! that the volume the solver derives from it is V.
     stress = 0.0_wp
-    if (fill%solid) stress = reg%stress
-    call ps%append(id, fill%mat, x, reg%velocity, fill%rho*vol, vol, stress, &
-                   porosity=fill%porosity, pressure=0.0_wp, kinv=fill%kinv)
+    p = 0.0_wp
+    mass = fill%rho*vol
+    if (fill%solid) then
+      stress = reg%stress
+      do d = 1, 3
+        stress = stress + reg%stress_gradient(:, d)*x(d)
+      end do
+    else
+      p = reg%pore_pressure + dot_product(reg%pore_pressure_gradient, x)
+      stress(1:3) = -p
+      mass = mass*exp(p/fill%bulk)
+    end if
+    call ps%append(id, fill%mat, x, reg%velocity, mass, vol, stress, &
+                   porosity=fill%porosity, pressure=p, kinv=fill%kinv)
   end subroutine add_point
 
   pure real(wp) function region_lo(reg, d)

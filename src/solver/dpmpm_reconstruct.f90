@@ -126,7 +126,7 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: acc(:, lo(1):, lo(2):, lo(3):)
     integer :: p, i, j, k, nb, np, c, ilo(3), ihi(3), d
-    real(wp) :: s(3), dcell(3), wk, dwk(3), w, pv(10), reach
+    real(wp) :: s(3), dcell(3), dneg(3), wk, dwk(3), w, pv(10), reach
     nb = basis_size(basis, nd)
     np = packed_size(nb)
     reach = kernel_reach(kernel, radius, radial)
@@ -144,7 +144,8 @@ contains
             call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
             if (wk <= 0.0_wp) cycle
             w = mass(p)*wk
-            call basis_eval(basis, nd, -dcell(1:nd), pv(1:nb))
+            dneg = -dcell
+            call basis_eval(basis, nd, dneg(1:nd), pv(1:nb))
             acc(1, i, j, k) = acc(1, i, j, k) + 1.0_wp
             call moment_add(nb, pv(1:nb), w, acc(2:1 + np, i, j, k))
             do c = 1, nd
@@ -330,7 +331,7 @@ contains
     integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, d, nq
     integer, allocatable :: cells(:, :), gidx(:)
     real(wp), allocatable :: offs(:, :), wq(:)
-    real(wp) :: s(3), w, pv(10), reach, xi(ng), wxi(ng), sig(6)
+    real(wp) :: s(3), dneg(3), w, pv(10), reach, xi(ng), wxi(ng), sig(6)
     nb = basis_size(basis, nd)
     np = packed_size(nb)
     nf = field_components(nd)
@@ -359,9 +360,16 @@ contains
       do q = 1, nq
         i = cells(1, q); j = cells(2, q); k = cells(3, q)
         w = vol(p)*wq(q)
-        call basis_eval(basis, nd, -offs(1:nd, q), pv(1:nb))
         base = 1 + (gidx(q) - 1)*ncg
         acc(base + 1, i, j, k) = acc(base + 1, i, j, k) + 1.0_wp
+        if (nb == 1) then
+          ! Constant basis (p = 1): the moment is the weight sum, the field sums w sigma.
+          acc(base + 2, i, j, k) = acc(base + 2, i, j, k) + w
+          acc(base + 3:base + 2 + nf, i, j, k) = acc(base + 3:base + 2 + nf, i, j, k) + w*sig(1:nf)
+          cycle
+        end if
+        dneg = -offs(:, q)
+        call basis_eval(basis, nd, dneg(1:nd), pv(1:nb))
         call moment_add(nb, pv(1:nb), w, acc(base + 2:base + 1 + np, i, j, k))
         do f = 1, nf
           acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) = &
@@ -577,7 +585,7 @@ contains
     integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d
     integer, allocatable :: cells(:, :), gidx(:)
     real(wp), allocatable :: offs(:, :), wq(:)
-    real(wp) :: s(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
+    real(wp) :: s(3), dneg(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
                 wg(max_gauss_cell), cgp, ctot, l(9), lm(3, 3), wcell
     nb = basis_size(basis, nd)
     nf = field_components(nd)
@@ -604,7 +612,8 @@ contains
         if (nb == 1) then
           cgp = wg(gidx(q))*wcell*vol(p)*wq(q)*sol(bs + 1, i, j, k)
         else
-          call basis_eval(basis, nd, -offs(1:nd, q), pv(1:nb))
+          dneg = -offs(:, q)
+          call basis_eval(basis, nd, dneg(1:nd), pv(1:nb))
           cgp = wg(gidx(q))*wcell*vol(p)*wq(q)*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
         end if
         bl = (gidx(q) - 1)*nd*nd

@@ -322,16 +322,22 @@ contains
   !> to the Gauss points within reach. acc per cell: point count, then per
   !> Gauss point: count, packed sum V W p p^T, sum V W p sigma_f (nf fields).
   subroutine gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, ng, kernel, radius, &
-                              radial, basis, lo, acc)
+                              radial, basis, lo, acc, stress2, acc2)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis
     real(wp), intent(in) :: x(:, :), vol(:), stress(:, :), origin(3), h(3), radius
     logical, intent(in) :: radial
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: acc(:, lo(1):, lo(2):, lo(3):)
+    !> A second field of the same points, summed into acc2 in the same pass.
+    real(wp), intent(in), optional :: stress2(:, :)
+    real(wp), intent(inout), optional :: acc2(:, lo(1):, lo(2):, lo(3):)
     integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, d, nq
     integer, allocatable :: cells(:, :), gidx(:)
     real(wp), allocatable :: offs(:, :), wq(:)
-    real(wp) :: s(3), dneg(3), w, pv(10), reach, xi(ng), wxi(ng), sig(6)
+    real(wp) :: s(3), dneg(3), w, pv(10), reach, xi(ng), wxi(ng), sig(6), sig2(6)
+    logical :: two
+    two = present(stress2) .and. present(acc2)
+    sig2 = 0.0_wp
     nb = basis_size(basis, nd)
     np = packed_size(nb)
     nf = field_components(nd)
@@ -347,6 +353,7 @@ contains
       end do
       do f = 1, nf
         sig(f) = stress(stress_voigt_index(nd, f), p)
+        if (two) sig2(f) = stress2(stress_voigt_index(nd, f), p)
       end do
       ! Point count of the cell that holds the point (the occupancy of gauss_occupancy).
       cp = 0
@@ -354,6 +361,7 @@ contains
         cp(d) = min(max(floor(s(d)), 0), ncells(d) - 1)
       end do
       acc(1, cp(1), cp(2), cp(3)) = acc(1, cp(1), cp(2), cp(3)) + 1.0_wp
+      if (two) acc2(1, cp(1), cp(2), cp(3)) = acc2(1, cp(1), cp(2), cp(3)) + 1.0_wp
       ! MLS sums at the Gauss points.
       call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
                            offs, wq)
@@ -362,10 +370,16 @@ contains
         w = vol(p)*wq(q)
         base = 1 + (gidx(q) - 1)*ncg
         acc(base + 1, i, j, k) = acc(base + 1, i, j, k) + 1.0_wp
+        if (two) acc2(base + 1, i, j, k) = acc2(base + 1, i, j, k) + 1.0_wp
         if (nb == 1) then
           ! Constant basis (p = 1): the moment is the weight sum, the field sums w sigma.
           acc(base + 2, i, j, k) = acc(base + 2, i, j, k) + w
           acc(base + 3:base + 2 + nf, i, j, k) = acc(base + 3:base + 2 + nf, i, j, k) + w*sig(1:nf)
+          if (two) then
+            acc2(base + 2, i, j, k) = acc2(base + 2, i, j, k) + w
+            acc2(base + 3:base + 2 + nf, i, j, k) = acc2(base + 3:base + 2 + nf, i, j, k) + &
+                                                    w*sig2(1:nf)
+          end if
           cycle
         end if
         dneg = -offs(:, q)
@@ -374,6 +388,12 @@ contains
         do f = 1, nf
           acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) = &
             acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) + w*sig(f)*pv(1:nb)
+        end do
+        if (.not. two) cycle
+        call moment_add(nb, pv(1:nb), w, acc2(base + 2:base + 1 + np, i, j, k))
+        do f = 1, nf
+          acc2(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) = &
+            acc2(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) + w*sig2(f)*pv(1:nb)
         end do
       end do
     end do
@@ -575,18 +595,23 @@ contains
   !> positions and volumes of the force evaluation (x, vol). Points whose
   !> effective volume sum_g C_gp is not positive keep their vgrad; nkept counts them.
   subroutine gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, &
-                          lo, sol, lg, vgrad, vt, nkept)
+                          lo, sol, lg, vgrad, vt, nkept, lg2, vgrad2)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis, lo(3)
     real(wp), intent(in) :: x(:, :), vol(:), origin(3), h(3), radius
     logical, intent(in) :: radial
     real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):), lg(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: vgrad(:, :), vt(:)
     integer, intent(out) :: nkept
+    !> A second Gauss-point gradient field, transposed into vgrad2 in the same pass.
+    real(wp), intent(in), optional :: lg2(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout), optional :: vgrad2(:, :)
     integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d
     integer, allocatable :: cells(:, :), gidx(:)
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
-                wg(max_gauss_cell), cgp, ctot, l(9), lm(3, 3), wcell
+                wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell
+    logical :: two
+    two = present(lg2) .and. present(vgrad2)
     nb = basis_size(basis, nd)
     nf = field_components(nd)
     call gauss_rule(ng, xi, wxi)
@@ -605,6 +630,7 @@ contains
                            offs, wq)
       ctot = 0.0_wp
       l = 0.0_wp
+      l2 = 0.0_wp
       do q = 1, nq
         i = cells(1, q); j = cells(2, q); k = cells(3, q)
         if (sol(1, i, j, k) < 0.5_wp) cycle
@@ -619,6 +645,7 @@ contains
         bl = (gidx(q) - 1)*nd*nd
         ctot = ctot + cgp
         l(1:nd*nd) = l(1:nd*nd) + cgp*lg(bl + 1:bl + nd*nd, i, j, k)
+        if (two) l2(1:nd*nd) = l2(1:nd*nd) + cgp*lg2(bl + 1:bl + nd*nd, i, j, k)
       end do
       vt(p) = ctot
       if (ctot <= 0.0_wp) then
@@ -628,6 +655,9 @@ contains
       lm = 0.0_wp
       lm(1:nd, 1:nd) = reshape(l(1:nd*nd)/ctot, [nd, nd])
       vgrad(:, p) = reshape(lm, [9])
+      if (.not. two) cycle
+      lm(1:nd, 1:nd) = reshape(l2(1:nd*nd)/ctot, [nd, nd])
+      vgrad2(:, p) = reshape(lm, [9])
     end do
   end subroutine gauss_strain
 

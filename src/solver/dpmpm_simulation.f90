@@ -55,6 +55,9 @@ module dpmpm_simulation
     ! gradients at the Gauss points, positions and volumes at the force evaluation,
     ! effective point volumes. Fluid sets: gsol2 is the solid share -n_s p.
     real(wp), allocatable :: gacc(:, :, :, :), gsol(:, :, :, :), gsol2(:, :, :, :), glg(:, :, :, :)
+    !> Fluid sets: the sums of the second field and the Gauss-point gradients of the
+    !> second velocity, made in the same passes over the points as the first.
+    real(wp), allocatable :: gacc2(:, :, :, :), glg2(:, :, :, :)
     real(wp), allocatable :: xold(:, :), volold(:), vt(:)
   end type transfer_t
 
@@ -233,6 +236,8 @@ contains
           allocate (self%tf%gsol, mold=self%ts%gsol)
           allocate (self%tf%gsol2, mold=self%ts%gsol)
           allocate (self%tf%glg, mold=self%ts%glg)
+          allocate (self%tf%gacc2, mold=self%ts%gacc)
+          allocate (self%tf%glg2, mold=self%ts%glg)
         end if
       end if
     end associate
@@ -597,7 +602,7 @@ contains
     type(simulation_t), intent(inout) :: self
     real(wp), intent(inout) :: dt
     integer :: m, nlost, ns, nf, mbc(6)
-    real(wp), allocatable :: volb(:), pseudo(:, :), nval(:), ngrad(:, :), gnrel(:), kf(:)
+    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:), kf(:)
     ns = self%solid%n
     nf = self%fluid%n
     mbc = fluid_mirror_bc(self)
@@ -625,17 +630,16 @@ contains
       call gauss_force_integrals(self, self%solid, self%ts, self%solid%stress, self%ts%gsol, &
                                  self%ts%node)
       ! Pore pressure at the Gauss points from the fluid points: -n_f p on the
-      ! fluid, -(1 - n_f) p on the solid (physics.md 3.5 step 5).
-      allocate (pseudo(6, nf))
+      ! fluid, -(1 - n_f) p on the solid (physics.md 3.5 step 5), in one pass.
+      allocate (pseudo(6, nf), pseudo2(6, nf))
       pseudo = 0.0_wp
+      pseudo2 = 0.0_wp
       do m = 1, 3
         pseudo(m, :) = -self%fluid%porosity(1:nf)*self%fluid%pressure(1:nf)
+        pseudo2(m, :) = -(1.0_wp - self%fluid%porosity(1:nf))*self%fluid%pressure(1:nf)
       end do
-      call gauss_force_integrals(self, self%fluid, self%tf, pseudo, self%tf%gsol, self%tf%node)
-      do m = 1, 3
-        pseudo(m, :) = -(1.0_wp - self%fluid%porosity(1:nf))*self%fluid%pressure(1:nf)
-      end do
-      call gauss_force_integrals(self, self%fluid, self%tf, pseudo, self%tf%gsol2, self%ts%node)
+      call gauss_force_integrals(self, self%fluid, self%tf, pseudo, self%tf%gsol, self%tf%node, &
+                                 pseudo2, self%tf%gsol2, self%ts%node)
     end if
     call fold_exterior(self, self%ts%node, 1)
     call fold_exterior(self, self%nporo, 1)
@@ -700,9 +704,7 @@ contains
       call gauss_point_gradients(self, self%solid, self%ts, self%ts%gsol, self%ts%nvel, &
                                  self%ts%vgrad)
       call gauss_point_gradients(self, self%fluid, self%tf, self%tf%gsol, self%tf%nvel, &
-                                 self%tf%vgrad)
-      call gauss_point_gradients(self, self%fluid, self%tf, self%tf%gsol, self%ts%nvel, &
-                                 self%tf%vgrad2)
+                                 self%tf%vgrad, self%ts%nvel, self%tf%vgrad2)
     end if
     call self%timers%toc(t_g2p)
 
@@ -807,33 +809,60 @@ contains
   !> Internal forces by Gauss quadrature of the stress-like field fields(6, :) of
   !> the points of ps, reconstructed by MLS (solution in sol), added to node;
   !> keeps the positions and volumes for the transposed strain operator.
-  subroutine gauss_force_integrals(self, ps, tr, fields, sol, node)
+  subroutine gauss_force_integrals(self, ps, tr, fields, sol, node, fields2, sol2, node2)
     type(simulation_t), intent(inout) :: self
     type(particle_set_t), intent(in) :: ps
     type(transfer_t), intent(inout) :: tr
     real(wp), intent(in) :: fields(:, :)
     real(wp), intent(inout) :: sol(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     real(wp), intent(inout) :: node(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    !> A second field of the same points (fluid: the solid's share of p), with its own
+    !> reconstruction and nodes; the pass over the points and the occupancy are shared.
+    real(wp), intent(in), optional :: fields2(:, :)
+    real(wp), intent(inout), optional :: sol2(:, self%dec%alo(1):, self%dec%alo(2):, &
+                                              self%dec%alo(3):)
+    real(wp), intent(inout), optional :: node2(:, self%dec%alo(1):, self%dec%alo(2):, &
+                                               self%dec%alo(3):)
     integer :: n
+    logical :: two
+    two = present(fields2) .and. present(sol2) .and. present(node2)
     n = ps%n
     tr%xold(:, 1:n) = ps%x(:, 1:n)
     tr%volold(1:n) = ps%vol(1:n)
     tr%gacc = 0.0_wp
-    associate (pl => self%plan)
-      call gauss_accumulate(self%nd, n, ps%x, ps%vol, fields, self%grid%origin, self%grid%h, &
-                            self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
-                            pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc)
+    associate (pl => self%plan, clo => self%dec%clo, chi => self%dec%chi)
+      if (two) then
+        tr%gacc2 = 0.0_wp
+        call gauss_accumulate(self%nd, n, ps%x, ps%vol, fields, self%grid%origin, self%grid%h, &
+                              self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                              pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc, fields2, &
+                              tr%gacc2)
+      else
+        call gauss_accumulate(self%nd, n, ps%x, ps%vol, fields, self%grid%origin, self%grid%h, &
+                              self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                              pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc)
+      end if
       call self%timers%tic(t_halo)
       call self%dec%halo_sum(tr%gacc)
       call gauss_occupancy(self, tr%gacc)
+      if (two) then
+        call self%dec%halo_sum(tr%gacc2)
+        tr%gacc2(1, clo(1):chi(1), clo(2):chi(2), clo(3):chi(3)) = &
+          tr%gacc(1, clo(1):chi(1), clo(2):chi(2), clo(3):chi(3))
+      end if
       call self%timers%toc(t_halo)
-      call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, self%dec%clo, &
-                       self%dec%chi, tr%gacc, sol, self%mls_stats)
+      call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, tr%gacc, sol, &
+                       self%mls_stats)
+      if (two) call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, &
+                                tr%gacc2, sol2, self%mls_stats)
       call self%timers%tic(t_halo)
       call self%dec%halo_copy(sol)
+      if (two) call self%dec%halo_copy(sol2)
       call self%timers%toc(t_halo)
       call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
-                        self%dec%alo, self%dec%clo, self%dec%chi, sol, node)
+                        self%dec%alo, clo, chi, sol, node)
+      if (two) call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
+                                 self%dec%alo, clo, chi, sol2, node2)
     end associate
   end subroutine gauss_force_integrals
 
@@ -867,22 +896,38 @@ contains
   !> Point velocity gradients vgrad of the points of ps by the transpose of the
   !> quadrature force operator of their reconstruction sol, from the nodal
   !> velocities nvel (physics.md 3.5 step 7).
-  subroutine gauss_point_gradients(self, ps, tr, sol, nvel, vgrad)
+  subroutine gauss_point_gradients(self, ps, tr, sol, nvel, vgrad, nvel2, vgrad2)
     type(simulation_t), intent(inout) :: self
     type(particle_set_t), intent(in) :: ps
     type(transfer_t), intent(inout) :: tr
     real(wp), intent(in) :: sol(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     real(wp), intent(in) :: nvel(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     real(wp), intent(inout) :: vgrad(:, :)
+    !> A second nodal velocity (fluid points: the solid's), transposed in the same pass.
+    real(wp), intent(in), optional :: nvel2(:, self%dec%alo(1):, self%dec%alo(2):, &
+                                            self%dec%alo(3):)
+    real(wp), intent(inout), optional :: vgrad2(:, :)
     integer :: nkept
     call gauss_velocity_gradient(self%nd, self%plan%ngauss, self%kernel, self%grid%h, &
                                  self%dec%alo, self%dec%clo, self%dec%chi, sol, nvel, tr%glg)
     call self%dec%halo_copy(tr%glg)
     associate (pl => self%plan)
-      call gauss_strain(self%nd, ps%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
-                        self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
-                        pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, vgrad, tr%vt, &
-                        nkept)
+      if (present(nvel2) .and. present(vgrad2)) then
+        call gauss_velocity_gradient(self%nd, pl%ngauss, self%kernel, self%grid%h, &
+                                     self%dec%alo, self%dec%clo, self%dec%chi, sol, nvel2, tr%glg2)
+        call self%dec%halo_copy(tr%glg2)
+        call gauss_strain(self%nd, ps%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
+                          self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                          pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, vgrad, &
+                          tr%vt, nkept, tr%glg2, vgrad2)
+        ! Both gradients keep their point-wise value at the same points.
+        nkept = 2*nkept
+      else
+        call gauss_strain(self%nd, ps%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
+                          self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                          pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, vgrad, &
+                          tr%vt, nkept)
+      end if
     end associate
     self%nkept = self%nkept + nkept
   end subroutine gauss_point_gradients

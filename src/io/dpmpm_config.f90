@@ -80,6 +80,7 @@ module dpmpm_config
     real(wp) :: flip = 1.0_wp                        !< FLIP fraction of the FLIP/PIC blend
     real(wp) :: gravity(3) = 0.0_wp                  !< m/s^2
     real(wp) :: progress_seconds = 10.0_wp           !< wall seconds between progress lines
+    character(len=1024) :: restart = ''              !< checkpoint file to continue from
     ! two-phase coupling (&run)
     character(len=name_len) :: drag = 'explicit'     !< explicit | implicit (per-node 2x2 solve)
     real(wp) :: drag_safety = 0.8_wp                 !< fraction of the nodal drag limit (explicit)
@@ -114,6 +115,7 @@ module dpmpm_config
     character(len=1024) :: output_dir = '.'
     real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only
     integer :: diag_every = 0                        !< steps between diagnostics; 0 = automatic
+    integer :: checkpoint_every = 0                  !< steps between checkpoints; 0 = none
     ! &benchmark
     character(len=name_len) :: benchmark = 'none'   !< none | axial_bar | mms | biot_column | terzaghi
     real(wp) :: amplitude = 0.0_wp                   !< benchmark amplitude (m/s bar, m mms)

@@ -2,7 +2,7 @@
 !> checked call, scalar attributes of the project's types, fixed-length strings,
 !> and creating an output directory.
 module dpmpm_h5
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char, c_int
   use hdf5, only: hid_t, size_t, h5screate_f, h5sclose_f, h5acreate_f, h5awrite_f, h5aclose_f, &
                   h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5kind_to_type, H5_REAL_KIND, &
                   H5_INTEGER_KIND, H5S_SCALAR_F, H5T_C_S1, H5T_STR_NULLPAD_F, H5T_IEEE_F64LE, &
@@ -11,7 +11,15 @@ module dpmpm_h5
   use dpmpm_error, only: fatal
   implicit none
   private
-  public :: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real
+  public :: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, rename_file
+
+  interface
+    function c_rename(old, new) bind(C, name='rename') result(r)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: old(*), new(*)
+      integer(c_int) :: r
+    end function c_rename
+  end interface
 
 contains
 
@@ -114,5 +122,12 @@ contains
     buf = value
     call put_attr(loc, name, H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), c_loc(buf))
   end subroutine attr_real
+
+  !> Rename a file (the last step of writing to a temporary name); fatal on failure.
+  subroutine rename_file(old, new, where)
+    character(len=*), intent(in) :: old, new, where
+    if (c_rename(old//c_null_char, new//c_null_char) /= 0) &
+      call fatal('cannot rename '//old//' to '//new, where)
+  end subroutine rename_file
 
 end module dpmpm_h5

@@ -32,7 +32,7 @@ module dpmpm_input
   !> The variables of each group, for messages about a group that cannot be read.
   character(len=*), parameter :: group_vars(ngroups) = [character(len=192) :: &
     'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, drag, '// &
-    'drag_safety, porosity_gradient', &
+    'drag_safety, porosity_gradient, restart', &
     'ndim, ncells, origin, length, dims', &
     'kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, gauss_points, '// &
     'field_kernel, field_basis, field_radius', &
@@ -42,7 +42,7 @@ module dpmpm_input
     'pore_pressure_gradient', &
     'face, condition, fluid, pore_pressure, pore_pressure_ramp', &
     'face, traction, ramp_time', &
-    'dir, frame_interval, diag_every', &
+    'dir, frame_interval, diag_every, checkpoint_every', &
     'name, amplitude']
   character(len=*), parameter :: err_prefix = 'dpmpm: input error: '
 
@@ -123,6 +123,7 @@ contains
     call put_s(unit, 'drag', cfg%drag)
     call put_r(unit, 'drag_safety', [cfg%drag_safety])
     call put_l(unit, 'porosity_gradient', cfg%porosity_gradient)
+    call put_s(unit, 'restart', cfg%restart)
     write (unit, '(a)') '/', '&grid'
     call put_i(unit, 'ndim', [cfg%ndim])
     call put_i(unit, 'ncells', cfg%ncells)
@@ -207,6 +208,7 @@ contains
     call put_s(unit, 'dir', cfg%output_dir)
     call put_r(unit, 'frame_interval', [cfg%frame_interval])
     call put_i(unit, 'diag_every', [cfg%diag_every])
+    call put_i(unit, 'checkpoint_every', [cfg%checkpoint_every])
     write (unit, '(a)') '/', '&benchmark'
     call put_s(unit, 'name', cfg%benchmark)
     call put_r(unit, 'amplitude', [cfg%amplitude])
@@ -423,8 +425,10 @@ contains
     integer(i8) :: max_steps
     integer :: ios
     character(len=512) :: msg
+    character(len=len(cfg%restart)) :: restart
     namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
-      drag, drag_safety, porosity_gradient
+      drag, drag_safety, porosity_gradient, restart
+    restart = cfg%restart
     name = cfg%name; t_end = cfg%t_end; dt = cfg%dt; cfl = cfg%cfl; max_steps = cfg%max_steps
     scheme = cfg%scheme; flip = cfg%flip; gravity = cfg%gravity
     progress_seconds = cfg%progress_seconds
@@ -439,6 +443,7 @@ contains
     cfg%scheme = scheme; cfg%flip = flip; cfg%gravity = gravity
     cfg%progress_seconds = progress_seconds
     cfg%drag = drag; cfg%drag_safety = drag_safety; cfg%porosity_gradient = porosity_gradient
+    cfg%restart = restart
   end subroutine read_run
 
   !> Read &grid.
@@ -713,10 +718,11 @@ contains
     logical, intent(out) :: ok
     character(len=len(cfg%output_dir)) :: dir
     real(wp) :: frame_interval
-    integer :: diag_every, ios
+    integer :: diag_every, checkpoint_every, ios
     character(len=512) :: msg
-    namelist /output/ dir, frame_interval, diag_every
+    namelist /output/ dir, frame_interval, diag_every, checkpoint_every
     dir = cfg%output_dir; frame_interval = cfg%frame_interval; diag_every = cfg%diag_every
+    checkpoint_every = cfg%checkpoint_every
     read (u, nml=output, iostat=ios, iomsg=msg)
     ok = ios == 0
     if (.not. ok) then
@@ -724,6 +730,7 @@ contains
       return
     end if
     cfg%output_dir = dir; cfg%frame_interval = frame_interval; cfg%diag_every = diag_every
+    cfg%checkpoint_every = checkpoint_every
   end subroutine read_output
 
   !> Read &benchmark.
@@ -758,7 +765,7 @@ contains
     integer, intent(in) :: nranks
     logical, intent(in) :: ok(ngroups)
     integer :: nd, d, k, j
-    logical :: grid_ok, ndim_ok
+    logical :: grid_ok, ndim_ok, exists
 
     ! &run
     if (.not. any(cfg%scheme == [character(len=4) :: 'musl', 'usl'])) call add_value(rd, g_run, &
@@ -776,6 +783,11 @@ contains
     call check_finite(rd, g_run, 1, 'gravity', cfg%gravity)
     if (.not. real_ok(cfg%progress_seconds, gt=0.0_wp)) call add_value(rd, g_run, 1, &
       'progress_seconds', rtoa(cfg%progress_seconds), 'must be > 0 (s)')
+    if (len_trim(cfg%restart) > 0) then
+      inquire (file=trim(cfg%restart), exist=exists)
+      if (.not. exists) call add_value(rd, g_run, 1, 'restart', quote(cfg%restart), &
+        'no such file (a checkpoint <dir>/<name>.ckpt.h5 written with checkpoint_every > 0)')
+    end if
     if (.not. any(cfg%drag == [character(len=8) :: 'explicit', 'implicit'])) call add_value(rd, &
       g_run, 1, 'drag', quote(cfg%drag), 'the drag treatments are explicit (limited by '// &
       'drag_safety), implicit (solid and fluid velocities solved together at each node)')
@@ -881,6 +893,8 @@ contains
       'must be >= 0 (steps; 0 = automatic)')
     if (len_trim(cfg%output_dir) == 0) call add_value(rd, g_output, 1, 'dir', "''", &
       'must name a directory')
+    if (cfg%checkpoint_every < 0) call add_value(rd, g_output, 1, 'checkpoint_every', &
+      itoa(cfg%checkpoint_every), 'must be >= 0 (steps; 0 = no checkpoints)')
 
     ! &benchmark
     if (.not. any(cfg%benchmark == [character(len=11) :: 'none', 'axial_bar', 'mms', &
@@ -1267,6 +1281,7 @@ contains
     call bcast(cfg%flip, comm)
     call bcast(cfg%gravity, comm)
     call bcast(cfg%progress_seconds, comm)
+    call bcast(cfg%restart, comm)
     call bcast(cfg%drag, comm)
     call bcast(cfg%drag_safety, comm)
     call bcast(cfg%porosity_gradient, comm)
@@ -1325,6 +1340,7 @@ contains
     call bcast(cfg%output_dir, comm)
     call bcast(cfg%frame_interval, comm)
     call bcast(cfg%diag_every, comm)
+    call bcast(cfg%checkpoint_every, comm)
     call bcast(cfg%benchmark, comm)
     call bcast(cfg%amplitude, comm)
   end subroutine bcast_config

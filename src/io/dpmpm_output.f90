@@ -4,7 +4,7 @@
 !> Every procedure is collective over the communicator given to open: all ranks call
 !> them in the same order with the same set names, steps, times and diagnostics.
 module dpmpm_output
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_int, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char
   use mpi_f08, only: MPI_Comm, MPI_Comm_dup, MPI_Comm_free, MPI_Comm_rank, MPI_Comm_size, &
                      MPI_Barrier, MPI_Bcast, MPI_Exscan, MPI_Allreduce, MPI_INTEGER, &
                      MPI_SUM, MPI_MIN, MPI_MAX, MPI_INFO_NULL, MPI_CHARACTER
@@ -23,7 +23,8 @@ module dpmpm_output
   use dpmpm_particles, only: particle_set_t
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
-  use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real
+  use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
+                      rename_file
   implicit none
   private
   public :: output_t, output_h5_path, output_xmf_path
@@ -85,13 +86,6 @@ module dpmpm_output
     procedure :: is_active => out_is_active
   end type output_t
 
-  interface
-    function c_rename(old, new) bind(C, name='rename') result(r)
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: old(*), new(*)
-      integer(c_int) :: r
-    end function c_rename
-  end interface
 
 contains
 
@@ -652,8 +646,7 @@ contains
     write (u, '(a)') '</Xdmf>'
     close (u, iostat=ios)
     if (ios /= 0) call fatal('cannot close '//tmp_path, where)
-    if (c_rename(tmp_path//c_null_char, self%xmf_path//c_null_char) /= 0) &
-      call fatal('cannot rename '//tmp_path//' to '//self%xmf_path, where)
+    call rename_file(tmp_path, self%xmf_path, where)
   end subroutine write_xdmf
 
   !> One Polyvertex grid: geometry from x, the other datasets as node attributes.

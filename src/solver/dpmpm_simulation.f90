@@ -29,6 +29,7 @@ module dpmpm_simulation
                              drag_limit, interp_scalar, pressure_update, fluid_density
   use dpmpm_migrate, only: migrate
   use dpmpm_output, only: output_t
+  use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
   use dpmpm_diagnostics, only: diag_record_t
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err, &
@@ -176,13 +177,17 @@ contains
     self%two_phase = any(cfg%regions%phase /= 'solid')
     call self%solid%init('solid', self%nd, any(self%mats%model == model_neo_hookean), &
                          has_porosity=self%two_phase)
-    call generate_points(cfg, self%grid, self%dec, self%mats, self%solid)
-    call benchmark_setup(cfg, self%mats, self%solid)
-    if (self%two_phase) then
+    if (self%two_phase) &
       call self%fluid%init('fluid', self%nd, .false., has_porosity=.true., has_pressure=.true.)
-      call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, 'fluid')
-      call init_two_phase(self)
+    if (len_trim(cfg%restart) > 0) then
+      call restart_from(self, trim(cfg%restart))
+    else
+      call generate_points(cfg, self%grid, self%dec, self%mats, self%solid)
+      call benchmark_setup(cfg, self%mats, self%solid)
+      if (self%two_phase) call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, &
+                                               'fluid')
     end if
+    if (self%two_phase) call init_two_phase(self)
 
     ntot = self%solid%n
     call MPI_Allreduce(MPI_IN_PLACE, ntot, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
@@ -242,15 +247,77 @@ contains
       end if
     end associate
     allocate (self%err_hist(1 + nbench_err, 64))
-    self%time = 0.0_wp
-    self%step = 0
+    if (len_trim(cfg%restart) == 0) then
+      self%time = 0.0_wp
+      self%step = 0
+    end if
     self%dt = self%stable_dt()
     if (self%write_output) then
       call self%out%open(self%cfg, self%dec%comm)
     end if
     call self%diagnostics()
-    call self%write_frame()
+    ! A restarted run keeps the frame schedule of the run it continues.
+    if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
+
+  !> Continue from a checkpoint: the points of this rank's cells, time, step, energy
+  !> balance and frame schedule. The output goes to <name>_from<step>.h5, so that the
+  !> file of the run being continued is kept.
+  subroutine restart_from(self, path)
+    type(simulation_t), intent(inout) :: self
+    character(len=*), intent(in) :: path
+    type(checkpoint_state_t) :: st
+    character(len=32) :: tag
+    character(len=256) :: line
+    if (self%two_phase) then
+      call read_checkpoint(path, st, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi, &
+                           self%solid, self%fluid)
+    else
+      call read_checkpoint(path, st, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi, &
+                           self%solid)
+    end if
+    if (st%ndim /= self%nd .or. any(st%ncells(1:self%nd) /= self%cfg%ncells(1:self%nd))) &
+      call fatal(path//' comes from another grid (ndim and ncells must match the input)', &
+                 'restart')
+    self%step = st%step
+    self%time = st%time
+    ! ext_work is kept per rank and summed in the diagnostics: the total goes to rank 0.
+    self%ext_work = 0.0_wp
+    if (self%dec%rank == 0) self%ext_work = st%ext_work
+    self%energy0 = st%energy0
+    self%energy_scale = st%energy_scale
+    self%energy_error = st%energy_error
+    if (st%energy_scale > 0.0_wp) self%energy_drift = st%energy_error/st%energy_scale
+    self%next_frame = st%next_frame
+    self%nframes = st%nframes
+    self%last_frame_step = st%step
+    write (tag, '(i0)') st%step
+    self%cfg%name = trim(self%cfg%name)//'_from'//trim(tag)
+    write (line, '(a,a,a,i0,a,es12.5)') 'dpmpm: restart from ', path, ' at step ', st%step, &
+      ', t = ', st%time
+    call self%log%info(trim(line))
+  end subroutine restart_from
+
+  !> Write the checkpoint <output_dir>/<name>.ckpt.h5 (collective).
+  subroutine write_state(self)
+    type(simulation_t), intent(inout) :: self
+    type(checkpoint_state_t) :: st
+    character(len=:), allocatable :: path
+    real(wp) :: work
+    call self%timers%tic(t_output)
+    call MPI_Allreduce(self%ext_work, work, 1, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    st = checkpoint_state_t(step=self%step, time=self%time, ext_work=work, &
+                            energy0=self%energy0, energy_scale=self%energy_scale, &
+                            energy_error=self%energy_error, next_frame=self%next_frame, &
+                            nframes=self%nframes, ndim=self%nd, ncells=self%cfg%ncells)
+    path = checkpoint_path(self%cfg%output_dir, self%cfg%name)
+    if (self%two_phase) then
+      call write_checkpoint(path, self%cfg%output_dir, self%dec%comm, st, self%solid, self%fluid)
+    else
+      call write_checkpoint(path, self%cfg%output_dir, self%dec%comm, st, self%solid)
+    end if
+    call self%timers%toc(t_output)
+  end subroutine write_state
 
   !> Two-phase set-up: the pore-fluid condition of each face (drained at free
   !> faces, impermeable at fixed and roller faces unless given), and the stiffest
@@ -333,6 +400,9 @@ contains
       if (mod(self%step, diag_every) == 0) call self%diagnostics()
       if (self%cfg%frame_interval > 0.0_wp .and. &
           self%time >= self%next_frame - 1.0e-9_wp*self%cfg%frame_interval) call self%write_frame()
+      if (self%cfg%checkpoint_every > 0) then
+        if (mod(self%step, int(self%cfg%checkpoint_every, i8)) == 0) call write_state(self)
+      end if
       now = MPI_Wtime()
       if (now - last_progress >= self%cfg%progress_seconds) then
         last_progress = now
@@ -345,6 +415,10 @@ contains
     call self%timers%toc(t_total)
     if (mod(self%step, diag_every) /= 0) call self%diagnostics()
     if (self%last_frame_step /= self%step) call self%write_frame()
+    ! The end state too, so that a finished run can be continued to a later t_end.
+    if (self%cfg%checkpoint_every > 0) then
+      if (mod(self%step, int(self%cfg%checkpoint_every, i8)) /= 0) call write_state(self)
+    end if
     if (self%write_output .and. self%cfg%benchmark /= 'none') then
       call self%out%write_verification('time', self%err_hist(1, 1:self%nerr))
       do k = 1, benchmark_nerr(self%cfg%benchmark)

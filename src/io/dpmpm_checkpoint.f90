@@ -1,0 +1,277 @@
+!> Checkpoints: the state of a run (every point of both sets, time, step, energy
+!> balance, frame schedule) in one HDF5 file, <output_dir>/<name>.ckpt.h5. Written
+!> collectively to <file>.tmp and renamed, so that a crash while writing never leaves a
+!> broken checkpoint behind; read back on any number of ranks, each rank keeping the
+!> points in its own cells.
+!>
+!> Layout: /state (checkpoint_nstate doubles, see state_to_array), /solid and /fluid
+!> (the packed points of particle_set_t%pack, Fortran shape (nreal_packed, n)).
+module dpmpm_checkpoint
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Barrier, MPI_Exscan, MPI_Allreduce, &
+                     MPI_SUM, MPI_IN_PLACE, MPI_INFO_NULL
+  use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, h5pcreate_f, &
+                  h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, h5screate_simple_f, &
+                  h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5dcreate_f, h5dopen_f, &
+                  h5dwrite_f, h5dread_f, h5dclose_f, h5dget_space_f, &
+                  h5sget_simple_extent_dims_f, h5lexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, &
+                  H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5P_DEFAULT_F, &
+                  H5FD_MPIO_COLLECTIVE_F, H5S_SELECT_SET_F, H5T_IEEE_F64LE, h5kind_to_type, &
+                  H5_REAL_KIND
+  use dpmpm_kinds, only: wp, i8, mpi_i8
+  use dpmpm_error, only: fatal
+  use dpmpm_particles, only: particle_set_t
+  use dpmpm_migrate, only: point_cell
+  use dpmpm_h5, only: h5check, make_dir, rename_file
+  implicit none
+  private
+  public :: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
+
+  !> Scalars of a run's state that the points do not carry.
+  type :: checkpoint_state_t
+    integer(i8) :: step = 0
+    real(wp) :: time = 0.0_wp
+    real(wp) :: ext_work = 0.0_wp         !< work of the loads minus drag dissipation
+    real(wp) :: energy0 = 0.0_wp
+    real(wp) :: energy_scale = 0.0_wp
+    real(wp) :: energy_error = 0.0_wp
+    real(wp) :: next_frame = 0.0_wp
+    integer :: nframes = 0
+    integer :: ndim = 0
+    integer :: ncells(3) = 0
+  end type checkpoint_state_t
+
+  integer, parameter :: nstate = 12
+
+contains
+
+  !> <output_dir>/<name>.ckpt.h5
+  function checkpoint_path(output_dir, name) result(path)
+    character(len=*), intent(in) :: output_dir, name
+    character(len=:), allocatable :: path
+    path = trim(output_dir)//'/'//trim(name)//'.ckpt.h5'
+  end function checkpoint_path
+
+  !> Write the state st and the points of solid (and fluid, when present) to path,
+  !> through path.tmp (collective over comm).
+  subroutine write_checkpoint(path, output_dir, comm, st, solid, fluid)
+    character(len=*), intent(in) :: path, output_dir
+    type(MPI_Comm), intent(in) :: comm
+    type(checkpoint_state_t), intent(in) :: st
+    type(particle_set_t), intent(in) :: solid
+    type(particle_set_t), intent(in), optional :: fluid
+    character(len=*), parameter :: where = 'write_checkpoint'
+    integer(hid_t) :: fapl, dxpl, file
+    integer :: err, rank
+    real(wp), target :: state(nstate)
+    call MPI_Comm_rank(comm, rank)
+    if (rank == 0) call make_dir(trim(output_dir))
+    call MPI_Barrier(comm)
+    call h5open_f(err)
+    call h5check(err, 'h5open_f', where)
+    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
+    call h5check(err, 'h5pcreate_f', where)
+    call h5pset_fapl_mpio_f(fapl, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, err)
+    call h5check(err, 'h5pset_fapl_mpio_f', where)
+    call h5fcreate_f(path//'.tmp', H5F_ACC_TRUNC_F, file, err, creation_prp=H5P_DEFAULT_F, &
+                     access_prp=fapl)
+    call h5check(err, 'h5fcreate_f('//path//'.tmp)', where)
+    call h5pclose_f(fapl, err)
+    call h5pcreate_f(H5P_DATASET_XFER_F, dxpl, err)
+    call h5check(err, 'h5pcreate_f', where)
+    call h5pset_dxpl_mpio_f(dxpl, H5FD_MPIO_COLLECTIVE_F, err)
+    call h5check(err, 'h5pset_dxpl_mpio_f', where)
+    state = state_to_array(st)
+    call write_block(file, dxpl, 'state', 1, nstate, merge(1_i8, 0_i8, rank == 0), 0_i8, 1_i8, &
+                     c_loc(state))
+    call write_set(file, dxpl, comm, 'solid', solid)
+    if (present(fluid)) call write_set(file, dxpl, comm, 'fluid', fluid)
+    call h5pclose_f(dxpl, err)
+    call h5fclose_f(file, err)
+    call h5check(err, 'h5fclose_f('//path//'.tmp)', where)
+    call MPI_Barrier(comm)
+    if (rank == 0) call rename_file(path//'.tmp', path, where)
+    call MPI_Barrier(comm)
+  end subroutine write_checkpoint
+
+  !> Read the state and the points of the sets from path (every rank reads the whole
+  !> file and keeps the points in its cells clo..chi of the grid origin, h). The sets
+  !> must be initialised (empty) with the scene's fields; a set's packed width in the
+  !> file must match it.
+  subroutine read_checkpoint(path, st, origin, h, clo, chi, solid, fluid)
+    character(len=*), intent(in) :: path
+    type(checkpoint_state_t), intent(out) :: st
+    real(wp), intent(in) :: origin(3), h(3)
+    integer, intent(in) :: clo(3), chi(3)
+    type(particle_set_t), intent(inout) :: solid
+    type(particle_set_t), intent(inout), optional :: fluid
+    character(len=*), parameter :: where = 'read_checkpoint'
+    integer(hid_t) :: file, dset
+    integer :: err
+    logical :: exists
+    real(wp), target :: state(nstate)
+    type(c_ptr) :: cp
+    inquire (file=path, exist=exists)
+    if (.not. exists) call fatal('restart file '//path//' not found', where)
+    call h5open_f(err)
+    call h5check(err, 'h5open_f', where)
+    call h5fopen_f(path, H5F_ACC_RDONLY_F, file, err)
+    if (err /= 0) call fatal('cannot open '//path//' as an HDF5 file', where)
+    call h5dopen_f(file, 'state', dset, err)
+    if (err /= 0) call fatal(path//' is not a dpmpm checkpoint (no /state)', where)
+    cp = c_loc(state)
+    call h5dread_f(dset, h5kind_to_type(wp, H5_REAL_KIND), cp, err)
+    call h5check(err, 'h5dread_f(state)', where)
+    call h5dclose_f(dset, err)
+    st = array_to_state(state)
+    call read_set(file, path, 'solid', origin, h, clo, chi, solid)
+    if (present(fluid)) call read_set(file, path, 'fluid', origin, h, clo, chi, fluid)
+    call h5fclose_f(file, err)
+  end subroutine read_checkpoint
+
+  !> The state as doubles (integers are exact below 2^53).
+  pure function state_to_array(st) result(a)
+    type(checkpoint_state_t), intent(in) :: st
+    real(wp) :: a(nstate)
+    a = [real(st%step, wp), st%time, st%ext_work, st%energy0, st%energy_scale, st%energy_error, &
+         st%next_frame, real(st%nframes, wp), real(st%ndim, wp), real(st%ncells, wp)]
+  end function state_to_array
+
+  pure function array_to_state(a) result(st)
+    real(wp), intent(in) :: a(nstate)
+    type(checkpoint_state_t) :: st
+    st%step = nint(a(1), i8)
+    st%time = a(2)
+    st%ext_work = a(3)
+    st%energy0 = a(4)
+    st%energy_scale = a(5)
+    st%energy_error = a(6)
+    st%next_frame = a(7)
+    st%nframes = nint(a(8))
+    st%ndim = nint(a(9))
+    st%ncells = nint(a(10:12))
+  end function array_to_state
+
+  !> The packed points of a set: this rank's at its offset in the global order.
+  subroutine write_set(file, dxpl, comm, name, ps)
+    integer(hid_t), intent(in) :: file, dxpl
+    type(MPI_Comm), intent(in) :: comm
+    character(len=*), intent(in) :: name
+    type(particle_set_t), intent(in) :: ps
+    real(wp), allocatable, target :: buf(:, :)
+    integer(i8) :: nloc, offset, nglob
+    integer :: m, k, rank
+    call MPI_Comm_rank(comm, rank)
+    m = ps%nreal_packed()
+    nloc = int(ps%n, i8)
+    offset = 0
+    call MPI_Exscan(nloc, offset, 1, mpi_i8(), MPI_SUM, comm)
+    if (rank == 0) offset = 0
+    call MPI_Allreduce(nloc, nglob, 1, mpi_i8(), MPI_SUM, comm)
+    allocate (buf(m, max(ps%n, 1)))
+    call ps%pack_points([(k, k=1, ps%n)], buf(:, 1:ps%n))
+    call write_block(file, dxpl, name, m, 0, nloc, offset, nglob, c_loc(buf))
+  end subroutine write_set
+
+  !> Create dataset name of Fortran shape (m, nglob) (m = 1 and n0 > 0: shape (n0)) and
+  !> write nloc columns at offset, collectively.
+  subroutine write_block(file, dxpl, name, m, n0, nloc, offset, nglob, ptr)
+    integer(hid_t), intent(in) :: file, dxpl
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: m, n0
+    integer(i8), intent(in) :: nloc, offset, nglob
+    type(c_ptr), intent(in) :: ptr
+    character(len=*), parameter :: where = 'write_checkpoint'
+    integer(hsize_t) :: fdims(2), mdims(2), start(2), cnt(2)
+    integer(hid_t) :: fspace, mspace, dset
+    integer :: err, r
+    if (n0 > 0) then
+      ! A vector of n0 values written by the rank with nloc = 1.
+      r = 1
+      fdims(1) = int(n0, hsize_t)
+      mdims(1) = int(n0, hsize_t)
+      start(1) = 0
+      cnt(1) = int(n0, hsize_t)
+    else
+      r = 2
+      fdims = [int(m, hsize_t), int(nglob, hsize_t)]
+      mdims = [int(m, hsize_t), int(max(nloc, 1_i8), hsize_t)]
+      start = [0_hsize_t, int(offset, hsize_t)]
+      cnt = [int(m, hsize_t), int(nloc, hsize_t)]
+    end if
+    call h5screate_simple_f(r, fdims(1:r), fspace, err)
+    call h5check(err, 'h5screate_simple_f('//name//')', where)
+    call h5dcreate_f(file, name, H5T_IEEE_F64LE, fspace, dset, err)
+    call h5check(err, 'h5dcreate_f('//name//')', where)
+    call h5screate_simple_f(r, mdims(1:r), mspace, err)
+    call h5check(err, 'h5screate_simple_f('//name//')', where)
+    if (nloc > 0) then
+      call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, start(1:r), cnt(1:r), err)
+      call h5check(err, 'h5sselect_hyperslab_f('//name//')', where)
+    else
+      call h5sselect_none_f(fspace, err)
+      call h5sselect_none_f(mspace, err)
+    end if
+    if (product(fdims(1:r)) > 0) then
+      call h5dwrite_f(dset, h5kind_to_type(wp, H5_REAL_KIND), ptr, err, mem_space_id=mspace, &
+                      file_space_id=fspace, xfer_prp=dxpl)
+      call h5check(err, 'h5dwrite_f('//name//')', where)
+    end if
+    call h5dclose_f(dset, err)
+    call h5sclose_f(mspace, err)
+    call h5sclose_f(fspace, err)
+  end subroutine write_block
+
+  !> Read set name and append its points in cells clo..chi to ps.
+  subroutine read_set(file, path, name, origin, h, clo, chi, ps)
+    integer(hid_t), intent(in) :: file
+    character(len=*), intent(in) :: path, name
+    real(wp), intent(in) :: origin(3), h(3)
+    integer, intent(in) :: clo(3), chi(3)
+    type(particle_set_t), intent(inout) :: ps
+    character(len=*), parameter :: where = 'read_checkpoint'
+    integer(hid_t) :: dset, space
+    integer(hsize_t) :: dims(2), maxdims(2)
+    real(wp), allocatable, target :: buf(:, :)
+    type(c_ptr) :: cp
+    logical :: exists, keep
+    integer :: err, m, j, d, c(3), nkeep
+    integer, allocatable :: idx(:)
+    real(wp) :: x(3)
+    m = ps%nreal_packed()
+    call h5lexists_f(file, name, exists, err)
+    if (.not. exists) call fatal(path//' holds no '//name//' points; it comes from another '// &
+                                 'scene', where)
+    call h5dopen_f(file, name, dset, err)
+    call h5check(err, 'h5dopen_f('//name//')', where)
+    call h5dget_space_f(dset, space, err)
+    call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
+    call h5sclose_f(space, err)
+    if (int(dims(1)) /= m) call fatal(path//': the '//name//' points have other fields than '// &
+                                      'this scene''s (another model or phase set)', where)
+    allocate (buf(m, max(dims(2), 1_hsize_t)))
+    if (dims(2) > 0) then
+      cp = c_loc(buf)
+      call h5dread_f(dset, h5kind_to_type(wp, H5_REAL_KIND), cp, err)
+      call h5check(err, 'h5dread_f('//name//')', where)
+    end if
+    call h5dclose_f(dset, err)
+    ! Keep the points of this rank's cells, in the order of the file.
+    allocate (idx(dims(2)))
+    nkeep = 0
+    do j = 1, int(dims(2))
+      x = 0.0_wp
+      x(1:ps%ndim) = buf(3:2 + ps%ndim, j)
+      c = point_cell(origin, h, x, ps%ndim)
+      keep = .true.
+      do d = 1, ps%ndim
+        keep = keep .and. c(d) >= clo(d) .and. c(d) <= chi(d)
+      end do
+      if (.not. keep) cycle
+      nkeep = nkeep + 1
+      idx(nkeep) = j
+    end do
+    call ps%unpack_points(buf(:, idx(1:nkeep)))
+  end subroutine read_set
+
+end module dpmpm_checkpoint

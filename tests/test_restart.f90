@@ -1,0 +1,134 @@
+!> Checkpoint and restart: a run continued from a checkpoint ends exactly where the
+!> same run without a break ends, on the same ranks and (to the rank invariance of the
+!> solver) on fewer ranks; a bad checkpoint is refused.
+program test_restart
+  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_rank, &
+                     MPI_Comm_size, MPI_Barrier
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
+  use dpmpm_simulation, only: simulation_t
+  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  implicit none
+  character(len=*), parameter :: dir = 'out/test_restart'
+  integer :: status, rank, nranks
+  call MPI_Init()
+  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+  am_root = rank == 0
+  call test_restart_continues_the_run_exactly()
+  status = finish_tests(MPI_COMM_WORLD)
+  call MPI_Finalize()
+  if (status /= 0) stop 1, quiet = .true.
+
+contains
+
+  !> A 2D saturated layer (linear elastic skeleton) under a dry neo-Hookean block,
+  !> gravity, a load ramped on top, quadratic grid functions, MUSL, implicit drag,
+  !> points scattered in their cells: both point sets, the deformation gradient and
+  !> the energy balance go through the checkpoint.
+  function scene(max_steps) result(cfg)
+    integer, intent(in) :: max_steps
+    type(config_t) :: cfg
+    cfg%name = 'restart'
+    cfg%ndim = 2
+    cfg%ncells = [8, 8, 1]
+    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
+    cfg%t_end = 1.0_wp
+    cfg%max_steps = max_steps
+    cfg%cfl = 0.4_wp
+    cfg%kernel = 'quadratic'
+    cfg%drag = 'implicit'
+    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
+    cfg%output_dir = dir
+    allocate (cfg%materials(3), cfg%regions(2), cfg%loads(1))
+    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
+                                      youngs_modulus=1.0e6_wp, poisson_ratio=0.3_wp, &
+                                      conductivity=1.0e-3_wp)
+    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.0e7_wp)
+    cfg%materials(3) = material_cfg_t(id=3, model='neo_hookean', density=2000.0_wp, &
+                                      youngs_modulus=5.0e5_wp, poisson_ratio=0.3_wp)
+    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
+    cfg%regions(1)%hi = [1.0_wp, 0.5_wp, 1.0_wp]
+    cfg%regions(1)%material = 1
+    cfg%regions(1)%fluid_material = 2
+    cfg%regions(1)%phase = 'saturated'
+    cfg%regions(1)%porosity = 0.4_wp
+    cfg%regions(1)%placement = 'random'
+    cfg%regions(2)%lo = [0.25_wp, 0.5_wp, 0.0_wp]
+    cfg%regions(2)%hi = [0.75_wp, 0.75_wp, 1.0_wp]
+    cfg%regions(2)%material = 3
+    cfg%regions(2)%placement = 'random'
+    cfg%regions(2)%seed = 7
+    cfg%loads(1) = load_cfg_t(face=4, traction=[0.0_wp, -2.0e3_wp, 0.0_wp], ramp_time=0.01_wp)
+    cfg%bc(1:2) = bc_roller
+    cfg%bc(3) = bc_fixed
+  end function scene
+
+  !> Run cfg on comm and return the points of both sets (rank 0 of comm, sorted by id)
+  !> with the end time, step and energy balance.
+  subroutine run(cfg, comm_self, sx, sv, ss, fx, fv, fs, t, steps, drift)
+    type(config_t), intent(in) :: cfg
+    logical, intent(in) :: comm_self
+    real(wp), allocatable, intent(out) :: sx(:, :), sv(:, :), ss(:, :), fx(:, :), fv(:, :), fs(:, :)
+    real(wp), intent(out) :: t, drift
+    integer(i8), intent(out) :: steps
+    type(simulation_t) :: sim
+    integer(i8), allocatable :: ids(:)
+    if (comm_self) then
+      call sim%init(cfg, MPI_COMM_SELF, write_output=.false.)
+    else
+      call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    end if
+    call sim%run()
+    call sim%gather_points(ids, sx, sv, ss)
+    call sim%gather_points(ids, fx, fv, fs, fluid=.true.)
+    t = sim%time
+    steps = sim%step
+    drift = sim%energy_drift
+    call sim%free()
+  end subroutine run
+
+  !> 40 steps in one go; 20 steps with a checkpoint, then 20 more from it: the same
+  !> points to the last bit, the same time and energy balance. From the same
+  !> checkpoint on one rank (when the test runs on more): the same to round-off.
+  subroutine test_restart_continues_the_run_exactly()
+    type(config_t) :: cfg
+    real(wp), allocatable :: ax(:, :), av(:, :), as(:, :), afx(:, :), afv(:, :), afs(:, :)
+    real(wp), allocatable :: bx(:, :), bv(:, :), bs(:, :), bfx(:, :), bfv(:, :), bfs(:, :)
+    real(wp) :: ta, tb, da, db, dev
+    integer(i8) :: na, nb
+    logical :: exists, tmp_left
+    call begin_test('restart_continues_the_run_exactly')
+    call run(scene(40), .false., ax, av, as, afx, afv, afs, ta, na, da)
+    cfg = scene(20)
+    cfg%checkpoint_every = 20
+    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db)
+    inquire (file=dir//'/restart.ckpt.h5', exist=exists)
+    inquire (file=dir//'/restart.ckpt.h5.tmp', exist=tmp_left)
+    call check(exists .and. .not. tmp_left, 'the checkpoint is written, no temporary left')
+    cfg = scene(40)
+    cfg%restart = dir//'/restart.ckpt.h5'
+    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db)
+    if (rank == 0) then
+      print '(a,2i5,2es12.4)', '  steps, energy balance (one go, restarted):', na, nb, da, db
+      call check(nb == na .and. tb == ta, 'same step count and time')
+      call check(size(bx, 2) == size(ax, 2) .and. size(bfx, 2) == size(afx, 2), 'no point lost')
+      call check(all(bx == ax) .and. all(bv == av) .and. all(bs == as), 'solid points equal')
+      call check(all(bfx == afx) .and. all(bfv == afv) .and. all(bfs == afs), 'fluid points equal')
+      ! The work of the loads is summed over the ranks; restarted, the sum so far sits on
+      ! rank 0, so the balance agrees to round-off rather than to the bit.
+      call check(abs(db - da) <= 1.0e-12_wp*abs(da), 'same energy balance')
+    end if
+    if (nranks > 1) then
+      if (rank == 0) then
+        call run(cfg, .true., bx, bv, bs, bfx, bfv, bfs, tb, nb, db)
+        dev = max(maxval(abs(bx - ax)), maxval(abs(bfx - afx)))/maxval(abs(ax)) + &
+              max(maxval(abs(bs - as)), maxval(abs(bfs - afs)))/maxval(abs(as))
+        print '(a,es11.3)', '  restarted on 1 rank, relative deviation:', dev
+        call check(nb == na .and. dev <= 1.0e-10_wp, 'restart on fewer ranks: same fields')
+      end if
+      call MPI_Barrier(MPI_COMM_WORLD)
+    end if
+  end subroutine test_restart_continues_the_run_exactly
+
+end program test_restart

@@ -4,25 +4,23 @@
 !> broken checkpoint behind; read back on any number of ranks, each rank keeping the
 !> points in its own cells.
 !>
-!> Layout: /state (checkpoint_nstate doubles, see state_to_array), /solid and /fluid
+!> Layout: /state (nstate doubles, shape (nstate, 1), see state_to_array), /solid and /fluid
 !> (the packed points of particle_set_t%pack, Fortran shape (nreal_packed, n)).
 module dpmpm_checkpoint
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Barrier, MPI_Exscan, MPI_Allreduce, &
                      MPI_SUM, MPI_IN_PLACE, MPI_INFO_NULL
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, h5pcreate_f, &
-                  h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, h5screate_simple_f, &
-                  h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5dcreate_f, h5dopen_f, &
-                  h5dwrite_f, h5dread_f, h5dclose_f, h5dget_space_f, &
-                  h5sget_simple_extent_dims_f, h5lexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, &
-                  H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5P_DEFAULT_F, &
-                  H5FD_MPIO_COLLECTIVE_F, H5S_SELECT_SET_F, H5T_IEEE_F64LE, h5kind_to_type, &
-                  H5_REAL_KIND
+                  h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, h5sclose_f, h5dopen_f, &
+                  h5dread_f, h5dclose_f, h5dget_space_f, h5sget_simple_extent_dims_f, &
+                  h5lexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5P_FILE_ACCESS_F, &
+                  H5P_DATASET_XFER_F, H5P_DEFAULT_F, H5FD_MPIO_COLLECTIVE_F, H5T_IEEE_F64LE, &
+                  h5kind_to_type, H5_REAL_KIND
   use dpmpm_kinds, only: wp, i8, mpi_i8
   use dpmpm_error, only: fatal
   use dpmpm_particles, only: particle_set_t
   use dpmpm_migrate, only: point_cell
-  use dpmpm_h5, only: h5check, make_dir, rename_file
+  use dpmpm_h5, only: h5check, make_dir, rename_file, write_columns
   implicit none
   private
   public :: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
@@ -82,8 +80,8 @@ contains
     call h5pset_dxpl_mpio_f(dxpl, H5FD_MPIO_COLLECTIVE_F, err)
     call h5check(err, 'h5pset_dxpl_mpio_f', where)
     state = state_to_array(st)
-    call write_block(file, dxpl, 'state', 1, nstate, merge(1_i8, 0_i8, rank == 0), 0_i8, 1_i8, &
-                     c_loc(state))
+    call write_columns(file, dxpl, 'state', H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), &
+                       nstate, merge(1_i8, 0_i8, rank == 0), 0_i8, 1_i8, c_loc(state), where)
     call write_set(file, dxpl, comm, 'solid', solid)
     if (present(fluid)) call write_set(file, dxpl, comm, 'fluid', fluid)
     call h5pclose_f(dxpl, err)
@@ -170,57 +168,9 @@ contains
     call MPI_Allreduce(nloc, nglob, 1, mpi_i8(), MPI_SUM, comm)
     allocate (buf(m, max(ps%n, 1)))
     call ps%pack_points([(k, k=1, ps%n)], buf(:, 1:ps%n))
-    call write_block(file, dxpl, name, m, 0, nloc, offset, nglob, c_loc(buf))
+    call write_columns(file, dxpl, name, H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), m, &
+                       nloc, offset, nglob, c_loc(buf), 'write_checkpoint')
   end subroutine write_set
-
-  !> Create dataset name of Fortran shape (m, nglob) (m = 1 and n0 > 0: shape (n0)) and
-  !> write nloc columns at offset, collectively.
-  subroutine write_block(file, dxpl, name, m, n0, nloc, offset, nglob, ptr)
-    integer(hid_t), intent(in) :: file, dxpl
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: m, n0
-    integer(i8), intent(in) :: nloc, offset, nglob
-    type(c_ptr), intent(in) :: ptr
-    character(len=*), parameter :: where = 'write_checkpoint'
-    integer(hsize_t) :: fdims(2), mdims(2), start(2), cnt(2)
-    integer(hid_t) :: fspace, mspace, dset
-    integer :: err, r
-    if (n0 > 0) then
-      ! A vector of n0 values written by the rank with nloc = 1.
-      r = 1
-      fdims(1) = int(n0, hsize_t)
-      mdims(1) = int(n0, hsize_t)
-      start(1) = 0
-      cnt(1) = int(n0, hsize_t)
-    else
-      r = 2
-      fdims = [int(m, hsize_t), int(nglob, hsize_t)]
-      mdims = [int(m, hsize_t), int(max(nloc, 1_i8), hsize_t)]
-      start = [0_hsize_t, int(offset, hsize_t)]
-      cnt = [int(m, hsize_t), int(nloc, hsize_t)]
-    end if
-    call h5screate_simple_f(r, fdims(1:r), fspace, err)
-    call h5check(err, 'h5screate_simple_f('//name//')', where)
-    call h5dcreate_f(file, name, H5T_IEEE_F64LE, fspace, dset, err)
-    call h5check(err, 'h5dcreate_f('//name//')', where)
-    call h5screate_simple_f(r, mdims(1:r), mspace, err)
-    call h5check(err, 'h5screate_simple_f('//name//')', where)
-    if (nloc > 0) then
-      call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, start(1:r), cnt(1:r), err)
-      call h5check(err, 'h5sselect_hyperslab_f('//name//')', where)
-    else
-      call h5sselect_none_f(fspace, err)
-      call h5sselect_none_f(mspace, err)
-    end if
-    if (product(fdims(1:r)) > 0) then
-      call h5dwrite_f(dset, h5kind_to_type(wp, H5_REAL_KIND), ptr, err, mem_space_id=mspace, &
-                      file_space_id=fspace, xfer_prp=dxpl)
-      call h5check(err, 'h5dwrite_f('//name//')', where)
-    end if
-    call h5dclose_f(dset, err)
-    call h5sclose_f(mspace, err)
-    call h5sclose_f(fspace, err)
-  end subroutine write_block
 
   !> Read set name and append its points in cells clo..chi to ps.
   subroutine read_set(file, path, name, origin, h, clo, chi, ps)

@@ -6,12 +6,15 @@ module dpmpm_h5
   use hdf5, only: hid_t, size_t, h5screate_f, h5sclose_f, h5acreate_f, h5awrite_f, h5aclose_f, &
                   h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5kind_to_type, H5_REAL_KIND, &
                   H5_INTEGER_KIND, H5S_SCALAR_F, H5T_C_S1, H5T_STR_NULLPAD_F, H5T_IEEE_F64LE, &
-                  H5T_STD_I64LE, H5T_STD_I32LE, h5tclose_f
+                  H5T_STD_I64LE, H5T_STD_I32LE, h5tclose_f, hsize_t, h5screate_simple_f, &
+                  h5dcreate_f, h5dwrite_f, h5dclose_f, h5sselect_hyperslab_f, h5sselect_none_f, &
+                  H5S_SELECT_SET_F
   use dpmpm_kinds, only: wp, i8, i4
   use dpmpm_error, only: fatal
   implicit none
   private
   public :: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, rename_file
+  public :: write_columns
 
   interface
     function c_rename(old, new) bind(C, name='rename') result(r)
@@ -129,5 +132,60 @@ contains
     if (c_rename(old//c_null_char, new//c_null_char) /= 0) &
       call fatal('cannot rename '//old//' to '//new, where)
   end subroutine rename_file
+
+  !> Create dataset <name> under gid for nglob points and write this rank's nloc points at
+  !> offset, collectively with the transfer list dxpl. m = 0: shape (nglob); m > 0: Fortran shape (m, nglob), (nglob, m) in C order.
+  !> ptr points to nloc*m values (at least one element, even when nloc = 0).
+  subroutine write_columns(gid, dxpl, name, ftype, mtype, m, nloc, offset, nglob, ptr, where)
+    integer(hid_t), intent(in) :: gid, dxpl, ftype, mtype
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: m
+    integer(i8), intent(in) :: nloc, offset, nglob
+    type(c_ptr), intent(in) :: ptr
+    character(len=*), intent(in) :: where
+    integer(hsize_t) :: fdims(2), mdims(2), start(2), cnt(2)
+    integer(hid_t) :: fspace, mspace, dset
+    integer :: rank, err
+    if (m == 0) then
+      rank = 1
+      fdims(1) = int(nglob, hsize_t)
+      mdims(1) = int(max(nloc, 1_i8), hsize_t)
+      start(1) = int(offset, hsize_t)
+      cnt(1) = int(nloc, hsize_t)
+    else
+      rank = 2
+      fdims = [int(m, hsize_t), int(nglob, hsize_t)]
+      mdims = [int(m, hsize_t), int(max(nloc, 1_i8), hsize_t)]
+      start = [0_hsize_t, int(offset, hsize_t)]
+      cnt = [int(m, hsize_t), int(nloc, hsize_t)]
+    end if
+    call h5screate_simple_f(rank, fdims(1:rank), fspace, err)
+    call h5check(err, 'h5screate_simple_f('//name//')', where)
+    call h5dcreate_f(gid, name, ftype, fspace, dset, err)
+    call h5check(err, 'h5dcreate_f('//name//')', where)
+    call h5screate_simple_f(rank, mdims(1:rank), mspace, err)
+    call h5check(err, 'h5screate_simple_f('//name//')', where)
+    if (nloc > 0) then
+      call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, start(1:rank), cnt(1:rank), err)
+      call h5check(err, 'h5sselect_hyperslab_f('//name//')', where)
+    else
+      call h5sselect_none_f(fspace, err)
+      call h5check(err, 'h5sselect_none_f('//name//')', where)
+      call h5sselect_none_f(mspace, err)
+      call h5check(err, 'h5sselect_none_f('//name//')', where)
+    end if
+    ! An empty dataset has no storage to write to; nglob is the same on every rank.
+    if (nglob > 0) then
+      call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
+                      xfer_prp=dxpl)
+      call h5check(err, 'h5dwrite_f('//name//')', where)
+    end if
+    call h5dclose_f(dset, err)
+    call h5check(err, 'h5dclose_f('//name//')', where)
+    call h5sclose_f(mspace, err)
+    call h5check(err, 'h5sclose_f('//name//')', where)
+    call h5sclose_f(fspace, err)
+    call h5check(err, 'h5sclose_f('//name//')', where)
+  end subroutine write_columns
 
 end module dpmpm_h5

@@ -24,7 +24,7 @@ module dpmpm_output
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
-                      rename_file
+                      rename_file, write_columns
   implicit none
   private
   public :: output_t, output_h5_path, output_xmf_path
@@ -491,9 +491,7 @@ contains
     call h5check(err, 'h5sclose_f', where)
   end subroutine append_diag
 
-  !> Create dataset <name> under gid for nglob points and write this rank's nloc points at
-  !> offset. m = 0: shape (nglob); m > 0: Fortran shape (m, nglob), (nglob, m) in C order.
-  !> ptr points to nloc*m values (at least one element, even when nloc = 0).
+  !> write_columns with the file's collective transfer list.
   subroutine write_points(self, gid, name, ftype, mtype, m, nloc, offset, nglob, ptr)
     type(output_t), intent(in) :: self
     integer(hid_t), intent(in) :: gid, ftype, mtype
@@ -501,50 +499,8 @@ contains
     integer, intent(in) :: m
     integer(i8), intent(in) :: nloc, offset, nglob
     type(c_ptr), intent(in) :: ptr
-    character(len=*), parameter :: where = 'output%write_set'
-    integer(hsize_t) :: fdims(2), mdims(2), start(2), cnt(2)
-    integer(hid_t) :: fspace, mspace, dset
-    integer :: rank, err
-    if (m == 0) then
-      rank = 1
-      fdims(1) = int(nglob, hsize_t)
-      mdims(1) = int(max(nloc, 1_i8), hsize_t)
-      start(1) = int(offset, hsize_t)
-      cnt(1) = int(nloc, hsize_t)
-    else
-      rank = 2
-      fdims = [int(m, hsize_t), int(nglob, hsize_t)]
-      mdims = [int(m, hsize_t), int(max(nloc, 1_i8), hsize_t)]
-      start = [0_hsize_t, int(offset, hsize_t)]
-      cnt = [int(m, hsize_t), int(nloc, hsize_t)]
-    end if
-    call h5screate_simple_f(rank, fdims(1:rank), fspace, err)
-    call h5check(err, 'h5screate_simple_f('//name//')', where)
-    call h5dcreate_f(gid, name, ftype, fspace, dset, err)
-    call h5check(err, 'h5dcreate_f('//name//')', where)
-    call h5screate_simple_f(rank, mdims(1:rank), mspace, err)
-    call h5check(err, 'h5screate_simple_f('//name//')', where)
-    if (nloc > 0) then
-      call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, start(1:rank), cnt(1:rank), err)
-      call h5check(err, 'h5sselect_hyperslab_f('//name//')', where)
-    else
-      call h5sselect_none_f(fspace, err)
-      call h5check(err, 'h5sselect_none_f('//name//')', where)
-      call h5sselect_none_f(mspace, err)
-      call h5check(err, 'h5sselect_none_f('//name//')', where)
-    end if
-    ! An empty dataset has no storage to write to; nglob is the same on every rank.
-    if (nglob > 0) then
-      call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
-                      xfer_prp=self%dxpl)
-      call h5check(err, 'h5dwrite_f('//name//')', where)
-    end if
-    call h5dclose_f(dset, err)
-    call h5check(err, 'h5dclose_f('//name//')', where)
-    call h5sclose_f(mspace, err)
-    call h5check(err, 'h5sclose_f('//name//')', where)
-    call h5sclose_f(fspace, err)
-    call h5check(err, 'h5sclose_f('//name//')', where)
+    call write_columns(gid, self%dxpl, name, ftype, mtype, m, nloc, offset, nglob, ptr, &
+                       'output%write_set')
   end subroutine write_points
 
   !> write_points for doubles (file type IEEE F64LE).

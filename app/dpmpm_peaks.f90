@@ -14,7 +14,8 @@
 program dpmpm_peaks_table
   use, intrinsic :: iso_fortran_env, only: output_unit
   use, intrinsic :: iso_c_binding, only: c_loc
-  use mpi_f08, only: MPI_Init, MPI_Finalize
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize
   use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, &
                   h5gcreate_f, h5gclose_f, h5screate_simple_f, h5sclose_f, &
                   h5dcreate_f, h5dwrite_f, h5dclose_f, H5F_ACC_TRUNC_F, &
@@ -40,7 +41,7 @@ program dpmpm_peaks_table
   logical :: radial
   character(len=512) :: path
 
-  call MPI_Init()
+  call start_mpi()
   path = 'out/peaks.h5'
   nargs = command_argument_count()
   if (nargs >= 1) call get_command_argument(1, path)

@@ -4,9 +4,12 @@
 Usage: check_output.py [--contract PATH] FILE.h5 [FILE.h5 ...]
 
 Checks the root attributes, /input, the /diagnostics datasets, every frame
-(attributes, point-set datasets, shapes, dtypes, unique ids) and the XDMF
-sidecar next to each file (valid XML, every referenced dataset exists with
-the declared dimensions). With --contract, also runs that external layout
+(attributes, point-set datasets, shapes, dtypes) and the content of every
+frame: in each point set the ids are unique and the same as in the first
+frame (no point lost or doubled), the total mass is the first frame's (to
+1e-12 relative), and no dataset holds a non-finite value. The XDMF sidecar next
+to each file must be valid XML listing the file's frames with their times, and
+every referenced dataset must exist with the declared dimensions. With --contract, also runs that external layout
 checker on each file when the script exists, and says so when it does not.
 Exit status 0 when every file passes.
 """
@@ -65,6 +68,7 @@ def check_h5(path, bad):
         names = sorted(fr.keys())
         if names != [f"{k:06d}" for k in range(len(names))]:
             bad.append(f"frame names are not 000000..{len(names) - 1:06d}: {names[:5]}...")
+        first = {}
         for fname in names:
             g = fr[fname]
             where = f"/frames/{fname}"
@@ -77,6 +81,7 @@ def check_h5(path, bad):
                 bad.append(f"{where}: no solid group")
             for s in sets:
                 check_set(g[s], f"{where}/{s}", ndim, bad)
+                check_content(g[s], f"{where}/{s}", first.setdefault(s, {}), bad)
 
 
 def check_set(g, where, ndim, bad):
@@ -107,8 +112,27 @@ def check_set(g, where, ndim, bad):
     ids = g["id"][...]
     if len(np.unique(ids)) != len(ids):
         bad.append(f"{where}/id not unique")
-    if n > 0 and "x" in g and not np.all(np.isfinite(g["x"][...])):
-        bad.append(f"{where}/x has non-finite values")
+
+
+def check_content(g, where, first, bad):
+    """Ids complete and unique, mass conserved, finite values; first holds the first
+    frame's ids and mass of this set (filled on the first call)."""
+    if "id" not in g:
+        return
+    ids = np.sort(g["id"][...])
+    mass = float(np.sum(g["mass"][...])) if "mass" in g else 0.0
+    if not first:
+        first["ids"], first["mass"] = ids, mass
+    elif not np.array_equal(ids, first["ids"]):
+        lost = np.setdiff1d(first["ids"], ids).size
+        new = np.setdiff1d(ids, first["ids"]).size
+        bad.append(f"{where}: ids differ from the first frame ({lost} missing, {new} new, "
+                   f"{len(ids) - len(np.unique(ids))} repeated)")
+    elif abs(mass - first["mass"]) > 1e-12 * abs(first["mass"]):
+        bad.append(f"{where}: total mass {mass!r}, first frame {first['mass']!r}")
+    for name, ds in g.items():
+        if ds.dtype.kind == "f" and ds.size and not np.all(np.isfinite(ds[...])):
+            bad.append(f"{where}/{name} has non-finite values")
 
 
 def check_xmf(h5path, bad):
@@ -125,15 +149,38 @@ def check_xmf(h5path, bad):
         return
     if root.tag != "Xdmf":
         bad.append(f"{xmf}: root element is {root.tag}, expected Xdmf")
-    series = root.find("Domain/Grid")
-    if series is None or series.get("CollectionType") != "Temporal":
-        bad.append(f"{xmf}: no temporal collection under Domain")
+    series = root.findall("Domain/Grid")
+    if not series or any(g.get("CollectionType") != "Temporal" for g in series):
+        bad.append(f"{xmf}: the Domain does not hold temporal collections (one per set)")
         return
     with h5py.File(h5path, "r") as f:
-        nframes = len(f["frames"]) if "frames" in f else 0
-        frames = series.findall("Grid")
-        if len(frames) != nframes:
-            bad.append(f"{xmf}: {len(frames)} frames listed, the file has {nframes}")
+        frames = f["frames"] if "frames" in f else {}
+        for coll in series:
+            sname = coll.get("Name")
+            # Every frame in which the set has points, in order, and nothing else.
+            want = [fr for fr in sorted(frames)
+                    if sname in frames[fr] and frames[fr][sname]["id"].shape[0] > 0]
+            grids = coll.findall("Grid")
+            if len(grids) != len(want):
+                bad.append(f"{xmf}: {sname}: {len(grids)} frames listed, the file has "
+                           f"{len(want)} with points of the set")
+            for k, (grid, fr) in enumerate(zip(grids, want)):
+                if grid.get("Name") != sname:
+                    bad.append(f"{xmf}: {sname} frame {k} is named {grid.get('Name')}")
+                tel = grid.find("Time")
+                t = float(tel.get("Value")) if tel is not None else None
+                t5 = float(frames[fr].attrs.get("time", np.nan))
+                if t is None or abs(t - t5) > 1e-9 * max(1.0, abs(t5)):
+                    bad.append(f"{xmf}: {sname} frame {k} at time {t}, the file's frame {fr} "
+                               f"at {t5}")
+                refs = {(item.text or "").strip().partition(":")[2]
+                        for item in grid.iter("DataItem") if item.get("Format") == "HDF"}
+                if not all(r.startswith(f"/frames/{fr}/{sname}/") for r in refs):
+                    bad.append(f"{xmf}: {sname} frame {k} refers to {sorted(refs)[:2]}..., "
+                               f"not to /frames/{fr}/{sname}")
+                topo = grid.find("Topology")
+                if topo is None or topo.get("TopologyType") != "Polyvertex":
+                    bad.append(f"{xmf}: {sname} frame {k} is not a Polyvertex cloud")
         for item in root.iter("DataItem"):
             if item.get("Format") != "HDF":
                 continue
@@ -149,11 +196,6 @@ def check_xmf(h5path, bad):
             shape = f[dset].shape
             if dims != shape:
                 bad.append(f"{xmf}: {dset} declared {dims}, stored {shape}")
-        for grid in root.iter("Grid"):
-            if grid.get("GridType") == "Uniform":
-                topo = grid.find("Topology")
-                if topo is None or topo.get("TopologyType") != "Polyvertex":
-                    bad.append(f"{xmf}: grid {grid.get('Name')} is not a Polyvertex cloud")
 
 
 def run_contract(contract, path, bad):

@@ -3,14 +3,15 @@
 !> size, stays below a bound taken from a measured error (doc/verification.md),
 !> and the total energy is conserved within a measured bound.
 program test_bar
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, bc_fixed
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests
   implicit none
   integer :: status
-  call MPI_Init()
+  call start_mpi()
   call test_bar_error_decreases_with_cell_size()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()

@@ -3,7 +3,8 @@
 !> measured error (debug build) times a stated margin; the measurements are in the comments and
 !> in doc/verification.md.
 program test_biot_column
-  use mpi_f08, only: MPI_Init, MPI_Finalize
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_biot_column, only: biot_column_t, biot_column_solve, biot_undrained_split, &
                                biot_wave_speeds, biot_drag, biot_incompressible_sigma
@@ -14,7 +15,7 @@ program test_biot_column
   implicit none
   integer :: status
   real(wp), parameter :: pi = acos(-1.0_wp)
-  call MPI_Init()
+  call start_mpi()
   call test_wave_speeds_match_worked_numbers()
   call test_undrained_split_behind_fast_front()
   call test_zero_ahead_of_fast_front()

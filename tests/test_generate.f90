@@ -4,7 +4,8 @@
 !> box; and on every rank layout each set is exactly the set one rank alone generates
 !> (same ids, positions and values, every point once, on the rank owning its cell).
 program test_generate
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, &
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, &
                      MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_INTEGER, &
                      MPI_DOUBLE_PRECISION
   use dpmpm_kinds, only: wp, i8
@@ -23,7 +24,7 @@ program test_generate
   real(wp), parameter :: k_soil = 1.0e-4_wp, n_sat = 0.4_wp
   integer :: status, nranks, rank
 
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = (rank == 0)

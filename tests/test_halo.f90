@@ -4,12 +4,13 @@
 !> at edges and corners. The expected values are computed independently from
 !> every rank's stored node range (gathered with MPI_Allgather).
 program test_halo
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank
   use dpmpm_kinds, only: wp
   use dpmpm_assert, only: begin_test, check, finish_tests, am_root
   implicit none
   integer :: status, nranks, rank
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = (rank == 0)

@@ -4,7 +4,8 @@
 !> columns started at zero stress move. Bounds: measured values (doc/verification.md,
 !> "Initial state: hydrostatic and geostatic columns") plus 30 %.
 program test_initial_state
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, fbc_drained
   use dpmpm_simulation, only: simulation_t
@@ -22,7 +23,7 @@ program test_initial_state
   real(wp), parameter :: SOIL_V = 3.3e-10_wp, SOIL_P = 1.5e-6_wp, SOIL_S = 4.1e-7_wp
   real(wp), parameter :: WATER_MOVE = 2.4e-3_wp, SOIL_MOVE = 1.7e-4_wp
   integer :: status, rank
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = rank == 0
   call test_generated_fields_follow_the_gradients()

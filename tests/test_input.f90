@@ -4,7 +4,8 @@
 !> fluid face conditions.
 program test_input
   use, intrinsic :: iso_fortran_env, only: output_unit
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size, &
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size, &
                      MPI_Barrier
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller, face_index, fbc_default, &
@@ -15,7 +16,7 @@ program test_input
   integer :: status, rank, nranks
   character(len=16) :: tag
 
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   am_root = rank == 0

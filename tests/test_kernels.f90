@@ -1,7 +1,8 @@
 !> Kernel tests: partition of unity and zero gradient sum, in 1D, 2D and 3D
 !> (tensor products), at many positions across a cell.
 program test_kernels
-  use mpi_f08, only: MPI_Init, MPI_Finalize
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: kernel_eval_1d, kernel_width, max_stencil, kernel_linear, &
                            kernel_quadratic, kernel_cubic, kernel_names, ngrid_kernels, &
@@ -10,7 +11,7 @@ program test_kernels
   use dpmpm_assert, only: begin_test, check_close, check, finish_tests
   implicit none
   integer :: status
-  call MPI_Init()
+  call start_mpi()
   call test_partition_of_unity_1d()
   call test_tensor_partition_of_unity_3d()
   call test_gradient_matches_finite_difference()

@@ -2,7 +2,8 @@
 !> exactly the applied rate (internal forces sum to zero, FLIP transfers nodal
 !> momentum changes exactly).
 program test_loads
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, &
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, &
                      MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t
@@ -10,7 +11,7 @@ program test_loads
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests
   implicit none
   integer :: status
-  call MPI_Init()
+  call start_mpi()
   call test_traction_changes_momentum_at_applied_rate()
   call test_gravity_changes_momentum_at_applied_rate()
   status = finish_tests(MPI_COMM_WORLD)

@@ -4,7 +4,8 @@
 !> rank owning its cell. Points pushed out of the grid, or further than one
 !> neighbouring rank, must be kept and counted in nlost.
 program test_migration
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank, &
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank, &
                      MPI_Allreduce, MPI_Gather, MPI_Gatherv, MPI_IN_PLACE, MPI_SUM, &
                      MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_INTEGER8
   use dpmpm_kinds, only: wp, i8
@@ -24,7 +25,7 @@ program test_migration
   integer(i8) :: seed = 1_i8
   integer :: status, nranks, rank
 
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = (rank == 0)

@@ -4,7 +4,8 @@
 !> Tolerances are measured values with a stated margin (noted next to each constant).
 program test_mls
   use, intrinsic :: iso_fortran_env, only: output_unit
-  use mpi_f08, only: MPI_Init, MPI_Finalize
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp, i8
   use dpmpm_kernels, only: kernel_names, kernel_linear, kernel_quadratic, kernel_cubic, &
                            kernel_wendland_c2, kernel_wendland_c4, kernel_reach, &
@@ -22,7 +23,7 @@ program test_mls
   real(wp), parameter :: hc = 0.37_wp
   integer :: status
 
-  call MPI_Init()
+  call start_mpi()
   call test_basis_names_and_sizes()
   call test_reproduces_basis_on_random_clouds()
   call test_partition_of_unity_all_bases()

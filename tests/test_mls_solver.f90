@@ -5,7 +5,8 @@
 !> converges at second order. Bounds are measured values with the margins in
 !> doc/verification.md.
 program test_mls_solver
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
   use dpmpm_simulation, only: simulation_t
@@ -13,7 +14,7 @@ program test_mls_solver
   use dpmpm_assert, only: begin_test, check, finish_tests
   implicit none
   integer :: status
-  call MPI_Init()
+  call start_mpi()
   call test_standard_mpm_is_linear_constant_mls()
   call test_transposed_pair_keeps_energy()
   call test_mms_crack_and_convergence()

@@ -3,13 +3,14 @@
 !> leaves wider gaps open, and neither grows a body past its outermost occupied
 !> cells nor erodes it at the grid faces.
 program test_occupancy
-  use mpi_f08, only: MPI_Init, MPI_Finalize
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_reconstruct, only: occupancy_pass
   use dpmpm_assert, only: begin_test, check, finish_tests
   implicit none
   integer :: status
-  call MPI_Init()
+  call start_mpi()
   call test_closing_fills_gaps_up_to_twice_the_width_1d()
   call test_closing_keeps_block_surfaces_2d()
   status = finish_tests()

@@ -6,7 +6,8 @@
 !> The 2-rank files are checked again by scripts/check_output.py (ctest output_layout_np2).
 program test_output
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr, c_char, c_null_char
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_rank, &
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_rank, &
                      MPI_Comm_size, MPI_Barrier
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fopen_f, h5fclose_f, h5dopen_f, &
                   h5dclose_f, h5dread_f, h5dget_space_f, h5dget_type_f, h5sclose_f, &
@@ -25,7 +26,7 @@ program test_output
   integer :: status, rank, nranks
   character(len=*), parameter :: input_text = '&run name = ''test_output'' /'//new_line('a')// &
                                               '&grid ndim = 2 /'//new_line('a')
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   am_root = (rank == 0)

@@ -2,7 +2,8 @@
 !> of a 4-rank job) gives the same point fields, matched by id, to 1e-10 relative.
 !> Points are scattered randomly, move across rank boundaries, and the body deforms.
 program test_rank_invariance
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_split, &
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_split, &
                      MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_UNDEFINED, MPI_COMM_NULL, &
                      operator(/=)
   use dpmpm_kinds, only: wp, i8
@@ -11,7 +12,7 @@ program test_rank_invariance
   use dpmpm_assert, only: begin_test, check, finish_tests, am_root
   implicit none
   integer :: status, rank, nworld
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nworld)
   am_root = rank == 0

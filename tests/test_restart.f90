@@ -2,7 +2,8 @@
 !> same run without a break ends, on the same ranks and (to the rank invariance of the
 !> solver) on fewer ranks; a bad checkpoint is refused.
 program test_restart
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_rank, &
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_rank, &
                      MPI_Comm_size, MPI_Barrier
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
@@ -11,7 +12,7 @@ program test_restart
   implicit none
   character(len=*), parameter :: dir = 'out/test_restart'
   integer :: status, rank, nranks
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   am_root = rank == 0

@@ -2,7 +2,8 @@
 !> saturated column (W1, coarse) against the analytical column solution, the
 !> agreement of explicit and implicit drag, and Terzaghi consolidation.
 program test_two_phase
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, fbc_drained
   use dpmpm_simulation, only: simulation_t
@@ -49,7 +50,7 @@ program test_two_phase
   real(wp), parameter :: SEEP_TERM = 7.3e-4_wp, SEEP_IFACE = 0.098_wp, SEEP_NOTERM = 3.3e-3_wp, &
                          SEEP_KINK = 0.15_wp
   integer :: status, rank
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = rank == 0
   call test_drag_solve_conserves_momentum()

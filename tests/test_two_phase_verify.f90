@@ -5,7 +5,8 @@
 !> measures must return exactly those amounts. Points are dealt round-robin to the ranks, so
 !> the gathering is exercised too; the results must not depend on the rank count.
 program test_two_phase_verify
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, face_index
   use dpmpm_materials, only: material_t, materials_from_config
@@ -20,7 +21,7 @@ program test_two_phase_verify
   integer :: status, nranks, rank
   !> W1 at this time: fast front at 4.82 m, so z < 3.32 m is behind it on the 20-cell grid.
   real(wp), parameter :: t_w1 = 0.05_wp
-  call MPI_Init()
+  call start_mpi()
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = (rank == 0)

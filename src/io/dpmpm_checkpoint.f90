@@ -8,6 +8,7 @@
 !> (the packed points of particle_set_t%pack, Fortran shape (nreal_packed, n)).
 module dpmpm_checkpoint
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc
+  use, intrinsic :: iso_fortran_env, only: output_unit
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Barrier, MPI_Exscan, MPI_Allreduce, &
                      MPI_SUM, MPI_IN_PLACE, MPI_INFO_NULL
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, h5pcreate_f, &
@@ -20,7 +21,7 @@ module dpmpm_checkpoint
   use dpmpm_error, only: fatal
   use dpmpm_particles, only: particle_set_t
   use dpmpm_migrate, only: point_cell
-  use dpmpm_h5, only: h5check, make_dir, rename_file, write_columns
+  use dpmpm_h5, only: h5check, make_dir, rename_file, write_columns, write_check_t
   implicit none
   private
   public :: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
@@ -60,8 +61,9 @@ contains
     type(particle_set_t), intent(in), optional :: fluid
     character(len=*), parameter :: where = 'write_checkpoint'
     integer(hid_t) :: fapl, dxpl, file
-    integer :: err, rank
+    integer :: err, rank, nrewritten
     real(wp), target :: state(nstate)
+    type(write_check_t) :: check
     call MPI_Comm_rank(comm, rank)
     if (rank == 0) call make_dir(trim(output_dir))
     call MPI_Barrier(comm)
@@ -81,9 +83,15 @@ contains
     call h5check(err, 'h5pset_dxpl_mpio_f', where)
     state = state_to_array(st)
     call write_columns(file, dxpl, 'state', H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), &
-                       nstate, merge(1_i8, 0_i8, rank == 0), 0_i8, 1_i8, c_loc(state), where)
-    call write_set(file, dxpl, comm, 'solid', solid)
-    if (present(fluid)) call write_set(file, dxpl, comm, 'fluid', fluid)
+                       nstate, merge(1_i8, 0_i8, rank == 0), 0_i8, 1_i8, c_loc(state), where, &
+                       check)
+    call write_set(file, dxpl, comm, 'solid', solid, check)
+    if (present(fluid)) call write_set(file, dxpl, comm, 'fluid', fluid, check)
+    ! Read back what every rank wrote before the checkpoint replaces the previous one.
+    call check%verify(file, comm, where, nrewritten)
+    if (nrewritten > 0 .and. rank == 0) write (output_unit, '(a,i0,a)') 'checkpoint: ', &
+      nrewritten, ' blocks read back differently from what the collective write was '// &
+      'given; rewritten with independent I/O and verified'
     call h5pclose_f(dxpl, err)
     call h5fclose_f(file, err)
     call h5check(err, 'h5fclose_f('//path//'.tmp)', where)
@@ -151,11 +159,12 @@ contains
   end function array_to_state
 
   !> The packed points of a set: this rank's at its offset in the global order.
-  subroutine write_set(file, dxpl, comm, name, ps)
+  subroutine write_set(file, dxpl, comm, name, ps, check)
     integer(hid_t), intent(in) :: file, dxpl
     type(MPI_Comm), intent(in) :: comm
     character(len=*), intent(in) :: name
     type(particle_set_t), intent(in) :: ps
+    type(write_check_t), intent(inout) :: check
     real(wp), allocatable, target :: buf(:, :)
     integer(i8) :: nloc, offset, nglob
     integer :: m, k, rank
@@ -169,7 +178,7 @@ contains
     allocate (buf(m, max(ps%n, 1)))
     call ps%pack_points([(k, k=1, ps%n)], buf(:, 1:ps%n))
     call write_columns(file, dxpl, name, H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), m, &
-                       nloc, offset, nglob, c_loc(buf), 'write_checkpoint')
+                       nloc, offset, nglob, c_loc(buf), 'write_checkpoint', check)
   end subroutine write_set
 
   !> Read set name and append its points in cells clo..chi to ps.

@@ -2,19 +2,22 @@
 !> checked call, scalar attributes of the project's types, fixed-length strings,
 !> and creating an output directory.
 module dpmpm_h5
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char, c_int
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char, c_int, c_f_pointer
+  use, intrinsic :: iso_fortran_env, only: int8
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_Barrier, MPI_INTEGER, MPI_SUM
   use hdf5, only: hid_t, size_t, h5screate_f, h5sclose_f, h5acreate_f, h5awrite_f, h5aclose_f, &
                   h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5kind_to_type, H5_REAL_KIND, &
                   H5_INTEGER_KIND, H5S_SCALAR_F, H5T_C_S1, H5T_STR_NULLPAD_F, H5T_IEEE_F64LE, &
                   H5T_STD_I64LE, H5T_STD_I32LE, h5tclose_f, hsize_t, h5screate_simple_f, &
                   h5dcreate_f, h5dwrite_f, h5dclose_f, h5sselect_hyperslab_f, h5sselect_none_f, &
-                  H5S_SELECT_SET_F
+                  H5S_SELECT_SET_F, h5dread_f, h5dget_space_f, h5fflush_f, h5iinc_ref_f, &
+                  h5tget_size_f, H5F_SCOPE_GLOBAL_F
   use dpmpm_kinds, only: wp, i8, i4
   use dpmpm_error, only: fatal
   implicit none
   private
   public :: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, rename_file
-  public :: write_columns
+  public :: write_columns, write_check_t
 
   interface
     function c_rename(old, new) bind(C, name='rename') result(r)
@@ -23,6 +26,31 @@ module dpmpm_h5
       integer(c_int) :: r
     end function c_rename
   end interface
+
+  !> One block that this rank wrote into one dataset: where (selection) and what (bytes).
+  type :: written_t
+    integer(hid_t) :: dset = -1
+    integer(hid_t) :: mtype = -1
+    integer :: rank = 1
+    integer(hsize_t) :: start(2) = 0
+    integer(hsize_t) :: cnt(2) = 0
+    integer(int8), allocatable :: bytes(:)
+    character(len=:), allocatable :: name
+  end type written_t
+
+  !> Read-back check of collective writes. Some MPI-IO layers (Open MPI's OMPIO with
+  !> HDF5 1.10 on 3 ranks) have put one rank's block of a collective write in the wrong
+  !> place without reporting an error. Every block written through add is kept; verify
+  !> reads each back with independent I/O after a flush, rewrites the blocks that differ
+  !> independently, reads them again, and stops the run if they still differ.
+  type :: write_check_t
+    integer :: n = 0
+    type(written_t), allocatable :: rec(:)
+  contains
+    procedure :: add => check_add
+    procedure :: verify => check_verify
+    procedure :: free => check_free
+  end type write_check_t
 
 contains
 
@@ -136,13 +164,16 @@ contains
   !> Create dataset <name> under gid for nglob points and write this rank's nloc points at
   !> offset, collectively with the transfer list dxpl. m = 0: shape (nglob); m > 0: Fortran shape (m, nglob), (nglob, m) in C order.
   !> ptr points to nloc*m values (at least one element, even when nloc = 0).
-  subroutine write_columns(gid, dxpl, name, ftype, mtype, m, nloc, offset, nglob, ptr, where)
+  !> With check, this rank's block is kept for check%verify (read back after the write).
+  subroutine write_columns(gid, dxpl, name, ftype, mtype, m, nloc, offset, nglob, ptr, where, &
+                           check)
     integer(hid_t), intent(in) :: gid, dxpl, ftype, mtype
     character(len=*), intent(in) :: name
     integer, intent(in) :: m
     integer(i8), intent(in) :: nloc, offset, nglob
     type(c_ptr), intent(in) :: ptr
     character(len=*), intent(in) :: where
+    type(write_check_t), intent(inout), optional :: check
     integer(hsize_t) :: fdims(2), mdims(2), start(2), cnt(2)
     integer(hid_t) :: fspace, mspace, dset
     integer :: rank, err
@@ -180,6 +211,8 @@ contains
                       xfer_prp=dxpl)
       call h5check(err, 'h5dwrite_f('//name//')', where)
     end if
+    if (present(check) .and. nloc > 0) &
+      call check%add(dset, mtype, rank, start, cnt, ptr, name, where)
     call h5dclose_f(dset, err)
     call h5check(err, 'h5dclose_f('//name//')', where)
     call h5sclose_f(mspace, err)
@@ -187,5 +220,160 @@ contains
     call h5sclose_f(fspace, err)
     call h5check(err, 'h5sclose_f('//name//')', where)
   end subroutine write_columns
+
+  !> Keep a copy of the block just written to dset (selection start/cnt of the given rank,
+  !> memory type mtype, data at ptr). The dataset stays open until verify or free.
+  subroutine check_add(self, dset, mtype, rank, start, cnt, ptr, name, where)
+    class(write_check_t), intent(inout) :: self
+    integer(hid_t), intent(in) :: dset, mtype
+    integer, intent(in) :: rank
+    integer(hsize_t), intent(in) :: start(:), cnt(:)
+    type(c_ptr), intent(in) :: ptr
+    character(len=*), intent(in) :: name, where
+    type(written_t), allocatable :: tmp(:)
+    integer(int8), pointer :: src(:)
+    integer(size_t) :: esize
+    integer :: err, refs
+    integer(i8) :: nbytes
+    if (.not. allocated(self%rec)) allocate (self%rec(16))
+    if (self%n + 1 > size(self%rec)) then
+      allocate (tmp(2*size(self%rec)))
+      tmp(1:self%n) = self%rec(1:self%n)
+      call move_alloc(tmp, self%rec)
+    end if
+    call h5tget_size_f(mtype, esize, err)
+    call h5check(err, 'h5tget_size_f('//name//')', where)
+    nbytes = int(esize, i8)*product(int(cnt(1:rank), i8))
+    call c_f_pointer(ptr, src, [nbytes])
+    call h5iinc_ref_f(dset, refs, err)
+    call h5check(err, 'h5iinc_ref_f('//name//')', where)
+    self%n = self%n + 1
+    associate (r => self%rec(self%n))
+      r%dset = dset
+      r%mtype = mtype
+      r%rank = rank
+      r%start = 0
+      r%cnt = 0
+      r%start(1:rank) = start(1:rank)
+      r%cnt(1:rank) = cnt(1:rank)
+      r%bytes = src
+      r%name = name
+    end associate
+  end subroutine check_add
+
+  !> Collective over the ranks of the file: flush file_id, read back every block kept
+  !> since the last verify and compare it byte for byte; rewrite the blocks that differ
+  !> with independent I/O and compare again; fatal if they still differ. Returns in
+  !> nrewritten the number of blocks rewritten over all ranks (0 when all were right).
+  subroutine check_verify(self, file_id, comm, where, nrewritten)
+    class(write_check_t), intent(inout) :: self
+    integer(hid_t), intent(in) :: file_id
+    type(MPI_Comm), intent(in) :: comm
+    character(len=*), intent(in) :: where
+    integer, intent(out) :: nrewritten
+    logical, allocatable :: bad(:)
+    integer :: k, nbad, nstill, err
+    allocate (bad(self%n))
+    call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, err)
+    call h5check(err, 'h5fflush_f', where)
+    call MPI_Barrier(comm)
+    do k = 1, self%n
+      bad(k) = .not. block_reads_back(self%rec(k), where)
+    end do
+    nbad = count(bad)
+    call MPI_Allreduce(nbad, nrewritten, 1, MPI_INTEGER, MPI_SUM, comm)
+    if (nrewritten > 0) then
+      do k = 1, self%n
+        if (bad(k)) call rewrite_block(self%rec(k), where)
+      end do
+      call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, err)
+      call h5check(err, 'h5fflush_f', where)
+      call MPI_Barrier(comm)
+      do k = 1, self%n
+        if (bad(k)) bad(k) = .not. block_reads_back(self%rec(k), where)
+      end do
+      nbad = count(bad)
+      call MPI_Allreduce(nbad, nstill, 1, MPI_INTEGER, MPI_SUM, comm)
+      if (nstill > 0) then
+        do k = 1, self%n
+          if (bad(k)) call fatal('dataset '//self%rec(k)%name//' reads back different '// &
+                                 'bytes than were written, also after an independent rewrite', &
+                                 where)
+        end do
+        call MPI_Barrier(comm)
+        call fatal('the output file does not hold what was written', where)
+      end if
+    end if
+    call self%free()
+  end subroutine check_verify
+
+  !> Close the datasets kept since the last verify and forget their blocks.
+  subroutine check_free(self)
+    class(write_check_t), intent(inout) :: self
+    integer :: k, err
+    do k = 1, self%n
+      call h5dclose_f(self%rec(k)%dset, err)
+      call h5check(err, 'h5dclose_f('//self%rec(k)%name//')', 'write check')
+      deallocate (self%rec(k)%bytes)
+    end do
+    self%n = 0
+  end subroutine check_free
+
+  !> Read one kept block back from the file (independent I/O); true when every byte equals
+  !> what was written.
+  logical function block_reads_back(r, where) result(same)
+    type(written_t), intent(in) :: r
+    character(len=*), intent(in) :: where
+    integer(int8), allocatable, target :: buf(:)
+    integer(hid_t) :: fspace, mspace
+    type(c_ptr) :: p
+    integer :: err
+    allocate (buf(size(r%bytes)))
+    buf = not(r%bytes)
+    p = c_loc(buf)
+    call block_spaces(r, fspace, mspace, where)
+    call h5dread_f(r%dset, r%mtype, p, err, mem_space_id=mspace, file_space_id=fspace)
+    call h5check(err, 'h5dread_f('//r%name//')', where)
+    call close_spaces(r, fspace, mspace, where)
+    same = all(buf == r%bytes)
+  end function block_reads_back
+
+  !> Write one kept block again with independent I/O.
+  subroutine rewrite_block(r, where)
+    type(written_t), intent(in), target :: r
+    character(len=*), intent(in) :: where
+    integer(hid_t) :: fspace, mspace
+    integer :: err
+    call block_spaces(r, fspace, mspace, where)
+    call h5dwrite_f(r%dset, r%mtype, c_loc(r%bytes), err, mem_space_id=mspace, &
+                    file_space_id=fspace)
+    call h5check(err, 'h5dwrite_f('//r%name//', independent)', where)
+    call close_spaces(r, fspace, mspace, where)
+  end subroutine rewrite_block
+
+  !> File space of a kept block's dataset with its selection, and a memory space of its shape.
+  subroutine block_spaces(r, fspace, mspace, where)
+    type(written_t), intent(in) :: r
+    integer(hid_t), intent(out) :: fspace, mspace
+    character(len=*), intent(in) :: where
+    integer :: err
+    call h5dget_space_f(r%dset, fspace, err)
+    call h5check(err, 'h5dget_space_f('//r%name//')', where)
+    call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, r%start(1:r%rank), r%cnt(1:r%rank), err)
+    call h5check(err, 'h5sselect_hyperslab_f('//r%name//')', where)
+    call h5screate_simple_f(r%rank, r%cnt(1:r%rank), mspace, err)
+    call h5check(err, 'h5screate_simple_f('//r%name//')', where)
+  end subroutine block_spaces
+
+  subroutine close_spaces(r, fspace, mspace, where)
+    type(written_t), intent(in) :: r
+    integer(hid_t), intent(in) :: fspace, mspace
+    character(len=*), intent(in) :: where
+    integer :: err
+    call h5sclose_f(mspace, err)
+    call h5check(err, 'h5sclose_f('//r%name//')', where)
+    call h5sclose_f(fspace, err)
+    call h5check(err, 'h5sclose_f('//r%name//')', where)
+  end subroutine close_spaces
 
 end module dpmpm_h5

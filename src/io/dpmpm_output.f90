@@ -7,7 +7,7 @@ module dpmpm_output
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char
   use mpi_f08, only: MPI_Comm, MPI_Comm_dup, MPI_Comm_free, MPI_Comm_rank, MPI_Comm_size, &
                      MPI_Barrier, MPI_Bcast, MPI_Exscan, MPI_Allreduce, MPI_INTEGER, &
-                     MPI_SUM, MPI_MIN, MPI_MAX, MPI_INFO_NULL, MPI_CHARACTER
+                     MPI_SUM, MPI_MIN, MPI_MAX, MPI_INFO_NULL, MPI_CHARACTER, MPI_Wtime
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
                   h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
                   h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5screate_f, h5screate_simple_f, &
@@ -24,7 +24,8 @@ module dpmpm_output
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
-                      rename_file, write_columns
+                      rename_file, write_columns, write_check_t
+  use dpmpm_log, only: log_t
   implicit none
   private
   public :: output_t, output_h5_path, output_xmf_path
@@ -73,6 +74,12 @@ module dpmpm_output
     integer :: ndiag_buf = 0
     type(diag_record_t), allocatable :: diag_buf(:)
     integer(i8) :: ndiag_written = 0
+    !> Blocks written since the last read-back check, and what the checks found and cost.
+    type(write_check_t) :: check
+    type(log_t) :: log
+    integer :: nchecks = 0
+    integer :: nrewritten = 0
+    real(wp) :: check_seconds = 0.0_wp
   contains
     procedure :: open => out_open
     procedure :: begin_frame => out_begin_frame
@@ -130,6 +137,10 @@ contains
     self%nsets = 0
     self%ndiag_buf = 0
     self%ndiag_written = 0
+    self%nchecks = 0
+    self%nrewritten = 0
+    self%check_seconds = 0.0_wp
+    call self%log%init(self%comm)
     if (.not. allocated(self%frames)) allocate (self%frames(16))
     if (.not. allocated(self%sets)) allocate (self%sets(16))
     if (.not. allocated(self%diag_buf)) allocate (self%diag_buf(64))
@@ -275,8 +286,9 @@ contains
                                       has_pressure=ps%has_pressure)
   end subroutine out_write_set
 
-  !> Close the current frame, write buffered diagnostics, flush the file to disk and
-  !> rewrite the XDMF sidecar (rank 0) so that a crashed run keeps every finished frame.
+  !> Close the current frame, write buffered diagnostics, flush the file to disk, read back
+  !> and compare what every rank wrote (verify_written), and rewrite the XDMF sidecar
+  !> (rank 0) so that a crashed run keeps every finished frame.
   subroutine out_end_frame(self)
     class(output_t), intent(inout) :: self
     character(len=*), parameter :: where = 'output%end_frame'
@@ -287,8 +299,7 @@ contains
     self%frame_id = -1
     self%in_frame = .false.
     call self%flush_diag()
-    call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
-    call h5check(err, 'h5fflush_f', where)
+    call verify_written(self, where)
     if (self%rank == 0) call write_xdmf(self)
     call MPI_Barrier(self%comm)
   end subroutine out_end_frame
@@ -376,10 +387,18 @@ contains
   subroutine out_close(self)
     class(output_t), intent(inout) :: self
     character(len=*), parameter :: where = 'output%close'
+    character(len=160) :: line
     integer :: err, k
     if (.not. self%is_open) return
     if (self%in_frame) call self%end_frame()
     call self%flush_diag()
+    call verify_written(self, where)
+    if (self%nchecks > 0) then
+      write (line, '(a,i0,a,f0.2,a,i0,a)') 'output: ', self%nchecks, &
+        ' read-back checks of the written blocks, ', 1.0e3_wp*self%check_seconds/self%nchecks, &
+        ' ms each; ', self%nrewritten, ' blocks rewritten'
+      call self%log%info(trim(line))
+    end if
     do k = 1, ndiag_dsets
       call h5dclose_f(self%diag_dset(k), err)
       call h5check(err, 'h5dclose_f(diagnostics)', where)
@@ -396,6 +415,29 @@ contains
   end subroutine out_close
 
   ! ---------------------------------------------------------------- helpers
+
+  !> Read back every block written since the last call and compare it with what was
+  !> written (write_check_t%verify: flush, independent read, rewrite and re-read on a
+  !> mismatch, fatal when that fails too). Says so in the log the first time a block had
+  !> to be rewritten; close reports the count and the cost.
+  subroutine verify_written(self, where)
+    type(output_t), intent(inout) :: self
+    character(len=*), intent(in) :: where
+    character(len=200) :: line
+    integer :: nrew
+    real(wp) :: t0
+    t0 = MPI_Wtime()
+    call self%check%verify(self%file_id, self%comm, where, nrew)
+    self%check_seconds = self%check_seconds + (MPI_Wtime() - t0)
+    self%nchecks = self%nchecks + 1
+    if (nrew > 0 .and. self%nrewritten == 0) then
+      write (line, '(a,i0,a,i0,a)') 'output: frame ', max(self%nframes - 1, 0), ': ', nrew, &
+        ' blocks read back differently from what the collective write was given; '// &
+        'rewritten with independent I/O and verified'
+      call self%log%info(trim(line))
+    end if
+    self%nrewritten = self%nrewritten + nrew
+  end subroutine verify_written
 
 
 
@@ -459,7 +501,7 @@ contains
 
   !> Extend one diagnostics dataset by m entries and write them from rank 0.
   subroutine append_diag(self, dset, mtype, m, ptr)
-    type(output_t), intent(in) :: self
+    type(output_t), intent(inout) :: self
     integer(hid_t), intent(in) :: dset, mtype
     integer, intent(in) :: m
     type(c_ptr), intent(in) :: ptr
@@ -485,6 +527,8 @@ contains
     call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
                     xfer_prp=self%dxpl)
     call h5check(err, 'h5dwrite_f', where)
+    if (self%rank == 0) call self%check%add(dset, mtype, 1, [int(self%ndiag_written, hsize_t)], &
+                                            [int(m, hsize_t)], ptr, 'diagnostics', where)
     call h5sclose_f(mspace, err)
     call h5check(err, 'h5sclose_f', where)
     call h5sclose_f(fspace, err)
@@ -493,19 +537,19 @@ contains
 
   !> write_columns with the file's collective transfer list.
   subroutine write_points(self, gid, name, ftype, mtype, m, nloc, offset, nglob, ptr)
-    type(output_t), intent(in) :: self
+    type(output_t), intent(inout) :: self
     integer(hid_t), intent(in) :: gid, ftype, mtype
     character(len=*), intent(in) :: name
     integer, intent(in) :: m
     integer(i8), intent(in) :: nloc, offset, nglob
     type(c_ptr), intent(in) :: ptr
     call write_columns(gid, self%dxpl, name, ftype, mtype, m, nloc, offset, nglob, ptr, &
-                       'output%write_set')
+                       'output%write_set', self%check)
   end subroutine write_points
 
   !> write_points for doubles (file type IEEE F64LE).
   subroutine write_points_real(self, gid, name, m, nloc, offset, nglob, vals)
-    type(output_t), intent(in) :: self
+    type(output_t), intent(inout) :: self
     integer(hid_t), intent(in) :: gid
     character(len=*), intent(in) :: name
     integer, intent(in) :: m
@@ -521,7 +565,7 @@ contains
 
   !> write_points for 64-bit integers (file type STD I64LE).
   subroutine write_points_i8(self, gid, name, m, nloc, offset, nglob, vals)
-    type(output_t), intent(in) :: self
+    type(output_t), intent(inout) :: self
     integer(hid_t), intent(in) :: gid
     character(len=*), intent(in) :: name
     integer, intent(in) :: m
@@ -537,7 +581,7 @@ contains
 
   !> write_points for 32-bit integers (file type STD I32LE).
   subroutine write_points_i4(self, gid, name, m, nloc, offset, nglob, vals)
-    type(output_t), intent(in) :: self
+    type(output_t), intent(inout) :: self
     integer(hid_t), intent(in) :: gid
     character(len=*), intent(in) :: name
     integer, intent(in) :: m
@@ -570,34 +614,40 @@ contains
 
   ! ---------------------------------------------------------------- XDMF sidecar
 
-  !> Rewrite <name>.xmf listing every frame written so far: a temporal collection whose
-  !> frames are spatial collections of point clouds (one Polyvertex grid per set).
-  !> Written to a temporary file and renamed, so a reader never sees half a file.
+  !> The XDMF 2 sidecar: one temporal collection per point set (named after the set, so
+  !> that ParaView shows the same block name at every time), holding one point cloud per
+  !> frame in which the set has points. Written to a temporary file and renamed.
   subroutine write_xdmf(self)
     type(output_t), intent(in) :: self
     character(len=*), parameter :: where = 'output%end_frame'
     character(len=:), allocatable :: tmp_path
+    character(len=16) :: names(8)
     character(len=32) :: tstr
-    integer :: u, ios, f, s
+    integer :: u, ios, s, k, nnames
     tmp_path = self%xmf_path//'.tmp'
     open (newunit=u, file=tmp_path, status='replace', action='write', iostat=ios)
     if (ios /= 0) call fatal('cannot write '//tmp_path, where)
+    ! The set names in the order they first appear.
+    nnames = 0
+    do s = 1, self%nsets
+      if (any(names(1:nnames) == self%sets(s)%name)) cycle
+      if (nnames == size(names)) call fatal('more point sets than the sidecar lists', where)
+      nnames = nnames + 1
+      names(nnames) = self%sets(s)%name
+    end do
     write (u, '(a)') '<?xml version="1.0" ?>'
     write (u, '(a)') '<Xdmf Version="2.0">'
     write (u, '(a)') ' <Domain>'
-    write (u, '(a)') '  <Grid Name="frames" GridType="Collection" CollectionType="Temporal">'
-    do f = 1, self%nframes
-      write (tstr, '(es24.16e3)') self%frames(f)%time
-      write (u, '(a,i6.6,a)') '   <Grid Name="frame_', f - 1, &
-        '" GridType="Collection" CollectionType="Spatial">'
-      write (u, '(a)') '    <Time Value="'//trim(adjustl(tstr))//'"/>'
+    do k = 1, nnames
+      write (u, '(a)') '  <Grid Name="'//xml_escape(trim(names(k)))// &
+        '" GridType="Collection" CollectionType="Temporal">'
       do s = 1, self%nsets
-        if (self%sets(s)%frame /= f - 1 .or. self%sets(s)%n == 0) cycle
-        call write_xdmf_set(self, u, f - 1, self%sets(s))
+        if (self%sets(s)%name /= names(k) .or. self%sets(s)%n == 0) cycle
+        write (tstr, '(es24.16e3)') self%frames(self%sets(s)%frame + 1)%time
+        call write_xdmf_set(self, u, self%sets(s), trim(adjustl(tstr)))
       end do
-      write (u, '(a)') '   </Grid>'
+      write (u, '(a)') '  </Grid>'
     end do
-    write (u, '(a)') '  </Grid>'
     write (u, '(a)') ' </Domain>'
     write (u, '(a)') '</Xdmf>'
     close (u, iostat=ios)
@@ -605,40 +655,46 @@ contains
     call rename_file(tmp_path, self%xmf_path, where)
   end subroutine write_xdmf
 
-  !> One Polyvertex grid: geometry from x, the other datasets as node attributes.
-  subroutine write_xdmf_set(self, u, frame, set)
+  !> One Polyvertex grid of a set at one frame: geometry from x, the other datasets as
+  !> node attributes; the stress as six scalars named by their components.
+  subroutine write_xdmf_set(self, u, set, time)
     type(output_t), intent(in) :: self
-    integer, intent(in) :: u, frame
+    integer, intent(in) :: u
     type(set_rec_t), intent(in) :: set
+    character(len=*), intent(in) :: time
+    !> Component names of the stress columns in file order (doc/output.md).
+    character(len=2), parameter :: comp(6) = ['xx', 'yy', 'zz', 'yz', 'xz', 'xy']
     character(len=:), allocatable :: base, nstr, vec
     character(len=24) :: buf
     character(len=16) :: fstr
+    integer :: j
     write (buf, '(i0)') set%n
     nstr = trim(buf)
-    write (fstr, '(i6.6)') frame
+    write (fstr, '(i6.6)') set%frame
     base = xml_escape(self%h5_base)//':/frames/'//trim(fstr)//'/'//xml_escape(trim(set%name))//'/'
     write (buf, '(i0)') self%ndim
     vec = nstr//' '//trim(buf)
-    write (u, '(a)') '    <Grid Name="'//xml_escape(trim(set%name))//'" GridType="Uniform">'
-    write (u, '(a)') '     <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
+    write (u, '(a)') '   <Grid Name="'//xml_escape(trim(set%name))//'" GridType="Uniform">'
+    write (u, '(a)') '    <Time Value="'//time//'"/>'
+    write (u, '(a)') '    <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
       '" NodesPerElement="1"/>'
     select case (self%ndim)
     case (1)
       ! ParaView needs 3D coordinates: x from the file, y = z = x - x = 0.
-      write (u, '(a)') '     <Geometry GeometryType="X_Y_Z">'
-      write (u, '(a)') '      '//item(vec, 'Float', '8', base//'x')
-      write (u, '(a)') '      <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
+      write (u, '(a)') '    <Geometry GeometryType="X_Y_Z">'
+      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
+      write (u, '(a)') '     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
         vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>'
-      write (u, '(a)') '      <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
+      write (u, '(a)') '     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
         vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>'
     case (2)
-      write (u, '(a)') '     <Geometry GeometryType="XY">'
-      write (u, '(a)') '      '//item(vec, 'Float', '8', base//'x')
+      write (u, '(a)') '    <Geometry GeometryType="XY">'
+      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
     case default
-      write (u, '(a)') '     <Geometry GeometryType="XYZ">'
-      write (u, '(a)') '      '//item(vec, 'Float', '8', base//'x')
+      write (u, '(a)') '    <Geometry GeometryType="XYZ">'
+      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
     end select
-    write (u, '(a)') '     </Geometry>'
+    write (u, '(a)') '    </Geometry>'
     if (self%ndim == 1) then
       call attribute('v', 'Scalar', vec, 'Float', '8')
       call attribute('displacement', 'Scalar', vec, 'Float', '8')
@@ -648,18 +704,26 @@ contains
     end if
     call attribute('mass', 'Scalar', nstr, 'Float', '8')
     call attribute('volume', 'Scalar', nstr, 'Float', '8')
-    call attribute('stress', 'Matrix', nstr//' 6', 'Float', '8')
+    do j = 1, 6
+      ! Column j of the (n, 6) stress dataset: start (0, j-1), stride (1, 1), count (n, 1).
+      write (buf, '(i0)') j - 1
+      write (u, '(a)') '    <Attribute Name="stress_'//comp(j)// &
+        '" AttributeType="Scalar" Center="Node"><DataItem ItemType="HyperSlab" Dimensions="'// &
+        nstr//' 1" Type="HyperSlab"><DataItem Dimensions="3 2" Format="XML">0 '//trim(buf)// &
+        ' 1 1 '//nstr//' 1</DataItem>'//item(nstr//' 6', 'Float', '8', base//'stress')// &
+        '</DataItem></Attribute>'
+    end do
     call attribute('material', 'Scalar', nstr, 'Int', '4')
     if (set%has_porosity) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
     if (set%has_pressure) call attribute('pore_pressure', 'Scalar', nstr, 'Float', '8')
     call attribute('id', 'Scalar', nstr, 'Int', '8')
-    write (u, '(a)') '    </Grid>'
+    write (u, '(a)') '   </Grid>'
 
   contains
 
     subroutine attribute(name, atype, dims, ntype, prec)
       character(len=*), intent(in) :: name, atype, dims, ntype, prec
-      write (u, '(a)') '     <Attribute Name="'//name//'" AttributeType="'//atype// &
+      write (u, '(a)') '    <Attribute Name="'//name//'" AttributeType="'//atype// &
         '" Center="Node">'//item(dims, ntype, prec, base//name)//'</Attribute>'
     end subroutine attribute
 

@@ -26,7 +26,6 @@ DIAG_NAMES = ("step", "npoints", "time", "dt", "kinetic_energy", "strain_energy"
               "external_work", "max_speed", "wall_time", "total_mass",
               "momentum_x", "momentum_y", "momentum_z")
 SET_NAMES = ("solid", "fluid")
-OPTIONAL_SET_DATASETS = ("porosity", "pore_pressure")
 
 
 def check_h5(path, bad):
@@ -90,21 +89,23 @@ def check_set(g, where, ndim, bad):
         bad.append(f"{where}/id missing")
         return
     n = g["id"].shape[0]
+    # Always written, then the optional datasets (&output solid_fields / fluid_fields).
     spec = {"id": ((n,), np.int64), "x": ((n, ndim), np.float64),
-            "v": ((n, ndim), np.float64), "displacement": ((n, ndim), np.float64),
-            "mass": ((n,), np.float64), "volume": ((n,), np.float64),
-            "stress": ((n, 6), np.float64), "material": ((n,), np.int32)}
+            "v": ((n, ndim), np.float64), "mass": ((n,), np.float64),
+            "volume": ((n,), np.float64)}
+    optional = {"displacement": ((n, ndim), np.float64), "stress": ((n, 6), np.float64),
+                "material": ((n,), np.int32), "porosity": ((n,), np.float64),
+                "pore_pressure": ((n,), np.float64)}
     for name, (shape, dtype) in spec.items():
         if name not in g:
             bad.append(f"{where}/{name} missing")
-        elif g[name].shape != shape or g[name].dtype != dtype:
+    for name, (shape, dtype) in {**spec, **optional}.items():
+        if name in g and (g[name].shape != shape or g[name].dtype != dtype):
             bad.append(f"{where}/{name}: {g[name].dtype} {g[name].shape}, "
                        f"expected {np.dtype(dtype)} {shape}")
-    # Two-phase scenes only: one float64 per point when present.
-    for name in OPTIONAL_SET_DATASETS:
-        if name in g and (g[name].shape != (n,) or g[name].dtype != np.float64):
-            bad.append(f"{where}/{name}: {g[name].dtype} {g[name].shape}, "
-                       f"expected float64 {(n,)}")
+    unknown = sorted(set(g) - set(spec) - set(optional))
+    if unknown:
+        bad.append(f"{where}: unexpected datasets {unknown}")
     if "porosity" in g and n > 0:
         por = g["porosity"][...]
         if not np.all((por >= 0.0) & (por <= 1.0)):

@@ -35,7 +35,12 @@ def load_points(frame):
             g = frame[name]
             xs.append(g["x"][...])
             vs.append(g["v"][...])
-            ss.append(g["stress"][...])
+            # Fluid sets carry pore_pressure instead of a stress: -p on the diagonal.
+            if "stress" in g:
+                ss.append(g["stress"][...])
+            else:
+                p = g["pore_pressure"][...] if "pore_pressure" in g else np.zeros(len(g["id"]))
+                ss.append(np.column_stack([-p, -p, -p] + [np.zeros_like(p)] * 3))
     if not xs:
         return None
     return np.concatenate(xs), np.concatenate(vs), np.concatenate(ss)

@@ -95,6 +95,10 @@ def compare(ref, other, rtol):
                     bad.append(f"frame {fr}/{s}: ids differ ({len(ida)} against {len(idb)}, "
                                f"{np.setdiff1d(ida, idb).size} missing)")
                     continue
+                if sorted(ga[s]) != sorted(gb[s]):
+                    bad.append(f"frame {fr}/{s}: datasets {sorted(ga[s])} against "
+                               f"{sorted(gb[s])}")
+                    continue
                 for d in ga[s]:
                     if d == "id":
                         continue

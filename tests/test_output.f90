@@ -34,6 +34,7 @@ program test_output
   call test_second_file_3d(MPI_COMM_WORLD)
   call test_1d_with_empty_set(MPI_COMM_WORLD)
   call test_two_phase_sets(MPI_COMM_WORLD)
+  call test_chosen_fields_uncompressed(MPI_COMM_WORLD)
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -168,7 +169,7 @@ contains
       n = sum([(npoints_of(r, nranks), r=0, nranks - 1)])
       call h5fopen_f(output_h5_path(cfg), H5F_ACC_RDONLY_F, fid, err)
       call ok(err, 'h5fopen_f')
-      call verify_frame(fid, g//'fluid', 2, 0)
+      call verify_frame(fid, g//'fluid', 2, 0, with_stress=.false.)
       dims = read_dims(fid, g//'fluid/pore_pressure')
       call check(all(dims == [int(n, hsize_t)]), 'fluid/pore_pressure holds one value per point')
       dims = read_dims(fid, g//'fluid/porosity')
@@ -202,10 +203,59 @@ contains
       call check(index(xmf, '/fluid/porosity<') > 0 .and. index(xmf, '/solid/porosity<') > 0, &
                  'sidecar lists porosity of both sets')
       call check(index(xmf, '/solid/pore_pressure') == 0, 'no pore_pressure listed for solid')
+      call check(index(xmf, '/fluid/stress') == 0 .and. index(xmf, '/solid/stress<') > 0, &
+                 'stress components listed for the solid only')
     end if
     call check_xmf_exists(output_xmf_path(cfg))
     call MPI_Barrier(comm)
   end subroutine test_two_phase_sets
+
+  !> &output solid_fields = 'stress' and compression = 0: id, x, v, mass, volume and stress
+  !> are written, displacement and material are not, and the sidecar lists what is there.
+  subroutine test_chosen_fields_uncompressed(comm)
+    type(MPI_Comm), intent(in) :: comm
+    type(config_t) :: cfg
+    type(output_t) :: out
+    type(particle_set_t) :: solid
+    integer(hid_t) :: fid
+    character(len=:), allocatable :: xmf
+    character(len=13) :: names(7)
+    logical :: there(7)
+    integer :: err, k, u, j
+    character(len=*), parameter :: g = 'frames/000000/solid/'
+    call begin_test('chosen_fields_uncompressed')
+    call make_config(cfg, 'test_output_fields', 2, comm)
+    cfg%solid_fields = 'stress'
+    cfg%compression = 0
+    call out%open(cfg, comm)
+    call make_points(solid, 2, comm, frame=0)
+    call out%begin_frame(0_i8, 0.0_wp)
+    call out%write_set(solid, cfg)
+    call out%end_frame()
+    call out%close()
+    if (rank == 0) then
+      names = [character(len=13) :: 'id', 'x', 'v', 'mass', 'volume', 'stress', 'displacement']
+      call h5fopen_f(output_h5_path(cfg), H5F_ACC_RDONLY_F, fid, err)
+      call ok(err, 'h5fopen_f')
+      do k = 1, 7
+        call h5lexists_f(fid, g//trim(names(k)), there(k), err)
+      end do
+      call check(all(there(1:6)), 'id, x, v, mass, volume and the chosen stress are written')
+      call check(.not. there(7), 'displacement is not written')
+      call h5lexists_f(fid, g//'material', there(7), err)
+      call check(.not. there(7), 'material is not written')
+      call h5fclose_f(fid, err)
+      open (newunit=u, file=output_xmf_path(cfg), access='stream', form='unformatted', &
+            action='read')
+      inquire (unit=u, size=j)
+      allocate (character(len=j) :: xmf)
+      read (u) xmf
+      close (u)
+      call check(index(xmf, 'stress_xy') > 0 .and. index(xmf, 'displacement') == 0 .and. &
+                 index(xmf, 'material') == 0, 'sidecar lists the written datasets only')
+    end if
+    call MPI_Barrier(comm)
+  end subroutine test_chosen_fields_uncompressed
 
   ! ------------------------------------------------------------------ scene
 
@@ -398,12 +448,15 @@ contains
     call ok(err, 'h5fclose_f')
   end subroutine verify_file
 
-  !> Check one written set against what the ranks wrote, matching points by id.
-  subroutine verify_frame(fid, g, ndim, frame)
+  !> Check one written set against what the ranks wrote, matching points by id. A set
+  !> written without stress (a fluid set) is checked for its absence instead.
+  subroutine verify_frame(fid, g, ndim, frame, with_stress)
     integer(hid_t), intent(in) :: fid
     character(len=*), intent(in) :: g
     integer, intent(in) :: ndim, frame
-    integer :: n, r, k, j, np
+    logical, intent(in), optional :: with_stress
+    logical :: stress_there, want_stress
+    integer :: n, r, k, j, np, err
     integer(i8), allocatable :: ids(:), expected(:)
     integer(i4), allocatable :: mat(:)
     real(wp), allocatable :: x(:, :), v(:, :), u(:, :), s(:, :), mass(:), vol(:)
@@ -421,8 +474,14 @@ contains
     call check(size(dims) == 2, g//'/x is 2D')
     if (size(dims) == 2) call check(all(dims == [int(ndim, hsize_t), int(n, hsize_t)]), &
                                     g//'/x has Fortran dims (ndim, n)')
-    dims = read_dims(fid, g//'/stress')
-    call check(all(dims == [6_hsize_t, int(n, hsize_t)]), g//'/stress has Fortran dims (6, n)')
+    want_stress = .true.
+    if (present(with_stress)) want_stress = with_stress
+    call h5lexists_f(fid, g//'/stress', stress_there, err)
+    call check(stress_there .eqv. want_stress, g//'/stress written only where wanted')
+    if (want_stress) then
+      dims = read_dims(fid, g//'/stress')
+      call check(all(dims == [6_hsize_t, int(n, hsize_t)]), g//'/stress has Fortran dims (6, n)')
+    end if
     ids = read_i8(fid, g//'/id', n)
     do k = 1, n
       call check_equal_int(count(ids == expected(k)), 1, g//' id appears once')
@@ -430,7 +489,9 @@ contains
     x = reshape(read_real(fid, g//'/x', ndim*n), [ndim, n])
     v = reshape(read_real(fid, g//'/v', ndim*n), [ndim, n])
     u = reshape(read_real(fid, g//'/displacement', ndim*n), [ndim, n])
-    s = reshape(read_real(fid, g//'/stress', 6*n), [6, n])
+    allocate (s(6, n))
+    s = 0.0_wp
+    if (want_stress) s = reshape(read_real(fid, g//'/stress', 6*n), [6, n])
     mass = read_real(fid, g//'/mass', n)
     vol = read_real(fid, g//'/volume', n)
     mat = read_i4(fid, g//'/material', n)
@@ -440,7 +501,7 @@ contains
       values_ok = values_ok .and. all(v(:, j) == -real(ids(j), wp))
       values_ok = values_ok .and. all(abs(u(:, j) - (x_of(ids(j), ndim, frame) - &
                                                       x_of(ids(j), ndim, 0))) <= 1.0e-14_wp)
-      values_ok = values_ok .and. all(s(:, j) == stress_of(ids(j), frame))
+      if (want_stress) values_ok = values_ok .and. all(s(:, j) == stress_of(ids(j), frame))
       values_ok = values_ok .and. mass(j) == mass_of(ids(j))
       values_ok = values_ok .and. vol(j) == 0.5_wp*mass_of(ids(j))
       values_ok = values_ok .and. mat(j) == merge(7, 12, mat_of(ids(j)) == 1)

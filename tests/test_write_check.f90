@@ -10,7 +10,8 @@ program test_write_check
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fclose_f, h5pcreate_f, h5pclose_f, &
                   h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, h5dopen_f, h5dclose_f, h5dwrite_f, &
                   h5dread_f, h5dget_space_f, h5sselect_hyperslab_f, h5screate_simple_f, &
-                  h5sclose_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, H5F_ACC_TRUNC_F, &
+                  h5sclose_f, h5sselect_none_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, &
+                  H5F_ACC_TRUNC_F, &
                   H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5P_DEFAULT_F, &
                   H5FD_MPIO_COLLECTIVE_F, H5S_SELECT_SET_F, H5T_IEEE_F64LE, H5T_STD_I64LE
   use dpmpm_kinds, only: wp, i8, mpi_i8
@@ -46,6 +47,7 @@ program test_write_check
 
   call test_clean_write_is_left_alone()
   call test_overwritten_block_is_found_and_rewritten()
+  call test_compressed_block_is_rewritten_collectively()
 
   call h5pclose_f(dxpl, err)
   call h5fclose_f(file, err)
@@ -56,9 +58,10 @@ program test_write_check
 contains
 
   !> Global point k (0-based) has id 1000 + k and coordinates k + 0.25 j, j = 1..m.
-  subroutine write_pair(suffix, check)
+  subroutine write_pair(suffix, check, compression)
     character(len=*), intent(in) :: suffix
     type(write_check_t), intent(inout) :: check
+    integer, intent(in), optional :: compression
     integer(i8), allocatable, target :: ids(:)
     real(wp), allocatable, target :: x(:, :)
     integer :: k, j
@@ -71,10 +74,10 @@ contains
     end do
     call write_columns(file, dxpl, 'id'//suffix, H5T_STD_I64LE, &
                        h5kind_to_type(i8, H5_INTEGER_KIND), 0, nloc, offset, nglob, c_loc(ids), &
-                       'test', check)
+                       'test', check, compression)
     call write_columns(file, dxpl, 'x'//suffix, H5T_IEEE_F64LE, &
                        h5kind_to_type(wp, H5_REAL_KIND), m, nloc, offset, nglob, c_loc(x), &
-                       'test', check)
+                       'test', check, compression)
   end subroutine write_pair
 
   !> Every rank reads both whole datasets and compares with the values write_pair wrote.
@@ -108,7 +111,7 @@ contains
     integer :: nrew
     call begin_test('clean_write_is_left_alone')
     call write_pair('_a', wc)
-    call check_equal_int(wc%n, merge(2, 0, nloc > 0), 'blocks kept for the check')
+    call check_equal_int(wc%n, 2, 'one record per dataset on every rank')
     call wc%verify(file, MPI_COMM_WORLD, 'test', nrew)
     call check_equal_int(nrew, 0, 'blocks rewritten after a clean write')
     call check_equal_int(wc%n, 0, 'blocks kept after verify')
@@ -141,20 +144,55 @@ contains
     call check(pair_is_right('_b'), 'file holds every rank''s block after the rewrite')
   end subroutine test_overwritten_block_is_found_and_rewritten
 
-  !> Independent write of a block into an existing dataset (bypassing the check).
-  subroutine overwrite(name, r, start, cnt, mtype, ptr)
+  !> A compressed dataset (chunked, shuffle + gzip) is written collectively only; rank 0's
+  !> block is overwritten collectively (the others with empty selections), and verify must
+  !> find it and have every rank rewrite its block collectively.
+  subroutine test_compressed_block_is_rewritten_collectively()
+    type(write_check_t) :: wc
+    integer(i8), allocatable, target :: junk_ids(:)
+    real(wp), allocatable, target :: junk_x(:, :)
+    integer(i8) :: n0
+    integer :: nrew
+    call begin_test('compressed_block_is_rewritten_collectively')
+    call write_pair('_c', wc, compression=1)
+    n0 = merge(nloc, 0_i8, rank == 0)
+    allocate (junk_ids(max(n0, 1_i8)), junk_x(m, max(n0, 1_i8)))
+    junk_ids = -1
+    junk_x = -1.0_wp
+    call overwrite('id_c', 1, [0_hsize_t], [int(n0, hsize_t)], &
+                   h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(junk_ids), collective=.true.)
+    call overwrite('x_c', 2, [0_hsize_t, 0_hsize_t], [int(m, hsize_t), int(n0, hsize_t)], &
+                   h5kind_to_type(wp, H5_REAL_KIND), c_loc(junk_x), collective=.true.)
+    call check(.not. pair_is_right('_c'), 'the overwrite reached the file')
+    call wc%verify(file, MPI_COMM_WORLD, 'test', nrew)
+    call check_equal_int(nrew, 2, 'blocks found wrong (rank 0: id and x)')
+    call check(pair_is_right('_c'), 'file holds every rank''s block after the rewrite')
+  end subroutine test_compressed_block_is_rewritten_collectively
+
+  !> Write of a block into an existing dataset (bypassing the check): independent, or
+  !> collective (every rank calls; a count of 0 selects nothing).
+  subroutine overwrite(name, r, start, cnt, mtype, ptr, collective)
     character(len=*), intent(in) :: name
     integer, intent(in) :: r
     integer(hsize_t), intent(in) :: start(r), cnt(r)
     integer(hid_t), intent(in) :: mtype
     type(c_ptr), intent(in) :: ptr
-    integer(hid_t) :: dset, fspace, mspace
+    logical, intent(in), optional :: collective
+    integer(hid_t) :: dset, fspace, mspace, xfer
+    xfer = H5P_DEFAULT_F
+    if (present(collective)) xfer = dxpl
     call h5dopen_f(file, name, dset, err)
     call h5dget_space_f(dset, fspace, err)
-    call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, start, cnt, err)
-    call h5screate_simple_f(r, cnt, mspace, err)
+    if (product(cnt) > 0) then
+      call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, start, cnt, err)
+      call h5screate_simple_f(r, cnt, mspace, err)
+    else
+      call h5sselect_none_f(fspace, err)
+      call h5screate_simple_f(1, [1_hsize_t], mspace, err)
+      call h5sselect_none_f(mspace, err)
+    end if
     call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
-                    xfer_prp=H5P_DEFAULT_F)
+                    xfer_prp=xfer)
     call h5check(err, 'h5dwrite_f', 'test overwrite')
     call h5sclose_f(mspace, err)
     call h5sclose_f(fspace, err)

@@ -9,6 +9,7 @@ module dpmpm_config
   public :: max_poly, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
+  public :: optional_fields, field_listed, unknown_field
 
   integer, parameter :: name_len = 64
   !> Largest number of vertices of a 2D polygon region.
@@ -116,12 +117,79 @@ module dpmpm_config
     real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only
     integer :: diag_every = 0                        !< steps between diagnostics; 0 = automatic
     integer :: checkpoint_every = 0                  !< steps between checkpoints; 0 = none
+    integer :: compression = 1                       !< gzip level (with shuffle) of frames; 0 = off
+    character(len=256) :: solid_fields = 'all'       !< optional datasets of solid sets, or 'all'
+    character(len=256) :: fluid_fields = 'all'       !< optional datasets of fluid sets, or 'all'
     ! &benchmark
     character(len=name_len) :: benchmark = 'none'   !< none | axial_bar | mms | biot_column | terzaghi
     real(wp) :: amplitude = 0.0_wp                   !< benchmark amplitude (m/s bar, m mms)
   end type config_t
 
+  !> Datasets of a point set that &output solid_fields / fluid_fields may leave out (id, x, v,
+  !> mass and volume are always written; porosity and pore_pressure only where the set has
+  !> them; a fluid set has no stress: its stress is -pore_pressure on the diagonal).
+  character(len=*), parameter :: optional_fields(5) = [character(len=13) :: 'displacement', &
+                                                       'stress', 'material', 'porosity', &
+                                                       'pore_pressure']
+
 contains
+
+  !> True when field is named in list (words separated by blanks or commas) or the list
+  !> holds 'all' (unless explicit is true).
+  pure logical function field_listed(list, field, explicit) result(yes)
+    character(len=*), intent(in) :: list, field
+    logical, intent(in), optional :: explicit
+    logical :: all_counts
+    integer :: i, j, n
+    all_counts = .true.
+    if (present(explicit)) all_counts = .not. explicit
+    n = len_trim(list)
+    yes = .false.
+    i = 1
+    do while (i <= n)
+      do while (i <= n)
+        if (list(i:i) /= ' ' .and. list(i:i) /= ',') exit
+        i = i + 1
+      end do
+      j = i
+      do while (j <= n)
+        if (list(j:j) == ' ' .or. list(j:j) == ',') exit
+        j = j + 1
+      end do
+      if (j > i) then
+        if ((all_counts .and. list(i:j - 1) == 'all') .or. list(i:j - 1) == field) yes = .true.
+      end if
+      i = j + 1
+    end do
+  end function field_listed
+
+  !> The first word of list that is neither 'all' nor an optional field ('' when none).
+  function unknown_field(list) result(word)
+    character(len=*), intent(in) :: list
+    character(len=:), allocatable :: word
+    integer :: i, j, n
+    n = len_trim(list)
+    word = ''
+    i = 1
+    do while (i <= n)
+      do while (i <= n)
+        if (list(i:i) /= ' ' .and. list(i:i) /= ',') exit
+        i = i + 1
+      end do
+      j = i
+      do while (j <= n)
+        if (list(j:j) == ' ' .or. list(j:j) == ',') exit
+        j = j + 1
+      end do
+      if (j > i) then
+        if (list(i:j - 1) /= 'all' .and. .not. any(optional_fields == list(i:j - 1))) then
+          word = list(i:j - 1)
+          return
+        end if
+      end if
+      i = j + 1
+    end do
+  end function unknown_field
 
   !> Index of a face name in face_names, 0 if unknown.
   pure integer function face_index(name)

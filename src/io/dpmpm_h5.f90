@@ -4,14 +4,17 @@
 module dpmpm_h5
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char, c_int, c_f_pointer
   use, intrinsic :: iso_fortran_env, only: int8
-  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_Barrier, MPI_INTEGER, MPI_SUM
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_Barrier, MPI_INTEGER, MPI_SUM, MPI_LOGICAL, &
+                     MPI_LOR
   use hdf5, only: hid_t, size_t, h5screate_f, h5sclose_f, h5acreate_f, h5awrite_f, h5aclose_f, &
                   h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5kind_to_type, H5_REAL_KIND, &
                   H5_INTEGER_KIND, H5S_SCALAR_F, H5T_C_S1, H5T_STR_NULLPAD_F, H5T_IEEE_F64LE, &
                   H5T_STD_I64LE, H5T_STD_I32LE, h5tclose_f, hsize_t, h5screate_simple_f, &
                   h5dcreate_f, h5dwrite_f, h5dclose_f, h5sselect_hyperslab_f, h5sselect_none_f, &
                   H5S_SELECT_SET_F, h5dread_f, h5dget_space_f, h5fflush_f, h5iinc_ref_f, &
-                  h5tget_size_f, H5F_SCOPE_GLOBAL_F
+                  h5tget_size_f, H5F_SCOPE_GLOBAL_F, h5pcreate_f, h5pclose_f, h5pset_chunk_f, &
+                  h5pset_shuffle_f, h5pset_deflate_f, H5P_DATASET_CREATE_F, H5P_DEFAULT_F, &
+                  h5pset_chunk_cache_f, H5P_DATASET_ACCESS_F
   use dpmpm_kinds, only: wp, i8, i4
   use dpmpm_error, only: fatal
   implicit none
@@ -31,6 +34,8 @@ module dpmpm_h5
   type :: written_t
     integer(hid_t) :: dset = -1
     integer(hid_t) :: mtype = -1
+    integer(hid_t) :: dxpl = -1          !< the collective transfer list (filtered datasets)
+    logical :: filtered = .false.        !< compressed: rewritten collectively by every rank
     integer :: rank = 1
     integer(hsize_t) :: start(2) = 0
     integer(hsize_t) :: cnt(2) = 0
@@ -40,9 +45,11 @@ module dpmpm_h5
 
   !> Read-back check of collective writes. Some MPI-IO layers (Open MPI's OMPIO with
   !> HDF5 1.10 on 3 ranks) have put one rank's block of a collective write in the wrong
-  !> place without reporting an error. Every block written through add is kept; verify
-  !> reads each back with independent I/O after a flush, rewrites the blocks that differ
-  !> independently, reads them again, and stops the run if they still differ.
+  !> place without reporting an error. Every block written through add is kept (every rank
+  !> adds a record for every dataset, empty where it wrote nothing); verify reads each back
+  !> with independent I/O after a flush, rewrites the blocks that differ (independently, or
+  !> collectively by every rank for a compressed dataset, which parallel HDF5 writes only
+  !> collectively), reads them again, and stops the run if they still differ.
   type :: write_check_t
     integer :: n = 0
     type(written_t), allocatable :: rec(:)
@@ -165,8 +172,10 @@ contains
   !> offset, collectively with the transfer list dxpl. m = 0: shape (nglob); m > 0: Fortran shape (m, nglob), (nglob, m) in C order.
   !> ptr points to nloc*m values (at least one element, even when nloc = 0).
   !> With check, this rank's block is kept for check%verify (read back after the write).
+  !> With compression > 0 the dataset is chunked (about 1 MiB a chunk) and stored with the
+  !> shuffle filter and gzip at that level.
   subroutine write_columns(gid, dxpl, name, ftype, mtype, m, nloc, offset, nglob, ptr, where, &
-                           check)
+                           check, compression)
     integer(hid_t), intent(in) :: gid, dxpl, ftype, mtype
     character(len=*), intent(in) :: name
     integer, intent(in) :: m
@@ -174,9 +183,12 @@ contains
     type(c_ptr), intent(in) :: ptr
     character(len=*), intent(in) :: where
     type(write_check_t), intent(inout), optional :: check
-    integer(hsize_t) :: fdims(2), mdims(2), start(2), cnt(2)
-    integer(hid_t) :: fspace, mspace, dset
-    integer :: rank, err
+    integer, intent(in), optional :: compression
+    integer(hsize_t) :: fdims(2), mdims(2), start(2), cnt(2), chunk(2)
+    integer(hid_t) :: fspace, mspace, dset, dcpl, dapl
+    integer :: rank, err, level
+    level = 0
+    if (present(compression)) level = compression
     if (m == 0) then
       rank = 1
       fdims(1) = int(nglob, hsize_t)
@@ -192,8 +204,35 @@ contains
     end if
     call h5screate_simple_f(rank, fdims(1:rank), fspace, err)
     call h5check(err, 'h5screate_simple_f('//name//')', where)
-    call h5dcreate_f(gid, name, ftype, fspace, dset, err)
+    dcpl = H5P_DEFAULT_F
+    dapl = H5P_DEFAULT_F
+    if (level > 0 .and. nglob > 0) then
+      ! Rows of about 1 MiB (8-byte values), at most the whole dataset.
+      chunk = fdims
+      chunk(rank) = int(min(nglob, max(1_i8, 131072_i8/max(m, 1))), hsize_t)
+      call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, err)
+      call h5check(err, 'h5pcreate_f(dataset create)', where)
+      call h5pset_chunk_f(dcpl, rank, chunk(1:rank), err)
+      call h5check(err, 'h5pset_chunk_f('//name//')', where)
+      call h5pset_shuffle_f(dcpl, err)
+      call h5check(err, 'h5pset_shuffle_f('//name//')', where)
+      call h5pset_deflate_f(dcpl, level, err)
+      call h5check(err, 'h5pset_deflate_f('//name//')', where)
+      ! No chunk cache: a read-back must see the file, not a chunk cached by an earlier read
+      ! (a collective filtered write does not refresh the cache).
+      call h5pcreate_f(H5P_DATASET_ACCESS_F, dapl, err)
+      call h5check(err, 'h5pcreate_f(dataset access)', where)
+      call h5pset_chunk_cache_f(dapl, 0_size_t, 0_size_t, 1.0, err)
+      call h5check(err, 'h5pset_chunk_cache_f('//name//')', where)
+    end if
+    call h5dcreate_f(gid, name, ftype, fspace, dset, err, dcpl_id=dcpl, dapl_id=dapl)
     call h5check(err, 'h5dcreate_f('//name//')', where)
+    if (dcpl /= H5P_DEFAULT_F) then
+      call h5pclose_f(dcpl, err)
+      call h5check(err, 'h5pclose_f(dataset create)', where)
+      call h5pclose_f(dapl, err)
+      call h5check(err, 'h5pclose_f(dataset access)', where)
+    end if
     call h5screate_simple_f(rank, mdims(1:rank), mspace, err)
     call h5check(err, 'h5screate_simple_f('//name//')', where)
     if (nloc > 0) then
@@ -211,8 +250,8 @@ contains
                       xfer_prp=dxpl)
       call h5check(err, 'h5dwrite_f('//name//')', where)
     end if
-    if (present(check) .and. nloc > 0) &
-      call check%add(dset, mtype, rank, start, cnt, ptr, name, where)
+    if (present(check)) call check%add(dset, mtype, rank, start, cnt, ptr, name, where, &
+                                       dxpl=dxpl, filtered=level > 0 .and. nglob > 0)
     call h5dclose_f(dset, err)
     call h5check(err, 'h5dclose_f('//name//')', where)
     call h5sclose_f(mspace, err)
@@ -222,14 +261,18 @@ contains
   end subroutine write_columns
 
   !> Keep a copy of the block just written to dset (selection start/cnt of the given rank,
-  !> memory type mtype, data at ptr). The dataset stays open until verify or free.
-  subroutine check_add(self, dset, mtype, rank, start, cnt, ptr, name, where)
+  !> memory type mtype, data at ptr; cnt may be 0). The dataset stays open until verify or
+  !> free. Every rank adds one record per dataset, in the same order. A filtered dataset
+  !> is rewritten with dxpl (collective) when any rank's block differs.
+  subroutine check_add(self, dset, mtype, rank, start, cnt, ptr, name, where, dxpl, filtered)
     class(write_check_t), intent(inout) :: self
     integer(hid_t), intent(in) :: dset, mtype
     integer, intent(in) :: rank
     integer(hsize_t), intent(in) :: start(:), cnt(:)
     type(c_ptr), intent(in) :: ptr
     character(len=*), intent(in) :: name, where
+    integer(hid_t), intent(in), optional :: dxpl
+    logical, intent(in), optional :: filtered
     type(written_t), allocatable :: tmp(:)
     integer(int8), pointer :: src(:)
     integer(size_t) :: esize
@@ -244,7 +287,7 @@ contains
     call h5tget_size_f(mtype, esize, err)
     call h5check(err, 'h5tget_size_f('//name//')', where)
     nbytes = int(esize, i8)*product(int(cnt(1:rank), i8))
-    call c_f_pointer(ptr, src, [nbytes])
+    call c_f_pointer(ptr, src, [max(nbytes, 1_i8)])
     call h5iinc_ref_f(dset, refs, err)
     call h5check(err, 'h5iinc_ref_f('//name//')', where)
     self%n = self%n + 1
@@ -256,8 +299,12 @@ contains
       r%cnt = 0
       r%start(1:rank) = start(1:rank)
       r%cnt(1:rank) = cnt(1:rank)
-      r%bytes = src
+      r%bytes = src(1:nbytes)
       r%name = name
+      r%dxpl = -1
+      if (present(dxpl)) r%dxpl = dxpl
+      r%filtered = .false.
+      if (present(filtered)) r%filtered = filtered
     end associate
   end subroutine check_add
 
@@ -271,9 +318,9 @@ contains
     type(MPI_Comm), intent(in) :: comm
     character(len=*), intent(in) :: where
     integer, intent(out) :: nrewritten
-    logical, allocatable :: bad(:)
+    logical, allocatable :: bad(:), anybad(:)
     integer :: k, nbad, nstill, err
-    allocate (bad(self%n))
+    allocate (bad(self%n), anybad(self%n))
     call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, err)
     call h5check(err, 'h5fflush_f', where)
     call MPI_Barrier(comm)
@@ -283,8 +330,14 @@ contains
     nbad = count(bad)
     call MPI_Allreduce(nbad, nrewritten, 1, MPI_INTEGER, MPI_SUM, comm)
     if (nrewritten > 0) then
+      ! Which datasets need a collective rewrite: the filtered ones with a bad block anywhere.
+      call MPI_Allreduce(bad, anybad, self%n, MPI_LOGICAL, MPI_LOR, comm)
       do k = 1, self%n
-        if (bad(k)) call rewrite_block(self%rec(k), where)
+        if (self%rec(k)%filtered) then
+          if (anybad(k)) call rewrite_block(self%rec(k), where, self%rec(k)%dxpl)
+        else if (bad(k)) then
+          call rewrite_block(self%rec(k), where)
+        end if
       end do
       call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, err)
       call h5check(err, 'h5fflush_f', where)
@@ -297,8 +350,7 @@ contains
       if (nstill > 0) then
         do k = 1, self%n
           if (bad(k)) call fatal('dataset '//self%rec(k)%name//' reads back different '// &
-                                 'bytes than were written, also after an independent rewrite', &
-                                 where)
+                                 'bytes than were written, also after a rewrite', where)
         end do
         call MPI_Barrier(comm)
         call fatal('the output file does not hold what was written', where)
@@ -328,6 +380,8 @@ contains
     integer(hid_t) :: fspace, mspace
     type(c_ptr) :: p
     integer :: err
+    same = .true.
+    if (size(r%bytes) == 0) return
     allocate (buf(size(r%bytes)))
     buf = not(r%bytes)
     p = c_loc(buf)
@@ -338,16 +392,26 @@ contains
     same = all(buf == r%bytes)
   end function block_reads_back
 
-  !> Write one kept block again with independent I/O.
-  subroutine rewrite_block(r, where)
+  !> Write one kept block again: with independent I/O, or with the transfer list dxpl
+  !> (collective: every rank calls it, those without a block with an empty selection).
+  subroutine rewrite_block(r, where, dxpl)
     type(written_t), intent(in), target :: r
     character(len=*), intent(in) :: where
+    integer(hid_t), intent(in), optional :: dxpl
+    integer(int8), target :: none(1)
     integer(hid_t) :: fspace, mspace
+    type(c_ptr) :: p
     integer :: err
     call block_spaces(r, fspace, mspace, where)
-    call h5dwrite_f(r%dset, r%mtype, c_loc(r%bytes), err, mem_space_id=mspace, &
-                    file_space_id=fspace)
-    call h5check(err, 'h5dwrite_f('//r%name//', independent)', where)
+    p = c_loc(none)
+    if (size(r%bytes) > 0) p = c_loc(r%bytes)
+    if (present(dxpl)) then
+      call h5dwrite_f(r%dset, r%mtype, p, err, mem_space_id=mspace, file_space_id=fspace, &
+                      xfer_prp=dxpl)
+    else
+      call h5dwrite_f(r%dset, r%mtype, p, err, mem_space_id=mspace, file_space_id=fspace)
+    end if
+    call h5check(err, 'h5dwrite_f('//r%name//', rewrite)', where)
     call close_spaces(r, fspace, mspace, where)
   end subroutine rewrite_block
 
@@ -359,6 +423,15 @@ contains
     integer :: err
     call h5dget_space_f(r%dset, fspace, err)
     call h5check(err, 'h5dget_space_f('//r%name//')', where)
+    if (size(r%bytes) == 0) then
+      call h5sselect_none_f(fspace, err)
+      call h5check(err, 'h5sselect_none_f('//r%name//')', where)
+      call h5screate_simple_f(1, [1_hsize_t], mspace, err)
+      call h5check(err, 'h5screate_simple_f('//r%name//')', where)
+      call h5sselect_none_f(mspace, err)
+      call h5check(err, 'h5sselect_none_f('//r%name//')', where)
+      return
+    end if
     call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, r%start(1:r%rank), r%cnt(1:r%rank), err)
     call h5check(err, 'h5sselect_hyperslab_f('//r%name//')', where)
     call h5screate_simple_f(r%rank, r%cnt(1:r%rank), mspace, err)

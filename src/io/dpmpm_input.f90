@@ -9,6 +9,7 @@ module dpmpm_input
   use, intrinsic :: iso_fortran_env, only: error_unit
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use dpmpm_kinds, only: wp, i8, mpi_wp, mpi_i8
+  use dpmpm_config, only: field_listed, unknown_field
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
                           name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, &
                           bc_names, fbc_default, fbc_drained, fbc_impermeable, fbc_names
@@ -42,7 +43,8 @@ module dpmpm_input
     'pore_pressure_gradient', &
     'face, condition, fluid, pore_pressure, pore_pressure_ramp', &
     'face, traction, ramp_time', &
-    'dir, frame_interval, diag_every, checkpoint_every', &
+    'dir, frame_interval, diag_every, checkpoint_every, compression, solid_fields, '// &
+    'fluid_fields', &
     'name, amplitude']
   character(len=*), parameter :: err_prefix = 'dpmpm: input error: '
 
@@ -209,6 +211,9 @@ contains
     call put_r(unit, 'frame_interval', [cfg%frame_interval])
     call put_i(unit, 'diag_every', [cfg%diag_every])
     call put_i(unit, 'checkpoint_every', [cfg%checkpoint_every])
+    call put_i(unit, 'compression', [cfg%compression])
+    call put_s(unit, 'solid_fields', cfg%solid_fields)
+    call put_s(unit, 'fluid_fields', cfg%fluid_fields)
     write (unit, '(a)') '/', '&benchmark'
     call put_s(unit, 'name', cfg%benchmark)
     call put_r(unit, 'amplitude', [cfg%amplitude])
@@ -717,12 +722,15 @@ contains
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
     character(len=len(cfg%output_dir)) :: dir
+    character(len=len(cfg%solid_fields)) :: solid_fields, fluid_fields
     real(wp) :: frame_interval
-    integer :: diag_every, checkpoint_every, ios
+    integer :: diag_every, checkpoint_every, compression, ios
     character(len=512) :: msg
-    namelist /output/ dir, frame_interval, diag_every, checkpoint_every
+    namelist /output/ dir, frame_interval, diag_every, checkpoint_every, compression, &
+      solid_fields, fluid_fields
     dir = cfg%output_dir; frame_interval = cfg%frame_interval; diag_every = cfg%diag_every
-    checkpoint_every = cfg%checkpoint_every
+    checkpoint_every = cfg%checkpoint_every; compression = cfg%compression
+    solid_fields = cfg%solid_fields; fluid_fields = cfg%fluid_fields
     read (u, nml=output, iostat=ios, iomsg=msg)
     ok = ios == 0
     if (.not. ok) then
@@ -730,7 +738,8 @@ contains
       return
     end if
     cfg%output_dir = dir; cfg%frame_interval = frame_interval; cfg%diag_every = diag_every
-    cfg%checkpoint_every = checkpoint_every
+    cfg%checkpoint_every = checkpoint_every; cfg%compression = compression
+    cfg%solid_fields = solid_fields; cfg%fluid_fields = fluid_fields
   end subroutine read_output
 
   !> Read &benchmark.
@@ -895,6 +904,10 @@ contains
       'must name a directory')
     if (cfg%checkpoint_every < 0) call add_value(rd, g_output, 1, 'checkpoint_every', &
       itoa(cfg%checkpoint_every), 'must be >= 0 (steps; 0 = no checkpoints)')
+    if (cfg%compression < 0 .or. cfg%compression > 9) call add_value(rd, g_output, 1, &
+      'compression', itoa(cfg%compression), 'must be 0 (off) to 9 (gzip level)')
+    call check_fields(rd, 'solid_fields', cfg%solid_fields, .false.)
+    call check_fields(rd, 'fluid_fields', cfg%fluid_fields, .true.)
 
     ! &benchmark
     if (.not. any(cfg%benchmark == [character(len=11) :: 'none', 'axial_bar', 'mms', &
@@ -1183,6 +1196,24 @@ contains
   ! Problems
   ! ---------------------------------------------------------------------------------------------
 
+  !> solid_fields / fluid_fields: known names only; a fluid set has no stress to write.
+  subroutine check_fields(rd, var, list, fluid)
+    type(reader_t), intent(inout) :: rd
+    character(len=*), intent(in) :: var, list
+    logical, intent(in) :: fluid
+    character(len=:), allocatable :: word
+    word = unknown_field(list)
+    if (len(word) > 0) then
+      call add_value(rd, g_output, 1, var, "'"//trim(list)//"'", 'unknown dataset '''//word// &
+                     ''': the optional datasets are displacement, stress, material, '// &
+                     'porosity, pore_pressure, or all (id, x, v, mass and volume are always '// &
+                     'written)')
+    else if (fluid .and. field_listed(list, 'stress', explicit=.true.)) then
+      call add_value(rd, g_output, 1, var, "'"//trim(list)//"'", 'a fluid set has no '// &
+                     'stress dataset (its stress is -pore_pressure on the diagonal)')
+    end if
+  end subroutine check_fields
+
   !> A problem with one value: "&group var = value: allowed [where]".
   subroutine add_value(rd, g, k, var, value, allowed)
     type(reader_t), intent(inout) :: rd
@@ -1341,6 +1372,9 @@ contains
     call bcast(cfg%frame_interval, comm)
     call bcast(cfg%diag_every, comm)
     call bcast(cfg%checkpoint_every, comm)
+    call bcast(cfg%compression, comm)
+    call bcast(cfg%solid_fields, comm)
+    call bcast(cfg%fluid_fields, comm)
     call bcast(cfg%benchmark, comm)
     call bcast(cfg%amplitude, comm)
   end subroutine bcast_config

@@ -19,7 +19,7 @@ module dpmpm_output
                   H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE
   use dpmpm_kinds, only: wp, i8, i4, mpi_i8
   use dpmpm_error, only: fatal
-  use dpmpm_config, only: config_t
+  use dpmpm_config, only: config_t, optional_fields, field_listed
   use dpmpm_particles, only: particle_set_t
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
@@ -47,8 +47,9 @@ module dpmpm_output
     integer :: frame = 0
     character(len=16) :: name = ''
     integer(i8) :: n = 0
-    logical :: has_porosity = .false.
-    logical :: has_pressure = .false.
+    !> Which of optional_fields (displacement, stress, material, porosity, pore_pressure)
+    !> the set holds in this frame.
+    logical :: has(size(optional_fields)) = .false.
   end type set_rec_t
 
   !> The output file of one run. open ... (begin_frame, write_set..., end_frame)... close;
@@ -66,6 +67,7 @@ module dpmpm_output
     integer(hid_t) :: file_id = -1
     integer(hid_t) :: frame_id = -1
     integer(hid_t) :: dxpl = -1
+    integer :: compression = 0
     integer(hid_t) :: diag_dset(ndiag_dsets) = -1
     integer :: nframes = 0
     type(frame_rec_t), allocatable :: frames(:)
@@ -130,6 +132,7 @@ contains
     call MPI_Comm_rank(self%comm, self%rank)
     call MPI_Comm_size(self%comm, self%nranks)
     self%ndim = cfg%ndim
+    self%compression = cfg%compression
     self%h5_path = output_h5_path(cfg)
     self%xmf_path = output_xmf_path(cfg)
     self%h5_base = trim(cfg%name)//'.h5'
@@ -219,8 +222,11 @@ contains
 
   !> Write a point set under the current frame as group ps%name (all ranks, even with no
   !> points). Each rank's points go to a contiguous block at the offset of its rank.
-  !> Sets of two-phase scenes add porosity (when ps%has_porosity) and pore_pressure (when
-  !> ps%has_pressure); every rank must hold the set with the same flags.
+  !> id, x, v, mass and volume are always written; of the optional datasets, those that
+  !> cfg%solid_fields (cfg%fluid_fields for the set named 'fluid') lists: displacement,
+  !> stress (not for the fluid: it is -pore_pressure on the diagonal), material, porosity
+  !> (when ps%has_porosity) and pore_pressure (when ps%has_pressure). Every rank must hold
+  !> the set with the same flags.
   subroutine out_write_set(self, ps, cfg)
     class(output_t), intent(inout) :: self
     type(particle_set_t), intent(in) :: ps
@@ -230,6 +236,8 @@ contains
     integer(i8) :: nloc, offset, nglob
     integer(i4), allocatable :: matid(:)
     type(set_rec_t), allocatable :: tmp(:)
+    character(len=:), allocatable :: fields
+    logical :: has(size(optional_fields)), fluid
     integer :: err, k, n, d, flags(2), fmin(2), fmax(2)
     if (.not. self%is_open) call fatal('the output file is not open', where)
     if (.not. self%in_frame) call fatal('write_set outside begin_frame/end_frame', where)
@@ -249,6 +257,15 @@ contains
     if (any(fmin /= fmax)) call fatal('ranks hold point set '//trim(ps%name)//' with '// &
                                       'different optional fields (porosity, pressure)', where)
 
+    fluid = ps%name == 'fluid'
+    fields = trim(merge(cfg%fluid_fields, cfg%solid_fields, fluid))
+    do k = 1, size(optional_fields)
+      has(k) = field_listed(fields, trim(optional_fields(k)))
+    end do
+    has(2) = has(2) .and. .not. fluid
+    has(4) = has(4) .and. ps%has_porosity
+    has(5) = has(5) .and. ps%has_pressure
+
     allocate (matid(n))
     do k = 1, n
       if (ps%mat(k) < 1 .or. ps%mat(k) > size(cfg%materials)) &
@@ -261,17 +278,17 @@ contains
     call write_points_i8(self, gid, 'id', 0, nloc, offset, nglob, ps%id(1:n))
     call write_points_real(self, gid, 'x', d, nloc, offset, nglob, reshape(ps%x(:, 1:n), [d*n]))
     call write_points_real(self, gid, 'v', d, nloc, offset, nglob, reshape(ps%v(:, 1:n), [d*n]))
-    call write_points_real(self, gid, 'displacement', d, nloc, offset, nglob, &
-                           reshape(ps%x(:, 1:n) - ps%x0(:, 1:n), [d*n]))
+    if (has(1)) call write_points_real(self, gid, 'displacement', d, nloc, offset, nglob, &
+                                       reshape(ps%x(:, 1:n) - ps%x0(:, 1:n), [d*n]))
     call write_points_real(self, gid, 'mass', 0, nloc, offset, nglob, ps%mass(1:n))
     call write_points_real(self, gid, 'volume', 0, nloc, offset, nglob, ps%vol(1:n))
-    call write_points_real(self, gid, 'stress', 6, nloc, offset, nglob, &
-                           reshape(ps%stress(:, 1:n), [6*n]))
-    call write_points_i4(self, gid, 'material', 0, nloc, offset, nglob, matid)
-    if (ps%has_porosity) call write_points_real(self, gid, 'porosity', 0, nloc, offset, nglob, &
-                                                ps%porosity(1:n))
-    if (ps%has_pressure) call write_points_real(self, gid, 'pore_pressure', 0, nloc, offset, &
-                                                nglob, ps%pressure(1:n))
+    if (has(2)) call write_points_real(self, gid, 'stress', 6, nloc, offset, nglob, &
+                                       reshape(ps%stress(:, 1:n), [6*n]))
+    if (has(3)) call write_points_i4(self, gid, 'material', 0, nloc, offset, nglob, matid)
+    if (has(4)) call write_points_real(self, gid, 'porosity', 0, nloc, offset, nglob, &
+                                       ps%porosity(1:n))
+    if (has(5)) call write_points_real(self, gid, 'pore_pressure', 0, nloc, offset, nglob, &
+                                       ps%pressure(1:n))
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f('//trim(ps%name)//')', where)
 
@@ -281,9 +298,7 @@ contains
       call move_alloc(tmp, self%sets)
     end if
     self%nsets = self%nsets + 1
-    self%sets(self%nsets) = set_rec_t(frame=self%nframes - 1, name=ps%name, n=nglob, &
-                                      has_porosity=ps%has_porosity, &
-                                      has_pressure=ps%has_pressure)
+    self%sets(self%nsets) = set_rec_t(frame=self%nframes - 1, name=ps%name, n=nglob, has=has)
   end subroutine out_write_set
 
   !> Close the current frame, write buffered diagnostics, flush the file to disk, read back
@@ -527,8 +542,8 @@ contains
     call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
                     xfer_prp=self%dxpl)
     call h5check(err, 'h5dwrite_f', where)
-    if (self%rank == 0) call self%check%add(dset, mtype, 1, [int(self%ndiag_written, hsize_t)], &
-                                            [int(m, hsize_t)], ptr, 'diagnostics', where)
+    call self%check%add(dset, mtype, 1, [int(self%ndiag_written, hsize_t)], &
+                        [int(merge(m, 0, self%rank == 0), hsize_t)], ptr, 'diagnostics', where)
     call h5sclose_f(mspace, err)
     call h5check(err, 'h5sclose_f', where)
     call h5sclose_f(fspace, err)
@@ -544,7 +559,7 @@ contains
     integer(i8), intent(in) :: nloc, offset, nglob
     type(c_ptr), intent(in) :: ptr
     call write_columns(gid, self%dxpl, name, ftype, mtype, m, nloc, offset, nglob, ptr, &
-                       'output%write_set', self%check)
+                       'output%write_set', self%check, self%compression)
   end subroutine write_points
 
   !> write_points for doubles (file type IEEE F64LE).
@@ -697,14 +712,14 @@ contains
     write (u, '(a)') '    </Geometry>'
     if (self%ndim == 1) then
       call attribute('v', 'Scalar', vec, 'Float', '8')
-      call attribute('displacement', 'Scalar', vec, 'Float', '8')
+      if (set%has(1)) call attribute('displacement', 'Scalar', vec, 'Float', '8')
     else
       call attribute('v', 'Vector', vec, 'Float', '8')
-      call attribute('displacement', 'Vector', vec, 'Float', '8')
+      if (set%has(1)) call attribute('displacement', 'Vector', vec, 'Float', '8')
     end if
     call attribute('mass', 'Scalar', nstr, 'Float', '8')
     call attribute('volume', 'Scalar', nstr, 'Float', '8')
-    do j = 1, 6
+    do j = 1, merge(6, 0, set%has(2))
       ! Column j of the (n, 6) stress dataset: start (0, j-1), stride (1, 1), count (n, 1).
       write (buf, '(i0)') j - 1
       write (u, '(a)') '    <Attribute Name="stress_'//comp(j)// &
@@ -713,9 +728,9 @@ contains
         ' 1 1 '//nstr//' 1</DataItem>'//item(nstr//' 6', 'Float', '8', base//'stress')// &
         '</DataItem></Attribute>'
     end do
-    call attribute('material', 'Scalar', nstr, 'Int', '4')
-    if (set%has_porosity) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
-    if (set%has_pressure) call attribute('pore_pressure', 'Scalar', nstr, 'Float', '8')
+    if (set%has(3)) call attribute('material', 'Scalar', nstr, 'Int', '4')
+    if (set%has(4)) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
+    if (set%has(5)) call attribute('pore_pressure', 'Scalar', nstr, 'Float', '8')
     call attribute('id', 'Scalar', nstr, 'Int', '8')
     write (u, '(a)') '   </Grid>'
 

@@ -150,7 +150,7 @@ contains
     real(wp), allocatable :: por(:), pp(:)
     integer(hsize_t), allocatable :: dims(:)
     character(len=:), allocatable :: xmf
-    integer :: err, n, r, j, u
+    integer :: err, n, r, j
     logical :: exists, values_ok
     character(len=*), parameter :: g = 'frames/000000/'
     call begin_test('two_phase_sets')
@@ -192,12 +192,7 @@ contains
       call check(.not. exists, 'no pore_pressure in a set without pressure')
       call h5fclose_f(fid, err)
       call ok(err, 'h5fclose_f')
-      open (newunit=u, file=output_xmf_path(cfg), access='stream', form='unformatted', &
-            action='read')
-      inquire (unit=u, size=j)
-      allocate (character(len=j) :: xmf)
-      read (u) xmf
-      close (u)
+      xmf = read_text(output_xmf_path(cfg))
       call check(index(xmf, 'Name="pore_pressure"') > 0 .and. &
                  index(xmf, '/fluid/pore_pressure<') > 0, 'sidecar lists fluid pore_pressure')
       call check(index(xmf, '/fluid/porosity<') > 0 .and. index(xmf, '/solid/porosity<') > 0, &
@@ -221,7 +216,7 @@ contains
     character(len=:), allocatable :: xmf
     character(len=13) :: names(7)
     logical :: there(7)
-    integer :: err, k, u, j
+    integer :: err, k
     character(len=*), parameter :: g = 'frames/000000/solid/'
     call begin_test('chosen_fields_uncompressed')
     call make_config(cfg, 'test_output_fields', 2, comm)
@@ -245,12 +240,7 @@ contains
       call h5lexists_f(fid, g//'material', there(7), err)
       call check(.not. there(7), 'material is not written')
       call h5fclose_f(fid, err)
-      open (newunit=u, file=output_xmf_path(cfg), access='stream', form='unformatted', &
-            action='read')
-      inquire (unit=u, size=j)
-      allocate (character(len=j) :: xmf)
-      read (u) xmf
-      close (u)
+      xmf = read_text(output_xmf_path(cfg))
       call check(index(xmf, 'stress_xy') > 0 .and. index(xmf, 'displacement') == 0 .and. &
                  index(xmf, 'material') == 0, 'sidecar lists the written datasets only')
     end if
@@ -523,6 +513,18 @@ contains
     character(len=*), intent(in) :: what
     if (err < 0) call fatal(what//' failed', 'test_output')
   end subroutine ok
+
+  !> The whole content of a text file.
+  function read_text(path) result(text)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: text
+    integer :: u, n
+    open (newunit=u, file=path, access='stream', form='unformatted', action='read')
+    inquire (unit=u, size=n)
+    allocate (character(len=n) :: text)
+    read (u) text
+    close (u)
+  end function read_text
 
   function read_dims(fid, path) result(dims)
     integer(hid_t), intent(in) :: fid

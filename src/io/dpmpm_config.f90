@@ -140,26 +140,15 @@ contains
     character(len=*), intent(in) :: list, field
     logical, intent(in), optional :: explicit
     logical :: all_counts
-    integer :: i, j, n
+    integer :: i, j
     all_counts = .true.
     if (present(explicit)) all_counts = .not. explicit
-    n = len_trim(list)
     yes = .false.
-    i = 1
-    do while (i <= n)
-      do while (i <= n)
-        if (list(i:i) /= ' ' .and. list(i:i) /= ',') exit
-        i = i + 1
-      end do
-      j = i
-      do while (j <= n)
-        if (list(j:j) == ' ' .or. list(j:j) == ',') exit
-        j = j + 1
-      end do
-      if (j > i) then
-        if ((all_counts .and. list(i:j - 1) == 'all') .or. list(i:j - 1) == field) yes = .true.
-      end if
-      i = j + 1
+    j = 0
+    do
+      call next_word(list, j + 1, i, j)
+      if (i > j) exit
+      if ((all_counts .and. list(i:j) == 'all') .or. list(i:j) == field) yes = .true.
     end do
   end function field_listed
 
@@ -167,29 +156,38 @@ contains
   function unknown_field(list) result(word)
     character(len=*), intent(in) :: list
     character(len=:), allocatable :: word
-    integer :: i, j, n
-    n = len_trim(list)
+    integer :: i, j
     word = ''
-    i = 1
-    do while (i <= n)
-      do while (i <= n)
-        if (list(i:i) /= ' ' .and. list(i:i) /= ',') exit
-        i = i + 1
-      end do
-      j = i
-      do while (j <= n)
-        if (list(j:j) == ' ' .or. list(j:j) == ',') exit
-        j = j + 1
-      end do
-      if (j > i) then
-        if (list(i:j - 1) /= 'all' .and. .not. any(optional_fields == list(i:j - 1))) then
-          word = list(i:j - 1)
-          return
-        end if
+    j = 0
+    do
+      call next_word(list, j + 1, i, j)
+      if (i > j) exit
+      if (list(i:j) /= 'all' .and. .not. any(optional_fields == list(i:j))) then
+        word = list(i:j)
+        return
       end if
-      i = j + 1
     end do
   end function unknown_field
+
+  !> Bounds i..j of the first word of list at or after position from (words are separated
+  !> by blanks or commas); i > j when there is none.
+  pure subroutine next_word(list, from, i, j)
+    character(len=*), intent(in) :: list
+    integer, intent(in) :: from
+    integer, intent(out) :: i, j
+    integer :: n
+    n = len_trim(list)
+    i = from
+    do while (i <= n)
+      if (list(i:i) /= ' ' .and. list(i:i) /= ',') exit
+      i = i + 1
+    end do
+    j = i - 1
+    do while (j < n)
+      if (list(j + 1:j + 1) == ' ' .or. list(j + 1:j + 1) == ',') exit
+      j = j + 1
+    end do
+  end subroutine next_word
 
   !> Index of a face name in face_names, 0 if unknown.
   pure integer function face_index(name)

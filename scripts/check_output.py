@@ -69,18 +69,27 @@ def check_h5(path, bad):
             bad.append(f"frame names are not 000000..{len(names) - 1:06d}: {names[:5]}...")
         first = {}
         for fname in names:
-            g = fr[fname]
             where = f"/frames/{fname}"
-            if g.attrs.get("time") is None or g.attrs["time"].dtype != np.float64:
-                bad.append(f"{where}: attribute time missing or not float64")
-            if g.attrs.get("step") is None or g.attrs["step"].dtype != np.int64:
-                bad.append(f"{where}: attribute step missing or not int64")
-            sets = [s for s in SET_NAMES if s in g]
-            if "solid" not in g:
-                bad.append(f"{where}: no solid group")
-            for s in sets:
-                check_set(g[s], f"{where}/{s}", ndim, bad)
-                check_content(g[s], f"{where}/{s}", first.setdefault(s, {}), bad)
+            # A run killed while writing a frame can leave one that HDF5 lists but cannot
+            # read: report it and go on with the others.
+            try:
+                check_frame(fr[fname], where, ndim, first, bad)
+            except (OSError, KeyError, ValueError, RuntimeError) as e:
+                bad.append(f"{where}: cannot be read ({e})")
+
+
+def check_frame(g, where, ndim, first, bad):
+    """Attributes and point sets of one frame."""
+    if g.attrs.get("time") is None or g.attrs["time"].dtype != np.float64:
+        bad.append(f"{where}: attribute time missing or not float64")
+    if g.attrs.get("step") is None or g.attrs["step"].dtype != np.int64:
+        bad.append(f"{where}: attribute step missing or not int64")
+    sets = [s for s in SET_NAMES if s in g]
+    if not sets:
+        bad.append(f"{where}: neither a solid nor a fluid group")
+    for s in sets:
+        check_set(g[s], f"{where}/{s}", ndim, bad)
+        check_content(g[s], f"{where}/{s}", first.setdefault(s, {}), bad)
 
 
 def check_set(g, where, ndim, bad):
@@ -222,8 +231,11 @@ def main():
         if not os.path.exists(path):
             bad.append("file missing")
         else:
-            check_h5(path, bad)
-            check_xmf(path, bad)
+            for check in (check_h5, check_xmf):
+                try:
+                    check(path, bad)
+                except (OSError, KeyError, ValueError, RuntimeError) as e:
+                    bad.append(f"{check.__name__[6:]}: cannot be read ({e})")
             run_contract(args.contract, path, bad)
         if bad:
             status = 1

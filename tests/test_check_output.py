@@ -31,7 +31,7 @@ def copy(src, workdir, name):
 
 def check(path):
     r = subprocess.run([sys.executable, CHECK, path], capture_output=True, text=True)
-    return r.returncode, r.stdout
+    return r.returncode, r.stdout + r.stderr
 
 
 def last_set(f):
@@ -81,11 +81,20 @@ def test_xdmf_time_differs(src, workdir):
     return rc != 0 and "frame 1 at time" in out, out
 
 
+def test_truncated_file_is_reported(src, workdir):
+    path = copy(src, workdir, "torn")
+    size = os.path.getsize(path)
+    with open(path, "r+b") as f:
+        f.truncate(size // 2)
+    rc, out = check(path)
+    return rc == 1 and "cannot be read" in out and "Traceback" not in out, out
+
+
 def main():
     src, workdir = sys.argv[1], sys.argv[2]
     os.makedirs(workdir, exist_ok=True)
     tests = [test_good_file_passes, test_ids_overwritten_by_doubles, test_mass_changed,
-             test_non_finite_velocity, test_xdmf_time_differs]
+             test_non_finite_velocity, test_xdmf_time_differs, test_truncated_file_is_reported]
     failed = 0
     for t in tests:
         ok, out = t(src, workdir)

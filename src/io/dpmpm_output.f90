@@ -16,7 +16,10 @@ module dpmpm_output
                   h5lexists_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, H5F_ACC_TRUNC_F, &
                   H5F_SCOPE_GLOBAL_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
                   H5P_DATASET_CREATE_F, H5P_DEFAULT_F, H5FD_MPIO_COLLECTIVE_F, H5S_SCALAR_F, &
-                  H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE
+                  H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE, &
+                  h5fopen_f, h5ldelete_f, h5dopen_f, h5dread_f, h5aopen_f, h5aread_f, h5aclose_f, &
+                  h5adelete_f, h5aexists_f, h5sget_simple_extent_dims_f, h5eset_auto_f, &
+                  H5F_ACC_RDWR_F
   use dpmpm_kinds, only: wp, i8, i4, mpi_i8
   use dpmpm_error, only: fatal
   use dpmpm_config, only: config_t, optional_fields, field_listed
@@ -84,6 +87,7 @@ module dpmpm_output
     real(wp) :: check_seconds = 0.0_wp
   contains
     procedure :: open => out_open
+    procedure :: resume => out_resume
     procedure :: begin_frame => out_begin_frame
     procedure :: write_set => out_write_set
     procedure :: end_frame => out_end_frame
@@ -127,27 +131,7 @@ contains
     character(len=*), parameter :: where = 'output%open'
     integer(hid_t) :: fapl, gid
     integer :: err, k
-    if (self%is_open) call self%close()
-    call MPI_Comm_dup(comm, self%comm)
-    call MPI_Comm_rank(self%comm, self%rank)
-    call MPI_Comm_size(self%comm, self%nranks)
-    self%ndim = cfg%ndim
-    self%compression = cfg%compression
-    self%h5_path = output_h5_path(cfg)
-    self%xmf_path = output_xmf_path(cfg)
-    self%h5_base = trim(cfg%name)//'.h5'
-    self%nframes = 0
-    self%nsets = 0
-    self%ndiag_buf = 0
-    self%ndiag_written = 0
-    self%nchecks = 0
-    self%nrewritten = 0
-    self%check_seconds = 0.0_wp
-    call self%log%init(self%comm)
-    if (.not. allocated(self%frames)) allocate (self%frames(16))
-    if (.not. allocated(self%sets)) allocate (self%sets(16))
-    if (.not. allocated(self%diag_buf)) allocate (self%diag_buf(64))
-
+    call start(self, cfg, comm)
     if (self%rank == 0) call make_dir(trim(cfg%output_dir))
     call MPI_Barrier(self%comm)
 
@@ -162,10 +146,7 @@ contains
     call h5check(err, 'h5fcreate_f('//self%h5_path//')', where)
     call h5pclose_f(fapl, err)
     call h5check(err, 'h5pclose_f(file access)', where)
-    call h5pcreate_f(H5P_DATASET_XFER_F, self%dxpl, err)
-    call h5check(err, 'h5pcreate_f(transfer)', where)
-    call h5pset_dxpl_mpio_f(self%dxpl, H5FD_MPIO_COLLECTIVE_F, err)
-    call h5check(err, 'h5pset_dxpl_mpio_f', where)
+    call make_transfer_list(self, where)
 
     call attr_string(self%file_id, 'dpmpm_version', dpmpm_version)
     call attr_string(self%file_id, 'git_commit', git_commit)
@@ -193,6 +174,244 @@ contains
     self%is_open = .true.
     self%in_frame = .false.
   end subroutine out_open
+
+  !> Continue the file of an earlier run from its checkpoint (collective): open
+  !> <dir>/<name>.h5, keep its first nframes frames and the diagnostics before step, delete
+  !> what the earlier run wrote after that (the continued run writes it again), and go on
+  !> numbering frames from nframes. ok is false, with the file untouched, where there is no
+  !> such file, HDF5 cannot open it, or it holds fewer frames; the caller then starts a
+  !> new file.
+  subroutine out_resume(self, cfg, comm, nframes, step, ok, why)
+    class(output_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(in) :: nframes
+    integer(i8), intent(in) :: step
+    logical, intent(out) :: ok
+    character(len=:), allocatable, intent(out) :: why
+    character(len=*), parameter :: where = 'output%resume'
+    character(len=32) :: gname
+    integer(hid_t) :: fapl, dset
+    integer(hsize_t) :: dims(1), maxdims(1)
+    integer(i8), allocatable, target :: steps(:)
+    type(c_ptr) :: p
+    logical :: exists
+    integer :: err, k, nkeep
+    call start(self, cfg, comm)
+    ok = .false.
+    inquire (file=self%h5_path, exist=exists)
+    if (.not. exists) then
+      why = 'no file '//self%h5_path
+      call MPI_Comm_free(self%comm)
+      return
+    end if
+    call h5open_f(err)
+    call h5check(err, 'h5open_f', where)
+    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
+    call h5check(err, 'h5pcreate_f(file access)', where)
+    call h5pset_fapl_mpio_f(fapl, self%comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, err)
+    call h5check(err, 'h5pset_fapl_mpio_f', where)
+    ! A file torn by a kill may not open: that is an answer here, not an error to print.
+    call h5eset_auto_f(0, err)
+    call h5fopen_f(self%h5_path, H5F_ACC_RDWR_F, self%file_id, err, access_prp=fapl)
+    call h5eset_auto_f(1, k)
+    call h5pclose_f(fapl, k)
+    if (err < 0) then
+      why = 'HDF5 cannot open '//self%h5_path
+      call MPI_Comm_free(self%comm)
+      return
+    end if
+    do k = 0, nframes - 1
+      write (gname, '(a,i6.6)') 'frames/', k
+      call h5lexists_f(self%file_id, trim(gname), exists, err)
+      if (.not. exists) then
+        why = self%h5_path//' holds fewer frames than the checkpoint counts'
+        call h5fclose_f(self%file_id, err)
+        call MPI_Comm_free(self%comm)
+        return
+      end if
+    end do
+    ok = .true.
+    why = ''
+    call make_transfer_list(self, where)
+    ! Frames written after the checkpoint, and the benchmark results of the end of the run.
+    k = nframes
+    do
+      write (gname, '(a,i6.6)') 'frames/', k
+      call h5lexists_f(self%file_id, trim(gname), exists, err)
+      if (.not. exists) exit
+      call h5ldelete_f(self%file_id, trim(gname), err)
+      call h5check(err, 'h5ldelete_f('//trim(gname)//')', where)
+      k = k + 1
+    end do
+    call h5lexists_f(self%file_id, 'verification', exists, err)
+    if (exists) then
+      call h5ldelete_f(self%file_id, 'verification', err)
+      call h5check(err, 'h5ldelete_f(/verification)', where)
+    end if
+    call h5aexists_f(self%file_id, 'nranks', exists, err)
+    if (exists) call h5adelete_f(self%file_id, 'nranks', err)
+    call attr_i4(self%file_id, 'nranks', int(self%nranks, i4))
+    do k = 0, nframes - 1
+      call add_frame_records(self, k, where)
+    end do
+    ! Diagnostics before the checkpoint's step (records are in step order); the continued run
+    ! writes the record of that step itself.
+    call h5dopen_f(self%file_id, 'diagnostics/step', self%diag_dset(1), err)
+    call h5check(err, 'h5dopen_f(/diagnostics/step)', where)
+    call h5dopen_f(self%file_id, 'diagnostics/npoints', self%diag_dset(2), err)
+    call h5check(err, 'h5dopen_f(/diagnostics/npoints)', where)
+    do k = 1, ndiag_real
+      call h5dopen_f(self%file_id, 'diagnostics/'//trim(diag_real_names(k)), &
+                     self%diag_dset(2 + k), err)
+      call h5check(err, 'h5dopen_f(/diagnostics/'//trim(diag_real_names(k))//')', where)
+    end do
+    dset = self%diag_dset(1)
+    call dataset_dims(dset, dims, maxdims, where)
+    allocate (steps(max(dims(1), 1_hsize_t)))
+    p = c_loc(steps)
+    if (dims(1) > 0) then
+      call h5dread_f(dset, h5kind_to_type(i8, H5_INTEGER_KIND), p, err)
+      call h5check(err, 'h5dread_f(/diagnostics/step)', where)
+    end if
+    nkeep = 0
+    do while (nkeep < int(dims(1)))
+      if (steps(nkeep + 1) >= step) exit
+      nkeep = nkeep + 1
+    end do
+    do k = 1, ndiag_dsets
+      call h5dset_extent_f(self%diag_dset(k), [int(nkeep, hsize_t)], err)
+      call h5check(err, 'h5dset_extent_f(diagnostics)', where)
+    end do
+    self%ndiag_written = nkeep
+    call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
+    call h5check(err, 'h5fflush_f', where)
+    self%is_open = .true.
+    self%in_frame = .false.
+    if (self%rank == 0) call write_xdmf(self)
+    call MPI_Barrier(self%comm)
+  end subroutine out_resume
+
+  !> The state of an output_t before a file is opened: communicator, paths, no records.
+  subroutine start(self, cfg, comm)
+    class(output_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    type(MPI_Comm), intent(in) :: comm
+    if (self%is_open) call self%close()
+    call MPI_Comm_dup(comm, self%comm)
+    call MPI_Comm_rank(self%comm, self%rank)
+    call MPI_Comm_size(self%comm, self%nranks)
+    self%ndim = cfg%ndim
+    self%compression = cfg%compression
+    self%h5_path = output_h5_path(cfg)
+    self%xmf_path = output_xmf_path(cfg)
+    self%h5_base = trim(cfg%name)//'.h5'
+    self%nframes = 0
+    self%nsets = 0
+    self%ndiag_buf = 0
+    self%ndiag_written = 0
+    self%nchecks = 0
+    self%nrewritten = 0
+    self%check_seconds = 0.0_wp
+    call self%log%init(self%comm)
+    if (.not. allocated(self%frames)) allocate (self%frames(16))
+    if (.not. allocated(self%sets)) allocate (self%sets(16))
+    if (.not. allocated(self%diag_buf)) allocate (self%diag_buf(64))
+  end subroutine start
+
+  !> The collective transfer list of the open file.
+  subroutine make_transfer_list(self, where)
+    class(output_t), intent(inout) :: self
+    character(len=*), intent(in) :: where
+    integer :: err
+    call h5pcreate_f(H5P_DATASET_XFER_F, self%dxpl, err)
+    call h5check(err, 'h5pcreate_f(transfer)', where)
+    call h5pset_dxpl_mpio_f(self%dxpl, H5FD_MPIO_COLLECTIVE_F, err)
+    call h5check(err, 'h5pset_dxpl_mpio_f', where)
+  end subroutine make_transfer_list
+
+  !> Frame and set records (for the sidecar) of frame k as it is in the open file.
+  subroutine add_frame_records(self, k, where)
+    class(output_t), intent(inout) :: self
+    integer, intent(in) :: k
+    character(len=*), intent(in) :: where
+    character(len=*), parameter :: names(2) = ['solid', 'fluid']
+    character(len=32) :: gname
+    integer(hid_t) :: gid, dset
+    integer(hsize_t) :: dims(1), maxdims(1)
+    type(frame_rec_t), allocatable :: ftmp(:)
+    type(set_rec_t), allocatable :: stmp(:)
+    type(set_rec_t) :: rec
+    real(wp), target :: time
+    integer(i8), target :: step
+    logical :: exists
+    integer :: err, j, f
+    write (gname, '(a,i6.6)') 'frames/', k
+    call h5gopen_f(self%file_id, trim(gname), gid, err)
+    call h5check(err, 'h5gopen_f('//trim(gname)//')', where)
+    call read_attr(gid, 'time', h5kind_to_type(wp, H5_REAL_KIND), c_loc(time), where)
+    call read_attr(gid, 'step', h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(step), where)
+    if (self%nframes + 1 > size(self%frames)) then
+      allocate (ftmp(2*size(self%frames)))
+      ftmp(1:self%nframes) = self%frames(1:self%nframes)
+      call move_alloc(ftmp, self%frames)
+    end if
+    self%nframes = self%nframes + 1
+    self%frames(self%nframes) = frame_rec_t(step=step, time=time)
+    do j = 1, size(names)
+      call h5lexists_f(gid, trim(names(j)), exists, err)
+      if (.not. exists) cycle
+      call h5dopen_f(gid, trim(names(j))//'/id', dset, err)
+      call h5check(err, 'h5dopen_f('//trim(gname)//'/'//trim(names(j))//'/id)', where)
+      call dataset_dims(dset, dims, maxdims, where)
+      call h5dclose_f(dset, err)
+      rec = set_rec_t(frame=k, name=trim(names(j)), n=int(dims(1), i8))
+      do f = 1, size(optional_fields)
+        call h5lexists_f(gid, trim(names(j))//'/'//trim(optional_fields(f)), rec%has(f), err)
+      end do
+      if (self%nsets + 1 > size(self%sets)) then
+        allocate (stmp(2*size(self%sets)))
+        stmp(1:self%nsets) = self%sets(1:self%nsets)
+        call move_alloc(stmp, self%sets)
+      end if
+      self%nsets = self%nsets + 1
+      self%sets(self%nsets) = rec
+    end do
+    call h5gclose_f(gid, err)
+    call h5check(err, 'h5gclose_f('//trim(gname)//')', where)
+  end subroutine add_frame_records
+
+  !> Read a scalar attribute of loc into the memory at ptr (memory type mtype).
+  subroutine read_attr(loc, name, mtype, ptr, where)
+    integer(hid_t), intent(in) :: loc, mtype
+    character(len=*), intent(in) :: name, where
+    type(c_ptr), intent(in) :: ptr
+    integer(hid_t) :: attr
+    type(c_ptr) :: p
+    integer :: err
+    p = ptr
+    call h5aopen_f(loc, name, attr, err)
+    call h5check(err, 'h5aopen_f('//name//')', where)
+    call h5aread_f(attr, mtype, p, err)
+    call h5check(err, 'h5aread_f('//name//')', where)
+    call h5aclose_f(attr, err)
+    call h5check(err, 'h5aclose_f('//name//')', where)
+  end subroutine read_attr
+
+  !> Current and largest dimensions of a 1D dataset.
+  subroutine dataset_dims(dset, dims, maxdims, where)
+    integer(hid_t), intent(in) :: dset
+    integer(hsize_t), intent(out) :: dims(1), maxdims(1)
+    character(len=*), intent(in) :: where
+    integer(hid_t) :: space
+    integer :: err
+    call h5dget_space_f(dset, space, err)
+    call h5check(err, 'h5dget_space_f', where)
+    call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
+    if (err < 0) call fatal('h5sget_simple_extent_dims_f failed', where)
+    call h5sclose_f(space, err)
+    call h5check(err, 'h5sclose_f', where)
+  end subroutine dataset_dims
 
   !> Start frame /frames/NNNNNN (NNNNNN counts frames from 0) at a step and time (s).
   subroutine out_begin_frame(self, step, time)

@@ -28,7 +28,7 @@ module dpmpm_simulation
   use dpmpm_two_phase, only: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, &
                              drag_limit, interp_scalar, pressure_update, fluid_density
   use dpmpm_migrate, only: migrate
-  use dpmpm_output, only: output_t
+  use dpmpm_output, only: output_t, output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
   use dpmpm_diagnostics, only: diag_record_t
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
@@ -253,7 +253,11 @@ contains
     end if
     self%dt = self%stable_dt()
     if (self%write_output) then
-      call self%out%open(self%cfg, self%dec%comm)
+      if (len_trim(cfg%restart) > 0) then
+        call resume_output(self)
+      else
+        call self%out%open(self%cfg, self%dec%comm)
+      end if
     end if
     call self%diagnostics()
     ! A restarted run keeps the frame schedule of the run it continues.
@@ -261,13 +265,11 @@ contains
   end subroutine sim_init
 
   !> Continue from a checkpoint: the points of this rank's cells, time, step, energy
-  !> balance and frame schedule. The output goes to <name>_from<step>.h5, so that the
-  !> file of the run being continued is kept.
+  !> balance and frame schedule (the output file: resume_output).
   subroutine restart_from(self, path)
     type(simulation_t), intent(inout) :: self
     character(len=*), intent(in) :: path
     type(checkpoint_state_t) :: st
-    character(len=32) :: tag
     character(len=256) :: line
     if (self%two_phase) then
       call read_checkpoint(path, st, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi, &
@@ -291,12 +293,31 @@ contains
     self%next_frame = st%next_frame
     self%nframes = st%nframes
     self%last_frame_step = st%step
-    write (tag, '(i0)') st%step
-    self%cfg%name = trim(self%cfg%name)//'_from'//trim(tag)
     write (line, '(a,a,a,i0,a,es12.5)') 'dpmpm: restart from ', path, ' at step ', st%step, &
       ', t = ', st%time
     call self%log%info(trim(line))
   end subroutine restart_from
+
+  !> The output of a restarted run continues <name>.h5 of the run it continues: the frames
+  !> and diagnostics up to the checkpoint are kept, what came after is written again.
+  !> Where that file is missing or cannot be opened, the run writes <name>_from<step>.h5.
+  subroutine resume_output(self)
+    type(simulation_t), intent(inout) :: self
+    character(len=:), allocatable :: why
+    character(len=32) :: tag
+    logical :: ok
+    call self%out%resume(self%cfg, self%dec%comm, self%nframes, self%step, ok, why)
+    if (ok) then
+      write (tag, '(i0)') self%nframes
+      call self%log%info('dpmpm: continuing '//output_h5_path(self%cfg)//' from its first '// &
+                         trim(tag)//' frames (later frames of the earlier run are written again)')
+      return
+    end if
+    write (tag, '(i0)') self%step
+    self%cfg%name = trim(self%cfg%name)//'_from'//trim(tag)
+    call self%log%info('dpmpm: '//why//': writing '//output_h5_path(self%cfg)//' instead')
+    call self%out%open(self%cfg, self%dec%comm)
+  end subroutine resume_output
 
   !> Write the checkpoint <output_dir>/<name>.ckpt.h5 (collective).
   subroutine write_state(self)

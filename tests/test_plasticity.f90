@@ -12,6 +12,8 @@ program test_plasticity
                               elastic_trial, surface_mohr_coulomb, surface_drucker_prager, &
                               dp_plane_strain, dp_outer, dp_inner, ret_elastic, ret_smooth, &
                               ret_edge_right, ret_edge_left, ret_apex
+  use dpmpm_particles, only: particle_set_t
+  use dpmpm_kinds, only: i8
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
   implicit none
   real(wp), parameter :: youngs = 1.0e7_wp, nu = 0.3_wp
@@ -40,6 +42,7 @@ program test_plasticity
   call test_dp_matches_mc_on_meridians()
   call test_dp_softening_closed_form()
   call test_mc_softening_closed_form()
+  call test_points_carry_plastic_strain()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -701,5 +704,40 @@ contains
     out = elastic_trial(par, s0, de)
     call check(maxval(abs(out(1:3) - tr)) <= 1.0e-9_wp, 'trial stress')
   end subroutine test_mc_softening_closed_form
+
+  !> A set with plastic history packs, unpacks and removes its epsp with the points (the
+  !> path of migration and checkpoints); a set without it stores and packs nothing more.
+  subroutine test_points_carry_plastic_strain()
+    type(particle_set_t) :: a, b, e
+    real(wp), allocatable :: buf(:, :)
+    logical :: gone(3)
+    integer :: k
+    call begin_test('points_carry_plastic_strain')
+    call a%init('solid', 2, .false., has_plastic=.true.)
+    call b%init('solid', 2, .false., has_plastic=.true.)
+    call e%init('solid', 2, .false.)
+    do k = 1, 3
+      call a%append(int(k, i8), 1, [0.1_wp*k, 0.0_wp], [0.0_wp, 0.0_wp], 1.0_wp, 1.0_wp, &
+                    [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp])
+      call e%append(int(k, i8), 1, [0.1_wp*k, 0.0_wp], [0.0_wp, 0.0_wp], 1.0_wp, 1.0_wp, &
+                    [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp])
+    end do
+    call check(all(a%epsp(1:3) == 0.0_wp), 'new points start without plastic strain')
+    a%epsp(1:3) = [1.0e-3_wp, 2.0e-3_wp, 3.0e-3_wp]
+    call check_equal_int(a%nreal_packed(), e%nreal_packed() + 1, 'one more packed real')
+    call check(.not. allocated(e%epsp), 'no plastic history without a plastic material')
+    allocate (buf(a%nreal_packed(), 2))
+    call a%pack_points([3, 1], buf)
+    call b%unpack_points(buf)
+    call check(b%n == 2 .and. b%epsp(1) == 3.0e-3_wp .and. b%epsp(2) == 1.0e-3_wp, &
+               'epsp travels with its points')
+    gone = [.true., .false., .false.]
+    call a%remove(gone)
+    call check(a%n == 2 .and. a%epsp(1) == 2.0e-3_wp .and. a%epsp(2) == 3.0e-3_wp, &
+               'epsp kept in order when points are removed')
+    call a%free()
+    call b%free()
+    call e%free()
+  end subroutine test_points_carry_plastic_strain
 
 end program test_plasticity

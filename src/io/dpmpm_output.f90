@@ -261,6 +261,8 @@ contains
                                                 ps%porosity(1:n))
     if (ps%has_pressure) call write_points_real(self, gid, 'pore_pressure', 0, nloc, offset, &
                                                 nglob, ps%pressure(1:n))
+    if (ps%has_plastic) call write_points_real(self, gid, 'plastic_strain', 0, nloc, offset, &
+                                               nglob, ps%epsp(1:n))
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f('//trim(ps%name)//')', where)
 

@@ -17,7 +17,9 @@ program test_plasticity
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
   implicit none
   real(wp), parameter :: youngs = 1.0e7_wp, nu = 0.3_wp
-  real(wp), parameter :: kb = youngs/(3.0_wp*(1.0_wp - 2.0_wp*nu)), gs = youngs/(2.0_wp*(1.0_wp + nu))
+  real(wp), parameter :: kb = youngs/(3.0_wp*(1.0_wp - 2.0_wp*nu))
+  real(wp), parameter :: gs = youngs/(2.0_wp*(1.0_wp + nu))
+  real(wp), parameter :: zero6(6) = 0.0_wp   !< no strain increment: return the given state
   real(wp), parameter :: lam = kb - 2.0_wp*gs/3.0_wp
   real(wp), parameter :: pi = acos(-1.0_wp), deg = pi/180.0_wp
   real(wp), parameter :: no_cut = 1.0e30_wp
@@ -200,7 +202,7 @@ contains
       if (mod(k, 10) == 0) sv(1:3) = sv(1:3) + 1.5e5_wp   ! more states beyond the apex
       out = sv
       epsp = 0.0_wp
-      call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code, cut)
+      call plastic_return(par, zero6, out, epsp, code, cut)
       seen(code) = seen(code) + 1
       scale = maxval(abs(sv)) + par%cohesion
       if (code == ret_elastic) then
@@ -232,7 +234,7 @@ contains
         if (mod(k, 10) == 0) sv(1:3) = sv(1:3) + 1.5e5_wp
         out = sv
         epsp = 0.0_wp
-        call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, &
+        call plastic_return(par, zero6, out, epsp, &
                             code, cut)
         seen(code) = seen(code) + 1
         scale = maxval(abs(sv)) + par%cohesion
@@ -304,12 +306,13 @@ contains
     ax = [0.3_wp, -0.5_wp, 0.8_wp]
     out = stress_in_axes(st, ax, 0.7_wp)
     epsp = 0.0_wp
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code)
+    call plastic_return(par, zero6, out, epsp, code)
     call check_equal_int(code, ret_edge_right, 'right-edge return')
     call check(maxval(abs(out - stress_in_axes(ex, ax, 0.7_wp))) <= 1.0e-10_wp*maxval(abs(st)), &
                'stress of the symmetric two-plane return')
     call check(dg > 0.0_wp, 'positive multipliers')
-    call check_close(epsp, 2.0_wp*cphi*2.0_wp*dg, 1.0e-10_wp, 0.0_wp, 'epsp = 2 cos(phi) sum dgamma')
+    call check_close(epsp, 2.0_wp*cphi*2.0_wp*dg, 1.0e-10_wp, 0.0_wp, &
+                     'epsp = 2 cos(phi) sum dgamma')
   end subroutine test_mc_right_edge_closed_form
 
   !> Trial (a, b, b), a > b: the left edge, sigma_2 = sigma_3, planes (1,3) and (1,2).
@@ -332,7 +335,7 @@ contains
     ax = [-0.2_wp, 0.9_wp, 0.1_wp]
     out = stress_in_axes(st, ax, 1.3_wp)
     epsp = 0.0_wp
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code)
+    call plastic_return(par, zero6, out, epsp, code)
     call check_equal_int(code, ret_edge_left, 'left-edge return')
     call check(maxval(abs(out - stress_in_axes(ex, ax, 1.3_wp))) <= 1.0e-10_wp*maxval(abs(st)), &
                'stress of the symmetric two-plane return')
@@ -350,14 +353,14 @@ contains
     par = params(surface_mohr_coulomb, 25.0_wp, 5.0_wp, c, no_cut)
     out = stress_in_axes([1.3_wp*apex, 1.2_wp*apex, 1.1_wp*apex], [1.0_wp, 1.0_wp, 0.0_wp], 0.4_wp)
     epsp = 0.0_wp
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code)
+    call plastic_return(par, zero6, out, epsp, code)
     call check_equal_int(code, ret_apex, 'apex return')
     call check(maxval(abs(out - [apex, apex, apex, 0.0_wp, 0.0_wp, 0.0_wp])) <= 1.0e-10_wp*apex, &
                'sigma = c cot(phi) I')
     par = params(surface_mohr_coulomb, 30.0_wp, 0.0_wp, 0.0_wp, no_cut)
     out = [1.0e3_wp, -2.0e2_wp, 5.0e2_wp, 1.0e2_wp, 0.0_wp, -3.0e2_wp]
     epsp = 0.0_wp
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code)
+    call plastic_return(par, zero6, out, epsp, code)
     call check_equal_int(code, ret_apex, 'apex return of a tensile state without cohesion')
     call check(maxval(abs(out)) <= 1.0e-10_wp, 'sigma = 0 for c = 0')
   end subroutine test_mc_apex
@@ -398,7 +401,7 @@ contains
                      'the plane-strain cone has the MC apex c cot(phi)')
     out = [1.5_wp*apex, 1.4_wp*apex, 1.3_wp*apex, 0.01_wp*apex, 0.0_wp, 0.0_wp]
     epsp = 0.0_wp
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code)
+    call plastic_return(par, zero6, out, epsp, code)
     call check_equal_int(code, ret_apex, 'apex return')
     call check(maxval(abs(out - [apex, apex, apex, 0.0_wp, 0.0_wp, 0.0_wp])) <= 1.0e-10_wp*apex, &
                'sigma = xi c / eta I')
@@ -458,7 +461,7 @@ contains
     out = [4.0e4_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     call check(mc_yield(out, par%sin_phi, par%cos_phi, par%cohesion) < 0.0_wp, 'inside MC')
     epsp = 0.0_wp
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code, cut)
+    call plastic_return(par, zero6, out, epsp, code, cut)
     call check(cut, 'cut-off acts')
     call check_equal_int(code, ret_elastic, 'no shear return')
     g1 = 3.0e4_wp/d
@@ -469,7 +472,7 @@ contains
     ! corner of two planes
     out = [3.0e4_wp, 2.0e4_wp, -5.0e4_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     call check(mc_yield(out, par%sin_phi, par%cos_phi, par%cohesion) < 0.0_wp, 'inside MC')
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code, cut)
+    call plastic_return(par, zero6, out, epsp, code, cut)
     r1 = 3.0e4_wp - t
     r2 = 2.0e4_wp - t
     g1 = (d*r1 - lam*r2)/(d*d - lam*lam)
@@ -480,11 +483,12 @@ contains
     call check_close(out(3), -5.0e4_wp - lam*(g1 + g2), 1.0e-12_wp, 0.0_wp, 'sigma_3')
     ! hydrostatic tension below the apex: all three
     out = [2.0e4_wp, 2.0e4_wp, 2.0e4_wp, 0.0_wp, 0.0_wp, 0.0_wp]
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code, cut)
-    call check(maxval(abs(out - [t, t, t, 0.0_wp, 0.0_wp, 0.0_wp])) <= 1.0e-10_wp*t, 'sigma = sigma_t I')
+    call plastic_return(par, zero6, out, epsp, code, cut)
+    call check(maxval(abs(out - [t, t, t, 0.0_wp, 0.0_wp, 0.0_wp])) <= 1.0e-10_wp*t, &
+               'sigma = sigma_t I')
     ! a shear return followed by the cut-off stays inside MC
     out = [6.0e4_wp, -1.0e4_wp, -9.0e4_wp, 2.0e4_wp, 0.0_wp, 0.0_wp]
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code, cut)
+    call plastic_return(par, zero6, out, epsp, code, cut)
     call check(cut, 'cut-off after the shear return')
     call check(mc_yield(out, par%sin_phi, par%cos_phi, par%cohesion) <= 1.0e-10_wp*1.0e5_wp, &
                'still inside MC after the cut-off')
@@ -502,7 +506,7 @@ contains
     call check(dp_yield(s0, par%eta, par%xi, par%cohesion) < 0.0_wp, 'inside the cone')
     out = s0
     epsp = 0.0_wp
-    call plastic_return(par, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], out, epsp, code, cut)
+    call plastic_return(par, zero6, out, epsp, code, cut)
     call check(cut, 'cut-off acts')
     call check_close(sum(out(1:3))/3.0_wp, t, 1.0e-12_wp, 0.0_wp, 'p = sigma_t')
     call check(maxval(abs((out(1:3) - sum(out(1:3))/3.0_wp) - (s0(1:3) - 1.0e4_wp))) <= 1.0e-9_wp &

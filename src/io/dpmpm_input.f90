@@ -1138,8 +1138,9 @@ contains
           if (cfg%materials(m)%model == 'fluid') then
             call add_value(rd, g_region, k, 'material', itoa(r%material), "material "// &
                            itoa(r%material)//" is a 'fluid' material; the material of a "// &
-                           'saturated region is its soil skeleton (linear_elastic or '// &
-                           'neo_hookean) and fluid_material its pore fluid')
+                           'saturated region is its soil skeleton (linear_elastic, '// &
+                           'neo_hookean, mohr_coulomb or drucker_prager) and fluid_material '// &
+                           'its pore fluid')
           else if (.not. real_ok(cfg%materials(m)%conductivity, gt=0.0_wp)) then
             call add_value(rd, g_region, k, 'material', itoa(r%material), 'material '// &
                            itoa(r%material)//' has conductivity = '// &

@@ -1,20 +1,20 @@
 !> Elasto-plastic soil: Mohr-Coulomb and Drucker-Prager with a linear isotropic
 !> elastic predictor and an implicit (backward Euler) return mapping, after de Souza
 !> Neto, Peric & Owen, "Computational Methods for Plasticity" (2008), ch. 8
-!> (MC: sections 8.2-8.3 in principal stresses; DP: cone and apex returns).
+!> (MC in principal stresses: main plane, edges, apex; DP: cone and apex).
 !>
 !> Conventions: stress positive in tension, Voigt order xx yy zz yz xz xy; strain
 !> increments in the same order with engineering shears (2 eps_yz, ...). The mean
 !> stress is p = tr(sigma)/3 (positive in tension). Cohesion softens linearly with the
 !> accumulated plastic strain epsp down to a residual value,
-!>   c(epsp) = max(c_res, c0 - h epsp),                                     (8.1 with H = -h)
+!>   c(epsp) = max(c_res, c0 - h epsp)       (linear hardening of the book with H = -h),
 !> with epsp the strain-like variable conjugate to c of the book: d epsp = 2 cos(phi) sum dgamma
 !> on the MC planes, xi dgamma on the DP cone, and (cos(phi)/sin(psi)) d eps_v^p resp.
 !> (xi/eta_bar) d eps_v^p at the apex. With psi = 0 the plastic potential has no apex,
 !> so the apex return (a tensile failure) leaves epsp unchanged.
 !>
 !> Tension cut-off, applied after the shear return (an operator split, not a
-!> simultaneous multi-surface return; it can only lower the shear yield function):
+!> simultaneous multi-surface return; for nu >= 0 it can only lower the shear yield function):
 !>   MC: Rankine, every principal stress <= sigma_t, associated flow, with the corners
 !>       where two or three principal stresses reach sigma_t;
 !>   DP: the mean stress p <= sigma_t, associated (volumetric) flow, s unchanged.
@@ -88,7 +88,7 @@ contains
   !> Drucker-Prager eta and xi of f = sqrt(J2) + eta p - xi c matched to Mohr-Coulomb
   !> with the angle a (radians): plane strain eta = 3 tan a / sqrt(9 + 12 tan^2 a),
   !> xi = 3 / sqrt(9 + 12 tan^2 a); outer and inner cones eta = 6 sin a / (sqrt(3)(3 -+ sin a)),
-  !> xi = 6 cos a / (sqrt(3)(3 -+ sin a)) (de Souza Neto et al. 2008, sec. 8.3.3).
+  !> xi = 6 cos a / (sqrt(3)(3 -+ sin a)) (de Souza Neto et al. 2008, ch. 8).
   pure subroutine dp_constants(match, a, eta, xi)
     integer, intent(in) :: match
     real(wp), intent(in) :: a
@@ -209,7 +209,7 @@ contains
     if (present(cut)) cut = cutoff
   end subroutine plastic_return
 
-  !> Mohr-Coulomb return in principal stresses (de Souza Neto et al. 2008, Box 8.1-8.3):
+  !> Mohr-Coulomb return in principal stresses (de Souza Neto et al. 2008, ch. 8):
   !> main plane, then the edge the trial state points to, then the apex; the stress is
   !> rebuilt with the eigenvectors of the trial stress (they do not change in an
   !> isotropic return).
@@ -369,7 +369,7 @@ contains
     sig = s
   end subroutine rankine
 
-  !> Drucker-Prager return (de Souza Neto et al. 2008, Box 8.8): smooth cone with
+  !> Drucker-Prager return (de Souza Neto et al. 2008, ch. 8): smooth cone with
   !> dgamma = f_tr / (G + K eta eta_bar - xi^2 h); when sqrt(J2_tr) - G dgamma < 0 the
   !> apex, p = xi c / eta, s = 0. Then the cut-off p <= sigma_t.
   pure subroutine dp_return(par, trial, stress, epsp, kind, cutoff)

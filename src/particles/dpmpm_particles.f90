@@ -1,7 +1,9 @@
 !> A set of material points (solid or fluid) as a structure of arrays.
 !> Only the fields that the scene needs are allocated: the deformation gradient
 !> only when a material needs it (neo-Hookean), porosity only in two-phase
-!> scenes, pore pressure and inverse conductivity only on fluid points.
+!> scenes, pore pressure and inverse conductivity only on fluid points, the
+!> accumulated plastic strain only when a plastic soil (mohr_coulomb,
+!> drucker_prager) is present.
 !> Capacity grows geometrically.
 module dpmpm_particles
   use dpmpm_kinds, only: wp, i8

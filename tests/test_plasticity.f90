@@ -13,6 +13,8 @@ program test_plasticity
                               dp_plane_strain, dp_outer, dp_inner, ret_elastic, ret_smooth, &
                               ret_edge_right, ret_edge_left, ret_apex
   use dpmpm_particles, only: particle_set_t
+  use dpmpm_config, only: material_cfg_t
+  use dpmpm_materials, only: material_t, materials_from_config, stress_update
   use dpmpm_kinds, only: i8
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
   implicit none
@@ -45,6 +47,7 @@ program test_plasticity
   call test_dp_softening_closed_form()
   call test_mc_softening_closed_form()
   call test_points_carry_plastic_strain()
+  call test_stress_update_plastic_work()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -743,5 +746,35 @@ contains
     call b%free()
     call e%free()
   end subroutine test_points_carry_plastic_strain
+
+  !> stress_update of a drucker_prager material under a pure shear increment gamma from an
+  !> isotropic state p0, psi = 0: dgamma = f_tr / G, tau = G (gamma - dgamma), and the
+  !> plastic work V (tau_n + tau_n+1)/2 dgamma = V G (gamma - dgamma) dgamma / 2.
+  subroutine test_stress_update_plastic_work()
+    type(material_t), allocatable :: mats(:)
+    real(wp) :: vgrad(9, 1), stress(6, 1), vol(1), vol0(1), epsp(1), work, dt, gam, p0, f, dg
+    call begin_test('stress_update_plastic_work')
+    call materials_from_config([material_cfg_t(id=1, model='drucker_prager', &
+                                               youngs_modulus=youngs, poisson_ratio=nu, &
+                                               friction_angle=30.0_wp, cohesion=5.0e3_wp)], mats)
+    dt = 1.0e-3_wp
+    gam = 2.0e-2_wp
+    p0 = -5.0e4_wp
+    vgrad = 0.0_wp
+    vgrad(2, 1) = 0.5_wp*gam/dt   ! L_yx
+    vgrad(4, 1) = 0.5_wp*gam/dt   ! L_xy
+    stress(:, 1) = [p0, p0, p0, 0.0_wp, 0.0_wp, 0.0_wp]
+    vol = 2.0_wp
+    vol0 = 2.0_wp
+    epsp = 0.0_wp
+    work = 0.0_wp
+    call stress_update(mats(1), 1, dt, 1, [1], vgrad, stress, vol, vol0, epsp=epsp, &
+                       dissipation=work)
+    f = gs*gam + mats(1)%plastic%eta*p0 - mats(1)%plastic%xi*5.0e3_wp
+    dg = f/gs
+    call check(f > 0.0_wp, 'plastic step')
+    call check_close(stress(6, 1), gs*(gam - dg), 1.0e-12_wp, 0.0_wp, 'tau')
+    call check_close(work, 0.5_wp*2.0_wp*gs*(gam - dg)*dg, 1.0e-10_wp, 0.0_wp, 'plastic work')
+  end subroutine test_stress_update_plastic_work
 
 end program test_plasticity

@@ -129,7 +129,11 @@ contains
   !> sigma + dt (W sigma - sigma W)), then plastic_return takes the strain increment dt D
   !> (elastic predictor and return); epsp is the accumulated plastic strain of each point.
   !> In a saturated soil this is the effective stress; the pore pressure stays apart.
-  subroutine stress_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, epsp)
+  !> dissipation (when present) gains the plastic work of the step,
+  !> V (sigma_n + sigma_n+1)/2 : d eps^p with d eps^p = dt D - C^-1 (sigma_n+1 - sigma_n)
+  !> (sigma_n after the rotation), so that the energy balance can count it.
+  subroutine stress_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, epsp, &
+                           dissipation)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
     real(wp), intent(in) :: dt
@@ -139,8 +143,9 @@ contains
     real(wp), intent(in) :: vol0(:)
     real(wp), intent(inout), optional :: defgrad(:, :)
     real(wp), intent(inout), optional :: epsp(:)
+    real(wp), intent(inout), optional :: dissipation
     real(wp) :: lg(3, 3), dmat(3, 3), wmat(3, 3), s(3, 3), f(3, 3), b(3, 3), ident(3, 3), tr, jac
-    real(wp) :: sv(6), deps(6)
+    real(wp) :: sv(6), sv0(6), deps(6), dsig(6), dep(6)
     integer :: p, k
     ident = 0.0_wp
     do k = 1, 3
@@ -181,8 +186,16 @@ contains
         sv = tensor_to_voigt(s + dt*(matmul(wmat, s) - matmul(s, wmat)))
         deps = dt*[dmat(1, 1), dmat(2, 2), dmat(3, 3), 2.0_wp*dmat(2, 3), 2.0_wp*dmat(1, 3), &
                    2.0_wp*dmat(1, 2)]
+        sv0 = sv
         call plastic_return(mat%plastic, deps, sv, epsp(p))
         stress(:, p) = sv
+        if (present(dissipation)) then
+          dsig = sv - sv0
+          dep(1:3) = deps(1:3) - ((1.0_wp + mat%poisson)*dsig(1:3) - mat%poisson*sum(dsig(1:3))) &
+                     /mat%youngs
+          dep(4:6) = deps(4:6) - dsig(4:6)/mat%mu
+          dissipation = dissipation + 0.5_wp*vol(p)*dot_product(sv0 + sv, dep)
+        end if
         vol(p) = vol(p)*det3(ident + dt*lg)
       end do
     end select

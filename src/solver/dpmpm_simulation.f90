@@ -596,6 +596,7 @@ contains
     class(simulation_t), intent(inout) :: self
     real(wp), intent(inout) :: dt
     integer :: m, nlost, n
+    real(wp) :: wplastic
     if (self%two_phase) then
       call advance_two_phase(self, dt)
       return
@@ -656,11 +657,14 @@ contains
     call self%timers%toc(t_g2p)
 
     call self%timers%tic(t_stress)
+    wplastic = 0.0_wp
     do m = 1, size(self%mats)
       call stress_update(self%mats(m), m, dt, self%solid%n, self%solid%mat, self%ts%vgrad, &
                          self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad, &
-                         self%solid%epsp)
+                         self%solid%epsp, wplastic)
     end do
+    ! The plastic work leaves the energy balance like the drag dissipation.
+    self%ext_work = self%ext_work - wplastic
     call self%timers%toc(t_stress)
 
     call self%timers%tic(t_migrate)
@@ -677,6 +681,7 @@ contains
     type(simulation_t), intent(inout) :: self
     real(wp), intent(inout) :: dt
     integer :: m, nlost, ns, nf, mbc(6)
+    real(wp) :: wplastic
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:), kf(:)
     ns = self%solid%n
     nf = self%fluid%n
@@ -787,12 +792,14 @@ contains
     ! Skeleton: effective stress, volume, and porosity from the volume change
     ! with incompressible grains, n' = 1 - (1 - n) V / V'.
     volb = self%solid%vol(1:ns)
+    wplastic = 0.0_wp
     do m = 1, size(self%mats)
       if (self%mats(m)%model == model_fluid) cycle
       call stress_update(self%mats(m), m, dt, ns, self%solid%mat, self%ts%vgrad, &
                          self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad, &
-                         self%solid%epsp)
+                         self%solid%epsp, wplastic)
     end do
+    self%ext_work = self%ext_work - wplastic
     self%solid%porosity(1:ns) = 1.0_wp - (1.0_wp - self%solid%porosity(1:ns))*volb/ &
                                 self%solid%vol(1:ns)
     ! Fluid: pore pressure (eq. 10), then the volume the point represents,

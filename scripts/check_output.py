@@ -104,7 +104,7 @@ def check_set(g, where, ndim, bad):
             "volume": ((n,), np.float64)}
     optional = {"displacement": ((n, ndim), np.float64), "stress": ((n, 6), np.float64),
                 "material": ((n,), np.int32), "porosity": ((n,), np.float64),
-                "pore_pressure": ((n,), np.float64)}
+                "pore_pressure": ((n,), np.float64), "plastic_strain": ((n,), np.float64)}
     for name, (shape, dtype) in spec.items():
         if name not in g:
             bad.append(f"{where}/{name} missing")

@@ -29,12 +29,21 @@ module dpmpm_config
   !> One &material group.
   type :: material_cfg_t
     integer :: id = 1
-    character(len=name_len) :: model = 'linear_elastic'   !< linear_elastic | neo_hookean | fluid
+    !> linear_elastic | neo_hookean | fluid | mohr_coulomb | drucker_prager
+    character(len=name_len) :: model = 'linear_elastic'
     real(wp) :: density = 1000.0_wp          !< kg/m^3 (grain density of a soil, intrinsic)
     real(wp) :: youngs_modulus = 1.0e6_wp    !< Pa (of the skeleton)
     real(wp) :: poisson_ratio = 0.3_wp
     real(wp) :: bulk_modulus = 2.2e9_wp      !< Pa, fluid K_f (model fluid)
     real(wp) :: conductivity = 0.0_wp        !< m/s, hydraulic conductivity k of a soil; 0 = none
+    ! mohr_coulomb and drucker_prager (effective stress of the skeleton)
+    real(wp) :: friction_angle = 30.0_wp     !< degrees, phi
+    real(wp) :: dilatancy_angle = 0.0_wp     !< degrees, psi, 0 <= psi <= phi
+    real(wp) :: cohesion = 0.0_wp            !< Pa, c0
+    real(wp) :: tensile_strength = 0.0_wp    !< Pa, tension cut-off sigma_t
+    real(wp) :: cohesion_softening = 0.0_wp  !< Pa, h in c = max(c_res, c0 - h epsp)
+    real(wp) :: residual_cohesion = 0.0_wp   !< Pa, c_res
+    character(len=name_len) :: dp_match = 'plane_strain' !< plane_strain | outer | inner
   end type material_cfg_t
 
   !> One &region group: a box or a 2D polygon filled with points of one material.
@@ -126,11 +135,12 @@ module dpmpm_config
   end type config_t
 
   !> Datasets of a point set that &output solid_fields / fluid_fields may leave out (id, x, v,
-  !> mass and volume are always written; porosity and pore_pressure only where the set has
-  !> them; a fluid set has no stress: its stress is -pore_pressure on the diagonal).
-  character(len=*), parameter :: optional_fields(5) = [character(len=13) :: 'displacement', &
+  !> mass and volume are always written; porosity, pore_pressure and plastic_strain only
+  !> where the set has them; a fluid set has no stress: its stress is -pore_pressure on the
+  !> diagonal).
+  character(len=*), parameter :: optional_fields(6) = [character(len=14) :: 'displacement', &
                                                        'stress', 'material', 'porosity', &
-                                                       'pore_pressure']
+                                                       'pore_pressure', 'plastic_strain']
 
 contains
 

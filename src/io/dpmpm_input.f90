@@ -16,6 +16,8 @@ module dpmpm_input
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
   use dpmpm_mls, only: basis_from_name
   use dpmpm_shape_plan, only: shape_plan_t, max_gauss
+  use dpmpm_plasticity, only: plastic_params_t, plastic_setup, softening_limit, dp_match_names, &
+                              dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
   use dpmpm_error, only: clean_stop
   use dpmpm_strings, only: itoa, i8toa
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_Dims_create, &
@@ -37,7 +39,9 @@ module dpmpm_input
     'ndim, ncells, origin, length, dims', &
     'kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, gauss_points, '// &
     'field_kernel, field_basis, field_radius', &
-    'id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity', &
+    'id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity, '// &
+    'friction_angle, dilatancy_angle, cohesion, tensile_strength, cohesion_softening, '// &
+    'residual_cohesion, dp_match', &
     'shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, porosity, ppc, '// &
     'placement, seed, fluid_seed, velocity, stress, stress_gradient, pore_pressure, '// &
     'pore_pressure_gradient', &
@@ -154,6 +158,15 @@ contains
           call put_r(unit, 'poisson_ratio', [m%poisson_ratio])
           call put_r(unit, 'bulk_modulus', [m%bulk_modulus])
           call put_r(unit, 'conductivity', [m%conductivity])
+          if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') then
+            call put_r(unit, 'friction_angle', [m%friction_angle])
+            call put_r(unit, 'dilatancy_angle', [m%dilatancy_angle])
+            call put_r(unit, 'cohesion', [m%cohesion])
+            call put_r(unit, 'tensile_strength', [m%tensile_strength])
+            call put_r(unit, 'cohesion_softening', [m%cohesion_softening])
+            call put_r(unit, 'residual_cohesion', [m%residual_cohesion])
+            if (m%model == 'drucker_prager') call put_s(unit, 'dp_match', m%dp_match)
+          end if
           write (unit, '(a)') '/'
         end associate
       end do
@@ -515,11 +528,14 @@ contains
     type(material_cfg_t) :: def
     type(material_cfg_t), allocatable :: list(:)
     integer :: id, k, n, ios
-    character(len=name_len) :: model
+    character(len=name_len) :: model, dp_match
     real(wp) :: density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity
+    real(wp) :: friction_angle, dilatancy_angle, cohesion, tensile_strength, cohesion_softening, &
+                residual_cohesion
     character(len=512) :: msg
     namelist /material/ id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, &
-      conductivity
+      conductivity, friction_angle, dilatancy_angle, cohesion, tensile_strength, &
+      cohesion_softening, residual_cohesion, dp_match
     allocate (list(rd%count(g_material)))
     n = 0
     ok = .true.
@@ -527,6 +543,10 @@ contains
       id = def%id; model = def%model; density = def%density
       youngs_modulus = def%youngs_modulus; poisson_ratio = def%poisson_ratio
       bulk_modulus = def%bulk_modulus; conductivity = def%conductivity
+      friction_angle = def%friction_angle; dilatancy_angle = def%dilatancy_angle
+      cohesion = def%cohesion; tensile_strength = def%tensile_strength
+      cohesion_softening = def%cohesion_softening; residual_cohesion = def%residual_cohesion
+      dp_match = def%dp_match
       read (u, nml=material, iostat=ios, iomsg=msg)
       if (ios /= 0) then
         call read_error(rd, g_material, k, ios, msg)
@@ -536,7 +556,11 @@ contains
       n = k
       list(k) = material_cfg_t(id=id, model=model, density=density, &
                                youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, &
-                               bulk_modulus=bulk_modulus, conductivity=conductivity)
+                               bulk_modulus=bulk_modulus, conductivity=conductivity, &
+                               friction_angle=friction_angle, dilatancy_angle=dilatancy_angle, &
+                               cohesion=cohesion, tensile_strength=tensile_strength, &
+                               cohesion_softening=cohesion_softening, &
+                               residual_cohesion=residual_cohesion, dp_match=dp_match)
     end do
     cfg%materials = list(1:n)
   end subroutine read_materials
@@ -855,9 +879,10 @@ contains
     do k = 1, size(cfg%materials)
       associate (m => cfg%materials(k))
         if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean', &
-                                  'fluid'])) &
+                                  'fluid', 'mohr_coulomb', 'drucker_prager'])) &
           call add_value(rd, g_material, k, 'model', quote(m%model), &
-                         'the models are linear_elastic, neo_hookean, fluid')
+                         'the models are linear_elastic, neo_hookean, fluid, mohr_coulomb, '// &
+                         'drucker_prager')
         if (.not. real_ok(m%density, gt=0.0_wp)) call add_value(rd, g_material, k, 'density', &
           rtoa(m%density), 'must be > 0 (kg/m^3)')
         if (m%model == 'fluid') then
@@ -873,6 +898,8 @@ contains
         end if
         if (.not. real_ok(m%conductivity, ge=0.0_wp)) call add_value(rd, g_material, k, &
           'conductivity', rtoa(m%conductivity), 'must be >= 0 (m/s; 0 = no pore fluid flow)')
+        if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') &
+          call check_plastic(rd, k, m)
         do j = 1, k - 1
           if (cfg%materials(j)%id == m%id) then
             call add_value(rd, g_material, k, 'id', itoa(m%id), &
@@ -1124,8 +1151,9 @@ contains
           if (cfg%materials(m)%model == 'fluid') then
             call add_value(rd, g_region, k, 'material', itoa(r%material), "material "// &
                            itoa(r%material)//" is a 'fluid' material; the material of a "// &
-                           'saturated region is its soil skeleton (linear_elastic or '// &
-                           'neo_hookean) and fluid_material its pore fluid')
+                           'saturated region is its soil skeleton (linear_elastic, '// &
+                           'neo_hookean, mohr_coulomb or drucker_prager) and fluid_material '// &
+                           'its pore fluid')
           else if (.not. real_ok(cfg%materials(m)%conductivity, gt=0.0_wp)) then
             call add_value(rd, g_region, k, 'material', itoa(r%material), 'material '// &
                            itoa(r%material)//' has conductivity = '// &
@@ -1206,13 +1234,80 @@ contains
     if (len(word) > 0) then
       call add_value(rd, g_output, 1, var, "'"//trim(list)//"'", 'unknown dataset '''//word// &
                      ''': the optional datasets are displacement, stress, material, '// &
-                     'porosity, pore_pressure, or all (id, x, v, mass and volume are always '// &
-                     'written)')
+                     'porosity, pore_pressure, plastic_strain, or all (id, x, v, mass and '// &
+                     'volume are always written)')
     else if (fluid .and. field_listed(list, 'stress', explicit=.true.)) then
       call add_value(rd, g_output, 1, var, "'"//trim(list)//"'", 'a fluid set has no '// &
                      'stress dataset (its stress is -pore_pressure on the diagonal)')
     end if
   end subroutine check_fields
+
+  !> Strength parameters of a mohr_coulomb or drucker_prager material k.
+  subroutine check_plastic(rd, k, m)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    type(plastic_params_t) :: par
+    real(wp) :: hmax
+    integer :: match
+    logical :: ok
+    ok = .true.
+    if (.not. real_ok(m%friction_angle, ge=0.0_wp, lt=90.0_wp)) then
+      call add_value(rd, g_material, k, 'friction_angle', rtoa(m%friction_angle), &
+                     'must be in [0, 90) (degrees)')
+      ok = .false.
+    end if
+    if (.not. real_ok(m%dilatancy_angle, ge=0.0_wp)) then
+      call add_value(rd, g_material, k, 'dilatancy_angle', rtoa(m%dilatancy_angle), &
+                     'must be >= 0 (degrees)')
+      ok = .false.
+    else if (ok .and. m%dilatancy_angle > m%friction_angle) then
+      call add_value(rd, g_material, k, 'dilatancy_angle', rtoa(m%dilatancy_angle), &
+                     'must not exceed friction_angle = '//rtoa(m%friction_angle)// &
+                     ' (psi > phi would create energy)')
+      ok = .false.
+    end if
+    if (.not. real_ok(m%cohesion, ge=0.0_wp)) then
+      call add_value(rd, g_material, k, 'cohesion', rtoa(m%cohesion), 'must be >= 0 (Pa)')
+      ok = .false.
+    else if (ok .and. m%cohesion == 0.0_wp .and. m%friction_angle == 0.0_wp) then
+      call add_value(rd, g_material, k, 'cohesion', rtoa(m%cohesion), &
+                     'with friction_angle = 0 the soil needs a cohesion > 0 (Pa): it has no '// &
+                     'shear strength at all')
+    end if
+    if (.not. real_ok(m%tensile_strength, ge=0.0_wp)) call add_value(rd, g_material, k, &
+      'tensile_strength', rtoa(m%tensile_strength), 'must be >= 0 (Pa; 0 = no tension)')
+    if (.not. real_ok(m%residual_cohesion, ge=0.0_wp)) then
+      call add_value(rd, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
+                     'must be >= 0 (Pa)')
+    else if (real_ok(m%cohesion) .and. m%residual_cohesion > m%cohesion) then
+      call add_value(rd, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
+                     'must not exceed cohesion = '//rtoa(m%cohesion)//' (softening lowers it)')
+    end if
+    match = findloc(dp_match_names, trim(m%dp_match), dim=1)
+    if (match == 0) then
+      call add_value(rd, g_material, k, 'dp_match', quote(m%dp_match), &
+                     'the matchings of Drucker-Prager to Mohr-Coulomb are plane_strain, outer, '// &
+                     'inner')
+      match = dp_plane_strain
+    end if
+    if (.not. real_ok(m%cohesion_softening, ge=0.0_wp)) then
+      call add_value(rd, g_material, k, 'cohesion_softening', rtoa(m%cohesion_softening), &
+                     'must be >= 0 (Pa per unit plastic strain; 0 = no softening)')
+    else if (ok .and. real_ok(m%youngs_modulus, gt=0.0_wp) .and. &
+             real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) then
+      par = plastic_setup(merge(surface_mohr_coulomb, surface_drucker_prager, &
+                                m%model == 'mohr_coulomb'), &
+                          m%youngs_modulus/(3.0_wp*(1.0_wp - 2.0_wp*m%poisson_ratio)), &
+                          m%youngs_modulus/(2.0_wp*(1.0_wp + m%poisson_ratio)), &
+                          m%friction_angle, m%dilatancy_angle, m%cohesion, m%tensile_strength, &
+                          m%cohesion_softening, m%residual_cohesion, match)
+      hmax = softening_limit(par)
+      if (m%cohesion_softening >= hmax) call add_value(rd, g_material, k, 'cohesion_softening', &
+        rtoa(m%cohesion_softening), 'must be < '//rtoa(hmax)//' (Pa) with these elastic '// &
+        'constants and angles: a steeper softening has no unique return')
+    end if
+  end subroutine check_plastic
 
   !> A problem with one value: "&group var = value: allowed [where]".
   subroutine add_value(rd, g, k, var, value, allowed)
@@ -1338,6 +1433,13 @@ contains
       call bcast(cfg%materials(k)%poisson_ratio, comm)
       call bcast(cfg%materials(k)%bulk_modulus, comm)
       call bcast(cfg%materials(k)%conductivity, comm)
+      call bcast(cfg%materials(k)%friction_angle, comm)
+      call bcast(cfg%materials(k)%dilatancy_angle, comm)
+      call bcast(cfg%materials(k)%cohesion, comm)
+      call bcast(cfg%materials(k)%tensile_strength, comm)
+      call bcast(cfg%materials(k)%cohesion_softening, comm)
+      call bcast(cfg%materials(k)%residual_cohesion, comm)
+      call bcast(cfg%materials(k)%dp_match, comm)
     end do
     do k = 1, n(3)
       call bcast(cfg%regions(k)%shape, comm)

@@ -50,8 +50,8 @@ module dpmpm_output
     integer :: frame = 0
     character(len=16) :: name = ''
     integer(i8) :: n = 0
-    !> Which of optional_fields (displacement, stress, material, porosity, pore_pressure)
-    !> the set holds in this frame.
+    !> Which of optional_fields (displacement, stress, material, porosity, pore_pressure,
+    !> plastic_strain) the set holds in this frame.
     logical :: has(size(optional_fields)) = .false.
   end type set_rec_t
 
@@ -444,8 +444,8 @@ contains
   !> id, x, v, mass and volume are always written; of the optional datasets, those that
   !> cfg%solid_fields (cfg%fluid_fields for the set named 'fluid') lists: displacement,
   !> stress (not for the fluid: it is -pore_pressure on the diagonal), material, porosity
-  !> (when ps%has_porosity) and pore_pressure (when ps%has_pressure). Every rank must hold
-  !> the set with the same flags.
+  !> (when ps%has_porosity), pore_pressure (when ps%has_pressure) and plastic_strain (when
+  !> ps%has_plastic). Every rank must hold the set with the same flags.
   subroutine out_write_set(self, ps, cfg)
     class(output_t), intent(inout) :: self
     type(particle_set_t), intent(in) :: ps
@@ -484,6 +484,7 @@ contains
     has(2) = has(2) .and. .not. fluid
     has(4) = has(4) .and. ps%has_porosity
     has(5) = has(5) .and. ps%has_pressure
+    has(6) = has(6) .and. ps%has_plastic
 
     allocate (matid(n))
     do k = 1, n
@@ -508,6 +509,8 @@ contains
                                        ps%porosity(1:n))
     if (has(5)) call write_points_real(self, gid, 'pore_pressure', 0, nloc, offset, nglob, &
                                        ps%pressure(1:n))
+    if (has(6)) call write_points_real(self, gid, 'plastic_strain', 0, nloc, offset, nglob, &
+                                       ps%epsp(1:n))
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f('//trim(ps%name)//')', where)
 
@@ -950,6 +953,7 @@ contains
     if (set%has(3)) call attribute('material', 'Scalar', nstr, 'Int', '4')
     if (set%has(4)) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
     if (set%has(5)) call attribute('pore_pressure', 'Scalar', nstr, 'Float', '8')
+    if (set%has(6)) call attribute('plastic_strain', 'Scalar', nstr, 'Float', '8')
     call attribute('id', 'Scalar', nstr, 'Int', '8')
     write (u, '(a)') '   </Grid>'
 

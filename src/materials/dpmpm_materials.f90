@@ -4,13 +4,19 @@
 module dpmpm_materials
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t
+  use dpmpm_plasticity, only: plastic_params_t, plastic_setup, plastic_return, dp_match_names, &
+                              dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
   implicit none
   private
   public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
+  public :: model_mohr_coulomb, model_drucker_prager, is_plastic
   public :: materials_from_config, stress_update, strain_energy, wave_speed
   public :: voigt_to_tensor, tensor_to_voigt
 
   integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
+  !> Elasto-plastic soils (dpmpm_plasticity): linear elastic with the Jaumann rate, then a
+  !> return to the Mohr-Coulomb or Drucker-Prager surface.
+  integer, parameter :: model_mohr_coulomb = 4, model_drucker_prager = 5
 
   !> Parameters of one material, with the derived elastic constants.
   type :: material_t
@@ -22,6 +28,7 @@ module dpmpm_materials
     real(wp) :: pwave = 0.0_wp          !< constrained modulus lambda + 2 mu
     real(wp) :: bulk_fluid = 0.0_wp     !< K_f of a fluid
     real(wp) :: conductivity = 0.0_wp   !< hydraulic conductivity of a soil (m/s), 0 = none
+    type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
   end type material_t
 
 contains
@@ -36,6 +43,10 @@ contains
       m = model_neo_hookean
     case ('fluid')
       m = model_fluid
+    case ('mohr_coulomb')
+      m = model_mohr_coulomb
+    case ('drucker_prager')
+      m = model_drucker_prager
     case default
       m = 0
     end select
@@ -45,7 +56,7 @@ contains
   subroutine materials_from_config(cfgs, mats)
     type(material_cfg_t), intent(in) :: cfgs(:)
     type(material_t), allocatable, intent(out) :: mats(:)
-    integer :: k
+    integer :: k, match
     real(wp) :: e, nu
     allocate (mats(size(cfgs)))
     do k = 1, size(cfgs)
@@ -62,12 +73,28 @@ contains
       mats(k)%pwave = mats(k)%lambda + 2.0_wp*mats(k)%mu
       mats(k)%bulk_fluid = cfgs(k)%bulk_modulus
       mats(k)%conductivity = cfgs(k)%conductivity
+      if (is_plastic(mats(k)%model)) then
+        match = findloc(dp_match_names, trim(cfgs(k)%dp_match), dim=1)
+        if (match == 0) match = dp_plane_strain
+        mats(k)%plastic = plastic_setup(merge(surface_mohr_coulomb, surface_drucker_prager, &
+                                              mats(k)%model == model_mohr_coulomb), &
+                                        mats(k)%bulk, mats(k)%mu, cfgs(k)%friction_angle, &
+                                        cfgs(k)%dilatancy_angle, cfgs(k)%cohesion, &
+                                        cfgs(k)%tensile_strength, cfgs(k)%cohesion_softening, &
+                                        cfgs(k)%residual_cohesion, match)
+      end if
       if (mats(k)%model == model_fluid) then
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
         mats(k)%bulk = cfgs(k)%bulk_modulus
       end if
     end do
   end subroutine materials_from_config
+
+  !> True for the elasto-plastic models, whose points carry an accumulated plastic strain.
+  elemental logical function is_plastic(model)
+    integer, intent(in) :: model
+    is_plastic = model == model_mohr_coulomb .or. model == model_drucker_prager
+  end function is_plastic
 
   !> Speed of the fastest (dilatational) wave at current density rho.
   pure real(wp) function wave_speed(mat, rho) result(c)
@@ -98,7 +125,15 @@ contains
   !> step dt, given each point's velocity gradient vgrad(9, n) (3x3, column-major).
   !> Linear elastic: hypoelastic with the Jaumann rate (objective under rotation).
   !> Neo-Hookean: F <- (I + dt L) F, sigma = (mu (F F^T - I) + lambda ln J I)/J.
-  subroutine stress_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad)
+  !> Mohr-Coulomb, Drucker-Prager: the stress is first rotated with the spin (Jaumann,
+  !> sigma + dt (W sigma - sigma W)), then plastic_return takes the strain increment dt D
+  !> (elastic predictor and return); epsp is the accumulated plastic strain of each point.
+  !> In a saturated soil this is the effective stress; the pore pressure stays apart.
+  !> dissipation (when present) gains the plastic work of the step,
+  !> V (sigma_n + sigma_n+1)/2 : d eps^p with d eps^p = dt D - C^-1 (sigma_n+1 - sigma_n)
+  !> (sigma_n after the rotation), so that the energy balance can count it.
+  subroutine stress_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, epsp, &
+                           dissipation)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
     real(wp), intent(in) :: dt
@@ -107,7 +142,10 @@ contains
     real(wp), intent(inout) :: stress(:, :), vol(:)
     real(wp), intent(in) :: vol0(:)
     real(wp), intent(inout), optional :: defgrad(:, :)
+    real(wp), intent(inout), optional :: epsp(:)
+    real(wp), intent(inout), optional :: dissipation
     real(wp) :: lg(3, 3), dmat(3, 3), wmat(3, 3), s(3, 3), f(3, 3), b(3, 3), ident(3, 3), tr, jac
+    real(wp) :: sv(6), sv0(6), deps(6), dsig(6), dep(6)
     integer :: p, k
     ident = 0.0_wp
     do k = 1, 3
@@ -138,11 +176,34 @@ contains
         stress(:, p) = tensor_to_voigt(s)
         vol(p) = vol0(p)*jac
       end do
+    case (model_mohr_coulomb, model_drucker_prager)
+      do p = 1, n
+        if (pmat(p) /= m) cycle
+        lg = reshape(vgrad(:, p), [3, 3])
+        dmat = 0.5_wp*(lg + transpose(lg))
+        wmat = 0.5_wp*(lg - transpose(lg))
+        s = voigt_to_tensor(stress(:, p))
+        sv = tensor_to_voigt(s + dt*(matmul(wmat, s) - matmul(s, wmat)))
+        deps = dt*[dmat(1, 1), dmat(2, 2), dmat(3, 3), 2.0_wp*dmat(2, 3), 2.0_wp*dmat(1, 3), &
+                   2.0_wp*dmat(1, 2)]
+        sv0 = sv
+        call plastic_return(mat%plastic, deps, sv, epsp(p))
+        stress(:, p) = sv
+        if (present(dissipation)) then
+          dsig = sv - sv0
+          dep(1:3) = deps(1:3) - ((1.0_wp + mat%poisson)*dsig(1:3) - mat%poisson*sum(dsig(1:3))) &
+                     /mat%youngs
+          dep(4:6) = deps(4:6) - dsig(4:6)/mat%mu
+          dissipation = dissipation + 0.5_wp*vol(p)*dot_product(sv0 + sv, dep)
+        end if
+        vol(p) = vol(p)*det3(ident + dt*lg)
+      end do
     end select
   end subroutine stress_update
 
   !> Stored elastic energy of the points of material index m (J, per unit
-  !> length/area in 2D/1D). Linear elastic: sigma : C^-1 : sigma / 2 times volume;
+  !> length/area in 2D/1D). Linear elastic (and the elastic part of the plastic soils):
+  !> sigma : C^-1 : sigma / 2 times volume;
   !> neo-Hookean: (mu/2)(tr C - 3) - mu ln J + (lambda/2) (ln J)^2 per reference volume.
   pure real(wp) function strain_energy(mat, m, n, pmat, stress, vol, vol0, defgrad) result(e)
     type(material_t), intent(in) :: mat
@@ -156,7 +217,7 @@ contains
     do p = 1, n
       if (pmat(p) /= m) cycle
       select case (mat%model)
-      case (model_linear_elastic)
+      case (model_linear_elastic, model_mohr_coulomb, model_drucker_prager)
         s = stress(:, p)
         tr = s(1) + s(2) + s(3)
         ! sigma : eps with eps = ((1+nu) sigma - nu tr(sigma) I)/E; shear terms count twice.

@@ -1,7 +1,9 @@
 !> A set of material points (solid or fluid) as a structure of arrays.
 !> Only the fields that the scene needs are allocated: the deformation gradient
 !> only when a material needs it (neo-Hookean), porosity only in two-phase
-!> scenes, pore pressure and inverse conductivity only on fluid points.
+!> scenes, pore pressure and inverse conductivity only on fluid points, the
+!> accumulated plastic strain only when a plastic soil (mohr_coulomb,
+!> drucker_prager) is present.
 !> Capacity grows geometrically.
 module dpmpm_particles
   use dpmpm_kinds, only: wp, i8
@@ -18,6 +20,7 @@ module dpmpm_particles
     logical :: has_defgrad = .false.         !< F stored (finite-strain materials)
     logical :: has_porosity = .false.        !< porosity stored (two-phase scenes)
     logical :: has_pressure = .false.        !< pore pressure and 1/k stored (fluid points)
+    logical :: has_plastic = .false.         !< accumulated plastic strain stored (plastic soils)
     integer(i8), allocatable :: id(:)        !< global id, unique, never changes
     integer, allocatable :: mat(:)           !< material index (1..nmat) into the scene's materials
     real(wp), allocatable :: x(:, :)         !< position (ndim, cap)
@@ -31,6 +34,7 @@ module dpmpm_particles
     real(wp), allocatable :: porosity(:)     !< volume fraction of the pores n_f
     real(wp), allocatable :: pressure(:)     !< pore pressure (Pa, positive in compression)
     real(wp), allocatable :: kinv(:)         !< 1 / hydraulic conductivity (s/m); 0 = no drag
+    real(wp), allocatable :: epsp(:)         !< accumulated plastic strain (MC, DP softening)
   contains
     procedure :: init => ps_init
     procedure :: reserve => ps_reserve
@@ -45,14 +49,16 @@ module dpmpm_particles
 contains
 
   !> Empty set for ndim dimensions; has_defgrad allocates F, has_porosity the
-  !> porosity, has_pressure the pore pressure and inverse conductivity.
-  subroutine ps_init(self, name, ndim, has_defgrad, capacity, has_porosity, has_pressure)
+  !> porosity, has_pressure the pore pressure and inverse conductivity, has_plastic the
+  !> accumulated plastic strain.
+  subroutine ps_init(self, name, ndim, has_defgrad, capacity, has_porosity, has_pressure, &
+                     has_plastic)
     class(particle_set_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     integer, intent(in) :: ndim
     logical, intent(in) :: has_defgrad
     integer, intent(in), optional :: capacity
-    logical, intent(in), optional :: has_porosity, has_pressure
+    logical, intent(in), optional :: has_porosity, has_pressure, has_plastic
     call self%free()
     self%name = name
     self%ndim = ndim
@@ -61,6 +67,8 @@ contains
     if (present(has_porosity)) self%has_porosity = has_porosity
     self%has_pressure = .false.
     if (present(has_pressure)) self%has_pressure = has_pressure
+    self%has_plastic = .false.
+    if (present(has_plastic)) self%has_plastic = has_plastic
     self%n = 0
     self%cap = 0
     if (present(capacity)) then
@@ -86,6 +94,7 @@ contains
     if (allocated(self%porosity)) deallocate (self%porosity)
     if (allocated(self%pressure)) deallocate (self%pressure)
     if (allocated(self%kinv)) deallocate (self%kinv)
+    if (allocated(self%epsp)) deallocate (self%epsp)
     self%n = 0
     self%cap = 0
   end subroutine ps_free
@@ -112,11 +121,12 @@ contains
       call grow_r1(self%pressure, newcap, self%n)
       call grow_r1(self%kinv, newcap, self%n)
     end if
+    if (self%has_plastic) call grow_r1(self%epsp, newcap, self%n)
     self%cap = newcap
   end subroutine ps_reserve
 
   !> Append one new point at rest in its reference state (F = I, zero stress);
-  !> porosity, pressure and kinv (default 0) fill the fields the set stores.
+  !> porosity, pressure and kinv (default 0) fill the fields the set stores; no plastic strain.
   subroutine ps_append(self, id, mat, x, v, mass, vol, stress, porosity, pressure, kinv)
     class(particle_set_t), intent(inout) :: self
     integer(i8), intent(in) :: id
@@ -147,6 +157,7 @@ contains
       self%kinv(k) = 0.0_wp
       if (present(kinv)) self%kinv(k) = kinv
     end if
+    if (self%has_plastic) self%epsp(k) = 0.0_wp
     self%n = k
   end subroutine ps_append
 
@@ -157,6 +168,7 @@ contains
     if (self%has_defgrad) m = m + 9
     if (self%has_porosity) m = m + 1
     if (self%has_pressure) m = m + 2
+    if (self%has_plastic) m = m + 1
   end function ps_nreal_packed
 
   !> Pack the points listed in idx into buf(nreal_packed, size(idx)) for migration or checkpoints.
@@ -186,8 +198,9 @@ contains
       end if
       if (self%has_pressure) then
         buf(o + 1, j) = self%pressure(k)
-        buf(o + 2, j) = self%kinv(k)
+        buf(o + 2, j) = self%kinv(k); o = o + 2
       end if
+      if (self%has_plastic) buf(o + 1, j) = self%epsp(k)
     end do
   end subroutine ps_pack
 
@@ -218,8 +231,9 @@ contains
       end if
       if (self%has_pressure) then
         self%pressure(k) = buf(o + 1, j)
-        self%kinv(k) = buf(o + 2, j)
+        self%kinv(k) = buf(o + 2, j); o = o + 2
       end if
+      if (self%has_plastic) self%epsp(k) = buf(o + 1, j)
     end do
     self%n = self%n + size(buf, 2)
   end subroutine ps_unpack
@@ -249,6 +263,7 @@ contains
         self%pressure(m) = self%pressure(k)
         self%kinv(m) = self%kinv(k)
       end if
+      if (self%has_plastic) self%epsp(m) = self%epsp(k)
     end do
     self%n = m
   end subroutine ps_remove

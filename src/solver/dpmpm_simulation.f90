@@ -24,7 +24,7 @@ module dpmpm_simulation
   use dpmpm_particles, only: particle_set_t
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
-                             wave_speed, voigt_to_tensor, model_neo_hookean, model_fluid
+                             wave_speed, voigt_to_tensor, model_neo_hookean, model_fluid, is_plastic
   use dpmpm_two_phase, only: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, &
                              drag_limit, interp_scalar, pressure_update, fluid_density
   use dpmpm_migrate, only: migrate
@@ -176,7 +176,7 @@ contains
     call materials_from_config(cfg%materials, self%mats)
     self%two_phase = any(cfg%regions%phase /= 'solid')
     call self%solid%init('solid', self%nd, any(self%mats%model == model_neo_hookean), &
-                         has_porosity=self%two_phase)
+                         has_porosity=self%two_phase, has_plastic=any(is_plastic(self%mats%model)))
     if (self%two_phase) &
       call self%fluid%init('fluid', self%nd, .false., has_porosity=.true., has_pressure=.true.)
     if (len_trim(cfg%restart) > 0) then
@@ -617,6 +617,7 @@ contains
     class(simulation_t), intent(inout) :: self
     real(wp), intent(inout) :: dt
     integer :: m, nlost, n
+    real(wp) :: wplastic
     if (self%two_phase) then
       call advance_two_phase(self, dt)
       return
@@ -677,10 +678,14 @@ contains
     call self%timers%toc(t_g2p)
 
     call self%timers%tic(t_stress)
+    wplastic = 0.0_wp
     do m = 1, size(self%mats)
       call stress_update(self%mats(m), m, dt, self%solid%n, self%solid%mat, self%ts%vgrad, &
-                         self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad)
+                         self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad, &
+                         self%solid%epsp, wplastic)
     end do
+    ! The plastic work leaves the energy balance like the drag dissipation.
+    self%ext_work = self%ext_work - wplastic
     call self%timers%toc(t_stress)
 
     call self%timers%tic(t_migrate)
@@ -697,6 +702,7 @@ contains
     type(simulation_t), intent(inout) :: self
     real(wp), intent(inout) :: dt
     integer :: m, nlost, ns, nf, mbc(6)
+    real(wp) :: wplastic
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:), kf(:)
     ns = self%solid%n
     nf = self%fluid%n
@@ -807,11 +813,14 @@ contains
     ! Skeleton: effective stress, volume, and porosity from the volume change
     ! with incompressible grains, n' = 1 - (1 - n) V / V'.
     volb = self%solid%vol(1:ns)
+    wplastic = 0.0_wp
     do m = 1, size(self%mats)
       if (self%mats(m)%model == model_fluid) cycle
       call stress_update(self%mats(m), m, dt, ns, self%solid%mat, self%ts%vgrad, &
-                         self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad)
+                         self%solid%stress, self%solid%vol, self%solid%vol0, self%solid%defgrad, &
+                         self%solid%epsp, wplastic)
     end do
+    self%ext_work = self%ext_work - wplastic
     self%solid%porosity(1:ns) = 1.0_wp - (1.0_wp - self%solid%porosity(1:ns))*volb/ &
                                 self%solid%vol(1:ns)
     ! Fluid: pore pressure (eq. 10), then the volume the point represents,

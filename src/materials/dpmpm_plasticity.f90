@@ -1,0 +1,518 @@
+!> Elasto-plastic soil: Mohr-Coulomb and Drucker-Prager with a linear isotropic
+!> elastic predictor and an implicit (backward Euler) return mapping, after de Souza
+!> Neto, Peric & Owen, "Computational Methods for Plasticity" (2008), ch. 8
+!> (MC in principal stresses: main plane, edges, apex; DP: cone and apex).
+!>
+!> Conventions: stress positive in tension, Voigt order xx yy zz yz xz xy; strain
+!> increments in the same order with engineering shears (2 eps_yz, ...). The mean
+!> stress is p = tr(sigma)/3 (positive in tension). Cohesion softens linearly with the
+!> accumulated plastic strain epsp down to a residual value,
+!>   c(epsp) = max(c_res, c0 - h epsp)       (linear hardening of the book with H = -h),
+!> with epsp the strain-like variable conjugate to c of the book: d epsp = 2 cos(phi) sum dgamma
+!> on the MC planes, xi dgamma on the DP cone, and (cos(phi)/sin(psi)) d eps_v^p resp.
+!> (xi/eta_bar) d eps_v^p at the apex. With psi = 0 the plastic potential has no apex,
+!> so the apex return (a tensile failure) leaves epsp unchanged.
+!>
+!> Tension cut-off, applied after the shear return (an operator split, not a
+!> simultaneous multi-surface return; for nu >= 0 it can only lower the shear yield function):
+!>   MC: Rankine, every principal stress <= sigma_t, associated flow, with the corners
+!>       where two or three principal stresses reach sigma_t;
+!>   DP: the mean stress p <= sigma_t, associated (volumetric) flow, s unchanged.
+!> The cut-off does not change epsp.
+module dpmpm_plasticity
+  use dpmpm_kinds, only: wp
+  implicit none
+  private
+  public :: plastic_params_t, plastic_setup, plastic_return, principal_stresses
+  public :: mc_yield, mc_potential, dp_yield, dp_potential, dp_constants, cohesion_at
+  public :: softening_limit, elastic_trial
+  public :: surface_mohr_coulomb, surface_drucker_prager
+  public :: dp_plane_strain, dp_outer, dp_inner, dp_match_names
+  public :: ret_elastic, ret_smooth, ret_edge_right, ret_edge_left, ret_apex
+
+  integer, parameter :: surface_mohr_coulomb = 1, surface_drucker_prager = 2
+  !> Drucker-Prager matchings to Mohr-Coulomb: plane strain, outer cone (touches MC on
+  !> the compressive meridian sigma_1 = sigma_2), inner cone (extension meridian
+  !> sigma_2 = sigma_3).
+  integer, parameter :: dp_plane_strain = 1, dp_outer = 2, dp_inner = 3
+  character(len=12), parameter :: dp_match_names(3) = ['plane_strain', 'outer       ', &
+                                                       'inner       ']
+  !> Which return was taken: none, the smooth part (MC main plane or DP cone), the MC
+  !> right edge (sigma_1 = sigma_2), the MC left edge (sigma_2 = sigma_3), the apex.
+  integer, parameter :: ret_elastic = 0, ret_smooth = 1, ret_edge_right = 2, ret_edge_left = 3, &
+                        ret_apex = 4
+
+  !> Relative tolerance of the yield test on the trial state.
+  real(wp), parameter :: ftol = 1.0e-12_wp
+
+  !> Constants of one elasto-plastic material (angles as sines and cosines).
+  type :: plastic_params_t
+    integer :: surface = surface_mohr_coulomb
+    real(wp) :: bulk = 0.0_wp, shear = 0.0_wp    !< K, G of the elastic law
+    real(wp) :: sin_phi = 0.0_wp, cos_phi = 1.0_wp !< friction angle phi
+    real(wp) :: sin_psi = 0.0_wp                  !< dilatancy angle psi
+    real(wp) :: cohesion = 0.0_wp                 !< c0 (Pa)
+    real(wp) :: softening = 0.0_wp                !< h >= 0: dc/d epsp = -h (Pa)
+    real(wp) :: residual = 0.0_wp                 !< c_res (Pa), <= c0
+    real(wp) :: tensile = 0.0_wp                  !< tension cut-off sigma_t (Pa), >= 0
+    real(wp) :: eta = 0.0_wp, xi = 0.0_wp, eta_bar = 0.0_wp !< DP constants
+  end type plastic_params_t
+
+contains
+
+  !> Parameters from the input quantities: elastic K and G, angles in degrees, cohesion,
+  !> tensile strength, softening modulus h, residual cohesion, DP matching.
+  pure function plastic_setup(surface, bulk, shear, phi_deg, psi_deg, cohesion, tensile, &
+                              softening, residual, match) result(par)
+    integer, intent(in) :: surface, match
+    real(wp), intent(in) :: bulk, shear, phi_deg, psi_deg, cohesion, tensile, softening, residual
+    type(plastic_params_t) :: par
+    real(wp) :: phi, psi, dum
+    real(wp), parameter :: deg = acos(-1.0_wp)/180.0_wp
+    phi = phi_deg*deg
+    psi = psi_deg*deg
+    par%surface = surface
+    par%bulk = bulk
+    par%shear = shear
+    par%sin_phi = sin(phi)
+    par%cos_phi = cos(phi)
+    par%sin_psi = sin(psi)
+    par%cohesion = cohesion
+    par%softening = softening
+    par%residual = min(residual, cohesion)
+    par%tensile = tensile
+    call dp_constants(match, phi, par%eta, par%xi)
+    call dp_constants(match, psi, par%eta_bar, dum)
+  end function plastic_setup
+
+  !> Drucker-Prager eta and xi of f = sqrt(J2) + eta p - xi c matched to Mohr-Coulomb
+  !> with the angle a (radians): plane strain eta = 3 tan a / sqrt(9 + 12 tan^2 a),
+  !> xi = 3 / sqrt(9 + 12 tan^2 a); outer and inner cones eta = 6 sin a / (sqrt(3)(3 -+ sin a)),
+  !> xi = 6 cos a / (sqrt(3)(3 -+ sin a)) (de Souza Neto et al. 2008, ch. 8).
+  pure subroutine dp_constants(match, a, eta, xi)
+    integer, intent(in) :: match
+    real(wp), intent(in) :: a
+    real(wp), intent(out) :: eta, xi
+    real(wp) :: t, r
+    select case (match)
+    case (dp_outer)
+      r = sqrt(3.0_wp)*(3.0_wp - sin(a))
+      eta = 6.0_wp*sin(a)/r
+      xi = 6.0_wp*cos(a)/r
+    case (dp_inner)
+      r = sqrt(3.0_wp)*(3.0_wp + sin(a))
+      eta = 6.0_wp*sin(a)/r
+      xi = 6.0_wp*cos(a)/r
+    case default
+      t = tan(a)
+      r = sqrt(9.0_wp + 12.0_wp*t*t)
+      eta = 3.0_wp*t/r
+      xi = 3.0_wp/r
+    end select
+  end subroutine dp_constants
+
+  !> Cohesion at accumulated plastic strain epsp: max(c_res, c0 - h epsp).
+  pure real(wp) function cohesion_at(par, epsp) result(c)
+    type(plastic_params_t), intent(in) :: par
+    real(wp), intent(in) :: epsp
+    c = max(par%residual, par%cohesion - par%softening*epsp)
+  end function cohesion_at
+
+  !> Largest softening modulus h for which every return has a unique solution: the
+  !> denominators of the one-plane, two-plane and apex returns stay positive.
+  pure real(wp) function softening_limit(par) result(hmax)
+    type(plastic_params_t), intent(in) :: par
+    real(wp) :: dmat(3, 3), ga(3), a0, ab, k
+    k = par%bulk
+    hmax = huge(1.0_wp)
+    if (par%surface == surface_mohr_coulomb) then
+      if (par%cos_phi <= 0.0_wp) return
+      dmat = principal_elasticity(par)
+      ! one plane: a0 - 4 cos^2(phi) h > 0; two planes (a, b): (a0 + A_ab)/2 - 4 cos^2(phi) h > 0
+      ga = plane_vector(1, 3, par%sin_phi)
+      a0 = dot_product(ga, matmul(dmat, plane_vector(1, 3, par%sin_psi)))
+      hmax = a0/(4.0_wp*par%cos_phi**2)
+      ab = dot_product(ga, matmul(dmat, plane_vector(2, 3, par%sin_psi)))
+      hmax = min(hmax, 0.5_wp*(a0 + ab)/(4.0_wp*par%cos_phi**2))
+      ab = dot_product(ga, matmul(dmat, plane_vector(1, 2, par%sin_psi)))
+      hmax = min(hmax, 0.5_wp*(a0 + ab)/(4.0_wp*par%cos_phi**2))
+      ! apex: K - h (cos(phi)/sin(psi)) cot(phi) > 0
+      if (par%sin_psi > 0.0_wp .and. par%sin_phi > 0.0_wp) &
+        hmax = min(hmax, k*par%sin_phi*par%sin_psi/par%cos_phi**2)
+    else
+      if (par%xi <= 0.0_wp) return
+      hmax = (par%shear + k*par%eta*par%eta_bar)/par%xi**2
+      if (par%eta_bar > 0.0_wp .and. par%eta > 0.0_wp) &
+        hmax = min(hmax, k*par%eta*par%eta_bar/par%xi**2)
+    end if
+  end function softening_limit
+
+  !> Mohr-Coulomb yield function f = (s1 - s3) + (s1 + s3) sin(phi) - 2 c cos(phi) of the
+  !> Voigt stress sv (s1 >= s2 >= s3 its principal values).
+  pure real(wp) function mc_yield(sv, sin_phi, cos_phi, c) result(f)
+    real(wp), intent(in) :: sv(6), sin_phi, cos_phi, c
+    real(wp) :: sig(3), vec(3, 3)
+    call principal_stresses(sv, sig, vec)
+    f = (sig(1) - sig(3)) + (sig(1) + sig(3))*sin_phi - 2.0_wp*c*cos_phi
+  end function mc_yield
+
+  !> Mohr-Coulomb plastic potential g = (s1 - s3) + (s1 + s3) sin(psi).
+  pure real(wp) function mc_potential(sv, sin_psi) result(g)
+    real(wp), intent(in) :: sv(6), sin_psi
+    real(wp) :: sig(3), vec(3, 3)
+    call principal_stresses(sv, sig, vec)
+    g = (sig(1) - sig(3)) + (sig(1) + sig(3))*sin_psi
+  end function mc_potential
+
+  !> Drucker-Prager yield function f = sqrt(J2) + eta p - xi c.
+  pure real(wp) function dp_yield(sv, eta, xi, c) result(f)
+    real(wp), intent(in) :: sv(6), eta, xi, c
+    f = sqrt(j2_of(sv)) + eta*sum(sv(1:3))/3.0_wp - xi*c
+  end function dp_yield
+
+  !> Drucker-Prager plastic potential g = sqrt(J2) + eta_bar p.
+  pure real(wp) function dp_potential(sv, eta_bar) result(g)
+    real(wp), intent(in) :: sv(6), eta_bar
+    g = sqrt(j2_of(sv)) + eta_bar*sum(sv(1:3))/3.0_wp
+  end function dp_potential
+
+  !> Elastic trial stress sigma + lambda tr(deps) I + 2 G deps (engineering shears in deps).
+  pure function elastic_trial(par, sv, deps) result(tr)
+    type(plastic_params_t), intent(in) :: par
+    real(wp), intent(in) :: sv(6), deps(6)
+    real(wp) :: tr(6), lam, ev
+    lam = par%bulk - 2.0_wp*par%shear/3.0_wp
+    ev = deps(1) + deps(2) + deps(3)
+    tr(1:3) = sv(1:3) + lam*ev + 2.0_wp*par%shear*deps(1:3)
+    tr(4:6) = sv(4:6) + par%shear*deps(4:6)
+  end function elastic_trial
+
+  !> One strain increment deps at one point: elastic predictor, then the return to the
+  !> yield surface of par%surface and the tension cut-off. stress (Voigt) and epsp are
+  !> updated in place; code tells which return was taken, cut whether the cut-off acted.
+  pure subroutine plastic_return(par, deps, stress, epsp, code, cut)
+    type(plastic_params_t), intent(in) :: par
+    real(wp), intent(in) :: deps(6)
+    real(wp), intent(inout) :: stress(6), epsp
+    integer, intent(out), optional :: code
+    logical, intent(out), optional :: cut
+    real(wp) :: trial(6)
+    integer :: kind
+    logical :: cutoff
+    trial = elastic_trial(par, stress, deps)
+    if (par%surface == surface_mohr_coulomb) then
+      call mc_return(par, trial, stress, epsp, kind, cutoff)
+    else
+      call dp_return(par, trial, stress, epsp, kind, cutoff)
+    end if
+    if (present(code)) code = kind
+    if (present(cut)) cut = cutoff
+  end subroutine plastic_return
+
+  !> Mohr-Coulomb return in principal stresses (de Souza Neto et al. 2008, ch. 8):
+  !> main plane, then the edge the trial state points to, then the apex; the stress is
+  !> rebuilt with the eigenvectors of the trial stress (they do not change in an
+  !> isotropic return).
+  pure subroutine mc_return(par, trial, stress, epsp, kind, cutoff)
+    type(plastic_params_t), intent(in) :: par
+    real(wp), intent(in) :: trial(6)
+    real(wp), intent(out) :: stress(6)
+    real(wp), intent(inout) :: epsp
+    integer, intent(out) :: kind
+    logical, intent(out) :: cutoff
+    real(wp) :: st(3), vec(3, 3), sig(3), dgam(2), cn, f, scale, tol, pa, cot, lam, dep
+    integer :: pl(2, 2)
+    logical :: ok
+    kind = ret_elastic
+    call principal_stresses(trial, st, vec)
+    sig = st
+    cn = cohesion_at(par, epsp)
+    f = (st(1) - st(3)) + (st(1) + st(3))*par%sin_phi - 2.0_wp*cn*par%cos_phi
+    scale = abs(st(1)) + abs(st(3)) + cn
+    dep = 0.0_wp
+    if (f > ftol*scale) then
+      ! main plane (1, 3)
+      pl(:, 1) = [1, 3]
+      call mc_planes(par, 1, pl, st, epsp, sig, dgam, dep)
+      kind = ret_smooth
+      tol = 1.0e-14_wp*scale
+      if (sig(1) + tol < sig(2) .or. sig(2) + tol < sig(3)) then
+        ! Which ordering the main-plane return breaks first: the right edge (s1 = s2) when
+        ! (1 - sin psi) s1 - 2 s2 + (1 + sin psi) s3 < 0 at the trial state, else the left.
+        if ((1.0_wp - par%sin_psi)*st(1) - 2.0_wp*st(2) + (1.0_wp + par%sin_psi)*st(3) < 0.0_wp) &
+          then
+          pl(:, 2) = [2, 3]
+          kind = ret_edge_right
+        else
+          pl(:, 2) = [1, 2]
+          kind = ret_edge_left
+        end if
+        call mc_planes(par, 2, pl, st, epsp, sig, dgam, dep)
+        ! valid with both multipliers >= 0 and the ordering kept (beyond the apex the
+        ! edge solution has sigma_3 above sigma_1)
+        ok = all(dgam >= 0.0_wp) .and. sig(1) + tol >= sig(3)
+        if (.not. ok .and. par%sin_phi > 0.0_wp) then
+          ! apex: s1 = s2 = s3 = c cot(phi); d epsp = (cos(phi)/sin(psi)) d eps_v^p
+          cot = par%cos_phi/par%sin_phi
+          kind = ret_apex
+          call apex_return(par, sum(st)/3.0_wp, epsp, cot, &
+                           merge(par%cos_phi/par%sin_psi, 0.0_wp, par%sin_psi > 0.0_wp), pa, dep)
+          sig = pa
+        end if
+      end if
+    end if
+    epsp = epsp + dep
+    ! Rankine cut-off: top k principal stresses returned to sigma_t (associated flow).
+    cutoff = sig(1) > par%tensile
+    if (cutoff) then
+      lam = par%bulk - 2.0_wp*par%shear/3.0_wp
+      call rankine(lam, lam + 2.0_wp*par%shear, par%tensile, sig)
+    end if
+    if (kind == ret_elastic .and. .not. cutoff) then
+      stress = trial
+    else
+      stress = rebuild(sig, vec)
+    end if
+  end subroutine mc_return
+
+  !> Return to m = 1 or 2 Mohr-Coulomb planes pl(:, k) = (i, j), f_ij = (1 + sin phi) s_i -
+  !> (1 - sin phi) s_j - 2 c cos phi, each with the flow vector of psi, from the trial
+  !> principal stresses st; softening is linear until c reaches the residual, then flat.
+  pure subroutine mc_planes(par, m, pl, st, epsp, sig, dgam, dep)
+    type(plastic_params_t), intent(in) :: par
+    integer, intent(in) :: m, pl(2, m)
+    real(wp), intent(in) :: st(3), epsp
+    real(wp), intent(out) :: sig(3), dgam(2), dep
+    real(wp) :: cn, h
+    cn = cohesion_at(par, epsp)
+    h = 0.0_wp
+    if (cn > par%residual) h = par%softening
+    call mc_planes_solve(par, m, pl, st, cn, h, sig, dgam, dep)
+    if (h > 0.0_wp .and. cn - h*dep < par%residual) &
+      call mc_planes_solve(par, m, pl, st, par%residual, 0.0_wp, sig, dgam, dep)
+  end subroutine mc_planes
+
+  !> The linear system of mc_planes for cohesion cb at the start and softening slope hb:
+  !> f_i(st) - sum_l (grad f_i . D N_l - 4 cos^2(phi) hb) dgamma_l = 0.
+  pure subroutine mc_planes_solve(par, m, pl, st, cb, hb, sig, dgam, dep)
+    type(plastic_params_t), intent(in) :: par
+    integer, intent(in) :: m, pl(2, m)
+    real(wp), intent(in) :: st(3), cb, hb
+    real(wp), intent(out) :: sig(3), dgam(2), dep
+    real(wp) :: dmat(3, 3), dn(3, 2), grad(3, 2), a(2, 2), r(2), det, k4
+    integer :: i, l
+    dmat = principal_elasticity(par)
+    k4 = 4.0_wp*par%cos_phi**2*hb
+    do l = 1, m
+      grad(:, l) = plane_vector(pl(1, l), pl(2, l), par%sin_phi)
+      dn(:, l) = matmul(dmat, plane_vector(pl(1, l), pl(2, l), par%sin_psi))
+    end do
+    do i = 1, m
+      r(i) = dot_product(grad(:, i), st) - 2.0_wp*cb*par%cos_phi
+      do l = 1, m
+        a(i, l) = dot_product(grad(:, i), dn(:, l)) - k4
+      end do
+    end do
+    dgam = 0.0_wp
+    if (m == 1) then
+      dgam(1) = r(1)/a(1, 1)
+    else
+      det = a(1, 1)*a(2, 2) - a(1, 2)*a(2, 1)
+      dgam(1) = (a(2, 2)*r(1) - a(1, 2)*r(2))/det
+      dgam(2) = (a(1, 1)*r(2) - a(2, 1)*r(1))/det
+    end if
+    sig = st - matmul(dn(:, 1:m), dgam(1:m))
+    dep = 2.0_wp*par%cos_phi*sum(dgam(1:m))
+  end subroutine mc_planes_solve
+
+  !> Apex return of a hydrostatic state: p = c(epsp + alpha d eps_v) * ratio with
+  !> p = p_tr - K d eps_v (ratio = cot phi for MC, xi/eta for DP).
+  pure subroutine apex_return(par, ptr, epsp, ratio, alpha, p, dep)
+    type(plastic_params_t), intent(in) :: par
+    real(wp), intent(in) :: ptr, epsp, ratio, alpha
+    real(wp), intent(out) :: p, dep
+    real(wp) :: cn, h, dev
+    cn = cohesion_at(par, epsp)
+    h = 0.0_wp
+    if (cn > par%residual .and. alpha > 0.0_wp) h = par%softening
+    dev = (ptr - cn*ratio)/(par%bulk - h*alpha*ratio)
+    if (h > 0.0_wp .and. cn - h*alpha*dev < par%residual) then
+      cn = par%residual
+      h = 0.0_wp
+      dev = (ptr - cn*ratio)/par%bulk
+    end if
+    p = ptr - par%bulk*dev
+    dep = alpha*dev
+  end subroutine apex_return
+
+  !> Rankine return of sorted principal stresses sig (descending) to sig_i <= t with
+  !> associated flow: the k largest are set to t by solving the k x k elasticity block
+  !> (diagonal d = lambda + 2G, off-diagonal lam), the others follow.
+  pure subroutine rankine(lam, d, t, sig)
+    real(wp), intent(in) :: lam, d, t
+    real(wp), intent(inout) :: sig(3)
+    real(wp) :: r1, r2, g1, g2, s(3)
+    r1 = sig(1) - t
+    ! one plane
+    g1 = r1/d
+    s = sig - lam*g1
+    s(1) = t
+    if (s(2) > t) then
+      ! corner of two planes
+      r2 = sig(2) - t
+      g1 = (d*r1 - lam*r2)/(d*d - lam*lam)
+      g2 = (d*r2 - lam*r1)/(d*d - lam*lam)
+      s(1:2) = t
+      s(3) = sig(3) - lam*(g1 + g2)
+      if (s(3) > t) s = t
+    end if
+    sig = s
+  end subroutine rankine
+
+  !> Drucker-Prager return (de Souza Neto et al. 2008, ch. 8): smooth cone with
+  !> dgamma = f_tr / (G + K eta eta_bar - xi^2 h); when sqrt(J2_tr) - G dgamma < 0 the
+  !> apex, p = xi c / eta, s = 0. Then the cut-off p <= sigma_t.
+  pure subroutine dp_return(par, trial, stress, epsp, kind, cutoff)
+    type(plastic_params_t), intent(in) :: par
+    real(wp), intent(in) :: trial(6)
+    real(wp), intent(out) :: stress(6)
+    real(wp), intent(inout) :: epsp
+    integer, intent(out) :: kind
+    logical, intent(out) :: cutoff
+    real(wp) :: ptr, s(6), q, cn, f, dgam, p, dep, h
+    kind = ret_elastic
+    ptr = sum(trial(1:3))/3.0_wp
+    s = trial
+    s(1:3) = s(1:3) - ptr
+    q = sqrt(j2_of(trial))
+    cn = cohesion_at(par, epsp)
+    f = q + par%eta*ptr - par%xi*cn
+    p = ptr
+    dep = 0.0_wp
+    if (f > ftol*(q + abs(ptr) + cn)) then
+      kind = ret_smooth
+      h = 0.0_wp
+      if (cn > par%residual) h = par%softening
+      dgam = f/(par%shear + par%bulk*par%eta*par%eta_bar - par%xi**2*h)
+      if (h > 0.0_wp .and. cn - h*par%xi*dgam < par%residual) &
+        dgam = (q + par%eta*ptr - par%xi*par%residual)/(par%shear + par%bulk*par%eta*par%eta_bar)
+      if (q - par%shear*dgam >= 0.0_wp .or. par%eta <= 0.0_wp) then
+        if (q > 0.0_wp) s = max(0.0_wp, 1.0_wp - par%shear*dgam/q)*s
+        p = ptr - par%bulk*par%eta_bar*dgam
+        dep = par%xi*dgam
+      else
+        kind = ret_apex
+        call apex_return(par, ptr, epsp, par%xi/par%eta, &
+                         merge(par%xi/par%eta_bar, 0.0_wp, par%eta_bar > 0.0_wp), p, dep)
+        s = 0.0_wp
+      end if
+    end if
+    epsp = epsp + dep
+    cutoff = p > par%tensile
+    if (cutoff) p = par%tensile
+    if (kind == ret_elastic .and. .not. cutoff) then
+      stress = trial
+    else
+      stress(1:3) = s(1:3) + p
+      stress(4:6) = s(4:6)
+    end if
+  end subroutine dp_return
+
+  !> Eigenvalues of the symmetric stress sv (Voigt), descending, and the eigenvectors as
+  !> the columns of vec, by cyclic Jacobi rotations (exact to round-off for 3 x 3).
+  pure subroutine principal_stresses(sv, sig, vec)
+    real(wp), intent(in) :: sv(6)
+    real(wp), intent(out) :: sig(3), vec(3, 3)
+    real(wp) :: a(3, 3), rot(3, 3), off, nrm, theta, t, c, s, tmp(3)
+    integer :: sweep, p, q, k, i, j
+    integer, parameter :: pairs(2, 3) = reshape([1, 2, 1, 3, 2, 3], [2, 3])
+    a = reshape([sv(1), sv(6), sv(5), sv(6), sv(2), sv(4), sv(5), sv(4), sv(3)], [3, 3])
+    vec = 0.0_wp
+    do k = 1, 3
+      vec(k, k) = 1.0_wp
+    end do
+    nrm = sum(a**2)
+    do sweep = 1, 50
+      off = a(1, 2)**2 + a(1, 3)**2 + a(2, 3)**2
+      if (off <= 1.0e-34_wp*nrm .or. off == 0.0_wp) exit
+      do k = 1, 3
+        p = pairs(1, k)
+        q = pairs(2, k)
+        if (a(p, q) == 0.0_wp) cycle
+        theta = (a(q, q) - a(p, p))/(2.0_wp*a(p, q))
+        if (abs(theta) > 1.0e100_wp) then
+          t = 0.5_wp/theta
+        else
+          t = sign(1.0_wp, theta)/(abs(theta) + sqrt(theta*theta + 1.0_wp))
+        end if
+        c = 1.0_wp/sqrt(t*t + 1.0_wp)
+        s = t*c
+        rot = 0.0_wp
+        do i = 1, 3
+          rot(i, i) = 1.0_wp
+        end do
+        rot(p, p) = c
+        rot(q, q) = c
+        rot(p, q) = s
+        rot(q, p) = -s
+        a = matmul(transpose(rot), matmul(a, rot))
+        a(p, q) = 0.0_wp
+        a(q, p) = 0.0_wp
+        vec = matmul(vec, rot)
+      end do
+    end do
+    sig = [a(1, 1), a(2, 2), a(3, 3)]
+    ! sort descending (three elements)
+    do i = 1, 2
+      do j = i + 1, 3
+        if (sig(j) > sig(i)) then
+          t = sig(i); sig(i) = sig(j); sig(j) = t
+          tmp = vec(:, i); vec(:, i) = vec(:, j); vec(:, j) = tmp
+        end if
+      end do
+    end do
+  end subroutine principal_stresses
+
+  !> Voigt stress sum_i sig_i v_i v_i^T from principal values and eigenvectors.
+  pure function rebuild(sig, vec) result(sv)
+    real(wp), intent(in) :: sig(3), vec(3, 3)
+    real(wp) :: sv(6)
+    integer :: i
+    sv = 0.0_wp
+    do i = 1, 3
+      sv = sv + sig(i)*[vec(1, i)**2, vec(2, i)**2, vec(3, i)**2, vec(2, i)*vec(3, i), &
+                        vec(1, i)*vec(3, i), vec(1, i)*vec(2, i)]
+    end do
+  end function rebuild
+
+  !> Second invariant of the deviatoric part of the Voigt stress sv.
+  pure real(wp) function j2_of(sv) result(j2)
+    real(wp), intent(in) :: sv(6)
+    real(wp) :: p
+    p = sum(sv(1:3))/3.0_wp
+    j2 = 0.5_wp*sum((sv(1:3) - p)**2) + sum(sv(4:6)**2)
+  end function j2_of
+
+  !> (1 + sin a) e_i - (1 - sin a) e_j: gradient of an MC plane (a = phi) or its flow
+  !> vector (a = psi) in principal stress space.
+  pure function plane_vector(i, j, sin_a) result(v)
+    integer, intent(in) :: i, j
+    real(wp), intent(in) :: sin_a
+    real(wp) :: v(3)
+    v = 0.0_wp
+    v(i) = 1.0_wp + sin_a
+    v(j) = -(1.0_wp - sin_a)
+  end function plane_vector
+
+  !> Isotropic elasticity in principal axes: lambda + 2G on the diagonal, lambda off it.
+  pure function principal_elasticity(par) result(d)
+    type(plastic_params_t), intent(in) :: par
+    real(wp) :: d(3, 3), lam
+    lam = par%bulk - 2.0_wp*par%shear/3.0_wp
+    d = lam
+    d(1, 1) = lam + 2.0_wp*par%shear
+    d(2, 2) = d(1, 1)
+    d(3, 3) = d(1, 1)
+  end function principal_elasticity
+
+end module dpmpm_plasticity

@@ -45,6 +45,9 @@ module dpmpm_input
     'dir, frame_interval, diag_every, checkpoint_every', &
     'name, amplitude']
   character(len=*), parameter :: err_prefix = 'dpmpm: input error: '
+  !> Length of the buffers that strings with a shorter limit are read into, so that a value
+  !> longer than its limit is seen (and refused) instead of cut.
+  integer, parameter :: long_len = 4096
 
   !> A string of any length, to collect messages.
   type :: text_t
@@ -318,6 +321,11 @@ contains
       if (ios /= 0) call add_file_problem(rd, 'cannot read the file: '//trim(msg))
     end if
     close (u)
+    ! A UTF-8 byte order mark (some Windows editors write one) would hide the first group
+    ! from scan_groups; the namelist reader skips it, so drop it here.
+    if (len(text) >= 3) then
+      if (text(1:3) == achar(239)//achar(187)//achar(191)) text = text(4:)
+    end if
   end subroutine load_text
 
   !> Find the group openings: "&name" as the first word of a line. Unknown names are problems.
@@ -419,13 +427,13 @@ contains
     integer, intent(in) :: u
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: name, scheme, drag
+    character(len=name_len) :: scheme, drag
+    character(len=long_len) :: name, restart
     real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety
     logical :: porosity_gradient
     integer(i8) :: max_steps
     integer :: ios
     character(len=512) :: msg
-    character(len=len(cfg%restart)) :: restart
     namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
       drag, drag_safety, porosity_gradient, restart
     restart = cfg%restart
@@ -439,6 +447,8 @@ contains
       call read_error(rd, g_run, 1, ios, msg)
       return
     end if
+    call check_length(rd, g_run, 'name', name, len(cfg%name))
+    call check_length(rd, g_run, 'restart', restart, len(cfg%restart))
     cfg%name = name; cfg%t_end = t_end; cfg%dt = dt; cfg%cfl = cfl; cfg%max_steps = max_steps
     cfg%scheme = scheme; cfg%flip = flip; cfg%gravity = gravity
     cfg%progress_seconds = progress_seconds
@@ -716,7 +726,7 @@ contains
     integer, intent(in) :: u
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=len(cfg%output_dir)) :: dir
+    character(len=long_len) :: dir
     real(wp) :: frame_interval
     integer :: diag_every, checkpoint_every, ios
     character(len=512) :: msg
@@ -729,6 +739,7 @@ contains
       call read_error(rd, g_output, 1, ios, msg)
       return
     end if
+    call check_length(rd, g_output, 'dir', dir, len(cfg%output_dir))
     cfg%output_dir = dir; cfg%frame_interval = frame_interval; cfg%diag_every = diag_every
     cfg%checkpoint_every = checkpoint_every
   end subroutine read_output
@@ -1191,6 +1202,21 @@ contains
     call add_raw(rd, '&'//trim(group_names(g))//' '//var//' = '//value//': '//allowed// &
                  place(rd, g, k))
   end subroutine add_value
+
+  !> A string read into a long buffer must fit the limit of its variable in config_t.
+  subroutine check_length(rd, g, var, value, limit)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: g, limit
+    character(len=*), intent(in) :: var, value
+    character(len=:), allocatable :: count
+    integer :: n
+    n = len_trim(value)
+    if (n <= limit) return
+    count = itoa(n)
+    if (n == len(value)) count = 'more than '//itoa(n - 1)
+    call add_value(rd, g, 1, var, quote(value(1:40))//'...', 'is '//count// &
+                   ' characters long: at most '//itoa(limit)//' are allowed')
+  end subroutine check_length
 
   !> A problem with the file as a whole.
   subroutine add_file_problem(rd, what)

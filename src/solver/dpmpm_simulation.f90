@@ -31,6 +31,7 @@ module dpmpm_simulation
   use dpmpm_output, only: output_t
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
   use dpmpm_diagnostics, only: diag_record_t
+  use dpmpm_scene_check, only: check_scene_points
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err, &
                               benchmark_body_force, benchmark_nerr
@@ -147,6 +148,7 @@ contains
     logical, intent(in), optional :: write_output
     integer :: nmin, nmax, nb
     integer(i8) :: ntot, nfl
+    integer(i8), allocatable :: counts(:), fcounts(:)
     character(len=256) :: line
     call self%free()
     self%cfg = cfg
@@ -182,10 +184,17 @@ contains
     if (len_trim(cfg%restart) > 0) then
       call restart_from(self, trim(cfg%restart))
     else
-      call generate_points(cfg, self%grid, self%dec, self%mats, self%solid)
+      allocate (counts(size(cfg%regions)), fcounts(size(cfg%regions)))
+      fcounts = 0
+      call generate_points(cfg, self%grid, self%dec, self%mats, self%solid, counts=counts)
       call benchmark_setup(cfg, self%mats, self%solid)
-      if (self%two_phase) call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, &
-                                               'fluid')
+      if (self%two_phase) then
+        call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, 'fluid', fcounts)
+        call check_scene_points(cfg, self%grid, self%dec%comm, counts + fcounts, self%solid, &
+                                self%fluid)
+      else
+        call check_scene_points(cfg, self%grid, self%dec%comm, counts, self%solid)
+      end if
     end if
     if (self%two_phase) call init_two_phase(self)
 

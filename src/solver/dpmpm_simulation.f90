@@ -278,16 +278,21 @@ contains
     type(checkpoint_state_t) :: st
     character(len=32) :: tag
     character(len=256) :: line
-    if (self%two_phase) then
-      call read_checkpoint(path, st, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi, &
-                           self%solid, self%fluid)
-    else
-      call read_checkpoint(path, st, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi, &
-                           self%solid)
+    character(len=:), allocatable :: problem
+    associate (g => self%grid, c => self%cfg)
+      if (self%two_phase) then
+        call read_checkpoint(path, st, g%origin, g%h, self%dec%clo, self%dec%chi, g%ncells, &
+                             c%length, problem, self%solid, self%fluid)
+      else
+        call read_checkpoint(path, st, g%origin, g%h, self%dec%clo, self%dec%chi, g%ncells, &
+                             c%length, problem, self%solid)
+      end if
+    end associate
+    ! Every rank read the same file and found the same problem.
+    if (len(problem) > 0) then
+      call self%log%error('restart: '//problem)
+      call clean_stop(2)
     end if
-    if (st%ndim /= self%nd .or. any(st%ncells(1:self%nd) /= self%cfg%ncells(1:self%nd))) &
-      call fatal(path//' comes from another grid (ndim and ncells must match the input)', &
-                 'restart')
     self%step = st%step
     self%time = st%time
     ! ext_work is kept per rank and summed in the diagnostics: the total goes to rank 0.
@@ -318,7 +323,8 @@ contains
     st = checkpoint_state_t(step=self%step, time=self%time, ext_work=work, &
                             energy0=self%energy0, energy_scale=self%energy_scale, &
                             energy_error=self%energy_error, next_frame=self%next_frame, &
-                            nframes=self%nframes, ndim=self%nd, ncells=self%cfg%ncells)
+                            nframes=self%nframes, ndim=self%nd, ncells=self%cfg%ncells, &
+                            origin=self%cfg%origin, length=self%cfg%length)
     path = checkpoint_path(self%cfg%output_dir, self%cfg%name)
     if (self%two_phase) then
       call write_checkpoint(path, self%cfg%output_dir, self%dec%comm, st, self%solid, self%fluid)

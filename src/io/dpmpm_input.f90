@@ -32,7 +32,7 @@ module dpmpm_input
   !> The variables of each group, for messages about a group that cannot be read.
   character(len=*), parameter :: group_vars(ngroups) = [character(len=192) :: &
     'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, drag, '// &
-    'drag_safety, porosity_gradient, restart', &
+    'drag_safety, porosity_gradient, restart, max_wall_time', &
     'ndim, ncells, origin, length, dims', &
     'kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, gauss_points, '// &
     'field_kernel, field_basis, field_radius', &
@@ -127,6 +127,7 @@ contains
     call put_r(unit, 'drag_safety', [cfg%drag_safety])
     call put_l(unit, 'porosity_gradient', cfg%porosity_gradient)
     call put_s(unit, 'restart', cfg%restart)
+    call put_r(unit, 'max_wall_time', [cfg%max_wall_time])
     write (unit, '(a)') '/', '&grid'
     call put_i(unit, 'ndim', [cfg%ndim])
     call put_i(unit, 'ncells', cfg%ncells)
@@ -429,14 +430,15 @@ contains
     logical, intent(out) :: ok
     character(len=name_len) :: scheme, drag
     character(len=long_len) :: name, restart
-    real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety
+    real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety, max_wall_time
     logical :: porosity_gradient
     integer(i8) :: max_steps
     integer :: ios
     character(len=512) :: msg
     namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
-      drag, drag_safety, porosity_gradient, restart
+      drag, drag_safety, porosity_gradient, restart, max_wall_time
     restart = cfg%restart
+    max_wall_time = cfg%max_wall_time
     name = cfg%name; t_end = cfg%t_end; dt = cfg%dt; cfl = cfg%cfl; max_steps = cfg%max_steps
     scheme = cfg%scheme; flip = cfg%flip; gravity = cfg%gravity
     progress_seconds = cfg%progress_seconds
@@ -454,6 +456,7 @@ contains
     cfg%progress_seconds = progress_seconds
     cfg%drag = drag; cfg%drag_safety = drag_safety; cfg%porosity_gradient = porosity_gradient
     cfg%restart = restart
+    cfg%max_wall_time = max_wall_time
   end subroutine read_run
 
   !> Read &grid.
@@ -794,6 +797,8 @@ contains
     call check_finite(rd, g_run, 1, 'gravity', cfg%gravity)
     if (.not. real_ok(cfg%progress_seconds, gt=0.0_wp)) call add_value(rd, g_run, 1, &
       'progress_seconds', rtoa(cfg%progress_seconds), 'must be > 0 (s)')
+    if (.not. real_ok(cfg%max_wall_time, ge=0.0_wp)) call add_value(rd, g_run, 1, &
+      'max_wall_time', rtoa(cfg%max_wall_time), 'must be >= 0 (s of wall time; 0 = no limit)')
     if (len_trim(cfg%restart) > 0) then
       inquire (file=trim(cfg%restart), exist=exists)
       if (.not. exists) call add_value(rd, g_run, 1, 'restart', quote(cfg%restart), &
@@ -1308,6 +1313,7 @@ contains
     call bcast(cfg%gravity, comm)
     call bcast(cfg%progress_seconds, comm)
     call bcast(cfg%restart, comm)
+    call bcast(cfg%max_wall_time, comm)
     call bcast(cfg%drag, comm)
     call bcast(cfg%drag_safety, comm)
     call bcast(cfg%porosity_gradient, comm)

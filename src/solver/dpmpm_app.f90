@@ -6,6 +6,7 @@ module dpmpm_app
   use dpmpm_input, only: read_input, print_config
   use dpmpm_error, only: clean_stop
   use dpmpm_simulation, only: run_scene
+  use dpmpm_posix, only: catch_stop_signals
   implicit none
   private
   public :: run_app
@@ -46,6 +47,11 @@ contains
       if (rank == 0) call print_config(cfg, output_unit)
       return
     end if
+    ! SIGTERM and SIGUSR1 (sent by batch schedulers before the kill) now only set a flag:
+    ! the run writes a checkpoint and stops at the next look (every few steps).
+    if (.not. catch_stop_signals() .and. rank == 0) &
+      write (error_unit, '(a)') 'dpmpm: warning: cannot catch SIGTERM and SIGUSR1; a '// &
+      'scheduler''s stop signal will end the run without a checkpoint'
     call run_scene(cfg, comm)
   end subroutine run_app
 

@@ -32,6 +32,7 @@ module dpmpm_simulation
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
   use dpmpm_diagnostics, only: diag_record_t
   use dpmpm_scene_check, only: check_scene_points
+  use dpmpm_posix, only: stop_signal, signal_name
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err, &
                               benchmark_body_force, benchmark_nerr
@@ -40,6 +41,11 @@ module dpmpm_simulation
   implicit none
   private
   public :: simulation_t, run_scene
+
+  !> Steps between the collective looks at a stop request (signal, max_wall_time).
+  integer(i8), parameter :: stop_every = 10
+  !> Exit code of a run stopped early with a checkpoint to continue from.
+  integer, parameter :: exit_stopped = 3
 
   !> Grid-transfer work arrays of one point set: per-point stencils, velocity
   !> gradients, the node fields of its phase, and (with Gauss quadrature) the
@@ -117,6 +123,8 @@ module dpmpm_simulation
     real(wp) :: energy_scale = 0.0_wp         !< largest of |energy0| and kinetic + strain so far
     real(wp) :: energy_error = 0.0_wp         !< largest |energy - energy0| so far
     real(wp) :: energy_drift = 0.0_wp         !< energy_error / energy_scale
+    !> why the last run stopped before t_end: a signal number, -1 for max_wall_time, 0 not
+    integer :: stopped = 0
   contains
     procedure :: init => sim_init
     procedure :: run => sim_run
@@ -135,9 +143,12 @@ contains
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
     type(simulation_t) :: sim
+    logical :: stopped
     call sim%init(cfg, comm)
     call sim%run()
+    stopped = sim%stopped /= 0
     call sim%free()
+    if (stopped) call clean_stop(exit_stopped)
   end subroutine run_scene
 
   !> Decompose the grid, create the points, open the output.
@@ -399,6 +410,7 @@ contains
     real(wp) :: last_progress, now, eta, dt
     character(len=256) :: line
     integer :: k
+    self%stopped = 0
     diag_every = self%cfg%diag_every
     if (diag_every <= 0) diag_every = max(1_i8, int(self%cfg%t_end/self%dt/500.0_wp, i8))
     last_progress = MPI_Wtime()
@@ -426,12 +438,18 @@ contains
           self%time, '  dt = ', self%dt, '  ', 100.0_wp*self%time/self%cfg%t_end, '%  ETA ', eta, ' s'
         call self%log%info(line)
       end if
+      if (mod(self%step, stop_every) == 0) then
+        self%stopped = stop_request(self)
+        if (self%stopped /= 0) exit
+      end if
     end do
     call self%timers%toc(t_total)
+    ! Stopped early: the checkpoint first, of the state exactly as the loop left it.
+    if (self%stopped /= 0) call write_state(self)
     if (mod(self%step, diag_every) /= 0) call self%diagnostics()
     if (self%last_frame_step /= self%step) call self%write_frame()
     ! The end state too, so that a finished run can be continued to a later t_end.
-    if (self%cfg%checkpoint_every > 0) then
+    if (self%cfg%checkpoint_every > 0 .and. self%stopped == 0) then
       if (mod(self%step, int(self%cfg%checkpoint_every, i8)) /= 0) call write_state(self)
     end if
     if (self%write_output .and. self%cfg%benchmark /= 'none') then
@@ -455,6 +473,7 @@ contains
     call report_mls(self)
     write (line, '(a,i0,a,es12.5,a,f0.2,a)') 'dpmpm: done, ', self%step, ' steps to t = ', &
       self%time, ' in ', MPI_Wtime() - self%wall_start, ' s'
+    if (self%stopped /= 0) line = 'dpmpm: ended early, '//line(len('dpmpm: done, ') + 1:)
     call self%log%info(line)
     write (line, '(a,es10.3)') '  energy balance: largest change / largest kinetic + stored energy ', &
       self%energy_drift
@@ -471,7 +490,46 @@ contains
       call self%out%close()
       call self%log%info('dpmpm: output '//trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5')
     end if
+    if (self%stopped /= 0) call report_stop(self)
   end subroutine sim_run
+
+  !> Collective: a stop signal (SIGTERM, SIGUSR1: what batch schedulers send before the
+  !> kill) on any rank, returned as its number, or -1 when max_wall_time is over; 0 to go on.
+  integer function stop_request(self) result(why)
+    type(simulation_t), intent(in) :: self
+    integer :: req(2)
+    req = [stop_signal(), 0]
+    if (self%cfg%max_wall_time > 0.0_wp) then
+      if (MPI_Wtime() - self%wall_start >= self%cfg%max_wall_time) req(2) = 1
+    end if
+    call MPI_Allreduce(MPI_IN_PLACE, req, 2, MPI_INTEGER, MPI_MAX, self%dec%comm)
+    why = req(1)
+    if (why == 0 .and. req(2) > 0) why = -1
+  end function stop_request
+
+  !> Say why the run stopped before t_end and how to continue it.
+  subroutine report_stop(self)
+    type(simulation_t), intent(in) :: self
+    character(len=:), allocatable :: why, path
+    character(len=256) :: line
+    if (self%stopped > 0) then
+      why = 'on '//signal_name(self%stopped)
+    else
+      if (self%cfg%max_wall_time >= 1.0_wp) then
+        write (line, '(f0.1)') self%cfg%max_wall_time
+      else
+        write (line, '(es9.2)') self%cfg%max_wall_time
+      end if
+      why = 'at max_wall_time = '//trim(adjustl(line))//' s'
+
+    end if
+    path = checkpoint_path(self%cfg%output_dir, self%cfg%name)
+    write (line, '(a,i0,a,es12.5,a,es12.5)') ' at step ', self%step, ', t = ', self%time, &
+      ' of t_end = ', self%cfg%t_end
+    call self%log%info('dpmpm: stopped '//why//trim(line)//'; checkpoint '//path)
+    call self%log%info('dpmpm: to continue, run the same input with restart = '''//path// &
+                       ''' in &run')
+  end subroutine report_stop
 
   !> Does the run compare with a two-phase reference (column or Terzaghi)?
   logical function two_phase_benchmark(self)

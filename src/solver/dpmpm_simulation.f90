@@ -273,12 +273,26 @@ contains
     end if
     self%dt = self%stable_dt()
     if (self%write_output) then
+      call announce_output(self)
       call self%out%open(self%cfg, self%dec%comm)
     end if
     call self%diagnostics()
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
+
+  !> Say where the output goes, and warn when that replaces the file of an earlier run.
+  subroutine announce_output(self)
+    type(simulation_t), intent(in) :: self
+    character(len=:), allocatable :: path
+    logical :: exists
+    path = trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5'
+    call self%log%info('dpmpm: writing '//path)
+    if (.not. self%log%root) return
+    inquire (file=path, exist=exists)
+    if (exists) call self%log%warning(path//' exists and is overwritten (another &run name '// &
+                                      'or &output dir keeps it)')
+  end subroutine announce_output
 
   !> Continue from a checkpoint: the points of this rank's cells, time, step, energy
   !> balance and frame schedule. The output goes to <name>_from<step>.h5, so that the
@@ -406,14 +420,17 @@ contains
   !> Step to t_end (or max_steps), with diagnostics, frames and progress lines.
   subroutine sim_run(self)
     class(simulation_t), intent(inout) :: self
-    integer(i8) :: diag_every, nwall
-    real(wp) :: last_progress, now, eta, dt
+    integer(i8) :: diag_every, nwall, step0
+    real(wp) :: last_progress, now, eta, dt, loop_start, time0, done
     character(len=256) :: line
     integer :: k
     self%stopped = 0
     diag_every = self%cfg%diag_every
     if (diag_every <= 0) diag_every = max(1_i8, int(self%cfg%t_end/self%dt/500.0_wp, i8))
     last_progress = MPI_Wtime()
+    loop_start = last_progress
+    time0 = self%time
+    step0 = self%step
     call self%timers%tic(t_total)
     do while (self%time < self%cfg%t_end*(1.0_wp - 1.0e-12_wp) .and. self%step < self%cfg%max_steps)
       dt = min(self%stable_dt(), self%cfg%t_end - self%time)
@@ -433,9 +450,14 @@ contains
       now = MPI_Wtime()
       if (now - last_progress >= self%cfg%progress_seconds) then
         last_progress = now
-        eta = (now - self%wall_start)*(self%cfg%t_end - self%time)/max(self%time, tiny(1.0_wp))
+        ! The run ends at t_end or at max_steps, whichever comes first: the ETA follows the
+        ! nearer one, at the pace of this run's steps so far.
+        done = max((self%time - time0)/(self%cfg%t_end - time0), &
+                   real(self%step - step0, wp)/real(self%cfg%max_steps - step0, wp))
+        eta = (now - loop_start)*(1.0_wp - done)/max(done, tiny(1.0_wp))
         write (line, '(a,i0,a,es12.5,a,es10.3,a,f6.1,a,f0.1,a)') 'step ', self%step, '  t = ', &
-          self%time, '  dt = ', self%dt, '  ', 100.0_wp*self%time/self%cfg%t_end, '%  ETA ', eta, ' s'
+          self%time, '  dt = ', self%dt, '  ', 100.0_wp*max(self%time/self%cfg%t_end, &
+          real(self%step, wp)/real(self%cfg%max_steps, wp)), '%  ETA ', eta, ' s'
         call self%log%info(line)
       end if
       if (mod(self%step, stop_every) == 0) then

@@ -1,6 +1,7 @@
 !> dpmpm: double-point material point method. Usage:
 !>   mpirun -n N dpmpm scene.nml          run the scene
 !>   mpirun -n N dpmpm --check scene.nml  validate and print the resolved parameters
+!>   dpmpm --help | --version             usage and exit codes | version and git commit
 program dpmpm
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD

@@ -13,6 +13,7 @@ module dpmpm_log
     procedure :: init => log_init
     procedure :: info => log_info
     procedure :: error => log_error
+    procedure :: warning => log_warning
   end type log_t
 
 contains
@@ -43,5 +44,14 @@ contains
     write (error_unit, '(a)') 'dpmpm: error: '//trim(line)
     flush (error_unit)
   end subroutine log_error
+
+  !> Print one warning line on rank 0 to stderr, prefixed "dpmpm: warning: ".
+  subroutine log_warning(self, line)
+    class(log_t), intent(in) :: self
+    character(len=*), intent(in) :: line
+    if (.not. self%root) return
+    write (error_unit, '(a)') 'dpmpm: warning: '//trim(line)
+    flush (error_unit)
+  end subroutine log_warning
 
 end module dpmpm_log

@@ -17,7 +17,9 @@ module dpmpm_checkpoint
                   h5lexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5P_FILE_ACCESS_F, &
                   H5P_DATASET_XFER_F, H5P_DEFAULT_F, H5FD_MPIO_COLLECTIVE_F, H5T_IEEE_F64LE, &
                   h5kind_to_type, H5_REAL_KIND
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp, i8, mpi_i8
+  use dpmpm_strings, only: itoa
   use dpmpm_error, only: fatal
   use dpmpm_particles, only: particle_set_t
   use dpmpm_migrate, only: point_cell
@@ -38,9 +40,11 @@ module dpmpm_checkpoint
     integer :: nframes = 0
     integer :: ndim = 0
     integer :: ncells(3) = 0
+    real(wp) :: origin(3) = 0.0_wp        !< grid of the run, checked on restart
+    real(wp) :: length(3) = 0.0_wp
   end type checkpoint_state_t
 
-  integer, parameter :: nstate = 12
+  integer, parameter :: nstate = 18
 
 contains
 
@@ -103,20 +107,27 @@ contains
   !> Read the state and the points of the sets from path (every rank reads the whole
   !> file and keeps the points in its cells clo..chi of the grid origin, h). The sets
   !> must be initialised (empty) with the scene's fields; a set's packed width in the
-  !> file must match it.
-  subroutine read_checkpoint(path, st, origin, h, clo, chi, solid, fluid)
+  !> file must match it. problem is empty on success; otherwise it says why the checkpoint
+  !> cannot continue this scene (another grid than ncells, origin, length; points with
+  !> non-finite values or outside the grid, which would be lost) and nothing is read. Every
+  !> rank finds the same problem, so the caller may stop collectively.
+  subroutine read_checkpoint(path, st, origin, h, clo, chi, ncells, length, problem, solid, fluid)
     character(len=*), intent(in) :: path
     type(checkpoint_state_t), intent(out) :: st
-    real(wp), intent(in) :: origin(3), h(3)
-    integer, intent(in) :: clo(3), chi(3)
+    real(wp), intent(in) :: origin(3), h(3), length(3)
+    integer, intent(in) :: clo(3), chi(3), ncells(3)
+    character(len=:), allocatable, intent(out) :: problem
     type(particle_set_t), intent(inout) :: solid
     type(particle_set_t), intent(inout), optional :: fluid
     character(len=*), parameter :: where = 'read_checkpoint'
-    integer(hid_t) :: file, dset
-    integer :: err
+    integer(hid_t) :: file, dset, space
+    integer(hsize_t) :: dims(2), maxdims(2)
+    integer :: err, nd
     logical :: exists
     real(wp), target :: state(nstate)
     type(c_ptr) :: cp
+    problem = ''
+    nd = solid%ndim
     inquire (file=path, exist=exists)
     if (.not. exists) call fatal('restart file '//path//' not found', where)
     call h5open_f(err)
@@ -125,22 +136,81 @@ contains
     if (err /= 0) call fatal('cannot open '//path//' as an HDF5 file', where)
     call h5dopen_f(file, 'state', dset, err)
     if (err /= 0) call fatal(path//' is not a dpmpm checkpoint (no /state)', where)
+    call h5dget_space_f(dset, space, err)
+    call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
+    call h5sclose_f(space, err)
+    if (dims(1) /= nstate) then
+      problem = path//' was written by an earlier dpmpm that did not record the grid''s '// &
+                'origin and length, so it cannot be checked against this input; run the '// &
+                'scene again from its start'
+      call h5dclose_f(dset, err)
+      call h5fclose_f(file, err)
+      return
+    end if
     cp = c_loc(state)
     call h5dread_f(dset, h5kind_to_type(wp, H5_REAL_KIND), cp, err)
     call h5check(err, 'h5dread_f(state)', where)
     call h5dclose_f(dset, err)
     st = array_to_state(state)
-    call read_set(file, path, 'solid', origin, h, clo, chi, solid)
-    if (present(fluid)) call read_set(file, path, 'fluid', origin, h, clo, chi, fluid)
+    if (st%ndim /= nd .or. any(st%ncells(1:nd) /= ncells(1:nd)) .or. &
+        any(abs(st%origin(1:nd) - origin(1:nd)) > 1.0e-12_wp*length(1:nd)) .or. &
+        any(abs(st%length(1:nd) - length(1:nd)) > 1.0e-12_wp*length(1:nd))) then
+      problem = path//' comes from another grid: it has '// &
+                grid_text(st%ndim, st%ncells, st%origin, st%length)//'; the input has '// &
+                grid_text(nd, ncells, origin, length)//'. Restart with the &grid of the '// &
+                'run that wrote it'
+    else
+      call read_set(file, path, 'solid', origin, h, clo, chi, ncells, solid, problem)
+      if (present(fluid) .and. len(problem) == 0) &
+        call read_set(file, path, 'fluid', origin, h, clo, chi, ncells, fluid, problem)
+    end if
     call h5fclose_f(file, err)
   end subroutine read_checkpoint
+
+  !> "ndim = 2, ncells = 8, 8, origin = 0, 0, length = 1, 1" for messages.
+  function grid_text(nd, ncells, origin, length) result(s)
+    integer, intent(in) :: nd, ncells(3)
+    real(wp), intent(in) :: origin(3), length(3)
+    character(len=:), allocatable :: s
+    character(len=256) :: buf
+    integer :: n, d
+    n = max(1, min(3, nd))
+    write (buf, '(a,i0,a,*(i0,:,", "))') 'ndim = ', nd, ', ncells = ', ncells(1:n)
+    s = trim(buf)//', origin = '
+    do d = 1, n
+      if (d > 1) s = s//', '
+      s = s//real_text(origin(d))
+    end do
+    s = s//', length = '
+    do d = 1, n
+      if (d > 1) s = s//', '
+      s = s//real_text(length(d))
+    end do
+  end function grid_text
+
+  !> The fewest digits that read back to x (finite x).
+  function real_text(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=32) :: buf, fmt
+    real(wp) :: y
+    integer :: nd
+    do nd = 1, 17
+      write (fmt, '(a,i0,a)') '(es32.', nd, ')'
+      write (buf, fmt) x
+      read (buf, *) y
+      if (y == x) exit
+    end do
+    s = trim(adjustl(buf))
+  end function real_text
 
   !> The state as doubles (integers are exact below 2^53).
   pure function state_to_array(st) result(a)
     type(checkpoint_state_t), intent(in) :: st
     real(wp) :: a(nstate)
     a = [real(st%step, wp), st%time, st%ext_work, st%energy0, st%energy_scale, st%energy_error, &
-         st%next_frame, real(st%nframes, wp), real(st%ndim, wp), real(st%ncells, wp)]
+         st%next_frame, real(st%nframes, wp), real(st%ndim, wp), real(st%ncells, wp), st%origin, &
+         st%length]
   end function state_to_array
 
   pure function array_to_state(a) result(st)
@@ -156,6 +226,8 @@ contains
     st%nframes = nint(a(8))
     st%ndim = nint(a(9))
     st%ncells = nint(a(10:12))
+    st%origin = a(13:15)
+    st%length = a(16:18)
   end function array_to_state
 
   !> The packed points of a set: this rank's at its offset in the global order.
@@ -181,20 +253,23 @@ contains
                        nloc, offset, nglob, c_loc(buf), 'write_checkpoint', check)
   end subroutine write_set
 
-  !> Read set name and append its points in cells clo..chi to ps.
-  subroutine read_set(file, path, name, origin, h, clo, chi, ps)
+  !> Read set name and append its points in cells clo..chi to ps. Points with a non-finite
+  !> value or outside the grid (ncells) would be lost: then problem counts them and ps is
+  !> left as it was.
+  subroutine read_set(file, path, name, origin, h, clo, chi, ncells, ps, problem)
     integer(hid_t), intent(in) :: file
     character(len=*), intent(in) :: path, name
     real(wp), intent(in) :: origin(3), h(3)
-    integer, intent(in) :: clo(3), chi(3)
+    integer, intent(in) :: clo(3), chi(3), ncells(3)
     type(particle_set_t), intent(inout) :: ps
+    character(len=:), allocatable, intent(inout) :: problem
     character(len=*), parameter :: where = 'read_checkpoint'
     integer(hid_t) :: dset, space
     integer(hsize_t) :: dims(2), maxdims(2)
     real(wp), allocatable, target :: buf(:, :)
     type(c_ptr) :: cp
     logical :: exists, keep
-    integer :: err, m, j, d, c(3), nkeep
+    integer :: err, m, j, d, c(3), nkeep, nbad, nout
     integer, allocatable :: idx(:)
     real(wp) :: x(3)
     m = ps%nreal_packed()
@@ -215,13 +290,23 @@ contains
       call h5check(err, 'h5dread_f('//name//')', where)
     end if
     call h5dclose_f(dset, err)
-    ! Keep the points of this rank's cells, in the order of the file.
+    ! Keep the points of this rank's cells, in the order of the file; none may be lost.
     allocate (idx(dims(2)))
     nkeep = 0
+    nbad = 0
+    nout = 0
     do j = 1, int(dims(2))
       x = 0.0_wp
       x(1:ps%ndim) = buf(3:2 + ps%ndim, j)
+      if (.not. all(ieee_is_finite(buf(:, j)))) then
+        nbad = nbad + 1
+        cycle
+      end if
       c = point_cell(origin, h, x, ps%ndim)
+      if (any(c(1:ps%ndim) < 0 .or. c(1:ps%ndim) >= ncells(1:ps%ndim))) then
+        nout = nout + 1
+        cycle
+      end if
       keep = .true.
       do d = 1, ps%ndim
         keep = keep .and. c(d) >= clo(d) .and. c(d) <= chi(d)
@@ -230,6 +315,12 @@ contains
       nkeep = nkeep + 1
       idx(nkeep) = j
     end do
+    if (nbad + nout > 0) then
+      problem = path//': '//itoa(nbad)//' of its '//itoa(int(dims(2)))//' '//name// &
+                ' points have a non-finite value and '//itoa(nout)//' lie outside the grid; '// &
+                'they would be lost. The checkpoint is damaged or comes from another scene'
+      return
+    end if
     call ps%unpack_points(buf(:, idx(1:nkeep)))
   end subroutine read_set
 

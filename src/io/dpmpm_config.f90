@@ -90,6 +90,8 @@ module dpmpm_config
     real(wp) :: flip = 1.0_wp                        !< FLIP fraction of the FLIP/PIC blend
     real(wp) :: gravity(3) = 0.0_wp                  !< m/s^2
     real(wp) :: progress_seconds = 10.0_wp           !< wall seconds between progress lines
+    !> wall seconds after which the run writes a checkpoint and stops; 0 = no limit
+    real(wp) :: max_wall_time = 0.0_wp
     character(len=1024) :: restart = ''              !< checkpoint file to continue from
     ! two-phase coupling (&run)
     character(len=name_len) :: drag = 'explicit'     !< explicit | implicit (per-node 2x2 solve)

@@ -68,20 +68,22 @@ contains
     if (err < 0) call fatal(call_name//' failed', where)
   end subroutine h5check
 
-  !> Create a directory (and its parents) unless it exists. Called on one rank.
+  !> Create a directory and its parents unless they exist, one mkdir(2) per component and
+  !> no shell, so any character in the name is taken literally. Called on one rank.
   subroutine make_dir(dir)
+    use dpmpm_posix, only: posix_mkdir, posix_strerror
     character(len=*), intent(in) :: dir
-    logical :: exists
-    integer :: estat, cstat
-    character(len=256) :: cmsg
-    inquire (file=dir//'/.', exist=exists)
-    if (exists) return
-    estat = 0
-    cstat = 0
-    cmsg = ''
-    call execute_command_line('mkdir -p "'//dir//'"', exitstat=estat, cmdstat=cstat, cmdmsg=cmsg)
-    if (cstat /= 0 .or. estat /= 0) call fatal('cannot create output directory '//dir//' '// &
-                                               trim(cmsg), 'make_dir')
+    integer :: i, err
+    ! Each parent in turn (not the root "/", nor the empty name between two slashes).
+    do i = 2, len(dir)
+      if (dir(i:i) /= '/' .or. dir(i - 1:i - 1) == '/') cycle
+      err = posix_mkdir(dir(1:i - 1))
+      if (err /= 0) call fatal('cannot create output directory '//dir//': '//dir(1:i - 1)// &
+                               ': '//posix_strerror(err), 'make_dir')
+    end do
+    err = posix_mkdir(dir)
+    if (err /= 0) call fatal('cannot create output directory '//dir//': '// &
+                             posix_strerror(err), 'make_dir')
   end subroutine make_dir
 
   !> A fixed-length, null-padded string type of n bytes (h5py reads it as bytes).

@@ -47,15 +47,17 @@ contains
   !> (mass n rho_f V, porosity n, kinv = 1/conductivity of the soil, material = the fluid
   !> material), placed independently of the skeleton with seed fluid_seed (seed + 1 when
   !> fluid_seed = -1). Ids are unique within the set and do not depend on the ranks.
-  subroutine generate_points(cfg, grid, dec, mats, ps, phase)
+  !> counts(r), when present, is the number of points region r added on this rank.
+  subroutine generate_points(cfg, grid, dec, mats, ps, phase, counts)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: grid
     type(decomp_t), intent(in) :: dec
     type(material_t), intent(in) :: mats(:)
     type(particle_set_t), intent(inout) :: ps
     character(len=*), intent(in), optional :: phase
+    integer(i8), intent(out), optional :: counts(:)
     character(len=8) :: which
-    integer :: r
+    integer :: r, n0
     integer(i8) :: base, ncell_total, npc
     type(region_cfg_t) :: reg
     type(fill_t) :: fill
@@ -68,6 +70,7 @@ contains
     do r = 1, size(cfg%regions)
       reg = cfg%regions(r)
       npc = int(reg%ppc, i8)**grid%ndim
+      n0 = ps%n
       if (region_fill(reg, mats, which, fill)) then
         if (trim(reg%placement) == 'uniform') then
           call fill_uniform(reg, grid, dec, fill, base, ps)
@@ -75,6 +78,7 @@ contains
           call fill_cells(reg, grid, dec, fill, base, ps)
         end if
       end if
+      if (present(counts)) counts(r) = int(ps%n - n0, i8)
       ! Each region owns a range of ids wide enough for either placement, and the same
       ! range in both sets.
       base = base + max(ncell_total*npc, uniform_count(reg, grid))

@@ -31,6 +31,8 @@ module dpmpm_simulation
   use dpmpm_output, only: output_t, output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
   use dpmpm_diagnostics, only: diag_record_t
+  use dpmpm_scene_check, only: check_scene_points
+  use dpmpm_posix, only: stop_signal, signal_name
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err, &
                               benchmark_body_force, benchmark_nerr
@@ -39,6 +41,11 @@ module dpmpm_simulation
   implicit none
   private
   public :: simulation_t, run_scene
+
+  !> Steps between the collective looks at a stop request (signal, max_wall_time).
+  integer(i8), parameter :: stop_every = 10
+  !> Exit code of a run stopped early with a checkpoint to continue from.
+  integer, parameter :: exit_stopped = 3
 
   !> Grid-transfer work arrays of one point set: per-point stencils, velocity
   !> gradients, the node fields of its phase, and (with Gauss quadrature) the
@@ -116,6 +123,8 @@ module dpmpm_simulation
     real(wp) :: energy_scale = 0.0_wp         !< largest of |energy0| and kinetic + strain so far
     real(wp) :: energy_error = 0.0_wp         !< largest |energy - energy0| so far
     real(wp) :: energy_drift = 0.0_wp         !< energy_error / energy_scale
+    !> why the last run stopped before t_end: a signal number, -1 for max_wall_time, 0 not
+    integer :: stopped = 0
   contains
     procedure :: init => sim_init
     procedure :: run => sim_run
@@ -134,9 +143,12 @@ contains
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
     type(simulation_t) :: sim
+    logical :: stopped
     call sim%init(cfg, comm)
     call sim%run()
+    stopped = sim%stopped /= 0
     call sim%free()
+    if (stopped) call clean_stop(exit_stopped)
   end subroutine run_scene
 
   !> Decompose the grid, create the points, open the output.
@@ -147,6 +159,7 @@ contains
     logical, intent(in), optional :: write_output
     integer :: nmin, nmax, nb
     integer(i8) :: ntot, nfl
+    integer(i8), allocatable :: counts(:), fcounts(:)
     character(len=256) :: line
     call self%free()
     self%cfg = cfg
@@ -182,10 +195,17 @@ contains
     if (len_trim(cfg%restart) > 0) then
       call restart_from(self, trim(cfg%restart))
     else
-      call generate_points(cfg, self%grid, self%dec, self%mats, self%solid)
+      allocate (counts(size(cfg%regions)), fcounts(size(cfg%regions)))
+      fcounts = 0
+      call generate_points(cfg, self%grid, self%dec, self%mats, self%solid, counts=counts)
       call benchmark_setup(cfg, self%mats, self%solid)
-      if (self%two_phase) call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, &
-                                               'fluid')
+      if (self%two_phase) then
+        call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, 'fluid', fcounts)
+        call check_scene_points(cfg, self%grid, self%dec%comm, counts + fcounts, self%solid, &
+                                self%fluid)
+      else
+        call check_scene_points(cfg, self%grid, self%dec%comm, counts, self%solid)
+      end if
     end if
     if (self%two_phase) call init_two_phase(self)
 
@@ -256,6 +276,7 @@ contains
       if (len_trim(cfg%restart) > 0) then
         call resume_output(self)
       else
+        call announce_output(self)
         call self%out%open(self%cfg, self%dec%comm)
       end if
     end if
@@ -264,6 +285,19 @@ contains
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
 
+  !> Say where the output goes, and warn when that replaces the file of an earlier run.
+  subroutine announce_output(self)
+    type(simulation_t), intent(in) :: self
+    character(len=:), allocatable :: path
+    logical :: exists
+    path = trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5'
+    call self%log%info('dpmpm: writing '//path)
+    if (.not. self%log%root) return
+    inquire (file=path, exist=exists)
+    if (exists) call self%log%warning(path//' exists and is overwritten (another &run name '// &
+                                      'or &output dir keeps it)')
+  end subroutine announce_output
+
   !> Continue from a checkpoint: the points of this rank's cells, time, step, energy
   !> balance and frame schedule (the output file: resume_output).
   subroutine restart_from(self, path)
@@ -271,16 +305,21 @@ contains
     character(len=*), intent(in) :: path
     type(checkpoint_state_t) :: st
     character(len=256) :: line
-    if (self%two_phase) then
-      call read_checkpoint(path, st, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi, &
-                           self%solid, self%fluid)
-    else
-      call read_checkpoint(path, st, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi, &
-                           self%solid)
+    character(len=:), allocatable :: problem
+    associate (g => self%grid, c => self%cfg)
+      if (self%two_phase) then
+        call read_checkpoint(path, st, g%origin, g%h, self%dec%clo, self%dec%chi, g%ncells, &
+                             c%length, problem, self%solid, self%fluid)
+      else
+        call read_checkpoint(path, st, g%origin, g%h, self%dec%clo, self%dec%chi, g%ncells, &
+                             c%length, problem, self%solid)
+      end if
+    end associate
+    ! Every rank read the same file and found the same problem.
+    if (len(problem) > 0) then
+      call self%log%error('restart: '//problem)
+      call clean_stop(2)
     end if
-    if (st%ndim /= self%nd .or. any(st%ncells(1:self%nd) /= self%cfg%ncells(1:self%nd))) &
-      call fatal(path//' comes from another grid (ndim and ncells must match the input)', &
-                 'restart')
     self%step = st%step
     self%time = st%time
     ! ext_work is kept per rank and summed in the diagnostics: the total goes to rank 0.
@@ -315,7 +354,8 @@ contains
     end if
     write (tag, '(i0)') self%step
     self%cfg%name = trim(self%cfg%name)//'_from'//trim(tag)
-    call self%log%info('dpmpm: '//why//': writing '//output_h5_path(self%cfg)//' instead')
+    call self%log%info('dpmpm: '//why//': a new file instead')
+    call announce_output(self)
     call self%out%open(self%cfg, self%dec%comm)
   end subroutine resume_output
 
@@ -330,7 +370,8 @@ contains
     st = checkpoint_state_t(step=self%step, time=self%time, ext_work=work, &
                             energy0=self%energy0, energy_scale=self%energy_scale, &
                             energy_error=self%energy_error, next_frame=self%next_frame, &
-                            nframes=self%nframes, ndim=self%nd, ncells=self%cfg%ncells)
+                            nframes=self%nframes, ndim=self%nd, ncells=self%cfg%ncells, &
+                            origin=self%cfg%origin, length=self%cfg%length)
     path = checkpoint_path(self%cfg%output_dir, self%cfg%name)
     if (self%two_phase) then
       call write_checkpoint(path, self%cfg%output_dir, self%dec%comm, st, self%solid, self%fluid)
@@ -401,13 +442,17 @@ contains
   !> Step to t_end (or max_steps), with diagnostics, frames and progress lines.
   subroutine sim_run(self)
     class(simulation_t), intent(inout) :: self
-    integer(i8) :: diag_every, nwall
-    real(wp) :: last_progress, now, eta, dt
+    integer(i8) :: diag_every, nwall, step0
+    real(wp) :: last_progress, now, eta, dt, loop_start, time0, done
     character(len=256) :: line
     integer :: k
+    self%stopped = 0
     diag_every = self%cfg%diag_every
     if (diag_every <= 0) diag_every = max(1_i8, int(self%cfg%t_end/self%dt/500.0_wp, i8))
     last_progress = MPI_Wtime()
+    loop_start = last_progress
+    time0 = self%time
+    step0 = self%step
     call self%timers%tic(t_total)
     do while (self%time < self%cfg%t_end*(1.0_wp - 1.0e-12_wp) .and. self%step < self%cfg%max_steps)
       dt = min(self%stable_dt(), self%cfg%t_end - self%time)
@@ -427,17 +472,28 @@ contains
       now = MPI_Wtime()
       if (now - last_progress >= self%cfg%progress_seconds) then
         last_progress = now
-        eta = (now - self%wall_start)*(self%cfg%t_end - self%time)/max(self%time, tiny(1.0_wp))
+        ! The run ends at t_end or at max_steps, whichever comes first: the ETA follows the
+        ! nearer one, at the pace of this run's steps so far.
+        done = max((self%time - time0)/(self%cfg%t_end - time0), &
+                   real(self%step - step0, wp)/real(self%cfg%max_steps - step0, wp))
+        eta = (now - loop_start)*(1.0_wp - done)/max(done, tiny(1.0_wp))
         write (line, '(a,i0,a,es12.5,a,es10.3,a,f6.1,a,f0.1,a)') 'step ', self%step, '  t = ', &
-          self%time, '  dt = ', self%dt, '  ', 100.0_wp*self%time/self%cfg%t_end, '%  ETA ', eta, ' s'
+          self%time, '  dt = ', self%dt, '  ', 100.0_wp*max(self%time/self%cfg%t_end, &
+          real(self%step, wp)/real(self%cfg%max_steps, wp)), '%  ETA ', eta, ' s'
         call self%log%info(line)
+      end if
+      if (mod(self%step, stop_every) == 0) then
+        self%stopped = stop_request(self)
+        if (self%stopped /= 0) exit
       end if
     end do
     call self%timers%toc(t_total)
+    ! Stopped early: the checkpoint first, of the state exactly as the loop left it.
+    if (self%stopped /= 0) call write_state(self)
     if (mod(self%step, diag_every) /= 0) call self%diagnostics()
     if (self%last_frame_step /= self%step) call self%write_frame()
     ! The end state too, so that a finished run can be continued to a later t_end.
-    if (self%cfg%checkpoint_every > 0) then
+    if (self%cfg%checkpoint_every > 0 .and. self%stopped == 0) then
       if (mod(self%step, int(self%cfg%checkpoint_every, i8)) /= 0) call write_state(self)
     end if
     if (self%write_output .and. self%cfg%benchmark /= 'none') then
@@ -461,6 +517,7 @@ contains
     call report_mls(self)
     write (line, '(a,i0,a,es12.5,a,f0.2,a)') 'dpmpm: done, ', self%step, ' steps to t = ', &
       self%time, ' in ', MPI_Wtime() - self%wall_start, ' s'
+    if (self%stopped /= 0) line = 'dpmpm: ended early, '//line(len('dpmpm: done, ') + 1:)
     call self%log%info(line)
     write (line, '(a,es10.3)') '  energy balance: largest change / largest kinetic + stored energy ', &
       self%energy_drift
@@ -477,7 +534,46 @@ contains
       call self%out%close()
       call self%log%info('dpmpm: output '//trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5')
     end if
+    if (self%stopped /= 0) call report_stop(self)
   end subroutine sim_run
+
+  !> Collective: a stop signal (SIGTERM, SIGUSR1: what batch schedulers send before the
+  !> kill) on any rank, returned as its number, or -1 when max_wall_time is over; 0 to go on.
+  integer function stop_request(self) result(why)
+    type(simulation_t), intent(in) :: self
+    integer :: req(2)
+    req = [stop_signal(), 0]
+    if (self%cfg%max_wall_time > 0.0_wp) then
+      if (MPI_Wtime() - self%wall_start >= self%cfg%max_wall_time) req(2) = 1
+    end if
+    call MPI_Allreduce(MPI_IN_PLACE, req, 2, MPI_INTEGER, MPI_MAX, self%dec%comm)
+    why = req(1)
+    if (why == 0 .and. req(2) > 0) why = -1
+  end function stop_request
+
+  !> Say why the run stopped before t_end and how to continue it.
+  subroutine report_stop(self)
+    type(simulation_t), intent(in) :: self
+    character(len=:), allocatable :: why, path
+    character(len=256) :: line
+    if (self%stopped > 0) then
+      why = 'on '//signal_name(self%stopped)
+    else
+      if (self%cfg%max_wall_time >= 1.0_wp) then
+        write (line, '(f0.1)') self%cfg%max_wall_time
+      else
+        write (line, '(es9.2)') self%cfg%max_wall_time
+      end if
+      why = 'at max_wall_time = '//trim(adjustl(line))//' s'
+
+    end if
+    path = checkpoint_path(self%cfg%output_dir, self%cfg%name)
+    write (line, '(a,i0,a,es12.5,a,es12.5)') ' at step ', self%step, ', t = ', self%time, &
+      ' of t_end = ', self%cfg%t_end
+    call self%log%info('dpmpm: stopped '//why//trim(line)//'; checkpoint '//path)
+    call self%log%info('dpmpm: to continue, run the same input with restart = '''//path// &
+                       ''' in &run')
+  end subroutine report_stop
 
   !> Does the run compare with a two-phase reference (column or Terzaghi)?
   logical function two_phase_benchmark(self)

@@ -1,0 +1,56 @@
+/* POSIX services that Fortran has no portable binding for: creating one directory with
+ * the reason of a failure (errno), and noting the stop signals a batch scheduler sends
+ * before it kills a job (SIGTERM, SIGUSR1). Used through module dpmpm_posix. */
+#include <errno.h>
+#include <signal.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+
+/* mkdir(path, 0777) without a shell: 0 when the directory was made or already exists,
+ * otherwise the errno of the failure (ENOTDIR when path exists and is no directory). */
+int dpmpm_mkdir(const char *path)
+{
+  struct stat st;
+  int err;
+  if (mkdir(path, 0777) == 0) return 0;
+  err = errno;
+  if (err == EEXIST) {
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
+    return ENOTDIR;
+  }
+  return err;
+}
+
+/* The system's text for an errno value. */
+const char *dpmpm_strerror(int err) { return strerror(err); }
+
+/* The last stop signal received, 0 before any. A handler may only set a flag of this
+ * type; the run loop looks at it between steps. */
+static volatile sig_atomic_t stop_signal = 0;
+
+static void note_stop_signal(int sig) { stop_signal = sig; }
+
+/* Catch SIGTERM and SIGUSR1 from now on: each only sets the flag. 0 on success. */
+int dpmpm_catch_stop_signals(void)
+{
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = note_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  if (sigaction(SIGTERM, &sa, NULL) != 0) return -1;
+  if (sigaction(SIGUSR1, &sa, NULL) != 0) return -1;
+  return 0;
+}
+
+/* The stop signal received so far (0: none). */
+int dpmpm_stop_signal(void) { return stop_signal; }
+
+/* Name of a stop signal for messages. */
+const char *dpmpm_signal_name(int sig)
+{
+  if (sig == SIGTERM) return "SIGTERM";
+  if (sig == SIGUSR1) return "SIGUSR1";
+  return "a signal";
+}

@@ -1,0 +1,92 @@
+!> POSIX services through the small C file beside this module (dpmpm_posix.c): making
+!> one directory without a shell, and the stop signals of batch schedulers (SIGTERM,
+!> SIGUSR1), whose handler only sets a flag that the run loop reads between steps.
+module dpmpm_posix
+  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_f_pointer, &
+                                         c_associated
+  implicit none
+  private
+  public :: posix_mkdir, posix_strerror, catch_stop_signals, stop_signal, signal_name
+
+  interface
+    function c_mkdir(path) bind(C, name='dpmpm_mkdir') result(err)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: err
+    end function c_mkdir
+    function c_strerror(err) bind(C, name='dpmpm_strerror') result(p)
+      import :: c_int, c_ptr
+      integer(c_int), value :: err
+      type(c_ptr) :: p
+    end function c_strerror
+    function c_catch_stop_signals() bind(C, name='dpmpm_catch_stop_signals') result(r)
+      import :: c_int
+      integer(c_int) :: r
+    end function c_catch_stop_signals
+    function c_stop_signal() bind(C, name='dpmpm_stop_signal') result(sig)
+      import :: c_int
+      integer(c_int) :: sig
+    end function c_stop_signal
+    function c_signal_name(sig) bind(C, name='dpmpm_signal_name') result(p)
+      import :: c_int, c_ptr
+      integer(c_int), value :: sig
+      type(c_ptr) :: p
+    end function c_signal_name
+  end interface
+
+contains
+
+  !> Make the one directory path (its parent must exist): 0 when made or already there,
+  !> otherwise the errno of the failure (see posix_strerror).
+  integer function posix_mkdir(path) result(err)
+    character(len=*), intent(in) :: path
+    err = int(c_mkdir(path//c_null_char))
+  end function posix_mkdir
+
+  !> The system's text for an errno value.
+  function posix_strerror(err) result(text)
+    integer, intent(in) :: err
+    character(len=:), allocatable :: text
+    text = c_string(c_strerror(int(err, c_int)))
+  end function posix_strerror
+
+  !> From now on SIGTERM and SIGUSR1 only set the stop flag; false if they cannot be caught.
+  logical function catch_stop_signals() result(ok)
+    ok = c_catch_stop_signals() == 0
+  end function catch_stop_signals
+
+  !> The stop signal received on this process so far, 0 when none.
+  integer function stop_signal()
+    stop_signal = int(c_stop_signal())
+  end function stop_signal
+
+  !> 'SIGTERM' or 'SIGUSR1' for a signal number from stop_signal.
+  function signal_name(sig) result(name)
+    integer, intent(in) :: sig
+    character(len=:), allocatable :: name
+    name = c_string(c_signal_name(int(sig, c_int)))
+  end function signal_name
+
+  !> A Fortran copy of a NUL-terminated C string.
+  function c_string(p) result(s)
+    type(c_ptr), intent(in) :: p
+    character(len=:), allocatable :: s
+    character(kind=c_char), pointer :: chars(:)
+    integer :: n
+    if (.not. c_associated(p)) then
+      s = ''
+      return
+    end if
+    call c_f_pointer(p, chars, [4096])
+    n = 0
+    do while (n < 4096)
+      if (chars(n + 1) == c_null_char) exit
+      n = n + 1
+    end do
+    allocate (character(len=n) :: s)
+    do n = 1, len(s)
+      s(n:n) = chars(n)
+    end do
+  end function c_string
+
+end module dpmpm_posix

@@ -1,0 +1,97 @@
+!> Checks of a scene that need its points: every &region makes points, and every &load
+!> acts on a face that the body touches. Run once the points are generated; a failure is
+!> reported like an input error, once by rank 0, and every rank stops with exit code 2.
+module dpmpm_scene_check
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_config, only: config_t, face_names
+  use dpmpm_grid, only: grid_t
+  use dpmpm_particles, only: particle_set_t
+  use dpmpm_migrate, only: point_cell
+  use dpmpm_strings, only: itoa
+  use dpmpm_error, only: clean_stop
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_SUM
+  implicit none
+  private
+  public :: check_scene_points
+
+contains
+
+  !> counts(r): points region r made on this rank (both sets). A region without any point
+  !> on any rank, or a load on a face with no point in the layer of cells next to it (its
+  !> traction would act on empty nodes), is refused. Collective over comm.
+  subroutine check_scene_points(cfg, grid, comm, counts, solid, fluid)
+    type(config_t), intent(in) :: cfg
+    type(grid_t), intent(in) :: grid
+    type(MPI_Comm), intent(in) :: comm
+    integer(i8), intent(in) :: counts(:)
+    type(particle_set_t), intent(in) :: solid
+    type(particle_set_t), intent(in), optional :: fluid
+    integer(i8), allocatable :: nreg(:), nload(:)
+    integer :: r, l, f, rank, nbad
+    character(len=32) :: spacing
+    call MPI_Comm_rank(comm, rank)
+    nreg = counts
+    call MPI_Allreduce(MPI_IN_PLACE, nreg, size(nreg), MPI_INTEGER8, MPI_SUM, comm)
+    allocate (nload(size(cfg%loads)))
+    do l = 1, size(cfg%loads)
+      nload(l) = points_next_to_face(grid, cfg%loads(l)%face, solid)
+      if (present(fluid)) nload(l) = nload(l) + points_next_to_face(grid, cfg%loads(l)%face, fluid)
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, nload, size(nload), MPI_INTEGER8, MPI_SUM, comm)
+    nbad = count(nreg == 0) + count(nload == 0)
+    if (nbad == 0) return
+    if (rank == 0) then
+      do r = 1, size(nreg)
+        if (nreg(r) > 0) cycle
+        write (spacing, '(es10.3)') minval(grid%h(1:grid%ndim))/real(cfg%regions(r)%ppc, wp)
+        call report(cfg, '&region'//which(r, size(nreg))//': makes no points: no point '// &
+                    'position of its placement falls inside it (the points are '// &
+                    trim(adjustl(spacing))//' m apart with ppc = '//itoa(cfg%regions(r)%ppc)// &
+                    '); make it larger or raise ppc')
+      end do
+      do l = 1, size(nload)
+        if (nload(l) > 0) cycle
+        f = cfg%loads(l)%face
+        call report(cfg, '&load'//which(l, size(nload))//' face = '''//face_names(f)// &
+                    ''': the body does not touch face '//face_names(f)//' (no point in the '// &
+                    'layer of cells next to it), so the traction would act on nothing; '// &
+                    'move the load to a face the body reaches, or extend the body to it')
+      end do
+      flush (error_unit)
+    end if
+    call clean_stop(2)
+  end subroutine check_scene_points
+
+  !> " (group k of n)" when the group is repeated, "" when it is given once.
+  function which(k, n) result(s)
+    integer, intent(in) :: k, n
+    character(len=:), allocatable :: s
+    s = ''
+    if (n > 1) s = ' (group '//itoa(k)//' of '//itoa(n)//')'
+  end function which
+
+  !> One line in the format of the input errors.
+  subroutine report(cfg, text)
+    type(config_t), intent(in) :: cfg
+    character(len=*), intent(in) :: text
+    write (error_unit, '(a)') 'dpmpm: input error: '//trim(cfg%input_file)//': '// &
+      trim(text)
+  end subroutine report
+
+  !> Points of ps in the layer of cells next to grid face f (on this rank).
+  integer(i8) function points_next_to_face(grid, f, ps) result(n)
+    type(grid_t), intent(in) :: grid
+    integer, intent(in) :: f
+    type(particle_set_t), intent(in) :: ps
+    integer :: p, d, c(3), layer
+    d = (f + 1)/2
+    layer = merge(0, grid%ncells(d) - 1, mod(f, 2) == 1)
+    n = 0
+    do p = 1, ps%n
+      c = point_cell(grid%origin, grid%h, ps%x(:, p), grid%ndim)
+      if (c(d) == layer) n = n + 1
+    end do
+  end function points_next_to_face
+
+end module dpmpm_scene_check

@@ -1,0 +1,84 @@
+#!/usr/bin/env python3
+"""The command line says what it is doing: --help, --version, a bad option, the start banner,
+a warning when an earlier output file is overwritten, and an ETA that follows max_steps.
+
+    check_command_line.py <mpiexec> <dpmpm> <work dir> <project version>
+"""
+import pathlib
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+mpiexec, dpmpm, work, version = sys.argv[1], sys.argv[2], pathlib.Path(sys.argv[3]), sys.argv[4]
+shutil.rmtree(work, ignore_errors=True)
+work.mkdir(parents=True)
+failures = []
+
+
+def expect(cond, what):
+    print(("ok:   " if cond else "FAIL: ") + what, flush=True)
+    if not cond:
+        failures.append(what)
+
+
+def run(*args, ranks=1):
+    t0 = time.time()
+    p = subprocess.run([mpiexec, "--oversubscribe", "-n", str(ranks), dpmpm, *args], cwd=work,
+                       capture_output=True, text=True, timeout=120)
+    wall = time.time() - t0
+    print(f"--- dpmpm {' '.join(args)} on {ranks}: exit code {p.returncode}\n{p.stdout}{p.stderr}")
+    return p, wall
+
+
+p, _ = run("--help", ranks=2)
+expect(p.returncode == 0, "--help: exit code 0")
+expect(p.stdout.count("usage: dpmpm") == 1, "--help: the usage, printed once on 2 ranks")
+for word in ["--check", "--version", "Exit codes", "doc/input.md"]:
+    expect(word in p.stdout, f"--help mentions {word}")
+
+p, _ = run("--version")
+expect(p.returncode == 0, "--version: exit code 0")
+expect(re.fullmatch(rf"dpmpm {re.escape(version)} \(commit \S+\)\n", p.stdout) is not None,
+       f"--version prints 'dpmpm {version} (commit ...)'")
+
+p, _ = run("--bogus", "scene.nml")
+expect(p.returncode == 2, "an unknown option: exit code 2")
+expect("unexpected argument '--bogus'" in p.stderr and "usage: dpmpm" in p.stderr,
+       "an unknown option is named, with the usage")
+
+# A short scene whose end is max_steps (t_end lies far beyond it), long enough (about
+# 0.4 s on a quiet 2-core machine) for several progress lines at progress_seconds = 0.02.
+MAX_STEPS = 4000
+(work / "scene.nml").write_text(f"""&run name = 'cli', t_end = 100.0, max_steps = {MAX_STEPS},
+  progress_seconds = 0.02, gravity = 0.0, -9.81 /
+&grid ndim = 2, ncells = 8, 8, length = 1.0, 1.0 /
+&material id = 1, youngs_modulus = 1.0e6, poisson_ratio = 0.3, density = 1000.0 /
+&region lo = 0.25, 0.0, hi = 0.75, 0.5 /
+&boundary face = 'y-', condition = 'fixed' /
+&output dir = 'out' /
+""")
+p, wall = run("scene.nml", ranks=2)
+expect(p.returncode == 0, "the scene runs")
+first = p.stdout.splitlines()[0] if p.stdout else ""
+expect(first.startswith(f"dpmpm {version} (commit ") and first.endswith(": scene.nml on 2 ranks"),
+       "the banner: version, commit, input file and ranks on the first line")
+expect("dpmpm: writing out/cli.h5" in p.stdout, "the banner names the output file")
+expect("overwritten" not in p.stderr, "no overwrite warning for a new file")
+
+progress = re.findall(r"^step (\d+)  t = .*?\s([\d.]+)%  ETA ([\d.]+) s$", p.stdout, re.M)
+expect(len(progress) >= 2, f"progress lines printed ({len(progress)})")
+for step, pct, eta in progress:
+    expect(abs(float(pct) - 100.0 * int(step) / MAX_STEPS) <= 0.1,
+           f"step {step}: {pct} % done counts the steps of max_steps")
+    expect(float(eta) <= 5.0 * wall + 2.0,
+           f"step {step}: ETA {eta} s is of the order of the run ({wall:.1f} s)")
+
+p, _ = run("scene.nml", ranks=2)
+expect(p.returncode == 0, "the scene runs again")
+expect(p.stderr.count("dpmpm: warning: out/cli.h5 exists and is overwritten") == 1,
+       "the second run warns once that it overwrites out/cli.h5")
+
+print("PASS" if not failures else f"{len(failures)} check(s) failed")
+sys.exit(1 if failures else 0)

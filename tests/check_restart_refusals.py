@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""A restart that would lose points is refused with a message, never run silently.
+
+    check_restart_refusals.py <mpiexec> <dpmpm> <work dir>
+
+A short run writes a checkpoint; restarting it with the same grid must work (the control),
+while a grid with another origin or another length (same ncells) and a checkpoint with one
+point made non-finite and one moved outside the grid must stop with a non-zero exit code
+and a message saying why (the grid, or how many points).
+"""
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+mpiexec, dpmpm, work = sys.argv[1], sys.argv[2], pathlib.Path(sys.argv[3])
+shutil.rmtree(work, ignore_errors=True)
+work.mkdir(parents=True)
+
+
+def scene(origin="0.0, 0.0", length="1.0, 1.0", restart=""):
+    rs = f", restart = '{restart}'" if restart else ""
+    return f"""&run name = 'ckpt', t_end = 1.0, max_steps = 10, gravity = 0.0, -9.81{rs} /
+&grid ndim = 2, ncells = 8, 8, origin = {origin}, length = {length} /
+&material id = 1, youngs_modulus = 1.0e6, poisson_ratio = 0.3, density = 1000.0 /
+&region lo = 0.25, 0.0, hi = 0.75, 0.5, placement = 'random' /
+&boundary face = 'y-', condition = 'fixed' /
+&output dir = 'out', checkpoint_every = 5 /
+"""
+
+
+def run(name, text):
+    (work / name).write_text(text)
+    p = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", dpmpm, name], cwd=work,
+                       capture_output=True, text=True, timeout=120)
+    print(f"--- {name}: exit code {p.returncode}\n{p.stdout}{p.stderr}")
+    return p
+
+
+failures = []
+
+
+def expect(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+p = run("first.nml", scene())
+ckpt = work / "out" / "ckpt.ckpt.h5"
+expect(p.returncode == 0 and ckpt.exists(), "the first run writes a checkpoint")
+
+p = run("same.nml", scene(restart="out/ckpt.ckpt.h5"))
+expect(p.returncode == 0, "a restart on the same grid runs")
+
+for name, text in [("origin.nml", scene(origin="0.05, 0.0", restart="out/ckpt.ckpt.h5")),
+                   ("length.nml", scene(length="1.1, 1.0", restart="out/ckpt.ckpt.h5"))]:
+    p = run(name, text)
+    expect(p.returncode != 0, f"{name}: refused (non-zero exit code)")
+    expect("comes from another grid" in p.stderr, f"{name}: the message names the grid")
+    expect(p.stderr.count("comes from another grid") == 1, f"{name}: the message is printed once")
+
+# One point non-finite, one far outside the grid: every value of the row, so that the
+# test does not depend on where the position sits in a row.
+damaged = work / "out" / "damaged.ckpt.h5"
+shutil.copy(ckpt, damaged)
+with h5py.File(damaged, "r+") as f:
+    pts = f["solid"][...]
+    pts[0, :] = np.nan
+    pts[1, :] = 1.0e30
+    f["solid"][...] = pts
+p = run("damaged.nml", scene(restart="out/damaged.ckpt.h5"))
+expect(p.returncode != 0, "damaged checkpoint: refused (non-zero exit code)")
+expect(f"1 of its {pts.shape[0]} solid points have a non-finite value and 1 lie outside the grid"
+       in p.stderr, "damaged checkpoint: the message counts the points")
+
+print("PASS" if not failures else f"{len(failures)} check(s) failed")
+sys.exit(1 if failures else 0)

@@ -6,7 +6,7 @@
 !> any, rank 0 prints them all, one per line, and every rank stops cleanly with
 !> exit code 2; otherwise the resolved config_t is broadcast to all ranks.
 module dpmpm_input
-  use, intrinsic :: iso_fortran_env, only: error_unit
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use dpmpm_kinds, only: wp, i8, mpi_wp, mpi_i8
   use dpmpm_config, only: field_listed, unknown_field
@@ -84,18 +84,24 @@ contains
 
   !> Read, check and broadcast the input file (collective over comm). On any problem rank 0
   !> prints all of them to stderr and every rank stops with exit code 2.
-  subroutine read_input(filename, comm, cfg)
+  !> With restart_latest (the command line's --restart) the input's &run restart is taken
+  !> as 'latest': continue from <dir>/<name>.ckpt.h5 when it exists, else start afresh.
+  subroutine read_input(filename, comm, cfg, restart_latest)
     character(len=*), intent(in) :: filename
     type(MPI_Comm), intent(in) :: comm
     type(config_t), intent(out) :: cfg
+    logical, intent(in), optional :: restart_latest
     integer :: rank, nranks, nprob, k
     type(reader_t) :: rd
+    logical :: latest
 
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, nranks)
+    latest = .false.
+    if (present(restart_latest)) latest = restart_latest
     nprob = 0
     if (rank == 0) then
-      call read_and_check(rd, filename, nranks, cfg)
+      call read_and_check(rd, filename, nranks, cfg, latest)
       nprob = rd%nprob
     end if
     call MPI_Bcast(nprob, 1, MPI_INTEGER, 0, comm)
@@ -242,11 +248,12 @@ contains
   ! ---------------------------------------------------------------------------------------------
 
   !> Rank 0: read the file into cfg and collect all problems in rd.
-  subroutine read_and_check(rd, filename, nranks, cfg)
+  subroutine read_and_check(rd, filename, nranks, cfg, latest)
     type(reader_t), intent(inout) :: rd
     character(len=*), intent(in) :: filename
     integer, intent(in) :: nranks
     type(config_t), intent(inout) :: cfg
+    logical, intent(in) :: latest
     integer :: u, ios, g
     logical :: ok(ngroups)
     character(len=512) :: msg
@@ -304,8 +311,31 @@ contains
     if (.not. allocated(cfg%materials)) allocate (cfg%materials(0))
     if (.not. allocated(cfg%regions)) allocate (cfg%regions(0))
     if (.not. allocated(cfg%loads)) allocate (cfg%loads(0))
+    if (latest) cfg%restart = 'latest'
+    call resolve_latest(cfg)
     call check_config(rd, cfg, nranks, ok)
   end subroutine read_and_check
+
+  !> restart = 'latest': the run's own checkpoint <dir>/<name>.ckpt.h5 when it exists (the
+  !> run continues), else none (the run starts at t = 0); said on standard output. This
+  !> lets a chain of batch jobs run the same input again and again.
+  subroutine resolve_latest(cfg)
+    type(config_t), intent(inout) :: cfg
+    character(len=:), allocatable :: path
+    logical :: exists
+    if (trim(cfg%restart) /= 'latest') return
+    path = trim(cfg%output_dir)//'/'//trim(cfg%name)//'.ckpt.h5'
+    inquire (file=path, exist=exists)
+    if (exists) then
+      cfg%restart = path
+      write (output_unit, '(a)') 'dpmpm: restart = ''latest'': continuing from '//path
+    else
+      cfg%restart = ''
+      write (output_unit, '(a)') 'dpmpm: restart = ''latest'': no checkpoint '//path// &
+        ' yet, starting at t = 0'
+    end if
+    flush (output_unit)
+  end subroutine resolve_latest
 
   !> Read the whole file as text (it is echoed into the output files).
   subroutine load_text(rd, filename, text)

@@ -12,23 +12,25 @@ module dpmpm_app
   private
   public :: run_app
 
-  character(len=*), parameter :: usage = 'usage: dpmpm [--check] scene.nml | --help | --version'
+  character(len=*), parameter :: usage = 'usage: dpmpm [--check] [--restart] scene.nml | '// &
+                                         '--help | --version'
 
 contains
 
-  !> Run dpmpm on the ranks of comm: `dpmpm [--check] scene.nml`, `dpmpm --help`, `dpmpm
-  !> --version`. With --check, read and check the input and print the resolved parameters; a
+  !> Run dpmpm on the ranks of comm: `dpmpm [--check] [--restart] scene.nml`, `dpmpm --help`,
+  !> `dpmpm --version`. With --check, read and check the input and print the resolved parameters; a
   !> bad command line stops with exit code 2.
   subroutine run_app(comm)
     type(MPI_Comm), intent(in) :: comm
     type(config_t) :: cfg
     character(len=:), allocatable :: arg, file
-    logical :: check_only
+    logical :: check_only, restart_latest
     integer :: rank, nranks, k, n
 
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, nranks)
     check_only = .false.
+    restart_latest = .false.
     file = ''
     do k = 1, command_argument_count()
       call get_command_argument(k, length=n)
@@ -42,6 +44,8 @@ contains
         return
       else if (arg == '--check') then
         check_only = .true.
+      else if (arg == '--restart') then
+        restart_latest = .true.
       else if (arg(1:min(1, n)) == '-' .or. len(file) > 0) then
         call usage_stop(rank, 'unexpected argument '''//arg//'''')
       else
@@ -51,7 +55,7 @@ contains
     end do
     if (len(file) == 0) call usage_stop(rank, 'no input file given')
 
-    call read_input(file, comm, cfg)
+    call read_input(file, comm, cfg, restart_latest)
     if (check_only) then
       if (rank == 0) call print_config(cfg, output_unit)
       return
@@ -85,6 +89,10 @@ contains
       '  mpirun -n N dpmpm scene.nml           run the scene on N ranks', &
       '  mpirun -n N dpmpm --check scene.nml   check the input and print every resolved', &
       '                                        parameter (itself a valid input file)', &
+      '  mpirun -n N dpmpm --restart scene.nml continue from <dir>/<name>.ckpt.h5 when it', &
+      '                                        exists, else start at t = 0 (&run restart =', &
+      '                                        ''latest''): the same line for every job of a', &
+      '                                        chain', &
       '  dpmpm --help                          this text', &
       '  dpmpm --version                       version and git commit of the build', &
       '', &

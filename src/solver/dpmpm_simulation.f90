@@ -482,7 +482,10 @@ contains
           real(self%step, wp)/real(self%cfg%max_steps, wp)), '%  ETA ', eta, ' s'
         call self%log%info(line)
       end if
-      if (mod(self%step, stop_every) == 0) then
+      ! A run at its end finishes normally, whatever stop is asked (its last frame must stay:
+      ! a continued run would have nothing left to write it).
+      if (mod(self%step, stop_every) == 0 .and. self%time < self%cfg%t_end*(1.0_wp - 1.0e-12_wp) &
+          .and. self%step < self%cfg%max_steps) then
         self%stopped = stop_request(self)
         if (self%stopped /= 0) exit
       end if
@@ -572,7 +575,7 @@ contains
       ' of t_end = ', self%cfg%t_end
     call self%log%info('dpmpm: stopped '//why//trim(line)//'; checkpoint '//path)
     call self%log%info('dpmpm: to continue, run the same input with restart = '''//path// &
-                       ''' in &run')
+                       ''' in &run, or with dpmpm --restart')
   end subroutine report_stop
 
   !> Does the run compare with a two-phase reference (column or Terzaghi)?

@@ -26,7 +26,8 @@ module dpmpm_simulation
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
                              wave_speed, voigt_to_tensor, model_neo_hookean, model_fluid
   use dpmpm_two_phase, only: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, &
-                             drag_limit, interp_scalar, pressure_update, fluid_density
+                             drag_limit, interp_scalar, pressure_update, fluid_density, &
+                             drag_relax
   use dpmpm_migrate, only: migrate
   use dpmpm_output, only: output_t
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
@@ -766,7 +767,7 @@ contains
     call g2p(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%dec%alo, self%tf%nvel, &
              self%cfg%flip, dt, self%fluid%v, self%fluid%x, self%tf%vgrad)
     if (self%cfg%scheme == 'musl') then
-      call musl_remap_two_phase(self)
+      call musl_remap_two_phase(self, dt)
     else
       call point_gradient(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, &
                           self%dec%alo, self%ts%nvel, self%tf%vgrad2)
@@ -1417,11 +1418,19 @@ contains
   !> The MUSL remap of both phases: solid and fluid nodal velocities from the
   !> updated point momenta, the fluid tied to the solid at impermeable faces, then
   !> the solid velocity gradient at the solid points and both at the fluid points.
-  subroutine musl_remap_two_phase(self)
+  !> With implicit drag, where the drag locks the phases, the relative velocity the
+  !> remap adds is shrunk as the step's drag would (relax_remapped): without it the
+  !> step is unstable on scattered points (doc/verification.md, "Long runs").
+  subroutine musl_remap_two_phase(self, dt)
     type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    real(wp), allocatable :: wstep(:, :, :, :)
+    ! Relative velocity of the nodal update, before the remap overwrites it.
+    wstep = self%tf%nvel(self%nd + 1:2*self%nd, :, :, :) - self%ts%nvel(self%nd + 1:2*self%nd, :, :, :)
     call remap_velocities(self, self%solid, self%ts, self%grid%bc)
     call remap_velocities(self, self%fluid, self%tf, fluid_mirror_bc(self))
     call tie_fluid(self)
+    if (self%cfg%remap_drag .and. self%cfg%drag == 'implicit') call relax_remapped(self, dt, wstep)
     call self%dec%halo_copy(self%ts%nvel)
     call unfold_exterior(self, self%ts%nvel)
     call self%dec%halo_copy(self%tf%nvel)
@@ -1433,6 +1442,39 @@ contains
     call point_gradient(self%nd, self%nw, self%fluid%n, self%tf%i0, self%tf%sw, self%tf%sdw, &
                         self%dec%alo, self%ts%nvel, self%tf%vgrad2)
   end subroutine musl_remap_two_phase
+
+  !> The MUSL-remapped velocities of the nodes where both phases move freely
+  !> (owned nodes, new-velocity slots): where the drag locks the phases, the
+  !> relative velocity the remap adds to that of the nodal update (wstep) is
+  !> shrunk as the step's implicit drag would (drag_relax).
+  !> Each point set projects the same nodal increments with its own masses, so
+  !> the plain remap leaves a relative velocity of the phases that no drag has
+  !> acted on; fed to the strain and pore-pressure rates it makes the
+  !> amplification of the step exceed 1 once the drag couples the phases.
+  subroutine relax_remapped(self, dt, wstep)
+    type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    real(wp), intent(in) :: wstep(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    integer :: i, j, k, c, nd
+    logical :: sfix(3), ffix(3), tie(3)
+    nd = self%nd
+    do k = self%dec%olo(3), self%dec%ohi(3)
+      do j = self%dec%olo(2), self%dec%ohi(2)
+        do i = self%dec%olo(1), self%dec%ohi(1)
+          if (self%ts%node(1, i, j, k) <= 0.0_wp .or. self%tf%node(1, i, j, k) <= 0.0_wp) cycle
+          sfix = self%grid%constrained([i, j, k])
+          ffix = self%grid%constrained([i, j, k], fluid_mirror_bc(self))
+          tie = fluid_ties(self, [i, j, k])
+          do c = 1, nd
+            if (sfix(c) .or. ffix(c) .or. tie(c)) cycle
+            call drag_relax(self%ts%node(1, i, j, k), self%tf%node(1, i, j, k), &
+                            self%ndrag(1, i, j, k), dt, wstep(c, i, j, k), self%ts%nvel(nd + c, i, j, k), &
+                            self%tf%nvel(nd + c, i, j, k))
+          end do
+        end do
+      end do
+    end do
+  end subroutine relax_remapped
 
   !> Set the fluid velocity components tied to the solid (fluid_ties) to the solid's
   !> on the owned nodes, in the new-velocity slots of nvel.

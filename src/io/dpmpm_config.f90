@@ -97,6 +97,9 @@ module dpmpm_config
     character(len=name_len) :: drag = 'explicit'     !< explicit | implicit (per-node 2x2 solve)
     real(wp) :: drag_safety = 0.8_wp                 !< fraction of the nodal drag limit (explicit)
     logical :: porosity_gradient = .false.           !< grad n_f term of the pressure equation
+    logical :: remap_drag = .true.                   !< MUSL: the step's implicit drag on the remapped pair
+    ! run monitor (&run)
+    real(wp) :: growth_limit = 10.0_wp               !< stop when energy exceeds this x (input + initial); 0 = off
     ! &grid
     integer :: ndim = 2
     integer :: ncells(3) = [1, 1, 1]

@@ -35,7 +35,7 @@ module dpmpm_input
   !> The variables of each group, for messages about a group that cannot be read.
   character(len=*), parameter :: group_vars(ngroups) = [character(len=192) :: &
     'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, drag, '// &
-    'drag_safety, porosity_gradient, restart, max_wall_time', &
+    'drag_safety, porosity_gradient, restart, max_wall_time, remap_drag, growth_limit', &
     'ndim, ncells, origin, length, dims', &
     'kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, gauss_points, '// &
     'field_kernel, field_basis, field_radius', &
@@ -138,6 +138,8 @@ contains
     call put_s(unit, 'drag', cfg%drag)
     call put_r(unit, 'drag_safety', [cfg%drag_safety])
     call put_l(unit, 'porosity_gradient', cfg%porosity_gradient)
+    call put_l(unit, 'remap_drag', cfg%remap_drag)
+    call put_r(unit, 'growth_limit', [cfg%growth_limit])
     call put_s(unit, 'restart', cfg%restart)
     call put_r(unit, 'max_wall_time', [cfg%max_wall_time])
     write (unit, '(a)') '/', '&grid'
@@ -479,14 +481,16 @@ contains
     character(len=name_len) :: scheme, drag
     character(len=long_len) :: name, restart
     real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety, max_wall_time
-    logical :: porosity_gradient
+    real(wp) :: growth_limit
+    logical :: porosity_gradient, remap_drag
     integer(i8) :: max_steps
     integer :: ios
     character(len=512) :: msg
     namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
-      drag, drag_safety, porosity_gradient, restart, max_wall_time
+      drag, drag_safety, porosity_gradient, restart, max_wall_time, remap_drag, growth_limit
     restart = cfg%restart
     max_wall_time = cfg%max_wall_time
+    remap_drag = cfg%remap_drag; growth_limit = cfg%growth_limit
     name = cfg%name; t_end = cfg%t_end; dt = cfg%dt; cfl = cfg%cfl; max_steps = cfg%max_steps
     scheme = cfg%scheme; flip = cfg%flip; gravity = cfg%gravity
     progress_seconds = cfg%progress_seconds
@@ -505,6 +509,7 @@ contains
     cfg%drag = drag; cfg%drag_safety = drag_safety; cfg%porosity_gradient = porosity_gradient
     cfg%restart = restart
     cfg%max_wall_time = max_wall_time
+    cfg%remap_drag = remap_drag; cfg%growth_limit = growth_limit
   end subroutine read_run
 
   !> Read &grid.
@@ -872,6 +877,8 @@ contains
       'drag_safety), implicit (solid and fluid velocities solved together at each node)')
     if (.not. real_ok(cfg%drag_safety, gt=0.0_wp, le=1.0_wp)) call add_value(rd, g_run, 1, &
       'drag_safety', rtoa(cfg%drag_safety), 'must be in (0, 1] (fraction of the nodal drag limit)')
+    if (.not. real_ok(cfg%growth_limit, ge=0.0_wp)) call add_value(rd, g_run, 1, &
+      'growth_limit', rtoa(cfg%growth_limit), 'must be >= 0 (0 = no growth monitor)')
 
     ! &grid
     ndim_ok = cfg%ndim >= 1 .and. cfg%ndim <= 3
@@ -1473,6 +1480,8 @@ contains
     call bcast(cfg%drag, comm)
     call bcast(cfg%drag_safety, comm)
     call bcast(cfg%porosity_gradient, comm)
+    call bcast(cfg%remap_drag, comm)
+    call bcast(cfg%growth_limit, comm)
     call bcast(cfg%ndim, comm)
     call bcast(cfg%ncells, comm)
     call bcast(cfg%origin, comm)

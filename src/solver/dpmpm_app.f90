@@ -102,7 +102,8 @@ contains
       '<dir>/<name>.ckpt.h5 and stops; &run restart continues from it.', &
       '', &
       'Exit codes: 0 finished, 2 bad input or command line, 3 stopped early with a', &
-      'checkpoint, 1 error during the run.', &
+      'checkpoint (continue it), 4 stopped by the run monitor (the run grew or a value', &
+      'became non-finite), 1 error during the run.', &
       '', &
       'Documentation: doc/input.md (every input variable), doc/output.md (the HDF5 layout).'
     flush (output_unit)

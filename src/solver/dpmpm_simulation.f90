@@ -26,7 +26,8 @@ module dpmpm_simulation
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
                              wave_speed, voigt_to_tensor, model_neo_hookean, model_fluid, is_plastic
   use dpmpm_two_phase, only: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, &
-                             drag_limit, interp_scalar, pressure_update, fluid_density
+                             drag_limit, interp_scalar, pressure_update, fluid_density, &
+                             drag_relax
   use dpmpm_migrate, only: migrate
   use dpmpm_output, only: output_t, output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
@@ -37,7 +38,8 @@ module dpmpm_simulation
   use dpmpm_benchmarks, only: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err, &
                               benchmark_body_force, benchmark_nerr
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_INTEGER8, &
-                     MPI_SUM, MPI_MAX, MPI_MIN, MPI_Wtime, MPI_Gather, MPI_Gatherv, MPI_INTEGER
+                     MPI_SUM, MPI_MAX, MPI_MIN, MPI_Wtime, MPI_Gather, MPI_Gatherv, MPI_INTEGER, &
+                     MPI_MAXLOC, MPI_2DOUBLE_PRECISION, MPI_Bcast
   implicit none
   private
   public :: simulation_t, run_scene
@@ -125,6 +127,20 @@ module dpmpm_simulation
     real(wp) :: energy_drift = 0.0_wp         !< energy_error / energy_scale
     !> why the last run stopped before t_end: a signal number, -1 for max_wall_time, 0 not
     integer :: stopped = 0
+    ! Run monitor (doc/verification.md, "Long runs"): energies against the work done
+    ! on the body and the energy it started with, not against the run's own maximum.
+    real(wp) :: drag_loss = 0.0_wp            !< energy dissipated by drag on this rank
+    logical :: monitor_started = .false.      !< the first record of this run was taken
+    real(wp) :: mon_e0 = 0.0_wp               !< kinetic + stored energy at the first record
+    real(wp) :: mon_w0 = 0.0_wp               !< work of the loads at the first record
+    real(wp) :: mon_d0 = 0.0_wp               !< drag dissipation at the first record
+    real(wp) :: mon_input = 0.0_wp            !< mon_e0 + largest |work of the loads| so far
+    real(wp) :: mon_ratio = 0.0_wp            !< largest (kinetic + stored) / mon_input so far
+    real(wp) :: mon_ke_max = 0.0_wp           !< largest kinetic energy at a record so far
+    real(wp) :: mon_balance = 0.0_wp          !< largest |E + D - W - E0| / (input + D) so far
+    logical :: mon_warned = .false.           !< the growth warning was given
+    real(wp) :: mon_prev(4) = 0.0_wp          !< field maxima at the previous record
+    real(wp) :: mon_prev_time = 0.0_wp        !< time of the previous record
   contains
     procedure :: init => sim_init
     procedure :: run => sim_run
@@ -166,6 +182,13 @@ contains
     self%write_output = .true.
     if (present(write_output)) self%write_output = write_output
     self%ext_work = 0.0_wp
+    self%drag_loss = 0.0_wp
+    self%monitor_started = .false.
+    self%mon_ratio = 0.0_wp
+    self%mon_ke_max = 0.0_wp
+    self%mon_balance = 0.0_wp
+    self%mon_warned = .false.
+    self%mon_prev = 0.0_wp
     self%energy0 = 0.0_wp
     self%energy_scale = 0.0_wp
     self%energy_error = 0.0_wp
@@ -460,6 +483,7 @@ contains
       self%dt = dt
       self%time = self%time + self%dt
       self%step = self%step + 1
+      call check_state(self)
       ! With explicit drag the first step may be far shorter than the wave step.
       if (self%step == 1 .and. self%cfg%diag_every <= 0) &
         diag_every = max(1_i8, int(self%cfg%t_end/self%dt/500.0_wp, i8))
@@ -524,6 +548,10 @@ contains
     call self%log%info(line)
     write (line, '(a,es10.3)') '  energy balance: largest change / largest kinetic + stored energy ', &
       self%energy_drift
+    call self%log%info(line)
+    write (line, '(a,es10.3,a,es10.3,a)') '  energy against the work done + initial energy: '// &
+      'largest (kinetic + stored) / (work + initial) ', self%mon_ratio, ', largest balance error ', &
+      self%mon_balance, ' (doc/verification.md, "Long runs")'
     call self%log%info(line)
     nwall = self%nwall
     call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
@@ -693,7 +721,7 @@ contains
     if (.not. ieee_is_finite(rate)) then
       call self%log%error('non-finite wave speed or velocity at step '//i8toa(self%step)// &
                           '; the run became unstable')
-      call clean_stop(3)
+      call clean_stop(4)
     end if
     crit = minval(self%grid%h(1:self%nd))/rate
     if (self%cfg%dt > 0.0_wp) then
@@ -892,7 +920,7 @@ contains
     call g2p(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, self%dec%alo, self%tf%nvel, &
              self%cfg%flip, dt, self%fluid%v, self%fluid%x, self%tf%vgrad)
     if (self%cfg%scheme == 'musl') then
-      call musl_remap_two_phase(self)
+      call musl_remap_two_phase(self, dt)
     else
       call point_gradient(self%nd, self%nw, nf, self%tf%i0, self%tf%sw, self%tf%sdw, &
                           self%dec%alo, self%ts%nvel, self%tf%vgrad2)
@@ -1322,8 +1350,9 @@ contains
             ! velocity w, or the new one when implicit) times the mid-step w, with
             ! the constrained velocities (a held phase does no work; a tied pair and
             ! a node with one phase, dn = 0, give none).
-            self%ext_work = self%ext_work - dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)* &
-                            0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
+            v = dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)*0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
+            self%ext_work = self%ext_work - v
+            self%drag_loss = self%drag_loss + v
           end do
           self%ts%nvel(1:nd, i, j, k) = vs(1:nd)
           self%ts%nvel(nd + 1:2*nd, i, j, k) = vsn(1:nd)
@@ -1546,11 +1575,19 @@ contains
   !> The MUSL remap of both phases: solid and fluid nodal velocities from the
   !> updated point momenta, the fluid tied to the solid at impermeable faces, then
   !> the solid velocity gradient at the solid points and both at the fluid points.
-  subroutine musl_remap_two_phase(self)
+  !> With implicit drag, where the drag locks the phases, the relative velocity the
+  !> remap adds is shrunk as the step's drag would (relax_remapped): without it the
+  !> step is unstable on scattered points (doc/verification.md, "Long runs").
+  subroutine musl_remap_two_phase(self, dt)
     type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    real(wp), allocatable :: wstep(:, :, :, :)
+    ! Relative velocity of the nodal update, before the remap overwrites it.
+    wstep = self%tf%nvel(self%nd + 1:2*self%nd, :, :, :) - self%ts%nvel(self%nd + 1:2*self%nd, :, :, :)
     call remap_velocities(self, self%solid, self%ts, self%grid%bc)
     call remap_velocities(self, self%fluid, self%tf, fluid_mirror_bc(self))
     call tie_fluid(self)
+    if (self%cfg%remap_drag .and. self%cfg%drag == 'implicit') call relax_remapped(self, dt, wstep)
     call self%dec%halo_copy(self%ts%nvel)
     call unfold_exterior(self, self%ts%nvel)
     call self%dec%halo_copy(self%tf%nvel)
@@ -1562,6 +1599,39 @@ contains
     call point_gradient(self%nd, self%nw, self%fluid%n, self%tf%i0, self%tf%sw, self%tf%sdw, &
                         self%dec%alo, self%ts%nvel, self%tf%vgrad2)
   end subroutine musl_remap_two_phase
+
+  !> The MUSL-remapped velocities of the nodes where both phases move freely
+  !> (owned nodes, new-velocity slots): where the drag locks the phases, the
+  !> relative velocity the remap adds to that of the nodal update (wstep) is
+  !> shrunk as the step's implicit drag would (drag_relax).
+  !> Each point set projects the same nodal increments with its own masses, so
+  !> the plain remap leaves a relative velocity of the phases that no drag has
+  !> acted on; fed to the strain and pore-pressure rates it makes the
+  !> amplification of the step exceed 1 once the drag couples the phases.
+  subroutine relax_remapped(self, dt, wstep)
+    type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    real(wp), intent(in) :: wstep(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    integer :: i, j, k, c, nd
+    logical :: sfix(3), ffix(3), tie(3)
+    nd = self%nd
+    do k = self%dec%olo(3), self%dec%ohi(3)
+      do j = self%dec%olo(2), self%dec%ohi(2)
+        do i = self%dec%olo(1), self%dec%ohi(1)
+          if (self%ts%node(1, i, j, k) <= 0.0_wp .or. self%tf%node(1, i, j, k) <= 0.0_wp) cycle
+          sfix = self%grid%constrained([i, j, k])
+          ffix = self%grid%constrained([i, j, k], fluid_mirror_bc(self))
+          tie = fluid_ties(self, [i, j, k])
+          do c = 1, nd
+            if (sfix(c) .or. ffix(c) .or. tie(c)) cycle
+            call drag_relax(self%ts%node(1, i, j, k), self%tf%node(1, i, j, k), &
+                            self%ndrag(1, i, j, k), dt, wstep(c, i, j, k), self%ts%nvel(nd + c, i, j, k), &
+                            self%tf%nvel(nd + c, i, j, k))
+          end do
+        end do
+      end do
+    end do
+  end subroutine relax_remapped
 
   !> Set the fluid velocity components tied to the solid (fluid_ties) to the solid's
   !> on the owned nodes, in the new-velocity slots of nvel.
@@ -1825,7 +1895,7 @@ contains
   subroutine sim_diagnostics(self)
     class(simulation_t), intent(inout) :: self
     type(diag_record_t) :: rec
-    real(wp) :: s(8), vmax, err(nbench_err)
+    real(wp) :: s(9), vmax, err(nbench_err), fm(4)
     real(wp), allocatable :: tmp(:, :)
     integer :: p, m
     s = 0.0_wp
@@ -1855,7 +1925,12 @@ contains
     end if
     s(3) = self%ext_work
     s(8) = s(8) + real(self%solid%n, wp)
-    call MPI_Allreduce(MPI_IN_PLACE, s, 8, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    s(9) = self%drag_loss
+    call MPI_Allreduce(MPI_IN_PLACE, s, 9, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    do m = 1, 4
+      fm(m) = field_max(self, m)
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, fm, 4, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
     call MPI_Allreduce(MPI_IN_PLACE, vmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
     rec%step = self%step
     rec%npoints = nint(s(8), i8)
@@ -1870,6 +1945,7 @@ contains
     self%energy_scale = max(self%energy_scale, abs(self%energy0), s(1) + s(2))
     self%energy_error = max(self%energy_error, abs(s(1) + s(2) - s(3) - self%energy0))
     if (self%energy_scale > 0.0_wp) self%energy_drift = self%energy_error/self%energy_scale
+    call monitor_energy(self, s(1), s(2), s(3) + s(9), s(9), fm)
     if (self%cfg%benchmark /= 'none') then
       err = benchmark_errors(self%cfg, self%mats, self%solid, self%time, self%dec%comm)
       if (self%nerr == size(self%err_hist, 2)) then
@@ -1881,6 +1957,255 @@ contains
       self%err_hist(:, self%nerr) = [self%time, err]
     end if
   end subroutine sim_diagnostics
+
+  !> Largest value over this rank's points of monitored field m: 1 speed of the
+  !> solid points, 2 speed of the fluid points, 3 largest |component| of the
+  !> effective stress, 4 |pore pressure| (0 where a set is absent).
+  real(wp) function field_max(self, m) result(f)
+    type(simulation_t), intent(in) :: self
+    integer, intent(in) :: m
+    integer :: p
+    f = 0.0_wp
+    select case (m)
+    case (1)
+      do p = 1, self%solid%n
+        f = max(f, norm2(self%solid%v(:, p)))
+      end do
+    case (2)
+      if (.not. self%two_phase) return
+      do p = 1, self%fluid%n
+        f = max(f, norm2(self%fluid%v(:, p)))
+      end do
+    case (3)
+      do p = 1, self%solid%n
+        f = max(f, maxval(abs(self%solid%stress(:, p))))
+      end do
+    case (4)
+      if (.not. self%two_phase) return
+      do p = 1, self%fluid%n
+        f = max(f, abs(self%fluid%pressure(p)))
+      end do
+    end select
+  end function field_max
+
+  !> The run monitor at a diagnostics record (collective; ke, se, w, d global sums
+  !> of kinetic and stored energy, work of loads and gravity, drag dissipation
+  !> since t = 0; fm the field maxima of field_max). The scale is what the body
+  !> was given: its kinetic + stored energy at the first record plus the largest
+  !> |work of the loads| since then. Kinetic + stored energy above growth_limit
+  !> times that scale cannot come from the loads: the run is stopped, with a
+  !> warning first at a fifth of it.
+  subroutine monitor_energy(self, ke, se, w, d, fm)
+    type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: ke, se, w, d, fm(4)
+    real(wp) :: ratio, wl, dl
+    self%mon_ke_max = max(self%mon_ke_max, ke)
+    if (.not. self%monitor_started) then
+      self%monitor_started = .true.
+      self%mon_e0 = ke + se
+      self%mon_w0 = w
+      self%mon_d0 = d
+      self%mon_input = ke + se
+      self%mon_prev = fm
+      self%mon_prev_time = self%time
+      return
+    end if
+    wl = w - self%mon_w0
+    dl = d - self%mon_d0
+    self%mon_input = max(self%mon_input, self%mon_e0 + abs(wl))
+    if (self%mon_input <= 0.0_wp) then
+      self%mon_prev = fm
+      self%mon_prev_time = self%time
+      return
+    end if
+    ratio = (ke + se)/self%mon_input
+    self%mon_ratio = max(self%mon_ratio, ratio)
+    self%mon_balance = max(self%mon_balance, abs(ke + se + dl - wl - self%mon_e0)/(self%mon_input + dl))
+    if (self%cfg%growth_limit > 0.0_wp) then
+      if (ratio > self%cfg%growth_limit) then
+        call report_growth(self, fm, ratio, .true.)
+      else if (ratio > 0.2_wp*self%cfg%growth_limit .and. .not. self%mon_warned) then
+        self%mon_warned = .true.
+        call report_growth(self, fm, ratio, .false.)
+      end if
+    end if
+    self%mon_prev = fm
+    self%mon_prev_time = self%time
+  end subroutine monitor_energy
+
+  !> Name the growing field (the monitored field whose maximum grew most since
+  !> the previous record), the point that holds its largest value (id, set,
+  !> position, cell) and the time; warn, or (stop) write a last frame and stop
+  !> with code 3 (collective).
+  subroutine report_growth(self, fm, ratio, stop)
+    type(simulation_t), intent(inout) :: self
+    real(wp), intent(in) :: fm(4), ratio
+    logical, intent(in) :: stop
+    character(len=*), parameter :: fnames(4) = [character(len=20) :: 'velocity', 'velocity', &
+      'effective stress', 'pore pressure']
+    real(wp) :: growth(4), val, best(2), info(8)
+    integer :: m, p
+    character(len=640) :: line
+    character(len=40) :: cells
+    do m = 1, 4
+      growth(m) = 0.0_wp
+      if (fm(m) > 0.0_wp) growth(m) = fm(m)/max(self%mon_prev(m), fm(m)*1.0e-30_wp)
+    end do
+    m = maxloc(growth, 1)
+    ! The largest value of field m on this rank, then the rank that holds it.
+    best = [-1.0_wp, real(self%dec%rank, wp)]
+    info = 0.0_wp
+    associate (ps => self%solid)
+      if (m == 1 .or. m == 3) then
+        do p = 1, ps%n
+          val = merge(norm2(ps%v(:, p)), maxval(abs(ps%stress(:, p))), m == 1)
+          if (val > best(1)) then
+            best(1) = val
+            info = point_info(self, ps, p)
+          end if
+        end do
+      end if
+    end associate
+    associate (ps => self%fluid)
+      if (m == 2 .or. m == 4) then
+        do p = 1, ps%n
+          val = merge(norm2(ps%v(:, p)), abs(ps%pressure(p)), m == 2)
+          if (val > best(1)) then
+            best(1) = val
+            info = point_info(self, ps, p)
+          end if
+        end do
+      end if
+    end associate
+    call MPI_Allreduce(MPI_IN_PLACE, best, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
+    call MPI_Bcast(info, 8, MPI_DOUBLE_PRECISION, nint(best(2)), self%dec%comm)
+    write (cells, '(3(1x,i0))') nint(info(5:4 + self%nd))
+    write (line, '(a,es11.4,a,i0,a,es11.3e3,a,a,a,a,a,es11.3e3,a,es11.3e3,a,es11.4,a,i0,a,3es12.4,a)') &
+      'monitor: at t = ', self%time, ' s (step ', self%step, ') kinetic + stored energy is ', ratio, &
+      ' times the work done + initial energy; growing field: ', trim(fnames(m)), ' of the ', &
+      trim(merge('solid', 'fluid', m == 1 .or. m == 3)), ' points, largest ', best(1), ' (', &
+      min(growth(m), huge(1.0_wp)), ' times its value at t = ', self%mon_prev_time, ') at point id ', &
+      nint(info(1), i8), ', x =', info(2:4), ', cell'
+    line = trim(line)//trim(cells)//' (from 0 at the grid origin)'
+    call self%log%error(trim(line))
+    if (.not. stop) then
+      call self%log%error('monitor: warning; the run stops when the ratio exceeds growth_limit = '// &
+                          trim(rtoa_short(self%cfg%growth_limit)))
+      return
+    end if
+    call self%write_frame()
+    if (self%write_output) call self%out%close()
+    call self%log%error('monitor: the run is unstable and was stopped; last frame written at t = '// &
+                        trim(rtoa_short(self%time))//' s (raise growth_limit, or 0 to switch the monitor off)')
+    call clean_stop(4)
+  end subroutine report_growth
+
+  !> id, position (3) and cell indices (3, from 0) of point p of ps, as reals.
+  function point_info(self, ps, p) result(info)
+    type(simulation_t), intent(in) :: self
+    type(particle_set_t), intent(in) :: ps
+    integer, intent(in) :: p
+    real(wp) :: info(8)
+    integer :: d
+    info = 0.0_wp
+    info(1) = real(ps%id(p), wp)
+    info(2:1 + self%nd) = ps%x(:, p)
+    do d = 1, self%nd
+      info(4 + d) = real(floor((ps%x(d, p) - self%grid%origin(d))/self%grid%h(d)), wp)
+    end do
+  end function point_info
+
+  !> Short text of a real for messages.
+  function rtoa_short(x) result(t)
+    real(wp), intent(in) :: x
+    character(len=24) :: t
+    write (t, '(es11.3e3)') x
+    t = adjustl(t)
+  end function rtoa_short
+
+  !> After each step: every point's position, velocity, stress, volume (and, where
+  !> present, pore pressure, porosity, det F) finite, volumes and det F positive.
+  !> Otherwise the first bad point is named with its field and the run stops with
+  !> code 3 before a frame of the bad state is written (collective).
+  subroutine check_state(self)
+    type(simulation_t), intent(inout) :: self
+    character(len=48) :: field
+    real(wp) :: bad(2), info(8), value
+    character(len=640) :: line
+    integer :: iset
+    character(len=*), parameter :: fields(8) = [character(len=24) :: 'position', 'velocity', &
+      'stress', 'volume', 'pore pressure', 'porosity', 'det F', '']
+    bad = [0.0_wp, real(self%dec%rank, wp)]
+    info = 0.0_wp
+    value = 0.0_wp
+    iset = 0
+    call scan_set(self%solid, 1)
+    if (self%two_phase .and. bad(1) == 0.0_wp) call scan_set(self%fluid, 2)
+    call MPI_Allreduce(MPI_IN_PLACE, bad, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
+    if (bad(1) == 0.0_wp) return
+    ! info(6:8) are free for the field code, the set and the value.
+    call MPI_Bcast(info, 8, MPI_DOUBLE_PRECISION, nint(bad(2)), self%dec%comm)
+    field = fields(nint(bad(1)))
+    write (line, '(a,es11.4,a,i0,a,a,a,a,a,i0,a,3es12.4,a,es11.3)') 'monitor: at t = ', self%time, &
+      ' s (step ', self%step, ') the ', trim(field), ' of ', &
+      trim(merge('solid', 'fluid', nint(info(7)) == 1)), ' point id ', nint(info(1), i8), &
+      ' at x =', info(2:4), ' is not valid: ', info(8)
+    call self%log%error(trim(line))
+    call self%log%error('monitor: no frame of this state is written; the last frame is the one '// &
+                        'before; the run stops')
+    if (self%write_output) call self%out%close()
+    call clean_stop(4)
+  contains
+    subroutine scan_set(ps, is)
+      type(particle_set_t), intent(in) :: ps
+      integer, intent(in) :: is
+      integer :: p, code
+      real(wp) :: v, fdet
+      do p = 1, ps%n
+        code = 0
+        if (.not. all(ieee_is_finite(ps%x(:, p)))) then
+          code = 1; v = sum(ps%x(:, p))
+        else if (.not. all(ieee_is_finite(ps%v(:, p)))) then
+          code = 2; v = sum(ps%v(:, p))
+        else if (.not. all(ieee_is_finite(ps%stress(:, p)))) then
+          code = 3; v = sum(ps%stress(:, p))
+        else if (.not. (ps%vol(p) > 0.0_wp .and. ieee_is_finite(ps%vol(p)))) then
+          code = 4; v = ps%vol(p)
+        end if
+        if (code == 0 .and. ps%has_pressure) then
+          if (.not. ieee_is_finite(ps%pressure(p))) then
+            code = 5; v = ps%pressure(p)
+          end if
+        end if
+        if (code == 0 .and. ps%has_porosity) then
+          if (.not. ieee_is_finite(ps%porosity(p))) then
+            code = 6; v = ps%porosity(p)
+          end if
+        end if
+        if (code == 0 .and. allocated(ps%defgrad)) then
+          if (size(ps%defgrad, 2) >= p) then
+            fdet = det3(ps%defgrad(:, p))
+            if (.not. (fdet > 0.0_wp .and. ieee_is_finite(fdet))) then
+              code = 7; v = fdet
+            end if
+          end if
+        end if
+        if (code /= 0) then
+          bad(1) = real(code, wp)
+          info = point_info(self, ps, p)
+          info(7) = real(is, wp)
+          info(8) = v
+          return
+        end if
+      end do
+    end subroutine scan_set
+  end subroutine check_state
+
+  !> Determinant of a 3x3 matrix stored column-major in 9 values.
+  pure real(wp) function det3(a) result(d)
+    real(wp), intent(in) :: a(9)
+    d = a(1)*(a(5)*a(9) - a(8)*a(6)) - a(4)*(a(2)*a(9) - a(8)*a(3)) + a(7)*(a(2)*a(6) - a(5)*a(3))
+  end function det3
 
   !> Write one frame of all point sets.
   subroutine sim_write_frame(self)

@@ -9,7 +9,7 @@ module dpmpm_two_phase
   use dpmpm_kinds, only: wp
   implicit none
   private
-  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, drag_limit, interp_scalar
+  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, drag_solve, drag_limit, interp_scalar, drag_relax
   public :: pressure_update
   public :: fluid_density, gravity_drag
 
@@ -137,6 +137,33 @@ contains
     as = ((mf + e)*r1 + e*r2)/det
     af = (e*r1 + (ms + e)*r2)/det
   end subroutine drag_solve
+
+  !> Relative velocity of a MUSL-remapped pair made consistent with the step's
+  !> implicit drag. vs, vf are the remapped nodal velocities (each phase projected
+  !> from its own points), wstep = v_f - v_s of the nodal update itself. The two
+  !> point sets project the same nodal increments with their own masses, so the
+  !> remap adds a relative velocity w_R - wstep that no drag has acted on. The
+  !> implicit drag shrinks a relative velocity in one step by
+  !> f = ms mf / (ms mf + dt d (ms + mf)); where it locks the phases (f < f_lock)
+  !> the added part is shrunk the same way, w = wstep + g (w_R - wstep) with
+  !> g = f + (1 - f) f / f_lock, which is 1 (the plain remap) from f = f_lock on.
+  !> Where the drag is moderate the nodal update's own relative velocity can be
+  !> large at a node one phase barely reaches, and the plain remap is kept. The
+  !> momentum of the pair is kept (doc/verification.md, "Long runs").
+  pure subroutine drag_relax(ms, mf, d, dt, wstep, vs, vf)
+    real(wp), intent(in) :: ms, mf, d, dt, wstep
+    real(wp), intent(inout) :: vs, vf
+    real(wp), parameter :: f_lock = 0.1_wp
+    real(wp) :: mix, w, f, g
+    if (ms <= 0.0_wp .or. mf <= 0.0_wp .or. d <= 0.0_wp) return
+    f = ms*mf/(ms*mf + dt*d*(ms + mf))
+    if (f >= f_lock) return
+    g = f + (1.0_wp - f)*f/f_lock
+    mix = (ms*vs + mf*vf)/(ms + mf)
+    w = wstep + g*(vf - vs - wstep)
+    vs = mix - mf/(ms + mf)*w
+    vf = mix + ms/(ms + mf)*w
+  end subroutine drag_relax
 
   !> Largest stable step of forward Euler on the relative motion of the two
   !> phases at a node, 2 / (d (1/ms + 1/mf)) (physics.md 5, the binding limit of

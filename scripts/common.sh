@@ -3,7 +3,7 @@
 
 DPMPM_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 DPMPM_DEB_PACKAGES="gfortran libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools libfftw3-dev cmake ninja-build python3 python3-pip"
-DPMPM_PY_MODULES="h5py numpy matplotlib"
+DPMPM_PY_MODULES="h5py numpy matplotlib pytest"
 
 # Open MPI refuses to run as root and to put more ranks than cores on a machine
 # unless told; both are harmless elsewhere.
@@ -44,6 +44,13 @@ dpmpm_require_packages() {
     echo "dpmpm: installing Python modules ${pymissing[*]}"
     python3 -m pip install -q "${pymissing[@]}" 2>/dev/null \
       || python3 -m pip install -q --break-system-packages "${pymissing[@]}"
+  fi
+  # The package dpmpm of this checkout (scripts/python/dpmpm, pyproject.toml), editable.
+  if ! python3 -c "import dpmpm, sys; sys.exit(not dpmpm.__file__.startswith('$DPMPM_ROOT/'))" \
+      2>/dev/null; then
+    echo "dpmpm: installing the Python package dpmpm (editable, from $DPMPM_ROOT)"
+    python3 -m pip install -q -e "$DPMPM_ROOT" 2>/dev/null \
+      || python3 -m pip install -q --break-system-packages -e "$DPMPM_ROOT"
   fi
 }
 

@@ -1,0 +1,40 @@
+"""Reading, plotting and checking dpmpm output files (doc/python.md).
+
+    import dpmpm
+    with dpmpm.open_run("out/consolidation_2d.h5") as run:
+        fr = run.frames[-1]
+        p = fr["fluid"]["pore_pressure"]          # sorted by point id
+        prof = dpmpm.profile(run, "pore_pressure", frame=-1)
+"""
+from .compare import Comparison, compare_runs
+from .consolidation import compare_terzaghi, terzaghi_setup
+from .profile import Profile, bin_edges, cell_average, profile
+from .run import STRESS_COMPONENTS, Frame, Grid, PointSet, Run, open_run, von_mises
+from .xdmf import write_xdmf, xdmf_text
+
+
+# The plotting functions import matplotlib when first called, not with the package.
+def plot_run(run, out, color="von_mises", frames=None, dpi=110):
+    """A PNG of the point sets at a few frames and the energies (dpmpm.plot.plot_run)."""
+    from . import plot
+    return plot.plot_run(run, out, color=color, frames=frames, dpi=dpi)
+
+
+def plot_profiles(profiles, out, xlabel="value", top=None, dpi=110):
+    """Profiles against position or depth in a PNG (dpmpm.plot.plot_profiles)."""
+    from . import plot
+    return plot.plot_profiles(profiles, out, xlabel=xlabel, top=top, dpi=dpi)
+
+
+def plot_terzaghi(run, out, times=None, setup=None, dpi=120):
+    """p and sigma' against depth beside Terzaghi (dpmpm.consolidation.plot_terzaghi)."""
+    from . import consolidation
+    return consolidation.plot_terzaghi(run, out, times=times, setup=setup, dpi=dpi)
+
+
+__version__ = "0.1.0"
+
+__all__ = ["open_run", "Run", "Frame", "PointSet", "Grid", "STRESS_COMPONENTS", "von_mises",
+           "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
+           "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",
+           "compare_terzaghi", "plot_terzaghi"]

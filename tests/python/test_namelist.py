@@ -1,0 +1,43 @@
+"""The small namelist reader on the forms dpmpm inputs use."""
+import os
+
+from dpmpm import namelist
+from dpmpm.run import Grid
+
+ROOT = os.path.join(os.path.dirname(__file__), "..", "..")
+
+
+def test_forms():
+    text = """! comment with &grid inside
+&region lo = 1*0.0, 2*1.5 stress_gradient(1:6, 2) = 3884.8, 9712.0 name='a/b!c' / ! x
+&grid ncells(2) = 4 /
+&run name = 'it''s', flag = .true., dt=1.0d-3
+/
+&boundary face = 'x-' /
+&boundary face = 'x+' /
+"""
+    groups = namelist.parse(text)
+    assert [g for g, _ in groups] == ["region", "grid", "run", "boundary", "boundary"]
+    region = groups[0][1]
+    assert region["lo"] == [0.0, 1.5, 1.5]
+    assert region["stress_gradient(1:6,2)"] == [3884.8, 9712.0]
+    assert region["name"] == ["a/b!c"]
+    assert groups[1][1] == {"ncells": [None, 4]}
+    assert groups[2][1] == {"name": ["it's"], "flag": [True], "dt": [1.0e-3]}
+    assert [b["face"] for b in namelist.groups(text, "boundary")] == [["x-"], ["x+"]]
+
+
+def test_grid_defaults_and_elements():
+    g = Grid.from_input("&grid ndim = 3, ncells(3) = 7 /")
+    assert g.ncells.tolist() == [1, 1, 7]
+    assert g.length.tolist() == [1.0, 1.0, 1.0]
+
+
+def test_every_scene_has_its_grid():
+    # Each scene of inputs/ gives a grid whose cell count matches its ndim.
+    for name in os.listdir(os.path.join(ROOT, "inputs")):
+        if name.endswith(".nml"):
+            text = open(os.path.join(ROOT, "inputs", name)).read()
+            g = Grid.from_input(text)
+            assert g.ndim in (1, 2, 3) and len(g.ncells) == g.ndim, name
+            assert all(g.spacing > 0), name

@@ -1,0 +1,198 @@
+"""Files written by dpmpm during the test: reading, matching by id across rank counts,
+comparison, the XDMF rewrite and the command line."""
+import os
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+import h5py
+import numpy as np
+import pytest
+
+import dpmpm
+from conftest import ROOT
+from synthetic import write_synthetic
+
+PYENV = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "scripts", "python"))
+
+
+def cli(*args):
+    return subprocess.run([sys.executable, "-m", "dpmpm", *args], capture_output=True,
+                          text=True, env=PYENV)
+
+
+def test_read_run(run_np2):
+    with dpmpm.open_run(run_np2) as run, h5py.File(run_np2, "r") as f:
+        assert run.ndim == 2 and run.nranks == 2
+        assert len(run.frames) == len(f["frames"]) == 4
+        assert np.all(np.diff(run.times) > 0)
+        assert run.set_names == ["solid", "fluid"]
+        assert run.grid.ncells.tolist() == [4, 20]
+        for fr in run.frames:
+            for s in ("solid", "fluid"):
+                ps = fr[s]
+                raw = f["frames"][fr.name][s]
+                ids = raw["id"][...]
+                assert np.all(np.diff(ps.id) > 0)
+                assert sorted(ids.tolist()) == ps.id.tolist()
+                for d in ps.keys():
+                    # Each row is the file's row of the same id.
+                    where = {i: k for k, i in enumerate(ids)}
+                    rows = [where[i] for i in ps.id]
+                    np.testing.assert_array_equal(ps[d], raw[d][...][rows])
+        d = run.diagnostics
+        assert set(d) >= {"time", "step", "kinetic_energy", "wall_time"}
+        np.testing.assert_array_equal(d["step"], f["diagnostics/step"][...])
+        assert run.input == f["input"][()].decode()
+
+
+def test_ranks_match_by_id(run_np1, run_np2):
+    with dpmpm.open_run(run_np1) as a, dpmpm.open_run(run_np2) as b:
+        # The test means something only when the two files order the points differently.
+        with h5py.File(run_np1, "r") as f1, h5py.File(run_np2, "r") as f2:
+            last = sorted(f1["frames"])[-1]
+            assert not np.array_equal(f1[f"frames/{last}/fluid/id"][...],
+                                      f2[f"frames/{last}/fluid/id"][...])
+        c = dpmpm.compare_runs(a, b)
+        assert not c.problems, c.problems
+        assert c.max_rel <= 1e-10, "\n".join(c.table())
+        assert ("fluid", "pore_pressure") in c.datasets
+        # The pore pressure has built up: a comparison of zeros would prove nothing.
+        assert np.max(np.abs(a.frames[-1]["fluid"]["pore_pressure"])) > 100.0
+
+
+def perturbed_copy(src, dst, edit):
+    shutil.copy(src, dst)
+    with h5py.File(dst, "r+") as f:
+        edit(f)
+    return dst
+
+
+def test_compare_sees_differences(run_np2, tmp_path):
+    last = None
+
+    def bump(f):
+        nonlocal last
+        last = sorted(f["frames"])[-1]
+        ds = f[f"frames/{last}/fluid/pore_pressure"]
+        v = ds[...]
+        v[3] += 0.5
+        ds[...] = v
+
+    bad = perturbed_copy(run_np2, str(tmp_path / "bumped.h5"), bump)
+    with dpmpm.open_run(run_np2) as a, dpmpm.open_run(bad) as b:
+        c = dpmpm.compare_runs(a, b)
+        r = c.datasets[("fluid", "pore_pressure")]
+        assert r["max_abs"] == pytest.approx(0.5, rel=1e-9)
+        assert r["frame"] == last
+        scale = np.max(np.abs(a.frames[-1]["fluid"]["pore_pressure"]))
+        assert r["max_rel"] == pytest.approx(0.5 / scale, rel=1e-9)
+        assert c.datasets[("solid", "x")]["max_abs"] == 0.0
+        assert not c.agrees(1e-6)
+
+    def swap_rows(f):
+        # Two rows of x exchanged without their ids: matching by id must see it.
+        ds = f["frames/000001/solid/x"]
+        v = ds[...]
+        v[[0, 1]] = v[[1, 0]]
+        ds[...] = v
+
+    bad2 = perturbed_copy(run_np2, str(tmp_path / "swapped.h5"), swap_rows)
+    with dpmpm.open_run(run_np2) as a, dpmpm.open_run(bad2) as b:
+        assert dpmpm.compare_runs(a, b).datasets[("solid", "x")]["max_abs"] > 0.0
+
+
+def xml_tree(path):
+    """The sidecar as nested tuples (tag, attributes, text, children); times as floats."""
+    def conv(e):
+        attrs = dict(e.attrib)
+        if e.tag == "Time":
+            attrs["Value"] = float(attrs["Value"])
+        return (e.tag, attrs, (e.text or "").strip(), [conv(c) for c in e])
+    return conv(ET.parse(path).getroot())
+
+
+def test_xdmf_rewrite_equals_the_writer(run_np1, run_np2, tmp_path):
+    for h5 in (run_np1, run_np2):
+        out = str(tmp_path / (os.path.basename(h5) + ".xmf"))
+        dpmpm.write_xdmf(h5, out)
+        assert xml_tree(out) == xml_tree(os.path.splitext(h5)[0] + ".xmf")
+
+
+def test_xdmf_rewrite_passes_check_output(run_np2, tmp_path):
+    copy = str(tmp_path / "copy.h5")
+    shutil.copy(run_np2, copy)
+    r = cli("xdmf", copy)
+    assert r.returncode == 0, r.stderr
+    assert os.path.exists(str(tmp_path / "copy.xmf"))
+    chk = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "check_output.py"),
+                          copy], capture_output=True, text=True)
+    assert chk.returncode == 0, chk.stdout
+
+
+def test_xdmf_without_fluid_stress(tmp_path):
+    h5 = write_synthetic(str(tmp_path / "nofs.h5"))
+    tree = ET.fromstring(dpmpm.xdmf_text(h5))
+    colls = tree.findall("Domain/Grid")
+    assert [c.get("Name") for c in colls] == ["solid", "fluid"]
+    for c in colls:
+        assert len(c.findall("Grid")) == 2
+        names = [a.get("Name") for a in c.iter("Attribute")]
+        stress = [n for n in names if n.startswith("stress_")]
+        assert stress == ([f"stress_{k}" for k in dpmpm.STRESS_COMPONENTS] * 2
+                          if c.get("Name") == "solid" else [])
+        assert ("pore_pressure" in names) == (c.get("Name") == "fluid")
+    with h5py.File(h5, "r") as f:
+        for item in tree.iter("DataItem"):
+            if item.get("Format") == "HDF":
+                fname, _, dset = item.text.partition(":")
+                assert fname == "nofs.h5" and dset in f
+                assert tuple(int(k) for k in item.get("Dimensions").split()) == f[dset].shape
+
+
+def main(*args):
+    """The command line in this process: its exit status (argparse errors give 2)."""
+    from dpmpm.cli import main as cli_main
+    try:
+        return cli_main(list(args))
+    except SystemExit as e:
+        return e.code
+
+
+def test_cli_exit_codes(run_np1, run_np2, tmp_path, capsys):
+    # As a module in its own process once; the rest in this process (faster).
+    r = cli("info", run_np2)
+    assert r.returncode == 0 and "fluid: 320 points" in r.stdout, r.stdout + r.stderr
+    assert main("compare", run_np1, run_np2) == 0
+
+    def bump(f):
+        ds = f["frames/000002/solid/stress"]
+        v = ds[...]
+        v[0, 1] *= 1.01
+        ds[...] = v
+    bad = perturbed_copy(run_np2, str(tmp_path / "b.h5"), bump)
+    capsys.readouterr()
+    assert main("compare", run_np2, bad) == 1
+    assert "differ" in capsys.readouterr().out
+    assert main("compare", run_np2, bad, "--rtol", "0.02") == 0
+    assert main("info", str(tmp_path / "missing.h5")) == 2
+    assert main("profile", run_np2, "no_such_quantity") == 2
+    assert main("nonsense") == 2
+    png = str(tmp_path / "p.png")
+    assert main("plot", run_np2, "-o", png, "--color", "stress_yy") == 0
+    assert os.path.getsize(png) > 0
+    capsys.readouterr()
+    assert main("profile", run_np2, "pore_pressure", "--frame", "3") == 0
+    lines = [l for l in capsys.readouterr().out.splitlines() if not l.startswith("#")]
+    assert len(lines) == 20
+    assert main("terzaghi", run_np2, "-o", str(tmp_path / "t.png")) == 0
+    # A dry scene is no consolidation: a clear error, status 2.
+    assert main("terzaghi", write_synthetic(str(tmp_path / "dry.h5"))) == 2
+
+
+def test_plot_frames_script(run_np2, tmp_path):
+    png = str(tmp_path / "frames.png")
+    r = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "plot_frames.py"),
+                        run_np2, "-o", png], capture_output=True, text=True)
+    assert r.returncode == 0 and r.stdout.strip() == png and os.path.getsize(png) > 0

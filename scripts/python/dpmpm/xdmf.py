@@ -70,7 +70,7 @@ def _set_grid(lines, base, sname, g, ndim, time):
                          f'</DataItem></Attribute>')
     if "material" in g:
         attribute("material", "Scalar", str(n), "Int", "4")
-    for name in ("porosity", "pore_pressure"):
+    for name in ("porosity", "pore_pressure", "plastic_strain"):
         if name in g:
             attribute(name, "Scalar", str(n), "Float", "8")
     attribute("id", "Scalar", str(n), "Int", "8")

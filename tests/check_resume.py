@@ -45,6 +45,38 @@ def run(args, name, extra, restart=None):
     return r.stdout
 
 
+def wall_clock_checkpoints(args, failed):
+    """checkpoint_seconds alone (no checkpoint_every) writes checkpoints at the looks for a
+    stop (every 10 steps); a torn <name>.ckpt.h5.tmp of an earlier run is removed."""
+    w = args.workdir
+    text = scene_text(args.scene, "wall", w, [("max_steps", "25"),
+                                             ("output.checkpoint_seconds", "1.0e-9")])
+    text = re.sub(r"(?m)^(\s*t_end\s*=\s*).*$", r"\g<1>1.0", text)
+    nml = os.path.join(w, "wall.nml")
+    with open(nml, "w") as f:
+        f.write(text)
+    tmp = os.path.join(w, "wall.ckpt.h5.tmp")
+    with open(tmp, "w") as f:
+        f.write("torn")
+    r = subprocess.run([args.mpiexec, "--oversubscribe", "-n", str(args.ranks), args.dpmpm, nml],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        failed.append(f"the wall-clock checkpoint run ended with {r.returncode}")
+        return
+    if os.path.exists(tmp) or "removed " + tmp not in r.stdout:
+        failed.append("the torn temporary checkpoint was not removed with a message")
+    ckpt = os.path.join(w, "wall.ckpt.h5")
+    if not os.path.exists(ckpt):
+        failed.append("checkpoint_seconds wrote no checkpoint")
+        return
+    with h5py.File(ckpt, "r") as f:
+        step = int(np.ravel(f["state"][...])[0])
+    print(f"checkpoint_seconds: last checkpoint at step {step} of 25")
+    if step != 20:
+        failed.append(f"the last wall-clock checkpoint is at step {step}, expected 20 (the "
+                      "looks come every 10 steps, none at the last step)")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--dpmpm", required=True)
@@ -78,6 +110,7 @@ def main():
         if sorted(set(sb.tolist()) - set(sa.tolist())) not in ([], [20]) or \
                 not set(sa.tolist()) <= set(sb.tolist()):
             failed.append(f"diagnostics steps {sb.tolist()} against {sa.tolist()}")
+    wall_clock_checkpoints(args, failed)
     r = subprocess.run([sys.executable, os.path.join(HERE, "..", "scripts", "check_output.py"),
                         piece], capture_output=True, text=True)
     print(r.stdout.strip())

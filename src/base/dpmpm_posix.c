@@ -1,8 +1,10 @@
 /* POSIX services that Fortran has no portable binding for: creating one directory with
- * the reason of a failure (errno), and noting the stop signals a batch scheduler sends
+ * the reason of a failure (errno), flushing a file to the disk, and noting the stop signals a batch scheduler sends
  * before it kills a job (SIGTERM, SIGUSR1). Used through module dpmpm_posix. */
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <unistd.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
@@ -19,6 +21,18 @@ int dpmpm_mkdir(const char *path)
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
     return ENOTDIR;
   }
+  return err;
+}
+
+/* Flush a file (or a directory: the names in it) to the disk: 0, or the errno of the
+ * failure. Used before and after the rename that makes a new checkpoint the current one. */
+int dpmpm_fsync(const char *path)
+{
+  int fd, err = 0;
+  fd = open(path, O_RDONLY);
+  if (fd < 0) return errno;
+  if (fsync(fd) != 0) err = errno;
+  close(fd);
   return err;
 }
 

@@ -1,12 +1,12 @@
 !> POSIX services through the small C file beside this module (dpmpm_posix.c): making
-!> one directory without a shell, and the stop signals of batch schedulers (SIGTERM,
+!> one directory without a shell, flushing a file to the disk, and the stop signals of batch schedulers (SIGTERM,
 !> SIGUSR1), whose handler only sets a flag that the run loop reads between steps.
 module dpmpm_posix
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_f_pointer, &
                                          c_associated
   implicit none
   private
-  public :: posix_mkdir, posix_strerror, catch_stop_signals, stop_signal, signal_name
+  public :: posix_mkdir, posix_strerror, posix_fsync, catch_stop_signals, stop_signal, signal_name
 
   interface
     function c_mkdir(path) bind(C, name='dpmpm_mkdir') result(err)
@@ -14,6 +14,11 @@ module dpmpm_posix
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int) :: err
     end function c_mkdir
+    function c_fsync(path) bind(C, name='dpmpm_fsync') result(err)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: err
+    end function c_fsync
     function c_strerror(err) bind(C, name='dpmpm_strerror') result(p)
       import :: c_int, c_ptr
       integer(c_int), value :: err
@@ -42,6 +47,12 @@ contains
     character(len=*), intent(in) :: path
     err = int(c_mkdir(path//c_null_char))
   end function posix_mkdir
+
+  !> Flush the file or directory path to the disk: 0, or the errno of the failure.
+  integer function posix_fsync(path) result(err)
+    character(len=*), intent(in) :: path
+    err = int(c_fsync(path//c_null_char))
+  end function posix_fsync
 
   !> The system's text for an errno value.
   function posix_strerror(err) result(text)

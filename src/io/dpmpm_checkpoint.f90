@@ -24,6 +24,7 @@ module dpmpm_checkpoint
   use dpmpm_particles, only: particle_set_t
   use dpmpm_migrate, only: point_cell
   use dpmpm_h5, only: h5check, make_dir, rename_file, write_columns, write_check_t
+  use dpmpm_posix, only: posix_fsync, posix_strerror
   implicit none
   private
   public :: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
@@ -100,7 +101,17 @@ contains
     call h5fclose_f(file, err)
     call h5check(err, 'h5fclose_f('//path//'.tmp)', where)
     call MPI_Barrier(comm)
-    if (rank == 0) call rename_file(path//'.tmp', path, where)
+    ! On the disk before it replaces the previous checkpoint, and the new name on the disk
+    ! after: a crash of the machine (not only of the run) leaves one whole checkpoint.
+    if (rank == 0) then
+      err = posix_fsync(path//'.tmp')
+      if (err /= 0) call fatal('cannot flush '//path//'.tmp to the disk: '// &
+                               posix_strerror(err), where)
+      call rename_file(path//'.tmp', path, where)
+      err = posix_fsync(trim(output_dir))
+      if (err /= 0) call fatal('cannot flush directory '//trim(output_dir)//' to the disk: '// &
+                               posix_strerror(err), where)
+    end if
     call MPI_Barrier(comm)
   end subroutine write_checkpoint
 

@@ -131,6 +131,7 @@ module dpmpm_config
     real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only
     integer :: diag_every = 0                        !< steps between diagnostics; 0 = automatic
     integer :: checkpoint_every = 0                  !< steps between checkpoints; 0 = none
+    real(wp) :: checkpoint_seconds = 0.0_wp          !< wall-clock s between checkpoints; 0 = none
     integer :: compression = 1                       !< gzip level (with shuffle) of frames; 0 = off
     character(len=256) :: solid_fields = 'all'       !< optional datasets of solid sets, or 'all'
     character(len=256) :: fluid_fields = 'all'       !< optional datasets of fluid sets, or 'all'

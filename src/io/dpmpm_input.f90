@@ -47,8 +47,8 @@ module dpmpm_input
     'pore_pressure_gradient', &
     'face, condition, fluid, pore_pressure, pore_pressure_ramp', &
     'face, traction, ramp_time', &
-    'dir, frame_interval, diag_every, checkpoint_every, compression, solid_fields, '// &
-    'fluid_fields', &
+    'dir, frame_interval, diag_every, checkpoint_every, checkpoint_seconds, compression, '// &
+    'solid_fields, fluid_fields', &
     'name, amplitude']
   character(len=*), parameter :: err_prefix = 'dpmpm: input error: '
   !> Length of the buffers that strings with a shorter limit are read into, so that a value
@@ -236,6 +236,7 @@ contains
     call put_r(unit, 'frame_interval', [cfg%frame_interval])
     call put_i(unit, 'diag_every', [cfg%diag_every])
     call put_i(unit, 'checkpoint_every', [cfg%checkpoint_every])
+    call put_r(unit, 'checkpoint_seconds', [cfg%checkpoint_seconds])
     call put_i(unit, 'compression', [cfg%compression])
     call put_s(unit, 'solid_fields', cfg%solid_fields)
     call put_s(unit, 'fluid_fields', cfg%fluid_fields)
@@ -795,13 +796,14 @@ contains
     logical, intent(out) :: ok
     character(len=long_len) :: dir
     character(len=len(cfg%solid_fields)) :: solid_fields, fluid_fields
-    real(wp) :: frame_interval
+    real(wp) :: frame_interval, checkpoint_seconds
     integer :: diag_every, checkpoint_every, compression, ios
     character(len=512) :: msg
-    namelist /output/ dir, frame_interval, diag_every, checkpoint_every, compression, &
-      solid_fields, fluid_fields
+    namelist /output/ dir, frame_interval, diag_every, checkpoint_every, checkpoint_seconds, &
+      compression, solid_fields, fluid_fields
     dir = cfg%output_dir; frame_interval = cfg%frame_interval; diag_every = cfg%diag_every
     checkpoint_every = cfg%checkpoint_every; compression = cfg%compression
+    checkpoint_seconds = cfg%checkpoint_seconds
     solid_fields = cfg%solid_fields; fluid_fields = cfg%fluid_fields
     read (u, nml=output, iostat=ios, iomsg=msg)
     ok = ios == 0
@@ -812,6 +814,7 @@ contains
     call check_length(rd, g_output, 'dir', dir, len(cfg%output_dir))
     cfg%output_dir = dir; cfg%frame_interval = frame_interval; cfg%diag_every = diag_every
     cfg%checkpoint_every = checkpoint_every; cfg%compression = compression
+    cfg%checkpoint_seconds = checkpoint_seconds
     cfg%solid_fields = solid_fields; cfg%fluid_fields = fluid_fields
   end subroutine read_output
 
@@ -984,6 +987,9 @@ contains
       'must name a directory')
     if (cfg%checkpoint_every < 0) call add_value(rd, g_output, 1, 'checkpoint_every', &
       itoa(cfg%checkpoint_every), 'must be >= 0 (steps; 0 = no checkpoints)')
+    if (.not. real_ok(cfg%checkpoint_seconds, ge=0.0_wp)) call add_value(rd, g_output, 1, &
+      'checkpoint_seconds', rtoa(cfg%checkpoint_seconds), &
+      'must be >= 0 (s of wall time between checkpoints; 0 = none)')
     if (cfg%compression < 0 .or. cfg%compression > 9) call add_value(rd, g_output, 1, &
       'compression', itoa(cfg%compression), 'must be 0 (off) to 9 (gzip level)')
     call check_fields(rd, 'solid_fields', cfg%solid_fields, .false.)
@@ -1546,6 +1552,7 @@ contains
     call bcast(cfg%diag_every, comm)
     call bcast(cfg%checkpoint_every, comm)
     call bcast(cfg%compression, comm)
+    call bcast(cfg%checkpoint_seconds, comm)
     call bcast(cfg%solid_fields, comm)
     call bcast(cfg%fluid_fields, comm)
     call bcast(cfg%benchmark, comm)

@@ -339,8 +339,6 @@ contains
     character(len=32) :: gname
     integer(hid_t) :: gid, dset
     integer(hsize_t) :: dims(1), maxdims(1)
-    type(frame_rec_t), allocatable :: ftmp(:)
-    type(set_rec_t), allocatable :: stmp(:)
     type(set_rec_t) :: rec
     real(wp), target :: time
     integer(i8), target :: step
@@ -351,13 +349,7 @@ contains
     call h5check(err, 'h5gopen_f('//trim(gname)//')', where)
     call read_attr(gid, 'time', h5kind_to_type(wp, H5_REAL_KIND), c_loc(time), where)
     call read_attr(gid, 'step', h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(step), where)
-    if (self%nframes + 1 > size(self%frames)) then
-      allocate (ftmp(2*size(self%frames)))
-      ftmp(1:self%nframes) = self%frames(1:self%nframes)
-      call move_alloc(ftmp, self%frames)
-    end if
-    self%nframes = self%nframes + 1
-    self%frames(self%nframes) = frame_rec_t(step=step, time=time)
+    call add_frame_rec(self, frame_rec_t(step=step, time=time))
     do j = 1, size(names)
       call h5lexists_f(gid, trim(names(j)), exists, err)
       if (.not. exists) cycle
@@ -369,17 +361,39 @@ contains
       do f = 1, size(optional_fields)
         call h5lexists_f(gid, trim(names(j))//'/'//trim(optional_fields(f)), rec%has(f), err)
       end do
-      if (self%nsets + 1 > size(self%sets)) then
-        allocate (stmp(2*size(self%sets)))
-        stmp(1:self%nsets) = self%sets(1:self%nsets)
-        call move_alloc(stmp, self%sets)
-      end if
-      self%nsets = self%nsets + 1
-      self%sets(self%nsets) = rec
+      call add_set_rec(self, rec)
     end do
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f('//trim(gname)//')', where)
   end subroutine add_frame_records
+
+  !> Append a frame to the records of the sidecar.
+  subroutine add_frame_rec(self, rec)
+    class(output_t), intent(inout) :: self
+    type(frame_rec_t), intent(in) :: rec
+    type(frame_rec_t), allocatable :: tmp(:)
+    if (self%nframes + 1 > size(self%frames)) then
+      allocate (tmp(2*size(self%frames)))
+      tmp(1:self%nframes) = self%frames(1:self%nframes)
+      call move_alloc(tmp, self%frames)
+    end if
+    self%nframes = self%nframes + 1
+    self%frames(self%nframes) = rec
+  end subroutine add_frame_rec
+
+  !> Append a point set of a frame to the records of the sidecar.
+  subroutine add_set_rec(self, rec)
+    class(output_t), intent(inout) :: self
+    type(set_rec_t), intent(in) :: rec
+    type(set_rec_t), allocatable :: tmp(:)
+    if (self%nsets + 1 > size(self%sets)) then
+      allocate (tmp(2*size(self%sets)))
+      tmp(1:self%nsets) = self%sets(1:self%nsets)
+      call move_alloc(tmp, self%sets)
+    end if
+    self%nsets = self%nsets + 1
+    self%sets(self%nsets) = rec
+  end subroutine add_set_rec
 
   !> Read a scalar attribute of loc into the memory at ptr (memory type mtype).
   subroutine read_attr(loc, name, mtype, ptr, where)
@@ -420,7 +434,6 @@ contains
     real(wp), intent(in) :: time
     character(len=*), parameter :: where = 'output%begin_frame'
     character(len=32) :: gname
-    type(frame_rec_t), allocatable :: tmp(:)
     integer :: err
     if (.not. self%is_open) call fatal('the output file is not open', where)
     if (self%in_frame) call fatal('the previous frame was not ended', where)
@@ -429,13 +442,7 @@ contains
     call h5check(err, 'h5gcreate_f('//trim(gname)//')', where)
     call attr_real(self%frame_id, 'time', time)
     call attr_i8(self%frame_id, 'step', step)
-    if (self%nframes + 1 > size(self%frames)) then
-      allocate (tmp(2*size(self%frames)))
-      tmp(1:self%nframes) = self%frames(1:self%nframes)
-      call move_alloc(tmp, self%frames)
-    end if
-    self%nframes = self%nframes + 1
-    self%frames(self%nframes) = frame_rec_t(step=step, time=time)
+    call add_frame_rec(self, frame_rec_t(step=step, time=time))
     self%in_frame = .true.
   end subroutine out_begin_frame
 
@@ -454,7 +461,6 @@ contains
     integer(hid_t) :: gid
     integer(i8) :: nloc, offset, nglob
     integer(i4), allocatable :: matid(:)
-    type(set_rec_t), allocatable :: tmp(:)
     character(len=:), allocatable :: fields
     logical :: has(size(optional_fields)), fluid
     integer :: err, k, n, d, flags(2), fmin(2), fmax(2)
@@ -514,13 +520,7 @@ contains
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f('//trim(ps%name)//')', where)
 
-    if (self%nsets + 1 > size(self%sets)) then
-      allocate (tmp(2*size(self%sets)))
-      tmp(1:self%nsets) = self%sets(1:self%nsets)
-      call move_alloc(tmp, self%sets)
-    end if
-    self%nsets = self%nsets + 1
-    self%sets(self%nsets) = set_rec_t(frame=self%nframes - 1, name=ps%name, n=nglob, has=has)
+    call add_set_rec(self, set_rec_t(frame=self%nframes - 1, name=ps%name, n=nglob, has=has))
   end subroutine out_write_set
 
   !> Close the current frame, write buffered diagnostics, flush the file to disk, read back

@@ -112,6 +112,7 @@ module dpmpm_simulation
     real(wp) :: ext_work = 0.0_wp
     integer(i8) :: step = 0
     real(wp) :: wall_start = 0.0_wp
+    real(wp) :: wall_checkpoint = 0.0_wp      !< wall clock of the last checkpoint (or start)
     integer :: nframes = 0
     integer(i8) :: last_frame_step = -1       !< step of the last frame written
     real(wp) :: next_frame = 0.0_wp
@@ -199,6 +200,7 @@ contains
     self%nerr = 0
     call self%log%init(comm)
     self%wall_start = MPI_Wtime()
+    self%wall_checkpoint = self%wall_start
     self%nd = cfg%ndim
     call self%plan%init(cfg)
     self%kernel = self%plan%grid_kernel
@@ -296,6 +298,7 @@ contains
     end if
     self%dt = self%stable_dt()
     if (self%write_output) then
+      call remove_stale_temporary(self)
       if (len_trim(cfg%restart) > 0) then
         call resume_output(self)
       else
@@ -307,6 +310,26 @@ contains
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
+
+  !> A <name>.ckpt.h5.tmp left by a run killed while writing its checkpoint is a torn copy
+  !> (the checkpoint before it is whole): removed, and said.
+  subroutine remove_stale_temporary(self)
+    type(simulation_t), intent(in) :: self
+    character(len=:), allocatable :: tmp
+    logical :: exists
+    integer :: u, ios
+    if (.not. self%log%root) return
+    tmp = checkpoint_path(self%cfg%output_dir, self%cfg%name)//'.tmp'
+    inquire (file=tmp, exist=exists)
+    if (.not. exists) return
+    open (newunit=u, file=tmp, status='old', iostat=ios)
+    if (ios == 0) close (u, status='delete', iostat=ios)
+    if (ios == 0) then
+      call self%log%info('dpmpm: removed '//tmp//', a checkpoint torn by an earlier run''s end')
+    else
+      call self%log%warning('cannot remove '//tmp//' (a torn checkpoint of an earlier run)')
+    end if
+  end subroutine remove_stale_temporary
 
   !> Say where the output goes, and warn when that replaces the file of an earlier run.
   subroutine announce_output(self)
@@ -401,6 +424,7 @@ contains
     else
       call write_checkpoint(path, self%cfg%output_dir, self%dec%comm, st, self%solid)
     end if
+    self%wall_checkpoint = MPI_Wtime()
     call self%timers%toc(t_output)
   end subroutine write_state
 
@@ -466,6 +490,7 @@ contains
   subroutine sim_run(self)
     class(simulation_t), intent(inout) :: self
     integer(i8) :: diag_every, nwall, step0
+    logical :: checkpoint_due
     real(wp) :: last_progress, now, eta, dt, loop_start, time0, done
     character(len=256) :: line
     integer :: k
@@ -510,8 +535,9 @@ contains
       ! a continued run would have nothing left to write it).
       if (mod(self%step, stop_every) == 0 .and. self%time < self%cfg%t_end*(1.0_wp - 1.0e-12_wp) &
           .and. self%step < self%cfg%max_steps) then
-        self%stopped = stop_request(self)
+        self%stopped = stop_request(self, checkpoint_due)
         if (self%stopped /= 0) exit
+        if (checkpoint_due) call write_state(self)
       end if
     end do
     call self%timers%toc(t_total)
@@ -570,16 +596,24 @@ contains
 
   !> Collective: a stop signal (SIGTERM, SIGUSR1: what batch schedulers send before the
   !> kill) on any rank, returned as its number, or -1 when max_wall_time is over; 0 to go on.
-  integer function stop_request(self) result(why)
+  !> checkpoint_due: checkpoint_seconds of wall time have passed since the last checkpoint.
+  integer function stop_request(self, checkpoint_due) result(why)
     type(simulation_t), intent(in) :: self
-    integer :: req(2)
-    req = [stop_signal(), 0]
+    logical, intent(out) :: checkpoint_due
+    integer :: req(3)
+    real(wp) :: now
+    now = MPI_Wtime()
+    req = [stop_signal(), 0, 0]
     if (self%cfg%max_wall_time > 0.0_wp) then
-      if (MPI_Wtime() - self%wall_start >= self%cfg%max_wall_time) req(2) = 1
+      if (now - self%wall_start >= self%cfg%max_wall_time) req(2) = 1
     end if
-    call MPI_Allreduce(MPI_IN_PLACE, req, 2, MPI_INTEGER, MPI_MAX, self%dec%comm)
+    if (self%cfg%checkpoint_seconds > 0.0_wp) then
+      if (now - self%wall_checkpoint >= self%cfg%checkpoint_seconds) req(3) = 1
+    end if
+    call MPI_Allreduce(MPI_IN_PLACE, req, 3, MPI_INTEGER, MPI_MAX, self%dec%comm)
     why = req(1)
     if (why == 0 .and. req(2) > 0) why = -1
+    checkpoint_due = req(3) > 0
   end function stop_request
 
   !> Say why the run stopped before t_end and how to continue it.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runout and final height of a planar granular column collapse (physics.md 7.1).
+"""Runout and final height of a planar granular column collapse (doc/theory.md, section 9.6).
 
 Reads a dpmpm output file, takes the solid points of a frame (the last one unless
 --frame is given) and reports
@@ -10,7 +10,7 @@ Reads a dpmpm output file, takes the solid points of a frame (the last one unles
 
 together with (L - L0)/L0 and H/L0, the kinetic energy left in the last diagnostics
 record against its peak, and the scaling laws of Lube et al. (2005) and Lajeunesse et al.
-(2005) quoted in physics.md 7.1 for the aspect ratio a = H0/L0.
+(2005) quoted in doc/theory.md, section 9.6, for the aspect ratio a = H0/L0.
 
     python3 scripts/collapse_profile.py out/c1_a2.h5 --L0 0.2 --H0 0.4 --spacing 0.005 [--plot p.png]
 """

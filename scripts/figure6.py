@@ -62,7 +62,7 @@ MEASURES = ["error_sigma_eff", "error_pore_pressure", "overshoot_sigma_eff",
 
 SECTION = """## Figure 6: 1D shock in a saturated column
 
-W1 of physics.md section 0 (`inputs/w1.nml`): a step total stress of q = 1 Pa on
+W1 of doc/theory.md, section 9.1 (`inputs/w1.nml`): a step total stress of q = 1 Pa on
 the drained top of a 10 m saturated column, 100 cells, 200 solid and 200 fluid
 points scattered uniformly over the column, compared at 0.05 s with the
 column reference (`src/verify/dpmpm_biot_column.f90`). The measures are those of

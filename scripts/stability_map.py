@@ -28,7 +28,7 @@ SHAPES = {
     'pair': "kernel = 'cubic', quadrature = 'gauss', gauss_points = 3, field_kernel = 'wendland_c2', "
             "field_radius = 2.0",
 }
-# W2 and W3 differ from W1 only in these (physics.md section 0).
+# W2 and W3 differ from W1 only in these (doc/theory.md, section 9.1).
 SCENE_CHANGES = {'w1': {}, 'w2': {'conductivity': '1.0', 'drag': "'explicit'"},
                  'w3': {'conductivity': '1.0e-4', 'bulk_modulus': '2.2e9'}}
 

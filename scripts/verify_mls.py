@@ -38,7 +38,7 @@ COMBOS = {
     "Wendland velocity + quadratic": (
         "kernel = 'quadratic', velocity_kernel = 'wendland_c2', velocity_radius = 2.0, "
         "quadrature = 'gauss', field_kernel = 'quadratic', field_radius = 0.0"),
-    "pair (physics.md 3.5)": (
+    "pair (theory.md 3.6)": (
         "kernel = 'cubic', quadrature = 'gauss', field_kernel = 'wendland_c2', "
         "field_radius = 2.0"),
 }
@@ -97,7 +97,7 @@ def fmt_orders(o):
 def tables(res, cells):
     lines = []
     for amp in AMPLITUDES:
-        lines.append(f"\n**B = {amp:g}**: e_u(T) (physics.md 2.3) and the paper's eq. (15) "
+        lines.append(f"\n**B = {amp:g}**: e_u(T) (doc/theory.md, section 9.4) and the paper's eq. (15) "
                      "(time-averaged mean point-velocity error, m/s), with observed orders.\n")
         head = "| combination | " + " | ".join(f"e_u h=1/{c}" for c in cells) + \
                " | order e_u | " + " | ".join(f"eq15 h=1/{c}" for c in cells) + " | order eq15 |"
@@ -141,7 +141,7 @@ def figure(res, cells, path):
                                             (0.05, "eq15", "eq. (15), B = 0.05")]):
         for label in COMBOS:
             ax.loglog(hs, [res[(label, c, amp)][key] for c in cells], "o-", label=label)
-        ax.loglog(hs, [res[("pair (physics.md 3.5)", cells[0], amp)][key] * (h / hs[0]) ** 2
+        ax.loglog(hs, [res[("pair (theory.md 3.6)", cells[0], amp)][key] * (h / hs[0]) ** 2
                        for h in hs], "k:", label="order 2")
         ax.set_xlabel("h")
         ax.set_title(title)

@@ -491,6 +491,7 @@ contains
     class(simulation_t), intent(inout) :: self
     integer(i8) :: diag_every, nwall, step0
     logical :: checkpoint_due
+    character(len=16) :: eta_text
     real(wp) :: last_progress, now, eta, dt, loop_start, time0, done
     character(len=256) :: line
     integer :: k
@@ -526,9 +527,12 @@ contains
         done = max((self%time - time0)/(self%cfg%t_end - time0), &
                    real(self%step - step0, wp)/real(self%cfg%max_steps - step0, wp))
         eta = (now - loop_start)*(1.0_wp - done)/max(done, tiny(1.0_wp))
-        write (line, '(a,i0,a,es12.5,a,es10.3,a,f6.1,a,f0.1,a)') 'step ', self%step, '  t = ', &
+        ! A fixed width keeps the leading zero of an ETA below 1 s (f0.1 drops it).
+        write (eta_text, '(f16.1)') eta
+        write (line, '(a,i0,a,es12.5,a,es10.3,a,f6.1,a)') 'step ', self%step, '  t = ', &
           self%time, '  dt = ', self%dt, '  ', 100.0_wp*max(self%time/self%cfg%t_end, &
-          real(self%step, wp)/real(self%cfg%max_steps, wp)), '%  ETA ', eta, ' s'
+          real(self%step, wp)/real(self%cfg%max_steps, wp)), &
+          '%  ETA '//trim(adjustl(eta_text))//' s'
         call self%log%info(line)
       end if
       ! A run at its end finishes normally, whatever stop is asked (its last frame must stay:

@@ -10,11 +10,11 @@ a checkpoint, kept aside; 30 steps continued from it (frames after step 20 are w
 a run killed after its checkpoint leaves them); 40 steps continued again from the step-20
 checkpoint. The last file must equal the unbroken one frame by frame (tests/frames_by_id.py,
 to 1e-12 of each dataset's largest value: the same ranks do the same arithmetic), its
-diagnostics must hold the unbroken run's steps, each once, and the step it restarted from, and scripts/check_output.py must pass.
+diagnostics must hold the unbroken run's steps, each once, and the step it restarted
+from, and scripts/check_output.py must pass.
 """
 import argparse
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -27,21 +27,25 @@ sys.path.insert(0, HERE)
 from frames_by_id import compare, scene_text  # noqa: E402
 
 
-def run(args, name, extra, restart=None):
-    sets = [("max_steps", str(extra)), ("frame_interval", "0.002"), ("output.checkpoint_every", "20"),
-            ("output.compression", "1")]
-    if restart:
-        sets.append(("restart", f"'{restart}'"))
-    text = scene_text(args.scene, name, args.workdir, sets)
-    text = re.sub(r"(?m)^(\s*t_end\s*=\s*).*$", r"\g<1>1.0", text)
-    nml = os.path.join(args.workdir, f"{name}_{extra}.nml")
+def run_scene(args, name, nml_name, sets):
+    """Write SCENE with the given variables (t_end far beyond max_steps) and run it."""
+    text = scene_text(args.scene, name, args.workdir, [("t_end", "1.0")] + sets)
+    nml = os.path.join(args.workdir, nml_name)
     with open(nml, "w") as f:
         f.write(text)
-    r = subprocess.run([args.mpiexec, "--oversubscribe", "-n", str(args.ranks), args.dpmpm, nml],
-                       capture_output=True, text=True)
+    return subprocess.run([args.mpiexec, "--oversubscribe", "-n", str(args.ranks), args.dpmpm,
+                           nml], capture_output=True, text=True)
+
+
+def run(args, name, extra, restart=None):
+    sets = [("max_steps", str(extra)), ("frame_interval", "0.002"),
+            ("output.checkpoint_every", "20"), ("output.compression", "1")]
+    if restart:
+        sets.append(("restart", f"'{restart}'"))
+    r = run_scene(args, name, f"{name}_{extra}.nml", sets)
     if r.returncode != 0:
         print(r.stdout + r.stderr)
-        raise SystemExit(f"run {nml} ended with {r.returncode}")
+        raise SystemExit(f"run {name}_{extra}.nml ended with {r.returncode}")
     return r.stdout
 
 
@@ -49,17 +53,11 @@ def wall_clock_checkpoints(args, failed):
     """checkpoint_seconds alone (no checkpoint_every) writes checkpoints at the looks for a
     stop (every 10 steps); a torn <name>.ckpt.h5.tmp of an earlier run is removed."""
     w = args.workdir
-    text = scene_text(args.scene, "wall", w, [("max_steps", "25"),
-                                             ("output.checkpoint_seconds", "1.0e-9")])
-    text = re.sub(r"(?m)^(\s*t_end\s*=\s*).*$", r"\g<1>1.0", text)
-    nml = os.path.join(w, "wall.nml")
-    with open(nml, "w") as f:
-        f.write(text)
     tmp = os.path.join(w, "wall.ckpt.h5.tmp")
     with open(tmp, "w") as f:
         f.write("torn")
-    r = subprocess.run([args.mpiexec, "--oversubscribe", "-n", str(args.ranks), args.dpmpm, nml],
-                       capture_output=True, text=True)
+    r = run_scene(args, "wall", "wall.nml", [("max_steps", "25"),
+                                            ("output.checkpoint_seconds", "1.0e-9")])
     if r.returncode != 0:
         failed.append(f"the wall-clock checkpoint run ended with {r.returncode}")
         return

@@ -10,12 +10,12 @@ module dpmpm_checkpoint
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc
   use, intrinsic :: iso_fortran_env, only: output_unit
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Barrier, MPI_Exscan, MPI_Allreduce, &
-                     MPI_SUM, MPI_IN_PLACE, MPI_INFO_NULL
+                     MPI_SUM, MPI_IN_PLACE
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, h5pcreate_f, &
-                  h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, h5sclose_f, h5dopen_f, &
+                  h5pclose_f, h5sclose_f, h5dopen_f, &
                   h5dread_f, h5dclose_f, h5dget_space_f, h5sget_simple_extent_dims_f, &
-                  h5lexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5P_FILE_ACCESS_F, &
-                  H5P_DATASET_XFER_F, H5P_DEFAULT_F, H5FD_MPIO_COLLECTIVE_F, H5T_IEEE_F64LE, &
+                  h5lexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, &
+                  H5P_DEFAULT_F, H5T_IEEE_F64LE, &
                   h5kind_to_type, H5_REAL_KIND
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp, i8, mpi_i8
@@ -23,7 +23,8 @@ module dpmpm_checkpoint
   use dpmpm_error, only: fatal
   use dpmpm_particles, only: particle_set_t
   use dpmpm_migrate, only: point_cell
-  use dpmpm_h5, only: h5check, make_dir, rename_file, write_columns, write_check_t
+  use dpmpm_h5, only: h5check, make_dir, rename_file, write_columns, write_check_t, &
+                      mpio_access_list, collective_transfer_list
   use dpmpm_posix, only: posix_fsync, posix_strerror
   implicit none
   private
@@ -72,20 +73,12 @@ contains
     call MPI_Comm_rank(comm, rank)
     if (rank == 0) call make_dir(trim(output_dir))
     call MPI_Barrier(comm)
-    call h5open_f(err)
-    call h5check(err, 'h5open_f', where)
-    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
-    call h5check(err, 'h5pcreate_f', where)
-    call h5pset_fapl_mpio_f(fapl, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, err)
-    call h5check(err, 'h5pset_fapl_mpio_f', where)
+    fapl = mpio_access_list(comm, where)
     call h5fcreate_f(path//'.tmp', H5F_ACC_TRUNC_F, file, err, creation_prp=H5P_DEFAULT_F, &
                      access_prp=fapl)
     call h5check(err, 'h5fcreate_f('//path//'.tmp)', where)
     call h5pclose_f(fapl, err)
-    call h5pcreate_f(H5P_DATASET_XFER_F, dxpl, err)
-    call h5check(err, 'h5pcreate_f', where)
-    call h5pset_dxpl_mpio_f(dxpl, H5FD_MPIO_COLLECTIVE_F, err)
-    call h5check(err, 'h5pset_dxpl_mpio_f', where)
+    dxpl = collective_transfer_list(where)
     state = state_to_array(st)
     call write_columns(file, dxpl, 'state', H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), &
                        nstate, merge(1_i8, 0_i8, rank == 0), 0_i8, 1_i8, c_loc(state), where, &

@@ -5,7 +5,7 @@ module dpmpm_h5
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char, c_int, c_f_pointer
   use, intrinsic :: iso_fortran_env, only: int8
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_Barrier, MPI_INTEGER, MPI_SUM, MPI_LOGICAL, &
-                     MPI_LOR
+                     MPI_LOR, MPI_INFO_NULL
   use hdf5, only: hid_t, size_t, h5screate_f, h5sclose_f, h5acreate_f, h5awrite_f, h5aclose_f, &
                   h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5kind_to_type, H5_REAL_KIND, &
                   H5_INTEGER_KIND, H5S_SCALAR_F, H5T_C_S1, H5T_STR_NULLPAD_F, H5T_IEEE_F64LE, &
@@ -14,13 +14,14 @@ module dpmpm_h5
                   H5S_SELECT_SET_F, h5dread_f, h5dget_space_f, h5fflush_f, h5iinc_ref_f, &
                   h5tget_size_f, H5F_SCOPE_GLOBAL_F, h5pcreate_f, h5pclose_f, h5pset_chunk_f, &
                   h5pset_shuffle_f, h5pset_deflate_f, H5P_DATASET_CREATE_F, H5P_DEFAULT_F, &
-                  h5pset_chunk_cache_f, H5P_DATASET_ACCESS_F
+                  h5pset_chunk_cache_f, H5P_DATASET_ACCESS_F, h5open_f, h5pset_fapl_mpio_f, &
+                  h5pset_dxpl_mpio_f, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5FD_MPIO_COLLECTIVE_F
   use dpmpm_kinds, only: wp, i8, i4
   use dpmpm_error, only: fatal
   implicit none
   private
   public :: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, rename_file
-  public :: write_columns, write_check_t
+  public :: write_columns, write_check_t, mpio_access_list, collective_transfer_list
 
   interface
     function c_rename(old, new) bind(C, name='rename') result(r)
@@ -67,6 +68,32 @@ contains
     character(len=*), intent(in) :: call_name, where
     if (err < 0) call fatal(call_name//' failed', where)
   end subroutine h5check
+
+  !> A file access list for parallel HDF5 (MPI-IO) over comm, the library opened first.
+  !> The caller closes it.
+  function mpio_access_list(comm, where) result(fapl)
+    type(MPI_Comm), intent(in) :: comm
+    character(len=*), intent(in) :: where
+    integer(hid_t) :: fapl
+    integer :: err
+    call h5open_f(err)
+    call h5check(err, 'h5open_f', where)
+    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
+    call h5check(err, 'h5pcreate_f(file access)', where)
+    call h5pset_fapl_mpio_f(fapl, comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, err)
+    call h5check(err, 'h5pset_fapl_mpio_f', where)
+  end function mpio_access_list
+
+  !> A transfer list for collective MPI-IO writes. The caller closes it.
+  function collective_transfer_list(where) result(dxpl)
+    character(len=*), intent(in) :: where
+    integer(hid_t) :: dxpl
+    integer :: err
+    call h5pcreate_f(H5P_DATASET_XFER_F, dxpl, err)
+    call h5check(err, 'h5pcreate_f(transfer)', where)
+    call h5pset_dxpl_mpio_f(dxpl, H5FD_MPIO_COLLECTIVE_F, err)
+    call h5check(err, 'h5pset_dxpl_mpio_f', where)
+  end function collective_transfer_list
 
   !> Create a directory and its parents unless they exist, one mkdir(2) per component and
   !> no shell, so any character in the name is taken literally. Called on one rank.

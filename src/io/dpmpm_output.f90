@@ -7,15 +7,13 @@ module dpmpm_output
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char
   use mpi_f08, only: MPI_Comm, MPI_Comm_dup, MPI_Comm_free, MPI_Comm_rank, MPI_Comm_size, &
                      MPI_Barrier, MPI_Bcast, MPI_Exscan, MPI_Allreduce, MPI_INTEGER, &
-                     MPI_SUM, MPI_MIN, MPI_MAX, MPI_INFO_NULL, MPI_CHARACTER, MPI_Wtime
-  use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
-                  h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
+                     MPI_SUM, MPI_MIN, MPI_MAX, MPI_CHARACTER, MPI_Wtime
+  use hdf5, only: hid_t, hsize_t, h5fcreate_f, h5fclose_f, h5fflush_f, h5pcreate_f, h5pclose_f, &
                   h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5screate_f, h5screate_simple_f, &
                   h5gopen_f, h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5dcreate_f, &
                   h5dwrite_f, h5dclose_f, h5dset_extent_f, h5dget_space_f, h5tclose_f, &
                   h5lexists_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, H5F_ACC_TRUNC_F, &
-                  H5F_SCOPE_GLOBAL_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
-                  H5P_DATASET_CREATE_F, H5P_DEFAULT_F, H5FD_MPIO_COLLECTIVE_F, H5S_SCALAR_F, &
+                  H5F_SCOPE_GLOBAL_F, H5P_DATASET_CREATE_F, H5P_DEFAULT_F, H5S_SCALAR_F, &
                   H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE, &
                   h5fopen_f, h5ldelete_f, h5dopen_f, h5dread_f, h5aopen_f, h5aread_f, h5aclose_f, &
                   h5adelete_f, h5aexists_f, h5sget_simple_extent_dims_f, h5eset_auto_f, &
@@ -27,7 +25,8 @@ module dpmpm_output
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
-                      rename_file, write_columns, write_check_t
+                      rename_file, write_columns, write_check_t, mpio_access_list, &
+                      collective_transfer_list
   use dpmpm_log, only: log_t
   implicit none
   private
@@ -135,18 +134,13 @@ contains
     if (self%rank == 0) call make_dir(trim(cfg%output_dir))
     call MPI_Barrier(self%comm)
 
-    call h5open_f(err)
-    call h5check(err, 'h5open_f', where)
-    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
-    call h5check(err, 'h5pcreate_f(file access)', where)
-    call h5pset_fapl_mpio_f(fapl, self%comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, err)
-    call h5check(err, 'h5pset_fapl_mpio_f', where)
+    fapl = mpio_access_list(self%comm, where)
     call h5fcreate_f(self%h5_path, H5F_ACC_TRUNC_F, self%file_id, err, &
                      creation_prp=H5P_DEFAULT_F, access_prp=fapl)
     call h5check(err, 'h5fcreate_f('//self%h5_path//')', where)
     call h5pclose_f(fapl, err)
     call h5check(err, 'h5pclose_f(file access)', where)
-    call make_transfer_list(self, where)
+    self%dxpl = collective_transfer_list(where)
 
     call attr_string(self%file_id, 'dpmpm_version', dpmpm_version)
     call attr_string(self%file_id, 'git_commit', git_commit)
@@ -205,12 +199,7 @@ contains
       call MPI_Comm_free(self%comm)
       return
     end if
-    call h5open_f(err)
-    call h5check(err, 'h5open_f', where)
-    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
-    call h5check(err, 'h5pcreate_f(file access)', where)
-    call h5pset_fapl_mpio_f(fapl, self%comm%MPI_VAL, MPI_INFO_NULL%MPI_VAL, err)
-    call h5check(err, 'h5pset_fapl_mpio_f', where)
+    fapl = mpio_access_list(self%comm, where)
     ! A file torn by a kill may not open: that is an answer here, not an error to print.
     call h5eset_auto_f(0, err)
     call h5fopen_f(self%h5_path, H5F_ACC_RDWR_F, self%file_id, err, access_prp=fapl)
@@ -233,7 +222,7 @@ contains
     end do
     ok = .true.
     why = ''
-    call make_transfer_list(self, where)
+    self%dxpl = collective_transfer_list(where)
     ! Frames written after the checkpoint, and the benchmark results of the end of the run.
     k = nframes
     do
@@ -318,17 +307,6 @@ contains
     if (.not. allocated(self%sets)) allocate (self%sets(16))
     if (.not. allocated(self%diag_buf)) allocate (self%diag_buf(64))
   end subroutine start
-
-  !> The collective transfer list of the open file.
-  subroutine make_transfer_list(self, where)
-    class(output_t), intent(inout) :: self
-    character(len=*), intent(in) :: where
-    integer :: err
-    call h5pcreate_f(H5P_DATASET_XFER_F, self%dxpl, err)
-    call h5check(err, 'h5pcreate_f(transfer)', where)
-    call h5pset_dxpl_mpio_f(self%dxpl, H5FD_MPIO_COLLECTIVE_F, err)
-    call h5check(err, 'h5pset_dxpl_mpio_f', where)
-  end subroutine make_transfer_list
 
   !> Frame and set records (for the sidecar) of frame k as it is in the open file.
   subroutine add_frame_records(self, k, where)

@@ -41,3 +41,15 @@ def test_every_scene_has_its_grid():
             g = Grid.from_input(text)
             assert g.ndim in (1, 2, 3) and len(g.ncells) == g.ndim, name
             assert all(g.spacing > 0), name
+
+
+def test_edit_replaces_adds_and_drops():
+    text = ("&run\n  name = 'a'\n  t_end = 1.0 ! end\n/\n&output\n  dir = 'out'\n/\n"
+            "&benchmark\n  name = 'biot_column'\n/\n")
+    out = namelist.edit(text, {"t_end": "0.5", "output.dir": "'x'", "output.frame_interval": "0.1",
+                               "shape.kernel": "'cubic'"}, drop=("benchmark",))
+    assert namelist.group(out, "run") == {"name": ["a"], "t_end": [0.5]}
+    assert namelist.group(out, "output") == {"dir": ["x"], "frame_interval": [0.1]}
+    assert namelist.group(out, "shape") == {"kernel": ["cubic"]}
+    assert namelist.groups(out, "benchmark") == []
+    assert "! end" in out

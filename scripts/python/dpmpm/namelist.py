@@ -138,3 +138,28 @@ def group(text, name):
     if len(found) > 1:
         raise ValueError(f"&{name} occurs {len(found)} times")
     return found[0] if found else {}
+
+
+def edit(text, values, drop=()):
+    """The namelist text with variables replaced or added and whole groups removed.
+
+    ``values`` maps ``"group.variable"`` (or ``"variable"``, taken from &run) to the
+    value as namelist text (``"0.1"``, ``"'out'"``); a variable the group lacks is added
+    as its first line. The first group of that name is edited. ``drop`` lists group
+    names whose every occurrence is removed. Comments and layout elsewhere are kept.
+    """
+    for name in drop:
+        text = re.sub(rf"(?ims)^\s*&{name}\b.*?^\s*/\s*$\n?", "", text)
+    for key, val in values.items():
+        grp, _, var = key.rpartition(".")
+        grp = grp or "run"
+        # The variable inside its group, up to the group's closing slash.
+        pat = rf"(?ims)^(\s*&{grp}\b(?:(?!^\s*/).)*?^\s*{var}\s*=\s*)[^\n!]*"
+        if re.search(pat, text):
+            text = re.sub(pat, lambda m: m.group(1) + val, text, count=1)
+        elif re.search(rf"(?im)^\s*&{grp}\s*$", text):
+            text = re.sub(rf"(?im)^(\s*&{grp})\s*$", lambda m: f"{m.group(1)}\n  {var} = {val}",
+                          text, count=1)
+        else:
+            text = text.rstrip("\n") + f"\n&{grp}\n  {var} = {val}\n/\n"
+    return text

@@ -9,7 +9,7 @@ module dpmpm_input
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use dpmpm_kinds, only: wp, i8, mpi_wp, mpi_i8
-  use dpmpm_config, only: field_listed, unknown_field
+  use dpmpm_config, only: field_listed, optional_fields
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
                           name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, &
                           bc_names, fbc_default, fbc_drained, fbc_impermeable, fbc_names
@@ -19,7 +19,7 @@ module dpmpm_input
   use dpmpm_plasticity, only: plastic_params_t, plastic_setup, softening_limit, dp_match_names, &
                               dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
   use dpmpm_error, only: clean_stop
-  use dpmpm_strings, only: itoa, i8toa
+  use dpmpm_strings, only: itoa, i8toa, next_word
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_Dims_create, &
                      MPI_INTEGER, MPI_CHARACTER, MPI_LOGICAL
   implicit none
@@ -1300,6 +1300,23 @@ contains
                      'stress dataset (its stress is -pore_pressure on the diagonal)')
     end if
   end subroutine check_fields
+
+  !> The first word of list that is neither 'all' nor an optional field ('' when none).
+  function unknown_field(list) result(word)
+    character(len=*), intent(in) :: list
+    character(len=:), allocatable :: word
+    integer :: i, j
+    word = ''
+    j = 0
+    do
+      call next_word(list, j + 1, i, j)
+      if (i > j) exit
+      if (list(i:j) /= 'all' .and. .not. any(optional_fields == list(i:j))) then
+        word = list(i:j)
+        return
+      end if
+    end do
+  end function unknown_field
 
   !> Strength parameters of a mohr_coulomb or drucker_prager material k.
   subroutine check_plastic(rd, k, m)

@@ -116,7 +116,7 @@ contains
     end if
     call materials_from_config(cfg%materials, mats)
     call ps%init(phase, cfg%ndim, .false., has_porosity=.true., has_pressure=phase == 'fluid')
-    call generate_points(cfg, grid, dec, mats, ps, phase)
+    call generate_points(cfg, grid, dec%clo, dec%chi, mats, ps, phase)
   end subroutine generate
 
   real(wp) function gsum(x)
@@ -260,7 +260,7 @@ contains
     call generate(cfg, .true., [0, 0, 0], 'solid', a, grid, dec)
     call materials_from_config(cfg%materials, mats)
     call b%init('solid', cfg%ndim, .false.)
-    call generate_points(cfg, grid, dec, mats, b)
+    call generate_points(cfg, grid, dec%clo, dec%chi, mats, b)
     call check_equal_int(b%n, a%n, 'same number of points')
     if (b%n == a%n) call check(all(a%id(1:a%n) == b%id(1:b%n)) .and. &
                                all(a%x(:, 1:a%n) == b%x(:, 1:b%n)) .and. &

@@ -5,9 +5,8 @@ module dpmpm_scene_check
   use, intrinsic :: iso_fortran_env, only: error_unit
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, face_names
-  use dpmpm_grid, only: grid_t
+  use dpmpm_grid, only: grid_t, cell_of
   use dpmpm_particles, only: particle_set_t
-  use dpmpm_migrate, only: point_cell
   use dpmpm_strings, only: itoa
   use dpmpm_error, only: clean_stop
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_SUM
@@ -89,7 +88,7 @@ contains
     layer = merge(0, grid%ncells(d) - 1, mod(f, 2) == 1)
     n = 0
     do p = 1, ps%n
-      c = point_cell(grid%origin, grid%h, ps%x(:, p), grid%ndim)
+      c = cell_of(grid%origin, grid%h, ps%x(:, p), grid%ndim)
       if (c(d) == layer) n = n + 1
     end do
   end function points_next_to_face

@@ -222,10 +222,12 @@ contains
     else
       allocate (counts(size(cfg%regions)), fcounts(size(cfg%regions)))
       fcounts = 0
-      call generate_points(cfg, self%grid, self%dec, self%mats, self%solid, counts=counts)
+      call generate_points(cfg, self%grid, self%dec%clo, self%dec%chi, self%mats, self%solid, &
+                           counts=counts)
       call benchmark_setup(cfg, self%mats, self%solid)
       if (self%two_phase) then
-        call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, 'fluid', fcounts)
+        call generate_points(cfg, self%grid, self%dec%clo, self%dec%chi, self%mats, self%fluid, &
+                             'fluid', fcounts)
         call check_scene_points(cfg, self%grid, self%dec%comm, counts + fcounts, self%solid, &
                                 self%fluid)
       else

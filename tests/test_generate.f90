@@ -2,7 +2,9 @@
 !> solid, fluid and saturated regions and every placement. Masses, volumes, porosities and
 !> inverse conductivities follow the phase rules; uniform placement puts N equal points in a
 !> box; and on every rank layout each set is exactly the set one rank alone generates
-!> (same ids, positions and values, every point once, on the rank owning its cell).
+!> (same ids, positions and values, every point once, on the rank owning its cell). The
+!> generation itself needs only a range of cells: blocks of cells that tile the grid give
+!> the whole set between them.
 program test_generate
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, &
@@ -10,7 +12,7 @@ program test_generate
                      MPI_DOUBLE_PRECISION
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t
-  use dpmpm_grid, only: grid_t
+  use dpmpm_grid, only: grid_t, cell_of
   use dpmpm_decomp, only: decomp_t
   use dpmpm_particles, only: particle_set_t
   use dpmpm_materials, only: material_t, materials_from_config
@@ -32,6 +34,7 @@ program test_generate
   call test_uniform_box_and_polygon()
   call test_default_phase_is_solid()
   call test_sets_do_not_depend_on_ranks()
+  call test_cell_blocks_tile_the_set()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -116,7 +119,7 @@ contains
     end if
     call materials_from_config(cfg%materials, mats)
     call ps%init(phase, cfg%ndim, .false., has_porosity=.true., has_pressure=phase == 'fluid')
-    call generate_points(cfg, grid, dec, mats, ps, phase)
+    call generate_points(cfg, grid, dec%clo, dec%chi, mats, ps, phase)
   end subroutine generate
 
   real(wp) function gsum(x)
@@ -260,7 +263,7 @@ contains
     call generate(cfg, .true., [0, 0, 0], 'solid', a, grid, dec)
     call materials_from_config(cfg%materials, mats)
     call b%init('solid', cfg%ndim, .false.)
-    call generate_points(cfg, grid, dec, mats, b)
+    call generate_points(cfg, grid, dec%clo, dec%chi, mats, b)
     call check_equal_int(b%n, a%n, 'same number of points')
     if (b%n == a%n) call check(all(a%id(1:a%n) == b%id(1:b%n)) .and. &
                                all(a%x(:, 1:a%n) == b%x(:, 1:b%n)) .and. &
@@ -329,5 +332,45 @@ contains
       call dec1%free()
     end do
   end subroutine test_sets_do_not_depend_on_ranks
+
+  !> generate_points on four blocks of cells that tile the grid, without any decomposition:
+  !> each block gets exactly the points of the whole grid whose cells lie in it.
+  subroutine test_cell_blocks_tile_the_set()
+    type(config_t) :: cfg
+    type(grid_t) :: grid
+    type(material_t), allocatable :: mats(:)
+    type(particle_set_t) :: whole, part
+    character(len=5), parameter :: phases(2) = ['solid', 'fluid']
+    integer :: ip, b, k, n, c(3), lo(3, 4), hi(3, 4)
+    logical :: ok
+    call begin_test('cell_blocks_tile_the_set')
+    call make_scene(cfg)
+    call grid%init(cfg)
+    call materials_from_config(cfg%materials, mats)
+    ! x cells 0..4 | 5..11, y cells 0..3 | 4..9
+    lo = reshape([0, 0, 0, 5, 0, 0, 0, 4, 0, 5, 4, 0], [3, 4])
+    hi = reshape([4, 3, 0, 11, 3, 0, 4, 9, 0, 11, 9, 0], [3, 4])
+    do ip = 1, 2
+      call whole%init(phases(ip), cfg%ndim, .false., has_porosity=.true., &
+                      has_pressure=ip == 2)
+      call generate_points(cfg, grid, [0, 0, 0], grid%ncells - 1, mats, whole, phases(ip))
+      n = 0
+      ok = .true.
+      do b = 1, 4
+        call part%init(phases(ip), cfg%ndim, .false., has_porosity=.true., &
+                       has_pressure=ip == 2)
+        call generate_points(cfg, grid, lo(:, b), hi(:, b), mats, part, phases(ip))
+        n = n + part%n
+        do k = 1, part%n
+          c = cell_of(grid%origin, grid%h, part%x(:, k), grid%ndim)
+          if (any(c < lo(:, b) .or. c > hi(:, b))) ok = .false.
+          if (count(whole%id(1:whole%n) == part%id(k)) /= 1) ok = .false.
+        end do
+      end do
+      call check(whole%n > 0, phases(ip)//': the scene makes points')
+      call check_equal_int(n, whole%n, phases(ip)//': the blocks hold every point once')
+      call check(ok, phases(ip)//': each point in its block, with an id of the whole set')
+    end do
+  end subroutine test_cell_blocks_tile_the_set
 
 end program test_generate

@@ -1,16 +1,20 @@
 !> Input tests: a valid namelist file gives the expected resolved parameters on every rank,
 !> optional groups give the config_t defaults, and the output of print_config reads back to
 !> the same parameters; a two-phase scene resolves its phases, pore fluid, drag options and
-!> fluid face conditions.
+!> fluid face conditions. Every rank parses the text that rank 0 read and broadcast, and so
+!> holds the same configuration; a text parses without a file; a refused input returns its
+!> status on every rank instead of stopping.
 program test_input
   use, intrinsic :: iso_fortran_env, only: output_unit
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size, &
-                     MPI_Barrier
+                     MPI_Barrier, MPI_Bcast, MPI_INTEGER, MPI_CHARACTER, MPI_DOUBLE_PRECISION
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller, face_index, fbc_default, &
                           fbc_drained, fbc_impermeable
-  use dpmpm_input, only: read_input, print_config
+  use dpmpm_input, only: read_input, print_config, input_ok, input_refused
+  use dpmpm_input_read, only: parse_input
+  use dpmpm_input_problems, only: input_problems_t
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
   implicit none
   integer :: status, rank, nranks
@@ -26,6 +30,9 @@ program test_input
   call test_optional_groups_give_defaults()
   call test_print_config_reads_back()
   call test_two_phase_scene()
+  call test_every_rank_parses_the_same_config()
+  call test_text_parses_without_a_file()
+  call test_refused_input_returns_status()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -144,13 +151,15 @@ contains
 
   subroutine test_valid_file_gives_values_on_every_rank()
     type(config_t) :: cfg
+    integer :: st
     character(len=:), allocatable :: file
     integer :: u, n
     character(len=:), allocatable :: text
     call begin_test('valid_file_gives_values_on_every_rank')
     file = 'test_input_'//trim(tag)//'_full.nml'
     call write_full_scene(file)
-    call read_input(file, MPI_COMM_WORLD, cfg)
+    call read_input(file, MPI_COMM_WORLD, cfg, st)
+    call check_equal_int(st, 0, 'read_input status')
     call check_full_scene(cfg)
     call check(cfg%input_file == file, 'input_file')
     ! The whole file text, as on disk, is on every rank.
@@ -166,6 +175,7 @@ contains
 
   subroutine test_optional_groups_give_defaults()
     type(config_t) :: cfg, def
+    integer :: st
     character(len=:), allocatable :: file
     call begin_test('optional_groups_give_defaults')
     file = 'test_input_'//trim(tag)//'_minimal.nml'
@@ -173,7 +183,8 @@ contains
       '&grid ncells = 16, 16 /', &
       '&material /', &
       '&region lo = 0.25, 0.25, hi = 0.75, 0.75 /'])
-    call read_input(file, MPI_COMM_WORLD, cfg)
+    call read_input(file, MPI_COMM_WORLD, cfg, st)
+    call check_equal_int(st, 0, 'read_input status')
     call check(cfg%name == def%name, 'name')
     call check(cfg%t_end == def%t_end .and. cfg%dt == def%dt .and. cfg%cfl == def%cfl, &
                't_end, dt, cfl')
@@ -199,13 +210,15 @@ contains
 
   subroutine test_print_config_reads_back()
     type(config_t) :: cfg, again
+    integer :: st
     character(len=:), allocatable :: file, printed
     integer :: u
     call begin_test('print_config_reads_back')
     file = 'test_input_'//trim(tag)//'_full.nml'
     printed = 'test_input_'//trim(tag)//'_printed.nml'
     call write_full_scene(file)
-    call read_input(file, MPI_COMM_WORLD, cfg)
+    call read_input(file, MPI_COMM_WORLD, cfg, st)
+    call check_equal_int(st, 0, 'read_input status')
     if (rank == 0) then
       open (newunit=u, file=printed, status='replace', action='write')
       call print_config(cfg, u)
@@ -213,7 +226,8 @@ contains
       if (nranks == 1) call print_config(cfg, output_unit)
     end if
     call MPI_Barrier(MPI_COMM_WORLD)
-    call read_input(printed, MPI_COMM_WORLD, again)
+    call read_input(printed, MPI_COMM_WORLD, again, st)
+    call check_equal_int(st, 0, 'read_input status')
     call check_full_scene(again)
   end subroutine test_print_config_reads_back
 
@@ -222,6 +236,7 @@ contains
   !> again after print_config and reading back.
   subroutine test_two_phase_scene()
     type(config_t) :: cfg, again
+    integer :: st
     character(len=:), allocatable :: file, printed
     integer :: u
     call begin_test('two_phase_scene')
@@ -243,7 +258,8 @@ contains
       '&boundary face = ''x+'', condition = ''roller'', fluid = ''default'' /', &
       '&boundary face = ''y+'', fluid = ''impermeable'' /', &
       '&benchmark name = ''terzaghi'' /'])
-    call read_input(file, MPI_COMM_WORLD, cfg)
+    call read_input(file, MPI_COMM_WORLD, cfg, st)
+    call check_equal_int(st, 0, 'read_input status')
     call check_two_phase(cfg)
     if (rank == 0) then
       open (newunit=u, file=printed, status='replace', action='write')
@@ -251,7 +267,8 @@ contains
       close (u)
     end if
     call MPI_Barrier(MPI_COMM_WORLD)
-    call read_input(printed, MPI_COMM_WORLD, again)
+    call read_input(printed, MPI_COMM_WORLD, again, st)
+    call check_equal_int(st, 0, 'read_input status')
     call check_two_phase(again)
   end subroutine test_two_phase_scene
 
@@ -295,5 +312,133 @@ contains
                'pore pressure per face')
     call check(c%benchmark == 'terzaghi', 'benchmark')
   end subroutine check_two_phase
+
+  !> Rank 0 reads the file and broadcasts its text; every rank parses it. A few values and
+  !> the whole echo of the configuration (every parameter, as print_config writes it) are
+  !> compared with rank 0's.
+  subroutine test_every_rank_parses_the_same_config()
+    type(config_t) :: cfg
+    character(len=:), allocatable :: file, echo, echo0
+    real(wp) :: x(8), x0(8)
+    integer :: iv(6), iv0(6), st
+    call begin_test('every_rank_parses_the_same_config')
+    file = 'test_input_'//trim(tag)//'_full.nml'
+    call write_full_scene(file)
+    call read_input(file, MPI_COMM_WORLD, cfg, st)
+    call check_equal_int(st, input_ok, 'read_input status')
+    if (st /= input_ok) return
+    x = [cfg%t_end, cfg%cfl, cfg%length(2), cfg%materials(1)%youngs_modulus, &
+         cfg%regions(2)%poly(1, 2), cfg%loads(1)%traction(1), cfg%loads(1)%ramp_time, &
+         cfg%amplitude]
+    iv = [cfg%ncells(1), size(cfg%materials), size(cfg%regions), cfg%regions(2)%seed, &
+          cfg%bc(3), len(cfg%input_text)]
+    x0 = x
+    iv0 = iv
+    call MPI_Bcast(x0, size(x0), MPI_DOUBLE_PRECISION, 0, MPI_COMM_WORLD)
+    call MPI_Bcast(iv0, size(iv0), MPI_INTEGER, 0, MPI_COMM_WORLD)
+    call check(all(x == x0), 'real values equal to rank 0''s, to the bit')
+    call check(all(iv == iv0), 'integer values and the text length equal to rank 0''s')
+    echo = echo_text(cfg)
+    echo0 = echo
+    call bcast_string(echo0)
+    call check(echo == echo0, 'the echo of every parameter equal to rank 0''s')
+    echo0 = cfg%input_text
+    call bcast_string(echo0)
+    call check(cfg%input_text == echo0, 'input_text equal to rank 0''s')
+  end subroutine test_every_rank_parses_the_same_config
+
+  !> parse_input turns a text into a config_t on its own: no file, no communication.
+  subroutine test_text_parses_without_a_file()
+    type(config_t) :: cfg, bad
+    type(input_problems_t) :: pb
+    character(len=:), allocatable :: text
+    character(len=*), parameter :: nl = new_line('a')
+    call begin_test('text_parses_without_a_file')
+    text = '&run t_end = 0.25, cfl = 0.3 /'//nl//'&grid ndim = 2, ncells = 6, 3 /'//nl// &
+           '&material id = 2, density = 1800.0 /'//nl//'&material id = 3 /'//nl// &
+           '&region lo = 0.0, 0.0, hi = 0.5, 0.5, material = 2 /'//nl// &
+           '&boundary face = ''y-'', condition = ''fixed'' /'
+    call pb%init('in_memory.nml')
+    call parse_input(text, cfg, pb)
+    call check_equal_int(pb%nprob, 0, 'no problems')
+    call check_close(cfg%t_end, 0.25_wp, 0.0_wp, 0.0_wp, 't_end')
+    call check_close(cfg%cfl, 0.3_wp, 0.0_wp, 0.0_wp, 'cfl')
+    call check(all(cfg%ncells(1:2) == [6, 3]), 'ncells')
+    call check_equal_int(size(cfg%materials), 2, 'two materials')
+    if (size(cfg%materials) == 2) then
+      call check_close(cfg%materials(1)%density, 1800.0_wp, 0.0_wp, 0.0_wp, 'density 1')
+      call check_close(cfg%materials(2)%density, 1000.0_wp, 0.0_wp, 0.0_wp, 'density 2 default')
+      call check_equal_int(cfg%materials(2)%id, 3, 'second material id')
+    end if
+    call check(cfg%bc(3) == bc_fixed .and. cfg%bc(1) == bc_free, 'boundary conditions')
+    call check(cfg%input_text == text, 'input_text is the text')
+    call pb%free()
+
+    ! A misspelt variable in the second &material: one problem, with the file and the place.
+    text = '&grid ncells = 4, 4 /'//nl//'&material /'//nl//'&material densty = 1.0 /'//nl// &
+           '&region lo = 0.25, 0.25, hi = 0.75, 0.75 /'
+    call pb%init('in_memory.nml')
+    call parse_input(text, bad, pb)
+    call check_equal_int(pb%nprob, 1, 'one problem')
+    if (pb%nprob == 1) then
+      call check(index(pb%prob(1)%s, 'dpmpm: input error: in_memory.nml: &material: ') == 1, &
+                 'the problem names the file and the group')
+      call check(index(pb%prob(1)%s, 'densty (no such variable)') > 0, 'the variable')
+      call check(index(pb%prob(1)%s, '[group 2 of 2, line 3]') > 0, 'the place')
+    end if
+    call check(.not. pb%read_ok(4) .and. pb%read_ok(2), 'read_ok per group')
+    call pb%free()
+    call check(pb%nprob == 0 .and. .not. allocated(pb%prob), 'free releases the problems')
+  end subroutine test_text_parses_without_a_file
+
+  !> A refused input (a bad value, a missing file) is a status on every rank, not a stop.
+  subroutine test_refused_input_returns_status()
+    type(config_t) :: cfg
+    character(len=:), allocatable :: file
+    integer :: st
+    call begin_test('refused_input_returns_status')
+    file = 'test_input_'//trim(tag)//'_refused.nml'
+    call write_file(file, [character(len=80) :: &
+      '&grid ncells = 16, 16 /', &
+      '&material density = -1.0 /', &
+      '&region lo = 0.25, 0.25, hi = 0.75, 0.75 /'])
+    call read_input(file, MPI_COMM_WORLD, cfg, st)
+    call check_equal_int(st, input_refused, 'a negative density is refused')
+    call read_input('test_input_'//trim(tag)//'_no_such_file.nml', MPI_COMM_WORLD, cfg, st)
+    call check_equal_int(st, input_refused, 'a missing file is refused')
+  end subroutine test_refused_input_returns_status
+
+  !> Every parameter of cfg as print_config writes it, as one string (through a file of
+  !> this rank's own).
+  function echo_text(cfg) result(text)
+    type(config_t), intent(in) :: cfg
+    character(len=:), allocatable :: text
+    character(len=:), allocatable :: file
+    character(len=16) :: r
+    integer :: u, n
+    write (r, '(i0)') rank
+    file = 'test_input_'//trim(tag)//'_echo_rank'//trim(r)//'.nml'
+    open (newunit=u, file=file, status='replace', action='write')
+    call print_config(cfg, u)
+    close (u)
+    open (newunit=u, file=file, access='stream', form='unformatted', action='read')
+    inquire (unit=u, size=n)
+    allocate (character(len=n) :: text)
+    read (u) text
+    close (u, status='delete')
+  end function echo_text
+
+  !> Rank 0's s on every rank.
+  subroutine bcast_string(s)
+    character(len=:), allocatable, intent(inout) :: s
+    integer :: n
+    n = len(s)
+    call MPI_Bcast(n, 1, MPI_INTEGER, 0, MPI_COMM_WORLD)
+    if (rank /= 0) then
+      deallocate (s)
+      allocate (character(len=n) :: s)
+    end if
+    call MPI_Bcast(s, n, MPI_CHARACTER, 0, MPI_COMM_WORLD)
+  end subroutine bcast_string
 
 end program test_input

@@ -11,7 +11,8 @@ program test_migration
   use dpmpm_kinds, only: wp, i8
   use dpmpm_decomp, only: decomp_t, split_extent
   use dpmpm_particles, only: particle_set_t
-  use dpmpm_migrate, only: migrate, check_owned, point_cell
+  use dpmpm_migrate, only: migrate, check_owned
+  use dpmpm_grid, only: cell_of
   use dpmpm_test_layouts, only: layouts_for
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
   implicit none
@@ -29,7 +30,7 @@ program test_migration
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = (rank == 0)
-  call test_point_cell()
+  call test_cell_of()
   call test_owner_coord_matches_split()
   call test_random_moves_1d()
   call test_random_moves_2d()
@@ -43,16 +44,16 @@ program test_migration
 
 contains
 
-  subroutine test_point_cell()
+  subroutine test_cell_of()
     integer :: c(3)
-    call begin_test('point_cell')
-    c = point_cell(origin, h, [-0.3_wp + 2.5_wp*0.25_wp, 1.1_wp - 0.1_wp, 99.0_wp], 2)
+    call begin_test('cell_of')
+    c = cell_of(origin, h, [-0.3_wp + 2.5_wp*0.25_wp, 1.1_wp - 0.1_wp, 99.0_wp], 2)
     call check(all(c == [2, -1, 0]), 'cells 2, -1 and 0 on the unused axis')
-    c = point_cell(origin, h, [origin(1), origin(2), origin(3)], 3)
+    c = cell_of(origin, h, [origin(1), origin(2), origin(3)], 3)
     call check(all(c == 0), 'the origin lies in cell 0')
-    c = point_cell(origin, h, [1.0e300_wp, -1.0e300_wp, 0.7_wp + 0.2_wp*8.5_wp], 3)
+    c = cell_of(origin, h, [1.0e300_wp, -1.0e300_wp, 0.7_wp + 0.2_wp*8.5_wp], 3)
     call check(c(1) > ncells(1) .and. c(2) < 0 .and. c(3) == 8, 'far positions clamp, no overflow')
-  end subroutine test_point_cell
+  end subroutine test_cell_of
 
   !> owner_coord (used to find a cell's rank) agrees with the split of the cells
   !> for many cell and rank counts; cells outside the grid map to the end ranks.

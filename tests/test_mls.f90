@@ -14,7 +14,7 @@ program test_mls
                        basis_size, packed_size, basis_eval, moment_add, basis_from_name, &
                        mls_gamma, mls_shape_functions, mls_stats_t, mls_stats_add, &
                        mls_stats_total, mls_max_basis, mls_max_packed
-  use dpmpm_generate, only: hash_uniform
+  use dpmpm_hash, only: hash_uniform
   use dpmpm_peaks, only: peaks_error, peaks_neval
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
   implicit none

@@ -1,12 +1,18 @@
 !> Geometry of the regular grid and the boundary conditions on its faces.
 !> Node (i, j, k) sits at origin + (i, j, k)*h; cell (i, j, k) spans the nodes
 !> i..i+1, j..j+1, k..k+1. Unused axes (d > ndim) have one cell and h = 1.
+!> cell_of is the one rule that puts a position into a cell (generation, migration,
+!> restart and scene checks all use it).
 module dpmpm_grid
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller
   implicit none
   private
-  public :: grid_t
+  public :: grid_t, cell_of
+
+  !> Cell indices are clamped to +-cell_clamp so that a point far away (or at a
+  !> NaN position) still gets a valid integer cell, outside the grid.
+  real(wp), parameter :: cell_clamp = 1.0e9_wp
 
   !> Regular grid of ncells(d) cells of size h(d) along each axis.
   type :: grid_t
@@ -72,6 +78,24 @@ contains
       end do
     end do
   end function grid_constrained
+
+  !> Integer cell (0-based, per axis) holding position x: floor((x - origin)/h)
+  !> on the axes 1..ndim, 0 on the unused axes. NaN maps far below the grid.
+  pure function cell_of(origin, h, x, ndim) result(c)
+    real(wp), intent(in) :: origin(3), h(3)
+    real(wp), intent(in) :: x(:)
+    integer, intent(in) :: ndim
+    integer :: c(3)
+    integer :: d
+    real(wp) :: s
+    c = 0
+    do d = 1, ndim
+      s = (x(d) - origin(d))/h(d)
+      if (s > cell_clamp) s = cell_clamp
+      if (.not. (s > -cell_clamp)) s = -cell_clamp   ! also catches NaN
+      c(d) = floor(s)
+    end do
+  end function cell_of
 
   !> True when x lies inside the grid (lower faces included, upper excluded).
   pure logical function grid_inside(self, x)

@@ -22,7 +22,7 @@ module dpmpm_checkpoint
   use dpmpm_strings, only: itoa
   use dpmpm_error, only: fatal
   use dpmpm_particles, only: particle_set_t
-  use dpmpm_migrate, only: point_cell
+  use dpmpm_grid, only: cell_of
   use dpmpm_h5, only: h5check, make_dir, rename_file, write_columns, write_check_t, &
                       mpio_access_list, collective_transfer_list
   use dpmpm_posix, only: posix_fsync, posix_strerror
@@ -306,7 +306,7 @@ contains
         nbad = nbad + 1
         cycle
       end if
-      c = point_cell(origin, h, x, ps%ndim)
+      c = cell_of(origin, h, x, ps%ndim)
       if (any(c(1:ps%ndim) < 0 .or. c(1:ps%ndim) >= ncells(1:ps%ndim))) then
         nout = nout + 1
         cycle

@@ -1,15 +1,14 @@
 !> Checks of a scene that need its points: every &region makes points, and every &load
 !> acts on a face that the body touches. Run once the points are generated; a failure is
-!> reported like an input error, once by rank 0, and every rank stops with exit code 2.
+!> reported like an input error, once by rank 0, and every rank returns status 2 (the
+!> caller stops, with exit code 2).
 module dpmpm_scene_check
   use, intrinsic :: iso_fortran_env, only: error_unit
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, face_names
-  use dpmpm_grid, only: grid_t
+  use dpmpm_grid, only: grid_t, cell_of
   use dpmpm_particles, only: particle_set_t
-  use dpmpm_migrate, only: point_cell
   use dpmpm_strings, only: itoa
-  use dpmpm_error, only: clean_stop
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_SUM
   implicit none
   private
@@ -19,13 +18,15 @@ contains
 
   !> counts(r): points region r made on this rank (both sets). A region without any point
   !> on any rank, or a load on a face with no point in the layer of cells next to it (its
-  !> traction would act on empty nodes), is refused. Collective over comm.
-  subroutine check_scene_points(cfg, grid, comm, counts, solid, fluid)
+  !> traction would act on empty nodes), is refused: status 2 on every rank, else 0.
+  !> Collective over comm.
+  subroutine check_scene_points(cfg, grid, comm, counts, solid, status, fluid)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: grid
     type(MPI_Comm), intent(in) :: comm
     integer(i8), intent(in) :: counts(:)
     type(particle_set_t), intent(in) :: solid
+    integer, intent(out) :: status
     type(particle_set_t), intent(in), optional :: fluid
     integer(i8), allocatable :: nreg(:), nload(:)
     integer :: r, l, f, rank, nbad
@@ -40,6 +41,7 @@ contains
     end do
     call MPI_Allreduce(MPI_IN_PLACE, nload, size(nload), MPI_INTEGER8, MPI_SUM, comm)
     nbad = count(nreg == 0) + count(nload == 0)
+    status = 0
     if (nbad == 0) return
     if (rank == 0) then
       do r = 1, size(nreg)
@@ -60,7 +62,7 @@ contains
       end do
       flush (error_unit)
     end if
-    call clean_stop(2)
+    status = 2
   end subroutine check_scene_points
 
   !> " (group k of n)" when the group is repeated, "" when it is given once.
@@ -89,7 +91,7 @@ contains
     layer = merge(0, grid%ncells(d) - 1, mod(f, 2) == 1)
     n = 0
     do p = 1, ps%n
-      c = point_cell(grid%origin, grid%h, ps%x(:, p), grid%ndim)
+      c = cell_of(grid%origin, grid%h, ps%x(:, p), grid%ndim)
       if (c(d) == layer) n = n + 1
     end do
   end function points_next_to_face

@@ -12,38 +12,17 @@
 module dpmpm_migrate
   use dpmpm_kinds, only: wp
   use dpmpm_decomp, only: decomp_t
+  use dpmpm_grid, only: cell_of
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Sendrecv, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
                      MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL
   implicit none
   private
-  public :: migrate, check_owned, point_cell
-
-  !> Cell indices are clamped to +-cell_clamp so that a point far away (or at a
-  !> NaN position) still gets a valid integer cell, outside the grid.
-  real(wp), parameter :: cell_clamp = 1.0e9_wp
+  public :: migrate, check_owned
 
   integer, parameter :: tag_count = 21, tag_data = 23
 
 contains
-
-  !> Integer cell (0-based, per axis) holding position x: floor((x - origin)/h)
-  !> on the axes 1..ndim, 0 on the unused axes. NaN maps far below the grid.
-  pure function point_cell(origin, h, x, ndim) result(c)
-    real(wp), intent(in) :: origin(3), h(3)
-    real(wp), intent(in) :: x(:)
-    integer, intent(in) :: ndim
-    integer :: c(3)
-    integer :: d
-    real(wp) :: s
-    c = 0
-    do d = 1, ndim
-      s = (x(d) - origin(d))/h(d)
-      if (s > cell_clamp) s = cell_clamp
-      if (.not. (s > -cell_clamp)) s = -cell_clamp   ! also catches NaN
-      c(d) = floor(s)
-    end do
-  end function point_cell
 
   !> True when cell c lies in the cells owned by this rank.
   pure logical function owns_cell(dec, c) result(yes)
@@ -93,7 +72,7 @@ contains
     integer :: k
     allocate (bad(ps%n))
     do k = 1, ps%n
-      bad(k) = .not. owns_cell(dec, point_cell(origin, h, ps%x(:, k), dec%ndim))
+      bad(k) = .not. owns_cell(dec, cell_of(origin, h, ps%x(:, k), dec%ndim))
     end do
     if (present(idx)) idx = pack([(k, k=1, ps%n)], bad)
     nglobal = count(bad)
@@ -117,7 +96,7 @@ contains
     allocate (gone(ps%n))
     ! dest: -1 lower neighbour, +1 upper neighbour, 0 stays.
     do k = 1, ps%n
-      c = point_cell(origin, h, ps%x(:, k), dec%ndim)
+      c = cell_of(origin, h, ps%x(:, k), dec%ndim)
       dest(k) = 0
       if (c(d) < dec%clo(d) .and. dec%nbr_lo(d) /= MPI_PROC_NULL) dest(k) = -1
       if (c(d) > dec%chi(d) .and. dec%nbr_hi(d) /= MPI_PROC_NULL) dest(k) = 1

@@ -18,14 +18,13 @@ module dpmpm_generate
   use dpmpm_kinds, only: wp, i8
   use dpmpm_error, only: fatal
   use dpmpm_config, only: config_t, region_cfg_t
-  use dpmpm_grid, only: grid_t
-  use dpmpm_decomp, only: decomp_t
+  use dpmpm_hash, only: hash_uniform
+  use dpmpm_grid, only: grid_t, cell_of
   use dpmpm_particles, only: particle_set_t
   use dpmpm_materials, only: material_t
-  use dpmpm_migrate, only: point_cell
   implicit none
   private
-  public :: generate_points, hash_uniform, point_in_polygon
+  public :: generate_points, point_in_polygon
 
   !> What one region puts into the set being filled.
   type :: fill_t
@@ -40,7 +39,8 @@ module dpmpm_generate
 
 contains
 
-  !> Append to ps the points of every region that fall in this rank's cells.
+  !> Append to ps the points of every region that fall in the cells clo..chi (global,
+  !> 0-based, per axis: the cells this rank owns; all cells on one rank).
   !> phase = 'solid' (default): points of solid regions (porosity 0) and the skeleton of
   !> saturated regions (mass (1 - n) rho_s V, porosity n). phase = 'fluid': points of fluid
   !> regions (mass rho_f V, porosity 1, kinv 0) and the pore fluid of saturated regions
@@ -48,10 +48,10 @@ contains
   !> material), placed independently of the skeleton with seed fluid_seed (seed + 1 when
   !> fluid_seed = -1). Ids are unique within the set and do not depend on the ranks.
   !> counts(r), when present, is the number of points region r added on this rank.
-  subroutine generate_points(cfg, grid, dec, mats, ps, phase, counts)
+  subroutine generate_points(cfg, grid, clo, chi, mats, ps, phase, counts)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: grid
-    type(decomp_t), intent(in) :: dec
+    integer, intent(in) :: clo(3), chi(3)
     type(material_t), intent(in) :: mats(:)
     type(particle_set_t), intent(inout) :: ps
     character(len=*), intent(in), optional :: phase
@@ -73,9 +73,9 @@ contains
       n0 = ps%n
       if (region_fill(reg, mats, which, fill)) then
         if (trim(reg%placement) == 'uniform') then
-          call fill_uniform(reg, grid, dec, fill, base, ps)
+          call fill_uniform(reg, grid, clo, chi, fill, base, ps)
         else
-          call fill_cells(reg, grid, dec, fill, base, ps)
+          call fill_cells(reg, grid, clo, chi, fill, base, ps)
         end if
       end if
       if (present(counts)) counts(r) = int(ps%n - n0, i8)
@@ -129,12 +129,12 @@ contains
   end function region_fill
 
   !> Regular or random placement: ppc**ndim points in every cell of the region's bounding
-  !> box that this rank owns, kept when inside the region; volume = cell volume / ppc**ndim.
-  !> Ids: base + (global cell number)*ppc**ndim + slot + 1.
-  subroutine fill_cells(reg, grid, dec, fill, base, ps)
+  !> box within olo..ohi (the owned cells), kept when inside the region; volume = cell
+  !> volume / ppc**ndim. Ids: base + (global cell number)*ppc**ndim + slot + 1.
+  subroutine fill_cells(reg, grid, olo, ohi, fill, base, ps)
     type(region_cfg_t), intent(in) :: reg
     type(grid_t), intent(in) :: grid
-    type(decomp_t), intent(in) :: dec
+    integer, intent(in) :: olo(3), ohi(3)
     type(fill_t), intent(in) :: fill
     integer(i8), intent(in) :: base
     type(particle_set_t), intent(inout) :: ps
@@ -149,8 +149,8 @@ contains
     ! Cells of the region's bounding box that this rank owns.
     clo = 0; chi = 0
     do d = 1, nd
-      clo(d) = max(dec%clo(d), floor((region_lo(reg, d) - grid%origin(d))/grid%h(d)))
-      chi(d) = min(dec%chi(d), ceiling((region_hi(reg, d) - grid%origin(d))/grid%h(d)) - 1)
+      clo(d) = max(olo(d), floor((region_lo(reg, d) - grid%origin(d))/grid%h(d)))
+      chi(d) = min(ohi(d), ceiling((region_hi(reg, d) - grid%origin(d))/grid%h(d)) - 1)
     end do
     do c3 = clo(3), chi(3)
       do c2 = clo(2), chi(2)
@@ -187,11 +187,11 @@ contains
   !> candidates over the bounding box (N from its area), the ones inside the polygon kept,
   !> each of volume cell volume / ppc**2. Point k (0..N-1) lies at
   !> lo + (hi - lo)*hash_uniform(seed, k, 0, d) along axis d: a function of seed and k only.
-  !> Every rank draws all N positions and keeps those in its cells. Ids: base + k + 1.
-  subroutine fill_uniform(reg, grid, dec, fill, base, ps)
+  !> Every rank draws all N positions and keeps those in its cells olo..ohi. Ids: base + k + 1.
+  subroutine fill_uniform(reg, grid, olo, ohi, fill, base, ps)
     type(region_cfg_t), intent(in) :: reg
     type(grid_t), intent(in) :: grid
-    type(decomp_t), intent(in) :: dec
+    integer, intent(in) :: olo(3), ohi(3)
     type(fill_t), intent(in) :: fill
     integer(i8), intent(in) :: base
     type(particle_set_t), intent(inout) :: ps
@@ -223,7 +223,7 @@ contains
         if (.not. point_in_polygon(x(1:2), reg%poly(:, 1:reg%npoly))) cycle
       end if
       call into_grid(grid, x, c)
-      if (any(c < dec%clo .or. c > dec%chi)) cycle
+      if (any(c < olo .or. c > ohi)) cycle
       call add_point(ps, base + k + 1, reg, fill, x, vol)
     end do
   end subroutine fill_uniform
@@ -251,18 +251,18 @@ contains
     real(wp), intent(inout) :: x(3)
     integer, intent(out) :: c(3)
     integer :: d
-    c = point_cell(grid%origin, grid%h, x, grid%ndim)
+    c = cell_of(grid%origin, grid%h, x, grid%ndim)
     do d = 1, grid%ndim
       if (c(d) < 0) then
         x(d) = grid%origin(d)
       else
         do while (c(d) > grid%ncells(d) - 1)
           x(d) = nearest(min(x(d), grid%origin(d) + grid%h(d)*grid%ncells(d)), -1.0_wp)
-          c = point_cell(grid%origin, grid%h, x, grid%ndim)
+          c = cell_of(grid%origin, grid%h, x, grid%ndim)
         end do
       end if
     end do
-    c = point_cell(grid%origin, grid%h, x, grid%ndim)
+    c = cell_of(grid%origin, grid%h, x, grid%ndim)
   end subroutine into_grid
 
   !> Append one point of a region to the set.
@@ -342,36 +342,5 @@ contains
       j = i
     end do
   end function point_in_polygon
-
-  !> A uniform number in [0, 1) that depends only on (seed, cell, slot, axis):
-  !> a 32-bit integer hash (xor-shift and multiply rounds) applied to each input in turn.
-  pure real(wp) function hash_uniform(seed, cell, slot, axis) result(u)
-    integer, intent(in) :: seed, slot, axis
-    integer(i8), intent(in) :: cell
-    integer(i8), parameter :: mask32 = 4294967295_i8
-    integer(i8) :: h
-    h = hash32(iand(int(seed, i8), mask32))
-    h = hash32(ieor(h, iand(cell, mask32)))
-    h = hash32(ieor(h, iand(ishft(cell, -32), mask32)))
-    h = hash32(ieor(h, int(slot, i8)))
-    h = hash32(ieor(h, int(axis, i8) + 1779033703_i8))
-    u = real(h, wp)/4294967296.0_wp
-  contains
-    !> One avalanche round on a 32-bit value held in 64 bits.
-    pure integer(i8) function hash32(x0) result(x)
-      integer(i8), intent(in) :: x0
-      x = x0
-      x = ieor(x, ishft(x, -16))
-      x = mul32(x, 2146121005_i8)
-      x = ieor(x, ishft(x, -15))
-      x = mul32(x, 2221713035_i8)
-      x = ieor(x, ishft(x, -16))
-    end function hash32
-    !> (x*c) mod 2^32 without 64-bit overflow: multiply by the 16-bit halves of c.
-    pure integer(i8) function mul32(x, c)
-      integer(i8), intent(in) :: x, c
-      mul32 = iand(x*iand(c, 65535_i8) + ishft(iand(x*ishft(c, -16), 65535_i8), 16), mask32)
-    end function mul32
-  end function hash_uniform
 
 end module dpmpm_generate

@@ -25,7 +25,7 @@ contains
     type(config_t) :: cfg
     character(len=:), allocatable :: arg, file
     logical :: check_only, restart_latest
-    integer :: rank, nranks, k, n
+    integer :: rank, nranks, k, n, status
 
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, nranks)
@@ -55,7 +55,8 @@ contains
     end do
     if (len(file) == 0) call usage_stop(rank, 'no input file given')
 
-    call read_input(file, comm, cfg, restart_latest)
+    call read_input(file, comm, cfg, status, restart_latest)
+    if (status /= 0) call clean_stop(status)
     if (check_only) then
       if (rank == 0) call print_config(cfg, output_unit)
       return

@@ -174,7 +174,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
     logical, intent(in), optional :: write_output
-    integer :: nmin, nmax, nb
+    integer :: nmin, nmax, nb, status
     integer(i8) :: ntot, nfl
     integer(i8), allocatable :: counts(:), fcounts(:)
     character(len=256) :: line
@@ -222,15 +222,18 @@ contains
     else
       allocate (counts(size(cfg%regions)), fcounts(size(cfg%regions)))
       fcounts = 0
-      call generate_points(cfg, self%grid, self%dec, self%mats, self%solid, counts=counts)
+      call generate_points(cfg, self%grid, self%dec%clo, self%dec%chi, self%mats, self%solid, &
+                           counts=counts)
       call benchmark_setup(cfg, self%mats, self%solid)
       if (self%two_phase) then
-        call generate_points(cfg, self%grid, self%dec, self%mats, self%fluid, 'fluid', fcounts)
+        call generate_points(cfg, self%grid, self%dec%clo, self%dec%chi, self%mats, self%fluid, &
+                             'fluid', fcounts)
         call check_scene_points(cfg, self%grid, self%dec%comm, counts + fcounts, self%solid, &
-                                self%fluid)
+                                status, self%fluid)
       else
-        call check_scene_points(cfg, self%grid, self%dec%comm, counts, self%solid)
+        call check_scene_points(cfg, self%grid, self%dec%comm, counts, self%solid, status)
       end if
+      if (status /= 0) call clean_stop(status)
     end if
     if (self%two_phase) call init_two_phase(self)
 

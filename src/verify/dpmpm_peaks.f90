@@ -9,7 +9,7 @@ module dpmpm_peaks
   use dpmpm_mls, only: basis_constant, basis_linear, basis_size, packed_size, &
                        basis_eval, moment_add, mls_gamma, mls_stats_t, mls_max_basis, &
                        mls_max_packed
-  use dpmpm_generate, only: hash_uniform
+  use dpmpm_hash, only: hash_uniform
   implicit none
   private
   public :: peaks, peaks_seed, peaks_lo, peaks_hi, peaks_neval, peaks_jitter

@@ -1,15 +1,16 @@
-!> The resolved parameters of a run, as read from the namelist input file.
-!> dpmpm_input fills a config_t (defaults first, then the file, then checks);
+!> The resolved parameters of a run: types, defaults and names only (data, no I/O).
+!> dpmpm_input (in io) fills a config_t (defaults first, then the file, then checks);
 !> everything else only reads it.
 module dpmpm_config
   use dpmpm_kinds, only: wp, i8
+  use dpmpm_strings, only: next_word
   implicit none
   private
   public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t
   public :: max_poly, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
-  public :: optional_fields, field_listed, unknown_field
+  public :: optional_fields, field_listed
 
   integer, parameter :: name_len = 64
   !> Largest number of vertices of a 2D polygon region.
@@ -167,43 +168,6 @@ contains
       if ((all_counts .and. list(i:j) == 'all') .or. list(i:j) == field) yes = .true.
     end do
   end function field_listed
-
-  !> The first word of list that is neither 'all' nor an optional field ('' when none).
-  function unknown_field(list) result(word)
-    character(len=*), intent(in) :: list
-    character(len=:), allocatable :: word
-    integer :: i, j
-    word = ''
-    j = 0
-    do
-      call next_word(list, j + 1, i, j)
-      if (i > j) exit
-      if (list(i:j) /= 'all' .and. .not. any(optional_fields == list(i:j))) then
-        word = list(i:j)
-        return
-      end if
-    end do
-  end function unknown_field
-
-  !> Bounds i..j of the first word of list at or after position from (words are separated
-  !> by blanks or commas); i > j when there is none.
-  pure subroutine next_word(list, from, i, j)
-    character(len=*), intent(in) :: list
-    integer, intent(in) :: from
-    integer, intent(out) :: i, j
-    integer :: n
-    n = len_trim(list)
-    i = from
-    do while (i <= n)
-      if (list(i:i) /= ' ' .and. list(i:i) /= ',') exit
-      i = i + 1
-    end do
-    j = i - 1
-    do while (j < n)
-      if (list(j + 1:j + 1) == ' ' .or. list(j + 1:j + 1) == ',') exit
-      j = j + 1
-    end do
-  end subroutine next_word
 
   !> Index of a face name in face_names, 0 if unknown.
   pure integer function face_index(name)

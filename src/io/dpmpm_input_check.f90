@@ -1,0 +1,562 @@
+!> Checks of a configuration read from the input: every value against what it may be,
+!> the values against each other (materials of regions, faces of the grid, the rank
+!> layout against the cells), each problem to the problem list with the group, the
+!> variable, the value and what is allowed.
+module dpmpm_input_check
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use dpmpm_kinds, only: wp
+  use dpmpm_config, only: config_t, material_cfg_t, max_poly, optional_fields, field_listed
+  use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
+  use dpmpm_mls, only: basis_from_name
+  use dpmpm_shape_plan, only: shape_plan_t, max_gauss
+  use dpmpm_plasticity, only: plastic_params_t, plastic_setup, softening_limit, dp_match_names, &
+                              dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
+  use dpmpm_input_problems, only: input_problems_t, g_run, g_grid, g_shape, g_material, &
+                                  g_region, g_load, g_output, g_benchmark, add_value, real_ok
+  use dpmpm_strings, only: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, next_word
+  use mpi_f08, only: MPI_Dims_create
+  implicit none
+  private
+  public :: check_config
+
+contains
+
+  !> Check every value of cfg, read from the file of pb, for a run on nranks ranks; the
+  !> groups that could not be read (pb%read_ok false) are not checked against each other.
+  subroutine check_config(pb, cfg, nranks)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: nranks
+    integer :: nd, d, k, j
+    logical :: grid_ok, ndim_ok, exists
+
+    ! &run
+    if (.not. any(cfg%scheme == [character(len=4) :: 'musl', 'usl'])) call add_value(pb, g_run, &
+      1, 'scheme', quote(cfg%scheme), 'the schemes are musl, usl')
+    if (.not. real_ok(cfg%t_end, gt=0.0_wp)) call add_value(pb, g_run, 1, 't_end', &
+      rtoa(cfg%t_end), 'must be > 0 (s)')
+    if (.not. real_ok(cfg%dt, ge=0.0_wp)) call add_value(pb, g_run, 1, 'dt', rtoa(cfg%dt), &
+      'must be >= 0 (s; 0 = from the CFL condition)')
+    if (.not. real_ok(cfg%cfl, gt=0.0_wp, le=1.0_wp)) call add_value(pb, g_run, 1, 'cfl', &
+      rtoa(cfg%cfl), 'must be in (0, 1]')
+    if (.not. real_ok(cfg%flip, ge=0.0_wp, le=1.0_wp)) call add_value(pb, g_run, 1, 'flip', &
+      rtoa(cfg%flip), 'must be in [0, 1] (1 = FLIP, 0 = PIC)')
+    if (cfg%max_steps < 1) call add_value(pb, g_run, 1, 'max_steps', i8toa(cfg%max_steps), &
+      'must be >= 1')
+    call check_finite(pb, g_run, 1, 'gravity', cfg%gravity)
+    if (.not. real_ok(cfg%progress_seconds, gt=0.0_wp)) call add_value(pb, g_run, 1, &
+      'progress_seconds', rtoa(cfg%progress_seconds), 'must be > 0 (s)')
+    if (.not. real_ok(cfg%max_wall_time, ge=0.0_wp)) call add_value(pb, g_run, 1, &
+      'max_wall_time', rtoa(cfg%max_wall_time), 'must be >= 0 (s of wall time; 0 = no limit)')
+    if (len_trim(cfg%restart) > 0) then
+      inquire (file=trim(cfg%restart), exist=exists)
+      if (.not. exists) call add_value(pb, g_run, 1, 'restart', quote(cfg%restart), &
+        'no such file (a checkpoint <dir>/<name>.ckpt.h5 written with checkpoint_every > 0)')
+    end if
+    if (.not. any(cfg%drag == [character(len=8) :: 'explicit', 'implicit'])) call add_value(pb, &
+      g_run, 1, 'drag', quote(cfg%drag), 'the drag treatments are explicit (limited by '// &
+      'drag_safety), implicit (solid and fluid velocities solved together at each node)')
+    if (.not. real_ok(cfg%drag_safety, gt=0.0_wp, le=1.0_wp)) call add_value(pb, g_run, 1, &
+      'drag_safety', rtoa(cfg%drag_safety), 'must be in (0, 1] (fraction of the nodal drag limit)')
+    if (.not. real_ok(cfg%growth_limit, ge=0.0_wp)) call add_value(pb, g_run, 1, &
+      'growth_limit', rtoa(cfg%growth_limit), 'must be >= 0 (0 = no growth monitor)')
+
+    ! &grid
+    ndim_ok = cfg%ndim >= 1 .and. cfg%ndim <= 3
+    if (.not. ndim_ok) call add_value(pb, g_grid, 1, 'ndim', itoa(cfg%ndim), 'must be 1, 2 or 3')
+    grid_ok = ndim_ok .and. pb%read_ok(g_grid) .and. pb%count(g_grid) == 1
+    nd = merge(cfg%ndim, 3, ndim_ok)
+    do d = 1, nd
+      if (cfg%ncells(d) < 1) then
+        call add_value(pb, g_grid, 1, 'ncells('//itoa(d)//')', itoa(cfg%ncells(d)), &
+                       'zero cells: must be >= 1')
+        grid_ok = .false.
+      end if
+      if (.not. real_ok(cfg%length(d), gt=0.0_wp)) then
+        call add_value(pb, g_grid, 1, 'length('//itoa(d)//')', rtoa(cfg%length(d)), &
+                       'must be > 0 (m)')
+        grid_ok = .false.
+      end if
+      if (.not. real_ok(cfg%origin(d))) then
+        call add_value(pb, g_grid, 1, 'origin('//itoa(d)//')', rtoa(cfg%origin(d)), &
+                       'must be a finite number (m)')
+        grid_ok = .false.
+      end if
+      if (cfg%dims(d) < 0) then
+        call add_value(pb, g_grid, 1, 'dims('//itoa(d)//')', itoa(cfg%dims(d)), &
+                       'must be >= 0 (ranks along the axis; 0 = chosen by MPI)')
+        grid_ok = .false.
+      end if
+    end do
+
+    ! &shape
+    if (.not. is_grid_kernel(kernel_from_name(cfg%kernel))) call add_value(pb, g_shape, 1, &
+      'kernel', quote(cfg%kernel), 'the grid kernels are '//all_kernels(ngrid_kernels))
+    call check_mls_choice(pb, 'velocity', cfg%velocity_kernel, cfg%velocity_basis, &
+                          cfg%velocity_radius, len_trim(cfg%velocity_kernel) > 0)
+    if (len_trim(cfg%velocity_kernel) > 0 .and. two_phase(cfg)) call add_value(pb, g_shape, 1, &
+      'velocity_kernel', quote(cfg%velocity_kernel), 'MLS nodal velocities are not available '// &
+      "in two-phase scenes; use velocity_kernel = ''")
+    if (.not. any(cfg%quadrature == [character(len=6) :: 'points', 'gauss'])) &
+      call add_value(pb, g_shape, 1, 'quadrature', quote(cfg%quadrature), &
+                     'the quadratures are points (at the material points), gauss (Gauss points '// &
+                     'of the grid cells with MLS-reconstructed stresses)')
+    if (cfg%gauss_points < 1 .or. cfg%gauss_points > max_gauss) call add_value(pb, g_shape, 1, &
+      'gauss_points', itoa(cfg%gauss_points), 'must be 1 to '//itoa(max_gauss)// &
+      ' (Gauss points per cell per axis)')
+    call check_mls_choice(pb, 'field', cfg%field_kernel, cfg%field_basis, cfg%field_radius, &
+                          cfg%quadrature == 'gauss')
+
+    if (grid_ok) call check_decomposition(pb, cfg, nranks)
+
+    ! &material
+    do k = 1, size(cfg%materials)
+      associate (m => cfg%materials(k))
+        if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean', &
+                                  'fluid', 'mohr_coulomb', 'drucker_prager'])) &
+          call add_value(pb, g_material, k, 'model', quote(m%model), &
+                         'the models are linear_elastic, neo_hookean, fluid, mohr_coulomb, '// &
+                         'drucker_prager')
+        if (.not. real_ok(m%density, gt=0.0_wp)) call add_value(pb, g_material, k, 'density', &
+          rtoa(m%density), 'must be > 0 (kg/m^3)')
+        if (m%model == 'fluid') then
+          ! A linear compressible fluid: only density and bulk_modulus matter.
+          if (.not. real_ok(m%bulk_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
+            'bulk_modulus', rtoa(m%bulk_modulus), 'must be > 0 (Pa) for a fluid')
+        else
+          if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
+            'youngs_modulus', rtoa(m%youngs_modulus), 'must be > 0 (Pa)')
+          if (.not. real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) call add_value(pb, &
+            g_material, k, 'poisson_ratio', rtoa(m%poisson_ratio), &
+            'must be in (-1, 0.5): 0.5 is incompressible, which these models cannot represent')
+        end if
+        if (.not. real_ok(m%conductivity, ge=0.0_wp)) call add_value(pb, g_material, k, &
+          'conductivity', rtoa(m%conductivity), 'must be >= 0 (m/s; 0 = no pore fluid flow)')
+        if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') &
+          call check_plastic(pb, k, m)
+        do j = 1, k - 1
+          if (cfg%materials(j)%id == m%id) then
+            call add_value(pb, g_material, k, 'id', itoa(m%id), &
+                           'ids must be unique; &material number '//itoa(j)//' has it already')
+            exit
+          end if
+        end do
+      end associate
+    end do
+
+    ! &region
+    do k = 1, size(cfg%regions)
+      call check_region(pb, cfg, k, grid_ok, pb%read_ok(g_material))
+    end do
+
+    ! &load
+    do k = 1, size(cfg%loads)
+      call check_finite(pb, g_load, k, 'traction', cfg%loads(k)%traction)
+      if (.not. real_ok(cfg%loads(k)%ramp_time, ge=0.0_wp)) call add_value(pb, g_load, k, &
+        'ramp_time', rtoa(cfg%loads(k)%ramp_time), 'must be >= 0 (s; 0 = step load)')
+    end do
+
+    ! &output
+    if (.not. real_ok(cfg%frame_interval, ge=0.0_wp)) call add_value(pb, g_output, 1, &
+      'frame_interval', rtoa(cfg%frame_interval), 'must be >= 0 (s; 0 = first and last only)')
+    if (cfg%diag_every < 0) call add_value(pb, g_output, 1, 'diag_every', itoa(cfg%diag_every), &
+      'must be >= 0 (steps; 0 = automatic)')
+    if (len_trim(cfg%output_dir) == 0) call add_value(pb, g_output, 1, 'dir', "''", &
+      'must name a directory')
+    if (cfg%checkpoint_every < 0) call add_value(pb, g_output, 1, 'checkpoint_every', &
+      itoa(cfg%checkpoint_every), 'must be >= 0 (steps; 0 = no checkpoints)')
+    if (.not. real_ok(cfg%checkpoint_seconds, ge=0.0_wp)) call add_value(pb, g_output, 1, &
+      'checkpoint_seconds', rtoa(cfg%checkpoint_seconds), &
+      'must be >= 0 (s of wall time between checkpoints; 0 = none)')
+    if (cfg%compression < 0 .or. cfg%compression > 9) call add_value(pb, g_output, 1, &
+      'compression', itoa(cfg%compression), 'must be 0 (off) to 9 (gzip level)')
+    call check_fields(pb, 'solid_fields', cfg%solid_fields, .false.)
+    call check_fields(pb, 'fluid_fields', cfg%fluid_fields, .true.)
+
+    ! &benchmark
+    if (.not. any(cfg%benchmark == [character(len=11) :: 'none', 'axial_bar', 'mms', &
+                                    'biot_column', 'terzaghi'])) &
+      call add_value(pb, g_benchmark, 1, 'name', quote(cfg%benchmark), &
+                     'the benchmarks are none, axial_bar, mms, biot_column, terzaghi')
+    if (cfg%benchmark == 'mms' .and. cfg%ndim /= 2) call add_value(pb, g_benchmark, 1, 'name', &
+      quote(cfg%benchmark), 'the manufactured solution is 2D: set &grid ndim = 2')
+    if (.not. real_ok(cfg%amplitude)) call add_value(pb, g_benchmark, 1, 'amplitude', &
+      rtoa(cfg%amplitude), 'must be a finite number')
+  end subroutine check_config
+
+  !> Check one MLS reconstruction choice of &shape (prefix velocity or field) when it is used.
+  subroutine check_mls_choice(pb, prefix, kernel, basis, radius, used)
+    type(input_problems_t), intent(inout) :: pb
+    character(len=*), intent(in) :: prefix, kernel, basis
+    real(wp), intent(in) :: radius
+    logical, intent(in) :: used
+    integer :: k
+    if (.not. used) return
+    k = kernel_from_name(kernel)
+    if (k <= 0) then
+      call add_value(pb, g_shape, 1, prefix//'_kernel', quote(kernel), 'the MLS weights are '// &
+                     all_kernels(size(kernel_names)))
+    else if (.not. is_grid_kernel(k) .and. .not. real_ok(radius, gt=0.0_wp)) then
+      call add_value(pb, g_shape, 1, prefix//'_radius', rtoa(radius), 'the '//trim(kernel)// &
+                     ' weight is radial and needs a support radius > 0 (in cells)')
+    end if
+    if (.not. real_ok(radius, ge=0.0_wp, le=4.0_wp)) call add_value(pb, g_shape, 1, &
+      prefix//'_radius', rtoa(radius), 'must be in [0, 4] cells (0 = tensor-product B-spline '// &
+      'of natural support)')
+    if (basis_from_name(basis) < 0) call add_value(pb, g_shape, 1, prefix//'_basis', &
+      quote(basis), 'the bases are constant, linear, quadratic')
+  end subroutine check_mls_choice
+
+  !> Check that the ranks can be laid out over the grid as the solver will do it, with at least
+  !> the kernel's ghost width of cells per rank along every axis.
+  subroutine check_decomposition(pb, cfg, nranks)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: nranks
+    integer :: nd, d, nfixed, gw
+    type(shape_plan_t) :: plan
+    integer :: dims(3)
+    character(len=:), allocatable :: advice
+    nd = cfg%ndim
+    dims = 1
+    dims(1:nd) = cfg%dims(1:nd)
+    nfixed = product(dims(1:nd), mask=dims(1:nd) > 0)
+    if (all(dims(1:nd) > 0)) then
+      if (nfixed /= nranks) then
+        call add_value(pb, g_grid, 1, 'dims', itoa_list(dims(1:nd)), 'the ranks per axis '// &
+                       'multiply to '//itoa(nfixed)//' but the run has '//itoa(nranks)// &
+                       trim(merge(' rank ', ' ranks', nranks == 1))//': their product must '// &
+                       'be the number of ranks (or use 0 to let MPI choose an axis)')
+        return
+      end if
+    else if (mod(nranks, nfixed) /= 0) then
+      call add_value(pb, g_grid, 1, 'dims', itoa_list(dims(1:nd)), 'the nonzero ranks per '// &
+                     'axis multiply to '//itoa(nfixed)//', which does not divide the '// &
+                     itoa(nranks)//' ranks of the run')
+      return
+    end if
+    call MPI_Dims_create(nranks, nd, dims(1:nd))
+    call plan%init(cfg)
+    gw = plan%ghost_width()
+    advice = ': every rank needs at least '//itoa(gw)//' cell'//trim(merge('s', ' ', gw > 1))// &
+             ' along each axis with the '//trim(cfg%kernel)//' kernel and the reach of the '// &
+             'MLS weights; use fewer ranks or more cells'
+    do d = 1, nd
+      if (dims(d) > cfg%ncells(d)) then
+        call add_value(pb, g_grid, 1, 'ncells('//itoa(d)//')', itoa(cfg%ncells(d)), &
+                       'more ranks than cells along axis '//itoa(d)//' ('//itoa(dims(d))// &
+                       ' of the '//itoa(nranks)//' ranks lie along it)'//advice)
+      else if (cfg%ncells(d)/dims(d) < gw) then
+        call add_value(pb, g_grid, 1, 'ncells('//itoa(d)//')', itoa(cfg%ncells(d)), &
+                       'too few cells per rank along axis '//itoa(d)//' ('//itoa(dims(d))// &
+                       ' of the '//itoa(nranks)//' ranks lie along it)'//advice)
+      end if
+    end do
+  end subroutine check_decomposition
+
+  !> Check region k.
+  subroutine check_region(pb, cfg, k, grid_ok, materials_ok)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    logical, intent(in) :: grid_ok, materials_ok
+    integer :: d, j, m
+    real(wp) :: glo, ghi, tol
+    character(len=*), parameter :: xy = 'xy'
+    associate (r => cfg%regions(k))
+      select case (trim(r%shape))
+      case ('box')
+        do d = 1, merge(cfg%ndim, 0, grid_ok)
+          if (.not. (real_ok(r%lo(d)) .and. real_ok(r%hi(d)))) then
+            call add_value(pb, g_region, k, 'lo('//itoa(d)//'), hi('//itoa(d)//')', &
+                           rtoa(r%lo(d))//', '//rtoa(r%hi(d)), 'must be finite numbers (m)')
+            cycle
+          end if
+          glo = cfg%origin(d)
+          ghi = cfg%origin(d) + cfg%length(d)
+          tol = 1.0e-12_wp*cfg%length(d)
+          if (r%lo(d) >= r%hi(d)) then
+            call add_value(pb, g_region, k, 'lo('//itoa(d)//'), hi('//itoa(d)//')', &
+                           rtoa(r%lo(d))//', '//rtoa(r%hi(d)), 'need lo < hi')
+          else if (r%lo(d) < glo - tol .or. r%hi(d) > ghi + tol) then
+            call add_value(pb, g_region, k, 'lo('//itoa(d)//'), hi('//itoa(d)//')', &
+                           rtoa(r%lo(d))//', '//rtoa(r%hi(d)), 'region outside the grid: the '// &
+                           'box must lie in the grid, ['//rtoa(glo)//', '//rtoa(ghi)// &
+                           '] along axis '//itoa(d))
+          end if
+        end do
+      case ('polygon')
+        if (cfg%ndim /= 2) then
+          call add_value(pb, g_region, k, 'shape', quote(r%shape), &
+                         'polygon regions need ndim = 2; use a box')
+        else if (r%npoly < 3 .or. r%npoly > max_poly) then
+          call add_value(pb, g_region, k, 'npoly', itoa(r%npoly), &
+                         'a polygon needs 3 to '//itoa(max_poly)//' vertices (poly_x, poly_y)')
+        else if (grid_ok) then
+          vertices: do j = 1, r%npoly
+            do d = 1, 2
+              glo = cfg%origin(d)
+              ghi = cfg%origin(d) + cfg%length(d)
+              tol = 1.0e-12_wp*cfg%length(d)
+              if (.not. real_ok(r%poly(d, j), ge=glo - tol, le=ghi + tol)) then
+                call add_value(pb, g_region, k, 'poly_'//xy(d:d)//'('//itoa(j)//')', &
+                               rtoa(r%poly(d, j)), 'region outside the grid: every vertex '// &
+                               'must lie in the grid, ['//rtoa(glo)//', '//rtoa(ghi)//'] in '// &
+                               xy(d:d))
+                exit vertices
+              end if
+            end do
+          end do vertices
+        end if
+      case default
+        call add_value(pb, g_region, k, 'shape', quote(r%shape), &
+                       'the shapes are box, polygon (polygon with ndim = 2 only)')
+      end select
+      m = 0
+      if (materials_ok) m = findloc(cfg%materials%id, r%material, dim=1)
+      if (materials_ok .and. m == 0) &
+        call add_value(pb, g_region, k, 'material', itoa(r%material), 'no &material has this id')
+      select case (trim(r%phase))
+      case ('solid')
+        if (m > 0) then
+          if (cfg%materials(m)%model == 'fluid') call add_value(pb, g_region, k, 'material', &
+            itoa(r%material), "material "//itoa(r%material)//" is a 'fluid' material; a solid "// &
+            "region needs a solid material (or set phase = 'fluid')")
+        end if
+      case ('fluid')
+        if (m > 0) then
+          if (cfg%materials(m)%model /= 'fluid') call add_value(pb, g_region, k, 'material', &
+            itoa(r%material), 'material '//itoa(r%material)//' has model '// &
+            quote(cfg%materials(m)%model)//"; a fluid region needs a 'fluid' material")
+        end if
+        if (any(r%stress /= 0.0_wp)) call add_value(pb, g_region, k, 'stress', &
+          rtoa_list(r%stress), 'a fluid region has no skeleton stress; leave stress out '// &
+          '(its initial state is pore_pressure)')
+        if (any(r%stress_gradient /= 0.0_wp)) call add_value(pb, g_region, k, 'stress_gradient', &
+          rtoa_list(reshape(r%stress_gradient, [18])), 'a fluid region has no skeleton '// &
+          'stress; leave stress_gradient out (use pore_pressure_gradient)')
+      case ('saturated')
+        call check_saturated(pb, cfg, k, materials_ok)
+      case default
+        call add_value(pb, g_region, k, 'phase', quote(r%phase), &
+                       'the phases are solid, fluid, saturated (soil skeleton with pore fluid)')
+      end select
+      if (trim(r%phase) == 'solid') then
+        if (r%pore_pressure /= 0.0_wp) call add_value(pb, g_region, k, 'pore_pressure', &
+          rtoa(r%pore_pressure), "a solid region has no pore fluid; leave it out or set "// &
+          "phase = 'saturated'")
+        if (any(r%pore_pressure_gradient /= 0.0_wp)) call add_value(pb, g_region, k, &
+          'pore_pressure_gradient', rtoa_list(r%pore_pressure_gradient), 'a solid region has '// &
+          "no pore fluid; leave it out or set phase = 'saturated'")
+      end if
+      if (trim(r%phase) /= 'saturated') then
+        if (r%fluid_material /= 0) call add_value(pb, g_region, k, 'fluid_material', &
+          itoa(r%fluid_material), "only a saturated region has a pore fluid; leave it out "// &
+          "or set phase = 'saturated'")
+        if (r%porosity /= 0.0_wp) call add_value(pb, g_region, k, 'porosity', &
+          rtoa(r%porosity), "only a saturated region has a porosity; leave it out or set "// &
+          "phase = 'saturated'")
+      end if
+      if (r%ppc < 1 .or. r%ppc > 10) call add_value(pb, g_region, k, 'ppc', itoa(r%ppc), &
+        'must be in 1..10 (points per cell along each axis)')
+      if (.not. any(r%placement == [character(len=7) :: 'regular', 'random', 'uniform'])) &
+        call add_value(pb, g_region, k, 'placement', quote(r%placement), &
+                       'the placements are regular, random (scattered in each cell), '// &
+                       'uniform (scattered over the whole region)')
+      if (r%seed < 0) call add_value(pb, g_region, k, 'seed', itoa(r%seed), 'must be >= 0')
+      if (r%fluid_seed < -1) call add_value(pb, g_region, k, 'fluid_seed', itoa(r%fluid_seed), &
+        'must be >= 0, or -1 for seed + 1')
+      call check_finite(pb, g_region, k, 'velocity', r%velocity)
+      call check_finite(pb, g_region, k, 'stress', r%stress)
+      call check_finite(pb, g_region, k, 'stress_gradient', reshape(r%stress_gradient, [18]))
+      call check_finite(pb, g_region, k, 'pore_pressure', [r%pore_pressure])
+      call check_finite(pb, g_region, k, 'pore_pressure_gradient', r%pore_pressure_gradient)
+    end associate
+  end subroutine check_region
+
+  !> Check the soil skeleton, pore fluid and porosity of saturated region k.
+  subroutine check_saturated(pb, cfg, k, materials_ok)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    logical, intent(in) :: materials_ok
+    integer :: m, mf
+    associate (r => cfg%regions(k))
+      if (materials_ok) then
+        m = findloc(cfg%materials%id, r%material, dim=1)
+        if (m > 0) then
+          if (cfg%materials(m)%model == 'fluid') then
+            call add_value(pb, g_region, k, 'material', itoa(r%material), "material "// &
+                           itoa(r%material)//" is a 'fluid' material; the material of a "// &
+                           'saturated region is its soil skeleton (linear_elastic, '// &
+                           'neo_hookean, mohr_coulomb or drucker_prager) and fluid_material '// &
+                           'its pore fluid')
+          else if (.not. real_ok(cfg%materials(m)%conductivity, gt=0.0_wp)) then
+            call add_value(pb, g_region, k, 'material', itoa(r%material), 'material '// &
+                           itoa(r%material)//' has conductivity = '// &
+                           rtoa(cfg%materials(m)%conductivity)//'; the soil of a saturated '// &
+                           'region needs a hydraulic conductivity > 0 (m/s)')
+          end if
+        end if
+        mf = findloc(cfg%materials%id, r%fluid_material, dim=1)
+        if (r%fluid_material == 0) then
+          call add_value(pb, g_region, k, 'fluid_material', itoa(r%fluid_material), &
+                         "a saturated region needs the id of a 'fluid' &material for its "// &
+                         'pore fluid')
+        else if (mf == 0) then
+          call add_value(pb, g_region, k, 'fluid_material', itoa(r%fluid_material), &
+                         'no &material has this id')
+        else if (cfg%materials(mf)%model /= 'fluid') then
+          call add_value(pb, g_region, k, 'fluid_material', itoa(r%fluid_material), &
+                         'material '//itoa(r%fluid_material)//' has model '// &
+                         quote(cfg%materials(mf)%model)//"; the pore fluid of a saturated "// &
+                         "region must be a 'fluid' material")
+        end if
+      end if
+      if (.not. real_ok(r%porosity, gt=0.0_wp, lt=1.0_wp)) call add_value(pb, g_region, k, &
+        'porosity', rtoa(r%porosity), 'must be in (0, 1) for a saturated region (volume '// &
+        'fraction of the pores)')
+    end associate
+  end subroutine check_saturated
+
+  !> True when any region has a fluid phase (fluid or saturated).
+  pure logical function two_phase(cfg)
+    type(config_t), intent(in) :: cfg
+    integer :: k
+    two_phase = .false.
+    if (.not. allocated(cfg%regions)) return
+    do k = 1, size(cfg%regions)
+      if (any(cfg%regions(k)%phase == [character(len=9) :: 'fluid', 'saturated'])) &
+        two_phase = .true.
+    end do
+  end function two_phase
+
+  !> A problem when any value of x is not a finite number.
+  subroutine check_finite(pb, g, k, var, x)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: g, k
+    character(len=*), intent(in) :: var
+    real(wp), intent(in) :: x(:)
+    integer :: j
+    do j = 1, size(x)
+      if (.not. ieee_is_finite(x(j))) then
+        call add_value(pb, g, k, var//'('//itoa(j)//')', rtoa(x(j)), 'must be a finite number')
+      end if
+    end do
+  end subroutine check_finite
+
+  !> solid_fields / fluid_fields: known names only; a fluid set has no stress to write.
+  subroutine check_fields(pb, var, list, fluid)
+    type(input_problems_t), intent(inout) :: pb
+    character(len=*), intent(in) :: var, list
+    logical, intent(in) :: fluid
+    character(len=:), allocatable :: word
+    word = unknown_field(list)
+    if (len(word) > 0) then
+      call add_value(pb, g_output, 1, var, "'"//trim(list)//"'", 'unknown dataset '''//word// &
+                     ''': the optional datasets are displacement, stress, material, '// &
+                     'porosity, pore_pressure, plastic_strain, or all (id, x, v, mass and '// &
+                     'volume are always written)')
+    else if (fluid .and. field_listed(list, 'stress', explicit=.true.)) then
+      call add_value(pb, g_output, 1, var, "'"//trim(list)//"'", 'a fluid set has no '// &
+                     'stress dataset (its stress is -pore_pressure on the diagonal)')
+    end if
+  end subroutine check_fields
+
+  !> The first word of list that is neither 'all' nor an optional field ('' when none).
+  function unknown_field(list) result(word)
+    character(len=*), intent(in) :: list
+    character(len=:), allocatable :: word
+    integer :: i, j
+    word = ''
+    j = 0
+    do
+      call next_word(list, j + 1, i, j)
+      if (i > j) exit
+      if (list(i:j) /= 'all' .and. .not. any(optional_fields == list(i:j))) then
+        word = list(i:j)
+        return
+      end if
+    end do
+  end function unknown_field
+
+  !> Strength parameters of a mohr_coulomb or drucker_prager material k.
+  subroutine check_plastic(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    type(plastic_params_t) :: par
+    real(wp) :: hmax
+    integer :: match
+    logical :: ok
+    ok = .true.
+    if (.not. real_ok(m%friction_angle, ge=0.0_wp, lt=90.0_wp)) then
+      call add_value(pb, g_material, k, 'friction_angle', rtoa(m%friction_angle), &
+                     'must be in [0, 90) (degrees)')
+      ok = .false.
+    end if
+    if (.not. real_ok(m%dilatancy_angle, ge=0.0_wp)) then
+      call add_value(pb, g_material, k, 'dilatancy_angle', rtoa(m%dilatancy_angle), &
+                     'must be >= 0 (degrees)')
+      ok = .false.
+    else if (ok .and. m%dilatancy_angle > m%friction_angle) then
+      call add_value(pb, g_material, k, 'dilatancy_angle', rtoa(m%dilatancy_angle), &
+                     'must not exceed friction_angle = '//rtoa(m%friction_angle)// &
+                     ' (psi > phi would create energy)')
+      ok = .false.
+    end if
+    if (.not. real_ok(m%cohesion, ge=0.0_wp)) then
+      call add_value(pb, g_material, k, 'cohesion', rtoa(m%cohesion), 'must be >= 0 (Pa)')
+      ok = .false.
+    else if (ok .and. m%cohesion == 0.0_wp .and. m%friction_angle == 0.0_wp) then
+      call add_value(pb, g_material, k, 'cohesion', rtoa(m%cohesion), &
+                     'with friction_angle = 0 the soil needs a cohesion > 0 (Pa): it has no '// &
+                     'shear strength at all')
+    end if
+    if (.not. real_ok(m%tensile_strength, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'tensile_strength', rtoa(m%tensile_strength), 'must be >= 0 (Pa; 0 = no tension)')
+    if (.not. real_ok(m%residual_cohesion, ge=0.0_wp)) then
+      call add_value(pb, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
+                     'must be >= 0 (Pa)')
+    else if (real_ok(m%cohesion) .and. m%residual_cohesion > m%cohesion) then
+      call add_value(pb, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
+                     'must not exceed cohesion = '//rtoa(m%cohesion)//' (softening lowers it)')
+    end if
+    match = findloc(dp_match_names, trim(m%dp_match), dim=1)
+    if (match == 0) then
+      call add_value(pb, g_material, k, 'dp_match', quote(m%dp_match), &
+                     'the matchings of Drucker-Prager to Mohr-Coulomb are plane_strain, outer, '// &
+                     'inner')
+      match = dp_plane_strain
+    end if
+    if (.not. real_ok(m%cohesion_softening, ge=0.0_wp)) then
+      call add_value(pb, g_material, k, 'cohesion_softening', rtoa(m%cohesion_softening), &
+                     'must be >= 0 (Pa per unit plastic strain; 0 = no softening)')
+    else if (ok .and. real_ok(m%youngs_modulus, gt=0.0_wp) .and. &
+             real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) then
+      par = plastic_setup(merge(surface_mohr_coulomb, surface_drucker_prager, &
+                                m%model == 'mohr_coulomb'), &
+                          m%youngs_modulus/(3.0_wp*(1.0_wp - 2.0_wp*m%poisson_ratio)), &
+                          m%youngs_modulus/(2.0_wp*(1.0_wp + m%poisson_ratio)), &
+                          m%friction_angle, m%dilatancy_angle, m%cohesion, m%tensile_strength, &
+                          m%cohesion_softening, m%residual_cohesion, match)
+      hmax = softening_limit(par)
+      if (m%cohesion_softening >= hmax) call add_value(pb, g_material, k, 'cohesion_softening', &
+        rtoa(m%cohesion_softening), 'must be < '//rtoa(hmax)//' (Pa) with these elastic '// &
+        'constants and angles: a steeper softening has no unique return')
+    end if
+  end subroutine check_plastic
+
+  !> The names of the first n kernels, comma separated.
+  function all_kernels(n) result(s)
+    integer, intent(in) :: n
+    character(len=:), allocatable :: s
+    integer :: k
+    s = ''
+    do k = 1, n
+      if (k > 1) s = s//', '
+      s = s//trim(kernel_names(k))
+    end do
+  end function all_kernels
+
+end module dpmpm_input_check

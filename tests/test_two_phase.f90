@@ -7,7 +7,7 @@ program test_two_phase
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, fbc_drained
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_two_phase, only: drag_solve, drag_limit
+  use dpmpm_drag, only: drag_solve, drag_limit
   use dpmpm_biot_column, only: biot_column_t, biot_column_solve
   use dpmpm_terzaghi, only: terzaghi_t, terzaghi_cv, terzaghi_pressure, terzaghi_settlement, &
                             terzaghi_p0
@@ -136,7 +136,7 @@ contains
     real(wp), allocatable :: v(:, :)
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
-    call two_phase_errors(sim%cfg, sim%mats, sim%solid, sim%fluid, sim%time, MPI_COMM_WORLD, &
+    call two_phase_errors(sim%cfg, sim%mats, sim%phase(1)%pts, sim%phase(2)%pts, sim%time, MPI_COMM_WORLD, &
                           names, values)
     call sim%gather_points(ids, sx, v, ss)
     call sim%gather_points(ids, fx, v, fs, fluid=.true.)
@@ -485,8 +485,8 @@ contains
     integer(i8), intent(in) :: gid
     integer :: k
     u = 0.0_wp
-    do k = 1, sim%solid%n
-      if (sim%solid%id(k) == gid) u = sim%solid%x(1, k) - sim%solid%x0(1, k)
+    do k = 1, sim%phase(1)%pts%n
+      if (sim%phase(1)%pts%id(k) == gid) u = sim%phase(1)%pts%x(1, k) - sim%phase(1)%pts%x0(1, k)
     end do
   end function displacement_at
 

@@ -8,7 +8,7 @@ module dpmpm_energy
   use dpmpm_diagnostics, only: diag_record_t
   use dpmpm_particles, only: particle_set_t
   use dpmpm_materials, only: strain_energy, model_fluid
-  use dpmpm_benchmarks, only: benchmark_errors, nbench_err
+  use dpmpm_verification_log, only: record_benchmark_errors
   use dpmpm_state, only: state_t, exit_monitor
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM, MPI_MAX, MPI_Wtime, &
                      MPI_MAXLOC, MPI_2DOUBLE_PRECISION, MPI_Bcast
@@ -24,8 +24,7 @@ contains
   subroutine diagnostics(self)
     class(state_t), intent(inout) :: self
     type(diag_record_t) :: rec
-    real(wp) :: s(9), vmax, err(nbench_err), fm(4)
-    real(wp), allocatable :: tmp(:, :)
+    real(wp) :: s(9), vmax, fm(4)
     integer :: p, m
     s = 0.0_wp
     vmax = 0.0_wp
@@ -75,16 +74,7 @@ contains
     self%energy_error = max(self%energy_error, abs(s(1) + s(2) - s(3) - self%energy0))
     if (self%energy_scale > 0.0_wp) self%energy_drift = self%energy_error/self%energy_scale
     call monitor_energy(self, s(1), s(2), s(3) + s(9), s(9), fm)
-    if (self%cfg%benchmark /= 'none') then
-      err = benchmark_errors(self%cfg, self%mats, self%phase(1)%pts, self%time, self%dec%comm)
-      if (self%nerr == size(self%err_hist, 2)) then
-        allocate (tmp(size(self%err_hist, 1), 2*self%nerr))
-        tmp(:, 1:self%nerr) = self%err_hist
-        call move_alloc(tmp, self%err_hist)
-      end if
-      self%nerr = self%nerr + 1
-      self%err_hist(:, self%nerr) = [self%time, err]
-    end if
+    if (self%cfg%benchmark /= 'none') call record_benchmark_errors(self)
   end subroutine diagnostics
 
   !> Largest value over this rank's points of monitored field m: 1 speed of the
@@ -174,7 +164,7 @@ contains
     character(len=*), parameter :: fnames(4) = [character(len=20) :: 'velocity', 'velocity', &
       'effective stress', 'pore pressure']
     real(wp) :: growth(4), val, best(2), info(8)
-    integer :: m, p
+    integer :: m, p, ip
     character(len=640) :: line
     character(len=40) :: cells
     do m = 1, 4
@@ -185,28 +175,26 @@ contains
     ! The largest value of field m on this rank, then the rank that holds it.
     best = [-1.0_wp, real(self%dec%rank, wp)]
     info = 0.0_wp
-    associate (ps => self%phase(1)%pts)
-      if (m == 1 .or. m == 3) then
+    ! Fields 1 and 3 are the solid's, 2 and 4 the fluid's.
+    ip = merge(1, 2, m == 1 .or. m == 3)
+    if (ip <= self%nph) then
+      associate (ps => self%phase(ip)%pts)
         do p = 1, ps%n
-          val = merge(norm2(ps%v(:, p)), maxval(abs(ps%stress(:, p))), m == 1)
+          select case (m)
+          case (1, 2)
+            val = norm2(ps%v(:, p))
+          case (3)
+            val = maxval(abs(ps%stress(:, p)))
+          case default
+            val = abs(ps%pressure(p))
+          end select
           if (val > best(1)) then
             best(1) = val
             info = point_info(self, ps, p)
           end if
         end do
-      end if
-    end associate
-    associate (ps => self%phase(2)%pts)
-      if (m == 2 .or. m == 4) then
-        do p = 1, ps%n
-          val = merge(norm2(ps%v(:, p)), abs(ps%pressure(p)), m == 2)
-          if (val > best(1)) then
-            best(1) = val
-            info = point_info(self, ps, p)
-          end if
-        end do
-      end if
-    end associate
+      end associate
+    end if
     call MPI_Allreduce(MPI_IN_PLACE, best, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
     call MPI_Bcast(info, 8, MPI_DOUBLE_PRECISION, nint(best(2)), self%dec%comm)
     write (cells, '(3(1x,i0))') nint(info(5:4 + self%nd))

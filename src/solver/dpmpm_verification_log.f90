@@ -4,13 +4,14 @@
 module dpmpm_verification_log
   use dpmpm_kinds, only: wp, i8
   use dpmpm_timer, only: t_total
-  use dpmpm_benchmarks, only: benchmark_error_names, benchmark_nerr
+  use dpmpm_benchmarks, only: benchmark_errors, benchmark_error_names, benchmark_nerr, nbench_err
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_state, only: state_t
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_SUM
   implicit none
   private
-  public :: two_phase_benchmark, record_two_phase_errors, write_verification, report_mls
+  public :: two_phase_benchmark, record_two_phase_errors, record_benchmark_errors, write_verification, &
+            report_mls
 
 contains
 
@@ -26,7 +27,7 @@ contains
   subroutine record_two_phase_errors(self)
     class(state_t), intent(inout) :: self
     character(len=error_name_len), allocatable :: names(:)
-    real(wp), allocatable :: values(:), tmp(:, :)
+    real(wp), allocatable :: values(:)
     character(len=512) :: line
     integer :: k
     call two_phase_errors(self%cfg, self%mats, self%phase(1)%pts, self%phase(2)%pts, self%time, self%dec%comm, &
@@ -36,13 +37,7 @@ contains
       allocate (self%ferr(1 + size(values), 8))
       self%nferr = 0
     end if
-    if (self%nferr == size(self%ferr, 2)) then
-      allocate (tmp(size(self%ferr, 1), 2*self%nferr))
-      tmp(:, 1:self%nferr) = self%ferr
-      call move_alloc(tmp, self%ferr)
-    end if
-    self%nferr = self%nferr + 1
-    self%ferr(:, self%nferr) = [self%time, values]
+    call append_record(self%ferr, self%nferr, [self%time, values])
     if (self%time <= 0.0_wp) return
     write (line, '(a,es11.4,a)') '  errors at t = ', self%time, ':'
     do k = 1, size(names)
@@ -125,5 +120,29 @@ contains
       end do
     end if
   end subroutine report_mls
+
+  !> The errors of a one-phase benchmark at the current diagnostics record, kept for
+  !> /verification (collective).
+  subroutine record_benchmark_errors(self)
+    class(state_t), intent(inout) :: self
+    real(wp) :: err(nbench_err)
+    err = benchmark_errors(self%cfg, self%mats, self%phase(1)%pts, self%time, self%dec%comm)
+    call append_record(self%err_hist, self%nerr, [self%time, err])
+  end subroutine record_benchmark_errors
+
+  !> Append the column rec to the first n columns of hist, doubling its capacity when full.
+  subroutine append_record(hist, n, rec)
+    real(wp), allocatable, intent(inout) :: hist(:, :)
+    integer, intent(inout) :: n
+    real(wp), intent(in) :: rec(:)
+    real(wp), allocatable :: tmp(:, :)
+    if (n == size(hist, 2)) then
+      allocate (tmp(size(hist, 1), 2*n))
+      tmp(:, 1:n) = hist
+      call move_alloc(tmp, hist)
+    end if
+    n = n + 1
+    hist(:, n) = rec
+  end subroutine append_record
 
 end module dpmpm_verification_log

@@ -426,7 +426,10 @@ contains
     end do
     call self%timers%toc(t_total)
     ! A collective stop (bad time step, the monitor): the run ends here, its output closed.
-    if (self%exit_code /= 0) return
+    if (self%exit_code /= 0) then
+      if (self%out%is_active()) call self%out%close()
+      return
+    end if
     ! Stopped early: the checkpoint first, of the state exactly as the loop left it.
     if (self%stopped /= 0) call write_state(self)
     if (mod(self%step, diag_every) /= 0) then
@@ -576,6 +579,7 @@ contains
     if (allocated(self%fnames)) deallocate (self%fnames)
     self%nferr = 0
     if (allocated(self%mats)) deallocate (self%mats)
+    self%cfg = config_t()
   end subroutine sim_free
 
 end module dpmpm_simulation

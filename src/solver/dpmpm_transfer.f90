@@ -10,48 +10,12 @@ module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: voigt_to_tensor
   use dpmpm_drag, only: gravity_drag
-  use dpmpm_kernels, only: max_stencil
   implicit none
   private
   public :: p2g, g2p, point_gradient, momentum_p2g, interp_scalar
-  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, stencil_nodes
-
-  !> Nodes of the widest stencil (cubic B-spline in 3D).
-  integer, parameter :: max_nodes = max_stencil**3
+  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux
 
 contains
-
-  !> The nodes of a point's stencil, first node i0 and per-axis weights sw (and
-  !> derivatives sdw), in the order of the node loops of every transfer (x fastest):
-  !> ns nodes with indices idx, weights w = N_I and, with sdw, gradients g = grad N_I,
-  !> the tensor products of the per-axis factors. The one stencil loop of the
-  !> transfers: each kernel runs over these nodes.
-  pure subroutine stencil_nodes(nw, i0, sw, ns, idx, w, sdw, g)
-    integer, intent(in) :: nw(3), i0(3)
-    real(wp), intent(in) :: sw(:, :)
-    integer, intent(out) :: ns, idx(:, :)
-    real(wp), intent(out) :: w(:)
-    real(wp), intent(in), optional :: sdw(:, :)
-    real(wp), intent(out), optional :: g(:, :)
-    integer :: a, b, c
-    ns = 0
-    do c = 1, nw(3)
-      do b = 1, nw(2)
-        do a = 1, nw(1)
-          ns = ns + 1
-          idx(1, ns) = i0(1) + a - 1
-          idx(2, ns) = i0(2) + b - 1
-          idx(3, ns) = i0(3) + c - 1
-          w(ns) = sw(a, 1)*sw(b, 2)*sw(c, 3)
-          if (present(g)) then
-            g(1, ns) = sdw(a, 1)*sw(b, 2)*sw(c, 3)
-            g(2, ns) = sw(a, 1)*sdw(b, 2)*sw(c, 3)
-            g(3, ns) = sw(a, 1)*sw(b, 2)*sdw(c, 3)
-          end if
-        end do
-      end do
-    end do
-  end subroutine stencil_nodes
 
   !> Particle to grid: mass, momentum and internal force -sum_p V_p sigma_p grad N_I.
   !> Point quadrature of the stress (point_forces) is skipped when the forces
@@ -65,8 +29,7 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in), optional :: bacc(:, :)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes), gn(3, max_nodes)
+    integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), s(3, 3), mv(3), fs(3), mb(3)
     do p = 1, n
       s = 0.0_wp
@@ -75,15 +38,22 @@ contains
       mv(1:nd) = mass(p)*v(:, p)
       mb = 0.0_wp
       if (present(bacc)) mb(1:nd) = mass(p)*bacc(:, p)
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn, sdw(:, :, p), gn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        nn = wn(q)
-        g = gn(:, q)
-        fs = nn*mb - vol(p)*matmul(s, g)
-        node(1, i, j, k) = node(1, i, j, k) + nn*mass(p)
-        node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mv(1:nd)
-        node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + fs(1:nd)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            fs = nn*mb - vol(p)*matmul(s, g)
+            node(1, i, j, k) = node(1, i, j, k) + nn*mass(p)
+            node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mv(1:nd)
+            node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + fs(1:nd)
+          end do
+        end do
       end do
     end do
   end subroutine p2g
@@ -97,21 +67,27 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), flip, dt
     real(wp), intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes), gn(3, max_nodes)
+    integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3)
     do p = 1, n
       dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn, sdw(:, :, p), gn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        nn = wn(q)
-        g = gn(:, q)
-        vn(1:nd) = vn(1:nd) + nn*nvel(nd + 1:2*nd, i, j, k)
-        dv(1:nd) = dv(1:nd) + nn*(nvel(nd + 1:2*nd, i, j, k) - nvel(1:nd, i, j, k))
-        lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
-        lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
-        lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            vn(1:nd) = vn(1:nd) + nn*nvel(nd + 1:2*nd, i, j, k)
+            dv(1:nd) = dv(1:nd) + nn*(nvel(nd + 1:2*nd, i, j, k) - nvel(1:nd, i, j, k))
+            lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
+            lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
+            lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+          end do
+        end do
       end do
       v(:, p) = flip*(v(:, p) + dv(1:nd)) + (1.0_wp - flip)*vn(1:nd)
       x(:, p) = x(:, p) + dt*vn(1:nd)
@@ -128,18 +104,24 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: vgrad(:, :)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes), gn(3, max_nodes)
+    integer :: p, a, b, c, i, j, k
     real(wp) :: g(3), lg(3, 3)
     do p = 1, n
       lg = 0.0_wp
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn, sdw(:, :, p), gn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        g = gn(:, q)
-        lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
-        lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
-        lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
+            lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
+            lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+          end do
+        end do
       end do
       vgrad(:, p) = reshape(lg, [9])
     end do
@@ -153,15 +135,19 @@ contains
     real(wp), intent(in) :: sw(:, :, :), mass(:), v(:, :)
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes)
+    integer :: p, a, b, c, i, j, k
     real(wp) :: nn
     do p = 1, n
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        nn = wn(q)
-        node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
+          end do
+        end do
       end do
     end do
   end subroutine momentum_p2g
@@ -182,18 +168,24 @@ contains
     real(wp), intent(in) :: nporo(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: nvel_f(:, lo(1):, lo(2):, lo(3):), nvel_s(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(out) :: gnrel(:)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes), gn(3, max_nodes)
+    integer :: p, a, b, c, i, j, k
     real(wp) :: g(3), np
     do p = 1, n
       np = poro(p)
       gnrel(p) = 0.0_wp
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn, sdw(:, :, p), gn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        g = gn(:, q)
-        gnrel(p) = gnrel(p) + (nporo(1, i, j, k) - np)* &
-                   dot_product(g(1:nd), nvel_f(nd + 1:2*nd, i, j, k) - nvel_s(nd + 1:2*nd, i, j, k))
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            gnrel(p) = gnrel(p) + (nporo(1, i, j, k) - np)* &
+                       dot_product(g(1:nd), nvel_f(nd + 1:2*nd, i, j, k) - nvel_s(nd + 1:2*nd, i, j, k))
+          end do
+        end do
       end do
     end do
   end subroutine mixture_flux
@@ -206,18 +198,24 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(out) :: val(:), grad(:, :)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes), gn(3, max_nodes)
+    integer :: p, a, b, c, i, j, k
     real(wp) :: g(3)
     do p = 1, n
       val(p) = 0.0_wp
       grad(:, p) = 0.0_wp
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn, sdw(:, :, p), gn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        g = gn(:, q)
-        val(p) = val(p) + wn(q)*f(1, i, j, k)
-        grad(1:nd, p) = grad(1:nd, p) + g(1:nd)*f(1, i, j, k)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            val(p) = val(p) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(1, i, j, k)
+            grad(1:nd, p) = grad(1:nd, p) + g(1:nd)*f(1, i, j, k)
+          end do
+        end do
       end do
     end do
   end subroutine interp_scalar
@@ -235,24 +233,30 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes), gn(3, max_nodes)
+    integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), pv, dp
     do p = 1, n
       pv = 0.0_wp
       if (point_forces) pv = vol(p)*pres(p)
       dp = mass(p)*poro(p)*gravity_drag*kinv(p)
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn, sdw(:, :, p), gn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        nn = wn(q)
-        drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
-        if (.not. point_forces) cycle
-        g = gn(:, q)
-        node_f(2 + nd:1 + 2*nd, i, j, k) = node_f(2 + nd:1 + 2*nd, i, j, k) + &
-                                           pv*poro(p)*g(1:nd)
-        node_s(2 + nd:1 + 2*nd, i, j, k) = node_s(2 + nd:1 + 2*nd, i, j, k) + &
-                                           pv*(1.0_wp - poro(p))*g(1:nd)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
+            if (.not. point_forces) cycle
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            node_f(2 + nd:1 + 2*nd, i, j, k) = node_f(2 + nd:1 + 2*nd, i, j, k) + &
+                                               pv*poro(p)*g(1:nd)
+            node_s(2 + nd:1 + 2*nd, i, j, k) = node_s(2 + nd:1 + 2*nd, i, j, k) + &
+                                               pv*(1.0_wp - poro(p))*g(1:nd)
+          end do
+        end do
       end do
     end do
   end subroutine fluid_p2g
@@ -269,15 +273,19 @@ contains
     real(wp), intent(in) :: sw(:, :, :), vol(:), pres(:), ngrad(:, :)
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: force(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes)
+    integer :: p, a, b, c, i, j, k
     real(wp) :: f(3)
     do p = 1, n
       f(1:nd) = vol(p)*pres(p)*ngrad(1:nd, p)
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        force(1:nd, i, j, k) = force(1:nd, i, j, k) + wn(q)*f(1:nd)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            force(1:nd, i, j, k) = force(1:nd, i, j, k) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(1:nd)
+          end do
+        end do
       end do
     end do
   end subroutine interphase_p2g
@@ -290,13 +298,17 @@ contains
     real(wp), intent(in) :: sw(:, :, :), mass(:), poro(:)
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, q, ns, i, j, k, idx(3, max_nodes)
-    real(wp) :: wn(max_nodes)
+    integer :: p, a, b, c, i, j, k
     do p = 1, n
-      call stencil_nodes(nw, i0(:, p), sw(:, :, p), ns, idx, wn)
-      do q = 1, ns
-        i = idx(1, q); j = idx(2, q); k = idx(3, q)
-        sporo(1, i, j, k) = sporo(1, i, j, k) + wn(q)*mass(p)*poro(p)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            sporo(1, i, j, k) = sporo(1, i, j, k) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*mass(p)*poro(p)
+          end do
+        end do
       end do
     end do
   end subroutine solid_porosity_p2g

@@ -8,10 +8,11 @@ program test_two_phase_mls_velocity
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed
+  use dpmpm_config, only: config_t
   use dpmpm_simulation, only: simulation_t
   use dpmpm_two_phase_verify, only: two_phase_errors, error_name_len
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests, am_root
+  use dpmpm_test_scenes, only: column_scene
   implicit none
   !> Wendland C2 against Standard MPM: errors / q measured (sigma', p) 0.0489 and 0.0484
   !> against 0.0484 and 0.0480, total stress behind the front -1.028 and -1.029 Pa (the
@@ -28,35 +29,6 @@ program test_two_phase_mls_velocity
   if (status /= 0) stop 1, quiet = .true.
 
 contains
-
-  !> W1 of physics.md section 0: 1D along x, loaded and drained at x-, fixed and
-  !> impermeable at x+.
-  function w1_scene() result(cfg)
-    type(config_t) :: cfg
-    cfg%name = 'w1_mls_velocity'
-    cfg%ndim = 1
-    cfg%ncells = [100, 1, 1]
-    cfg%length = [10.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = 0.025_wp
-    cfg%cfl = 0.5_wp
-    cfg%drag = 'implicit'
-    cfg%benchmark = 'biot_column'
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
-    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
-                                      youngs_modulus=1.0e7_wp, poisson_ratio=0.0_wp, conductivity=1.0e-5_wp)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=3.0e6_wp)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [10.0_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = 0.3_wp
-    cfg%regions(1)%ppc = 2
-    cfg%regions(1)%placement = 'random'
-    cfg%regions(1)%seed = 5
-    cfg%loads(1) = load_cfg_t(face=1, traction=[1.0_wp, 0.0_wp, 0.0_wp], ramp_time=0.0_wp)
-    cfg%bc(2) = bc_fixed
-  end function w1_scene
 
   !> Run cfg; its errors against the reference and the solid and fluid velocities
   !> (rank 0, sorted by id).
@@ -90,7 +62,7 @@ contains
     real(wp) :: scale
     integer :: k
     call begin_test('w1_mls_velocities')
-    cfg = w1_scene()
+    cfg = column_scene(100, 1.0e-5_wp, 3.0e6_wp, 0.025_wp, 'implicit')
     call run(cfg, names, v0, vs0, vf0)
     cfg%velocity_kernel = 'linear'
     cfg%velocity_basis = 'constant'

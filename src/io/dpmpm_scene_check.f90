@@ -1,6 +1,7 @@
 !> Checks of a scene that need its points: every &region makes points, and every &load
 !> acts on a face that the body touches. Run once the points are generated; a failure is
-!> reported like an input error, once by rank 0, and every rank stops with exit code 2.
+!> reported like an input error, once by rank 0, and every rank gets ok = .false. (the
+!> run ends with exit code 2).
 module dpmpm_scene_check
   use, intrinsic :: iso_fortran_env, only: error_unit
   use dpmpm_kinds, only: wp, i8
@@ -9,7 +10,6 @@ module dpmpm_scene_check
   use dpmpm_particles, only: particle_set_t
   use dpmpm_migrate, only: point_cell
   use dpmpm_strings, only: itoa
-  use dpmpm_error, only: clean_stop
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_SUM
   implicit none
   private
@@ -19,12 +19,13 @@ contains
 
   !> counts(r): points region r made on this rank (both sets). A region without any point
   !> on any rank, or a load on a face with no point in the layer of cells next to it (its
-  !> traction would act on empty nodes), is refused. Collective over comm.
-  subroutine check_scene_points(cfg, grid, comm, counts, solid, fluid)
+  !> traction would act on empty nodes), is refused (ok false on every rank). Collective over comm.
+  subroutine check_scene_points(cfg, grid, comm, counts, ok, solid, fluid)
     type(config_t), intent(in) :: cfg
     type(grid_t), intent(in) :: grid
     type(MPI_Comm), intent(in) :: comm
     integer(i8), intent(in) :: counts(:)
+    logical, intent(out) :: ok
     type(particle_set_t), intent(in) :: solid
     type(particle_set_t), intent(in), optional :: fluid
     integer(i8), allocatable :: nreg(:), nload(:)
@@ -40,7 +41,8 @@ contains
     end do
     call MPI_Allreduce(MPI_IN_PLACE, nload, size(nload), MPI_INTEGER8, MPI_SUM, comm)
     nbad = count(nreg == 0) + count(nload == 0)
-    if (nbad == 0) return
+    ok = nbad == 0
+    if (ok) return
     if (rank == 0) then
       do r = 1, size(nreg)
         if (nreg(r) > 0) cycle
@@ -60,7 +62,6 @@ contains
       end do
       flush (error_unit)
     end if
-    call clean_stop(2)
   end subroutine check_scene_points
 
   !> " (group k of n)" when the group is repeated, "" when it is given once.

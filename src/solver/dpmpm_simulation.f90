@@ -72,6 +72,7 @@ contains
     integer(i8) :: ntot, nfl
     integer(i8), allocatable :: counts(:), fcounts(:)
     character(len=256) :: line
+    logical :: ok
     call self%free()
     self%cfg = cfg
     self%exit_code = 0
@@ -124,10 +125,14 @@ contains
       call benchmark_setup(cfg, self%mats, self%phase(1)%pts)
       if (self%two_phase) then
         call generate_points(cfg, self%grid, self%dec, self%mats, self%phase(2)%pts, 'fluid', fcounts)
-        call check_scene_points(cfg, self%grid, self%dec%comm, counts + fcounts, self%phase(1)%pts, &
+        call check_scene_points(cfg, self%grid, self%dec%comm, counts + fcounts, ok, self%phase(1)%pts, &
                                 self%phase(2)%pts)
       else
-        call check_scene_points(cfg, self%grid, self%dec%comm, counts, self%phase(1)%pts)
+        call check_scene_points(cfg, self%grid, self%dec%comm, counts, ok, self%phase(1)%pts)
+      end if
+      if (.not. ok) then
+        self%exit_code = exit_bad_input
+        return
       end if
     end if
     self%fbc = 0

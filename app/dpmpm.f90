@@ -7,7 +7,10 @@ program dpmpm
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD
   use dpmpm_app, only: run_app
   implicit none
+  integer :: status
   call start_mpi()
-  call run_app(MPI_COMM_WORLD)
+  status = run_app(MPI_COMM_WORLD)
   call MPI_Finalize()
+  ! The exit status of the run (dpmpm --help lists them), without a runtime message.
+  if (status /= 0) stop status, quiet = .true.
 end program dpmpm

@@ -136,8 +136,8 @@ contains
     ! Masses on the rank's own points: m = n rho_f e^{p/K_f} V with V = h / 2.
     vol = height/20.0_wp/2.0_wp
     e = 0.0_wp
-    do k = 1, sim%fluid%n
-      e = max(e, abs(sim%fluid%mass(k) - n_f*rho_f*exp(sim%fluid%pressure(k)/kf)*vol)/ &
+    do k = 1, sim%phase(2)%pts%n
+      e = max(e, abs(sim%phase(2)%pts%mass(k) - n_f*rho_f*exp(sim%phase(2)%pts%pressure(k)/kf)*vol)/ &
                  (n_f*rho_f*vol))
     end do
     call check(e <= 1.0e-14_wp, 'fluid: mass n rho_f(p) V')

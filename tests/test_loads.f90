@@ -47,9 +47,9 @@ contains
     real(wp) :: s(4)
     integer :: k
     s = 0.0_wp
-    do k = 1, sim%solid%n
-      s(1:sim%nd) = s(1:sim%nd) + sim%solid%mass(k)*sim%solid%v(:, k)
-      s(4) = s(4) + sim%solid%mass(k)
+    do k = 1, sim%phase(1)%pts%n
+      s(1:sim%nd) = s(1:sim%nd) + sim%phase(1)%pts%mass(k)*sim%phase(1)%pts%v(:, k)
+      s(4) = s(4) + sim%phase(1)%pts%mass(k)
     end do
     call MPI_Allreduce(MPI_IN_PLACE, s, 4, MPI_DOUBLE_PRECISION, MPI_SUM, sim%dec%comm)
     p = s(1:3)

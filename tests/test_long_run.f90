@@ -83,7 +83,7 @@ contains
     real(wp) :: m
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
-    m = sum(sim%solid%mass(1:sim%solid%n)) + sum(sim%fluid%mass(1:sim%fluid%n))
+    m = sum(sim%phase(1)%pts%mass(1:sim%phase(1)%pts%n)) + sum(sim%phase(2)%pts%mass(1:sim%phase(2)%pts%n))
     call MPI_Allreduce(MPI_IN_PLACE, m, 1, MPI_DOUBLE_PRECISION, MPI_SUM, MPI_COMM_WORLD)
     ke = sim%mon_ke_max/(0.5_wp*m*VU**2)
     ratio = sim%mon_ratio

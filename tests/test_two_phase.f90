@@ -7,12 +7,13 @@ program test_two_phase
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, fbc_drained
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_two_phase, only: drag_solve, drag_limit
+  use dpmpm_drag, only: drag_solve, drag_limit
   use dpmpm_biot_column, only: biot_column_t, biot_column_solve
   use dpmpm_terzaghi, only: terzaghi_t, terzaghi_cv, terzaghi_pressure, terzaghi_settlement, &
                             terzaghi_p0
   use dpmpm_two_phase_verify, only: two_phase_errors, error_name_len
   use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_test_scenes, only: column_scene
   implicit none
   ! Bounds: the measured values of doc/verification.md (two-phase section) plus 30 %;
   ! the total stress behind the front (measured 0.012 Pa off) gets 0.05 Pa.
@@ -68,38 +69,6 @@ program test_two_phase
 
 contains
 
-  !> The saturated column of physics.md section 0 (W1 unless changed): 1D along x,
-  !> loaded and drained at x-, fixed and impermeable at x+.
-  function column_scene(ncells, k, kf, t_end, drag) result(cfg)
-    integer, intent(in) :: ncells
-    real(wp), intent(in) :: k, kf, t_end
-    character(len=*), intent(in) :: drag
-    type(config_t) :: cfg
-    cfg%name = 'column'
-    cfg%ndim = 1
-    cfg%ncells = [ncells, 1, 1]
-    cfg%length = [10.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = t_end
-    cfg%cfl = 0.5_wp
-    cfg%drag = drag
-    cfg%benchmark = 'biot_column'
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
-    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
-                                      youngs_modulus=1.0e7_wp, poisson_ratio=0.0_wp, conductivity=k)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=kf)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [10.0_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = 0.3_wp
-    cfg%regions(1)%ppc = 2
-    cfg%regions(1)%placement = 'random'
-    cfg%regions(1)%seed = 5
-    cfg%loads(1) = load_cfg_t(face=1, traction=[1.0_wp, 0.0_wp, 0.0_wp], ramp_time=0.0_wp)
-    cfg%bc(2) = bc_fixed
-  end function column_scene
-
   !> Both drag solves conserve the momentum of the pair; the implicit one tends
   !> to the common acceleration of the mixture for a very large drag; the
   !> explicit limit is 2 / (D (1/m_s + 1/m_f)).
@@ -136,7 +105,7 @@ contains
     real(wp), allocatable :: v(:, :)
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
-    call two_phase_errors(sim%cfg, sim%mats, sim%solid, sim%fluid, sim%time, MPI_COMM_WORLD, &
+    call two_phase_errors(sim%cfg, sim%mats, sim%phase(1)%pts, sim%phase(2)%pts, sim%time, MPI_COMM_WORLD, &
                           names, values)
     call sim%gather_points(ids, sx, v, ss)
     call sim%gather_points(ids, fx, v, fs, fluid=.true.)
@@ -485,8 +454,8 @@ contains
     integer(i8), intent(in) :: gid
     integer :: k
     u = 0.0_wp
-    do k = 1, sim%solid%n
-      if (sim%solid%id(k) == gid) u = sim%solid%x(1, k) - sim%solid%x0(1, k)
+    do k = 1, sim%phase(1)%pts%n
+      if (sim%phase(1)%pts%id(k) == gid) u = sim%phase(1)%pts%x(1, k) - sim%phase(1)%pts%x0(1, k)
     end do
   end function displacement_at
 

@@ -6,7 +6,7 @@ module dpmpm_error
   use mpi_f08, only: MPI_Abort, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Initialized
   implicit none
   private
-  public :: fatal, clean_stop
+  public :: fatal
 
 contains
 
@@ -28,17 +28,5 @@ contains
     if (up) call MPI_Abort(MPI_COMM_WORLD, 1)
     stop 1, quiet = .true.
   end subroutine fatal
-
-  !> Collective stop after an error that every rank knows of (bad input):
-  !> finalize MPI and exit with the given code, without a runtime traceback.
-  subroutine clean_stop(code)
-    use mpi_f08, only: MPI_Finalize, MPI_Finalized
-    integer, intent(in) :: code
-    logical :: up, down
-    call MPI_Initialized(up)
-    call MPI_Finalized(down)
-    if (up .and. .not. down) call MPI_Finalize()
-    stop code, quiet = .true.
-  end subroutine clean_stop
 
 end module dpmpm_error

@@ -94,9 +94,6 @@ contains
       'kernel', quote(cfg%kernel), 'the grid kernels are '//all_kernels(ngrid_kernels))
     call check_mls_choice(pb, 'velocity', cfg%velocity_kernel, cfg%velocity_basis, &
                           cfg%velocity_radius, len_trim(cfg%velocity_kernel) > 0)
-    if (len_trim(cfg%velocity_kernel) > 0 .and. two_phase(cfg)) call add_value(pb, g_shape, 1, &
-      'velocity_kernel', quote(cfg%velocity_kernel), 'MLS nodal velocities are not available '// &
-      "in two-phase scenes; use velocity_kernel = ''")
     if (.not. any(cfg%quadrature == [character(len=6) :: 'points', 'gauss'])) &
       call add_value(pb, g_shape, 1, 'quadrature', quote(cfg%quadrature), &
                      'the quadratures are points (at the material points), gauss (Gauss points '// &
@@ -418,18 +415,6 @@ contains
         'fraction of the pores)')
     end associate
   end subroutine check_saturated
-
-  !> True when any region has a fluid phase (fluid or saturated).
-  pure logical function two_phase(cfg)
-    type(config_t), intent(in) :: cfg
-    integer :: k
-    two_phase = .false.
-    if (.not. allocated(cfg%regions)) return
-    do k = 1, size(cfg%regions)
-      if (any(cfg%regions(k)%phase == [character(len=9) :: 'fluid', 'saturated'])) &
-        two_phase = .true.
-    end do
-  end function two_phase
 
   !> A problem when any value of x is not a finite number.
   subroutine check_finite(pb, g, k, var, x)

@@ -4,7 +4,6 @@ module dpmpm_app
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size
   use dpmpm_config, only: config_t
   use dpmpm_input, only: read_input, print_config
-  use dpmpm_error, only: clean_stop
   use dpmpm_simulation, only: run_scene
   use dpmpm_posix, only: catch_stop_signals
   use dpmpm_build_info, only: dpmpm_version, git_commit
@@ -18,15 +17,17 @@ module dpmpm_app
 contains
 
   !> Run dpmpm on the ranks of comm: `dpmpm [--check] [--restart] scene.nml`, `dpmpm --help`,
-  !> `dpmpm --version`. With --check, read and check the input and print the resolved parameters; a
-  !> bad command line stops with exit code 2.
-  subroutine run_app(comm)
+  !> `dpmpm --version`. With --check, read and check the input and print the resolved parameters.
+  !> The exit status for the program (the same on every rank): 0 done, 2 bad command line,
+  !> restart or time step, 3 stopped early with a checkpoint, 4 stopped by the run monitor.
+  integer function run_app(comm) result(status)
     type(MPI_Comm), intent(in) :: comm
     type(config_t) :: cfg
     character(len=:), allocatable :: arg, file
     logical :: check_only, restart_latest
-    integer :: rank, nranks, k, n, status
+    integer :: rank, nranks, k, n
 
+    status = 0
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, nranks)
     check_only = .false.
@@ -47,16 +48,20 @@ contains
       else if (arg == '--restart') then
         restart_latest = .true.
       else if (arg(1:min(1, n)) == '-' .or. len(file) > 0) then
-        call usage_stop(rank, 'unexpected argument '''//arg//'''')
+        status = usage_error(rank, 'unexpected argument '''//arg//'''')
+        return
       else
         file = arg
       end if
       deallocate (arg)
     end do
-    if (len(file) == 0) call usage_stop(rank, 'no input file given')
+    if (len(file) == 0) then
+      status = usage_error(rank, 'no input file given')
+      return
+    end if
 
     call read_input(file, comm, cfg, status, restart_latest)
-    if (status /= 0) call clean_stop(status)
+    if (status /= 0) return
     if (check_only) then
       if (rank == 0) call print_config(cfg, output_unit)
       return
@@ -71,8 +76,8 @@ contains
     if (.not. catch_stop_signals() .and. rank == 0) &
       write (error_unit, '(a)') 'dpmpm: warning: cannot catch SIGTERM and SIGUSR1; a '// &
       'scheduler''s stop signal will end the run without a checkpoint'
-    call run_scene(cfg, comm)
-  end subroutine run_app
+    status = run_scene(cfg, comm)
+  end function run_app
 
   !> "dpmpm 0.1.0 (commit 0123456789ab)"
   function version_text() result(s)
@@ -110,8 +115,8 @@ contains
     flush (output_unit)
   end subroutine print_help
 
-  !> Print the usage on rank 0 and stop every rank with exit code 2.
-  subroutine usage_stop(rank, why)
+  !> Print the usage on rank 0; the exit status 2 of a bad command line.
+  integer function usage_error(rank, why) result(status)
     integer, intent(in) :: rank
     character(len=*), intent(in) :: why
     if (rank == 0) then
@@ -120,7 +125,7 @@ contains
       write (error_unit, '(a)') 'dpmpm --help says more'
       flush (error_unit)
     end if
-    call clean_stop(2)
-  end subroutine usage_stop
+    status = 2
+  end function usage_error
 
 end module dpmpm_app

@@ -1,0 +1,97 @@
+!> Gathers to rank 0: the points of a set, sorted by their ids, for comparisons
+!> between runs (tests, rank invariance) and for output on one rank.
+module dpmpm_gather
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_particles, only: particle_set_t
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Gather, MPI_Gatherv, MPI_INTEGER, &
+                     MPI_INTEGER8, MPI_DOUBLE_PRECISION
+  implicit none
+  private
+  public :: gather_points, sort_index
+
+contains
+
+  !> Gather the points of ps from all ranks of comm on rank 0, sorted by id: ids,
+  !> positions, velocities and stresses (for comparisons between runs; the fluid's
+  !> stress is -p I). Other ranks, and a set never made (ndim 0), get empty arrays.
+  subroutine gather_points(ps, nd, comm, ids, x, v, stress)
+    type(particle_set_t), intent(in) :: ps
+    integer, intent(in) :: nd
+    type(MPI_Comm), intent(in) :: comm
+    integer(i8), allocatable, intent(out) :: ids(:)
+    real(wp), allocatable, intent(out) :: x(:, :), v(:, :), stress(:, :)
+    integer, allocatable :: counts(:), displs(:), order(:)
+    integer(i8), allocatable :: gid(:)
+    real(wp), allocatable :: buf(:, :), gbuf(:, :)
+    integer :: nr, m, k, ntot, rank
+    if (ps%ndim == 0) then
+      allocate (ids(0), x(nd, 0), v(nd, 0), stress(6, 0))
+      return
+    end if
+    m = 2*nd + 6
+    call MPI_Comm_size(comm, nr)
+    call MPI_Comm_rank(comm, rank)
+    allocate (counts(nr), displs(nr))
+    call MPI_Gather(ps%n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, comm)
+    ntot = 0
+    if (rank == 0) then
+      displs(1) = 0
+      do k = 2, nr
+        displs(k) = displs(k - 1) + counts(k - 1)
+      end do
+      ntot = sum(counts)
+    end if
+    allocate (gid(max(ntot, 1)), gbuf(m, max(ntot, 1)), buf(m, ps%n))
+    buf(1:nd, :) = ps%x(:, 1:ps%n)
+    buf(nd + 1:2*nd, :) = ps%v(:, 1:ps%n)
+    buf(2*nd + 1:m, :) = ps%stress(:, 1:ps%n)
+    call MPI_Gatherv(ps%id, ps%n, MPI_INTEGER8, gid, counts, displs, MPI_INTEGER8, &
+                     0, comm)
+    call MPI_Gatherv(buf, m*ps%n, MPI_DOUBLE_PRECISION, gbuf, m*counts, m*displs, &
+                     MPI_DOUBLE_PRECISION, 0, comm)
+    if (rank /= 0) then
+      allocate (ids(0), x(nd, 0), v(nd, 0), stress(6, 0))
+      return
+    end if
+    order = sort_index(gid(1:ntot))
+    ids = gid(order)
+    x = gbuf(1:nd, order)
+    v = gbuf(nd + 1:2*nd, order)
+    stress = gbuf(2*nd + 1:m, order)
+  end subroutine gather_points
+
+  !> Permutation that sorts a (merge sort, stable).
+  function sort_index(a) result(idx)
+    integer(i8), intent(in) :: a(:)
+    integer, allocatable :: idx(:), tmp(:)
+    integer :: n, width, lo, mid, hi, i, j, k
+    n = size(a)
+    idx = [(k, k = 1, n)]
+    allocate (tmp(n))
+    width = 1
+    do while (width < n)
+      lo = 1
+      do while (lo <= n)
+        mid = min(lo + width - 1, n)
+        hi = min(lo + 2*width - 1, n)
+        i = lo; j = mid + 1; k = lo
+        do while (k <= hi)
+          if (j > hi) then
+            tmp(k) = idx(i); i = i + 1
+          else if (i > mid) then
+            tmp(k) = idx(j); j = j + 1
+          else if (a(idx(j)) < a(idx(i))) then
+            tmp(k) = idx(j); j = j + 1
+          else
+            tmp(k) = idx(i); i = i + 1
+          end if
+          k = k + 1
+        end do
+        lo = lo + 2*width
+      end do
+      idx = tmp
+      width = 2*width
+    end do
+  end function sort_index
+
+end module dpmpm_gather

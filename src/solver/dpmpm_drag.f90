@@ -1,0 +1,135 @@
+!> The drag between the phases (physics.md 5): the coefficient's gravity, the
+!> per-node solve of the coupled accelerations (explicit Euler or the implicit
+!> 2x2 system), the relaxation of a MUSL-remapped pair, and the explicit-drag
+!> time-step limit. The coefficient itself is carried to the nodes by fluid_p2g
+!> (dpmpm_transfer); its dissipation is booked by the nodal update.
+module dpmpm_drag
+  use dpmpm_kinds, only: wp
+  use dpmpm_face_loads, only: face_loads_t
+  implicit none
+  private
+  public :: gravity_drag, drag_solve, drag_relax, drag_limit, nodal_drag_limit, relax_remapped
+
+  !> Gravity in the drag coefficient n_f^2 rho_f g / k (k is a hydraulic conductivity,
+  !> defined with the standard gravity whatever the scene's body force).
+  real(wp), parameter :: gravity_drag = 9.81_wp
+
+contains
+
+  !> Accelerations of one velocity component at a node with both phases, masses
+  !> ms, mf, forces fs, ff (everything but drag), drag coefficient d and the
+  !> velocities vs, vf at the start of the step. Explicit: forward Euler on the
+  !> drag, m_s a_s = f_s + d (v_f - v_s), m_f a_f = f_f - d (v_f - v_s). Implicit
+  !> (physics.md 5.4): the drag at the new velocities, the 2x2 system
+  !> [ms + dt d, -dt d; -dt d, mf + dt d] (a_s, a_f) = (f_s + d w, f_f - d w),
+  !> w = v_f - v_s, determinant ms mf + dt d (ms + mf) > 0.
+  pure subroutine drag_solve(ms, mf, d, fs, ff, vs, vf, dt, implicit, as, af)
+    real(wp), intent(in) :: ms, mf, d, fs, ff, vs, vf, dt
+    logical, intent(in) :: implicit
+    real(wp), intent(out) :: as, af
+    real(wp) :: w, r1, r2, det, e
+    w = vf - vs
+    r1 = fs + d*w
+    r2 = ff - d*w
+    if (.not. implicit) then
+      as = r1/ms
+      af = r2/mf
+      return
+    end if
+    e = dt*d
+    det = ms*mf + e*(ms + mf)
+    as = ((mf + e)*r1 + e*r2)/det
+    af = (e*r1 + (ms + e)*r2)/det
+  end subroutine drag_solve
+
+  !> Relative velocity of a MUSL-remapped pair made consistent with the step's
+  !> implicit drag. vs, vf are the remapped nodal velocities (each phase projected
+  !> from its own points), wstep = v_f - v_s of the nodal update itself. The two
+  !> point sets project the same nodal increments with their own masses, so the
+  !> remap adds a relative velocity w_R - wstep that no drag has acted on. The
+  !> implicit drag shrinks a relative velocity in one step by
+  !> f = ms mf / (ms mf + dt d (ms + mf)); where it locks the phases (f < f_lock)
+  !> the added part is shrunk the same way, w = wstep + g (w_R - wstep) with
+  !> g = f + (1 - f) f / f_lock, which is 1 (the plain remap) from f = f_lock on.
+  !> Where the drag is moderate the nodal update's own relative velocity can be
+  !> large at a node one phase barely reaches, and the plain remap is kept. The
+  !> momentum of the pair is kept (doc/verification.md, "Long runs").
+  pure subroutine drag_relax(ms, mf, d, dt, wstep, vs, vf)
+    real(wp), intent(in) :: ms, mf, d, dt, wstep
+    real(wp), intent(inout) :: vs, vf
+    real(wp), parameter :: f_lock = 0.1_wp
+    real(wp) :: mix, w, f, g
+    if (ms <= 0.0_wp .or. mf <= 0.0_wp .or. d <= 0.0_wp) return
+    f = ms*mf/(ms*mf + dt*d*(ms + mf))
+    if (f >= f_lock) return
+    g = f + (1.0_wp - f)*f/f_lock
+    mix = (ms*vs + mf*vf)/(ms + mf)
+    w = wstep + g*(vf - vs - wstep)
+    vs = mix - mf/(ms + mf)*w
+    vf = mix + ms/(ms + mf)*w
+  end subroutine drag_relax
+
+  !> Largest stable step of forward Euler on the relative motion of the two
+  !> phases at a node, 2 / (d (1/ms + 1/mf)) (physics.md 5, the binding limit of
+  !> explicit drag); huge where a phase or the drag is absent.
+  pure real(wp) function drag_limit(ms, mf, d) result(dt)
+    real(wp), intent(in) :: ms, mf, d
+    dt = huge(1.0_wp)
+    if (ms > 0.0_wp .and. mf > 0.0_wp .and. d > 0.0_wp) dt = 2.0_wp/(d*(1.0_wp/ms + 1.0_wp/mf))
+  end function drag_limit
+
+  !> Largest stable step of explicit drag over the nodes olo..ohi (this rank's owned
+  !> nodes) from the summed solid and fluid node fields and the drag coefficient.
+  pure real(wp) function nodal_drag_limit(lo, olo, ohi, node_s, node_f, ndrag) result(dtmin)
+    integer, intent(in) :: lo(3), olo(3), ohi(3)
+    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: ndrag(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k
+    dtmin = huge(1.0_wp)
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          dtmin = min(dtmin, drag_limit(node_s(1, i, j, k), node_f(1, i, j, k), ndrag(1, i, j, k)))
+        end do
+      end do
+    end do
+  end function nodal_drag_limit
+
+  !> The MUSL-remapped velocities of the nodes where both phases move freely
+  !> (owned nodes, new-velocity slots): where the drag locks the phases, the
+  !> relative velocity the remap adds to that of the nodal update (wstep) is
+  !> shrunk as the step's implicit drag would (drag_relax).
+  !> Each point set projects the same nodal increments with its own masses, so
+  !> the plain remap leaves a relative velocity of the phases that no drag has
+  !> acted on; fed to the strain and pore-pressure rates it makes the
+  !> amplification of the step exceed 1 once the drag couples the phases.
+  subroutine relax_remapped(nd, lo, olo, ohi, faces, mbc, node_s, node_f, ndrag, dt, wstep, nvel_s, nvel_f)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    type(face_loads_t), intent(in) :: faces
+    integer, intent(in) :: mbc(6)            !< the fluid's mirror conditions
+    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: ndrag(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: dt
+    real(wp), intent(in) :: wstep(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k, c
+    logical :: sfix(3), ffix(3), tie(3)
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
+          sfix = faces%grid%constrained([i, j, k])
+          ffix = faces%grid%constrained([i, j, k], mbc)
+          tie = faces%fluid_ties([i, j, k])
+          do c = 1, nd
+            if (sfix(c) .or. ffix(c) .or. tie(c)) cycle
+            call drag_relax(node_s(1, i, j, k), node_f(1, i, j, k), &
+                            ndrag(1, i, j, k), dt, wstep(c, i, j, k), nvel_s(nd + c, i, j, k), &
+                            nvel_f(nd + c, i, j, k))
+          end do
+        end do
+      end do
+    end do
+  end subroutine relax_remapped
+
+end module dpmpm_drag

@@ -1,0 +1,336 @@
+!> Energy and the run monitor (doc/verification.md, "Long runs"): the global
+!> diagnostics record (kinetic and stored energy, work of the loads, drag
+!> dissipation, momentum), the energy balance, the growth monitor and the check
+!> of every point's state after a step. Collective; a stop sets exit_code.
+module dpmpm_energy
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_diagnostics, only: diag_record_t
+  use dpmpm_particles, only: particle_set_t
+  use dpmpm_materials, only: strain_energy, model_fluid
+  use dpmpm_verification_log, only: record_benchmark_errors
+  use dpmpm_state, only: state_t, exit_monitor
+  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM, MPI_MAX, MPI_Wtime, &
+                     MPI_MAXLOC, MPI_2DOUBLE_PRECISION, MPI_Bcast
+  implicit none
+  private
+  public :: diagnostics, monitor_stopped, check_state
+
+contains
+
+  !> Global diagnostics at the current step (collective): energies, momentum, the
+  !> energy balance, the run monitor and the benchmark errors. A monitor stop sets
+  !> exit_code and growth_stop (the caller writes the last frame).
+  subroutine diagnostics(self)
+    class(state_t), intent(inout) :: self
+    type(diag_record_t) :: rec
+    real(wp) :: s(9), vmax, fm(4)
+    integer :: p, m
+    s = 0.0_wp
+    vmax = 0.0_wp
+    do p = 1, self%phase(1)%pts%n
+      s(1) = s(1) + 0.5_wp*self%phase(1)%pts%mass(p)*sum(self%phase(1)%pts%v(:, p)**2)
+      s(4) = s(4) + self%phase(1)%pts%mass(p)
+      s(5:4 + self%nd) = s(5:4 + self%nd) + self%phase(1)%pts%mass(p)*self%phase(1)%pts%v(:, p)
+      vmax = max(vmax, norm2(self%phase(1)%pts%v(:, p)))
+    end do
+    do m = 1, size(self%mats)
+      if (self%mats(m)%model == model_fluid) cycle
+      s(2) = s(2) + strain_energy(self%mats(m), m, self%phase(1)%pts%n, self%phase(1)%pts%mat, self%phase(1)%pts%stress, &
+                                  self%phase(1)%pts%vol, self%phase(1)%pts%vol0, self%phase(1)%pts%defgrad)
+    end do
+    if (self%two_phase) then
+      do p = 1, self%phase(2)%pts%n
+        s(1) = s(1) + 0.5_wp*self%phase(2)%pts%mass(p)*sum(self%phase(2)%pts%v(:, p)**2)
+        s(4) = s(4) + self%phase(2)%pts%mass(p)
+        s(5:4 + self%nd) = s(5:4 + self%nd) + self%phase(2)%pts%mass(p)*self%phase(2)%pts%v(:, p)
+        vmax = max(vmax, norm2(self%phase(2)%pts%v(:, p)))
+        ! Stored energy of the compressed pore fluid, n p^2 / (2 K_f) per mixture volume.
+        s(2) = s(2) + 0.5_wp*self%phase(2)%pts%porosity(p)*self%phase(2)%pts%pressure(p)**2/ &
+               self%mats(self%phase(2)%pts%mat(p))%bulk_fluid*self%phase(2)%pts%vol(p)
+      end do
+      s(8) = s(8) + real(self%phase(2)%pts%n, wp)
+    end if
+    s(3) = self%ext_work
+    s(8) = s(8) + real(self%phase(1)%pts%n, wp)
+    s(9) = self%drag_loss
+    call MPI_Allreduce(MPI_IN_PLACE, s, 9, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    do m = 1, 4
+      fm(m) = field_max(self, m)
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, fm, 4, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
+    call MPI_Allreduce(MPI_IN_PLACE, vmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
+    rec%step = self%step
+    rec%npoints = nint(s(8), i8)
+    rec%values = [self%time, self%dt, s(1), s(2), s(3), vmax, MPI_Wtime() - self%wall_start, &
+                  s(4), s(5), s(6), s(7)]
+    if (self%write_output) call self%out%add_diag(rec)
+    ! Energy balance: kinetic + strain - external work stays at its initial value;
+    ! its largest change is measured relative to the largest kinetic + stored
+    ! energy seen so far; a ratio taken step by step would be ruled by the first
+    ! steps of a step load, when little energy is stored yet.
+    if (self%step == 0) self%energy0 = s(1) + s(2) - s(3)
+    self%energy_scale = max(self%energy_scale, abs(self%energy0), s(1) + s(2))
+    self%energy_error = max(self%energy_error, abs(s(1) + s(2) - s(3) - self%energy0))
+    if (self%energy_scale > 0.0_wp) self%energy_drift = self%energy_error/self%energy_scale
+    call monitor_energy(self, s(1), s(2), s(3) + s(9), s(9), fm)
+    if (self%cfg%benchmark /= 'none') call record_benchmark_errors(self)
+  end subroutine diagnostics
+
+  !> Largest value over this rank's points of monitored field m: 1 speed of the
+  !> solid points, 2 speed of the fluid points, 3 largest |component| of the
+  !> effective stress, 4 |pore pressure| (0 where a set is absent).
+  real(wp) function field_max(self, m) result(f)
+    class(state_t), intent(in) :: self
+    integer, intent(in) :: m
+    integer :: p
+    f = 0.0_wp
+    select case (m)
+    case (1)
+      do p = 1, self%phase(1)%pts%n
+        f = max(f, norm2(self%phase(1)%pts%v(:, p)))
+      end do
+    case (2)
+      if (.not. self%two_phase) return
+      do p = 1, self%phase(2)%pts%n
+        f = max(f, norm2(self%phase(2)%pts%v(:, p)))
+      end do
+    case (3)
+      do p = 1, self%phase(1)%pts%n
+        f = max(f, maxval(abs(self%phase(1)%pts%stress(:, p))))
+      end do
+    case (4)
+      if (.not. self%two_phase) return
+      do p = 1, self%phase(2)%pts%n
+        f = max(f, abs(self%phase(2)%pts%pressure(p)))
+      end do
+    end select
+  end function field_max
+
+  !> The run monitor at a diagnostics record (collective; ke, se, w, d global sums
+  !> of kinetic and stored energy, work of loads and gravity, drag dissipation
+  !> since t = 0; fm the field maxima of field_max). The scale is what the body
+  !> was given: its kinetic + stored energy at the first record plus the largest
+  !> |work of the loads| since then. Kinetic + stored energy above growth_limit
+  !> times that scale cannot come from the loads: the run is stopped, with a
+  !> warning first at a fifth of it.
+  subroutine monitor_energy(self, ke, se, w, d, fm)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: ke, se, w, d, fm(4)
+    real(wp) :: ratio, wl, dl
+    self%mon_ke_max = max(self%mon_ke_max, ke)
+    if (.not. self%monitor_started) then
+      self%monitor_started = .true.
+      self%mon_e0 = ke + se
+      self%mon_w0 = w
+      self%mon_d0 = d
+      self%mon_input = ke + se
+      self%mon_prev = fm
+      self%mon_prev_time = self%time
+      return
+    end if
+    wl = w - self%mon_w0
+    dl = d - self%mon_d0
+    self%mon_input = max(self%mon_input, self%mon_e0 + abs(wl))
+    if (self%mon_input <= 0.0_wp) then
+      self%mon_prev = fm
+      self%mon_prev_time = self%time
+      return
+    end if
+    ratio = (ke + se)/self%mon_input
+    self%mon_ratio = max(self%mon_ratio, ratio)
+    self%mon_balance = max(self%mon_balance, abs(ke + se + dl - wl - self%mon_e0)/(self%mon_input + dl))
+    if (self%cfg%growth_limit > 0.0_wp) then
+      if (ratio > self%cfg%growth_limit) then
+        call report_growth(self, fm, ratio, .true.)
+        return
+      else if (ratio > 0.2_wp*self%cfg%growth_limit .and. .not. self%mon_warned) then
+        self%mon_warned = .true.
+        call report_growth(self, fm, ratio, .false.)
+      end if
+    end if
+    self%mon_prev = fm
+    self%mon_prev_time = self%time
+  end subroutine monitor_energy
+
+  !> Name the growing field (the monitored field whose maximum grew most since
+  !> the previous record), the point that holds its largest value (id, set,
+  !> position, cell) and the time; warn, or (stop) set exit_code to 4 (collective;
+  !> the caller writes a last frame and ends the run: monitor_stopped).
+  subroutine report_growth(self, fm, ratio, stop)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: fm(4), ratio
+    logical, intent(in) :: stop
+    character(len=*), parameter :: fnames(4) = [character(len=20) :: 'velocity', 'velocity', &
+      'effective stress', 'pore pressure']
+    real(wp) :: growth(4), val, best(2), info(8)
+    integer :: m, p, ip
+    character(len=640) :: line
+    character(len=40) :: cells
+    do m = 1, 4
+      growth(m) = 0.0_wp
+      if (fm(m) > 0.0_wp) growth(m) = fm(m)/max(self%mon_prev(m), fm(m)*1.0e-30_wp)
+    end do
+    m = maxloc(growth, 1)
+    ! The largest value of field m on this rank, then the rank that holds it.
+    best = [-1.0_wp, real(self%dec%rank, wp)]
+    info = 0.0_wp
+    ! Fields 1 and 3 are the solid's, 2 and 4 the fluid's.
+    ip = merge(1, 2, m == 1 .or. m == 3)
+    if (ip <= self%nph) then
+      associate (ps => self%phase(ip)%pts)
+        do p = 1, ps%n
+          select case (m)
+          case (1, 2)
+            val = norm2(ps%v(:, p))
+          case (3)
+            val = maxval(abs(ps%stress(:, p)))
+          case default
+            val = abs(ps%pressure(p))
+          end select
+          if (val > best(1)) then
+            best(1) = val
+            info = point_info(self, ps, p)
+          end if
+        end do
+      end associate
+    end if
+    call MPI_Allreduce(MPI_IN_PLACE, best, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
+    call MPI_Bcast(info, 8, MPI_DOUBLE_PRECISION, nint(best(2)), self%dec%comm)
+    write (cells, '(3(1x,i0))') nint(info(5:4 + self%nd))
+    write (line, '(a,es11.4,a,i0,a,es11.3e3,a,a,a,a,a,es11.3e3,a,es11.3e3,a,es11.4,a,i0,a,3es12.4,a)') &
+      'monitor: at t = ', self%time, ' s (step ', self%step, ') kinetic + stored energy is ', ratio, &
+      ' times the work done + initial energy; growing field: ', trim(fnames(m)), ' of the ', &
+      trim(merge('solid', 'fluid', m == 1 .or. m == 3)), ' points, largest ', best(1), ' (', &
+      min(growth(m), huge(1.0_wp)), ' times its value at t = ', self%mon_prev_time, ') at point id ', &
+      nint(info(1), i8), ', x =', info(2:4), ', cell'
+    line = trim(line)//trim(cells)//' (from 0 at the grid origin)'
+    call self%log%error(trim(line))
+    if (.not. stop) then
+      call self%log%error('monitor: warning; the run stops when the ratio exceeds growth_limit = '// &
+                          trim(rtoa_short(self%cfg%growth_limit)))
+      return
+    end if
+    ! The last frame, the output closed and the final message: monitor_stopped, by the run.
+    self%exit_code = exit_monitor
+    self%growth_stop = .true.
+  end subroutine report_growth
+
+  !> The end of a run the monitor stopped for growth: the output closed after the
+  !> last frame (written by the caller), and how to go on.
+  subroutine monitor_stopped(self)
+    class(state_t), intent(inout) :: self
+    if (self%write_output) call self%out%close()
+    call self%log%error('monitor: the run is unstable and was stopped; last frame written at t = '// &
+                        trim(rtoa_short(self%time))//' s (raise growth_limit, or 0 to switch the monitor off)')
+  end subroutine monitor_stopped
+
+
+  !> id, position (3) and cell indices (3, from 0) of point p of ps, as reals.
+  function point_info(self, ps, p) result(info)
+    class(state_t), intent(in) :: self
+    type(particle_set_t), intent(in) :: ps
+    integer, intent(in) :: p
+    real(wp) :: info(8)
+    integer :: d
+    info = 0.0_wp
+    info(1) = real(ps%id(p), wp)
+    info(2:1 + self%nd) = ps%x(:, p)
+    do d = 1, self%nd
+      info(4 + d) = real(floor((ps%x(d, p) - self%grid%origin(d))/self%grid%h(d)), wp)
+    end do
+  end function point_info
+
+  !> Short text of a real for messages.
+  function rtoa_short(x) result(t)
+    real(wp), intent(in) :: x
+    character(len=24) :: t
+    write (t, '(es11.3e3)') x
+    t = adjustl(t)
+  end function rtoa_short
+
+  !> After each step: every point's position, velocity, stress, volume (and, where
+  !> present, pore pressure, porosity, det F) finite, volumes and det F positive.
+  !> Otherwise the first bad point is named with its field and the run stops with
+  !> code 4 before a frame of the bad state is written (collective: exit_code set).
+  subroutine check_state(self)
+    class(state_t), intent(inout) :: self
+    character(len=48) :: field
+    real(wp) :: bad(2), info(8), value
+    character(len=640) :: line
+    integer :: iset
+    character(len=*), parameter :: fields(8) = [character(len=24) :: 'position', 'velocity', &
+      'stress', 'volume', 'pore pressure', 'porosity', 'det F', '']
+    bad = [0.0_wp, real(self%dec%rank, wp)]
+    info = 0.0_wp
+    value = 0.0_wp
+    iset = 0
+    call scan_set(self%phase(1)%pts, 1)
+    if (self%two_phase .and. bad(1) == 0.0_wp) call scan_set(self%phase(2)%pts, 2)
+    call MPI_Allreduce(MPI_IN_PLACE, bad, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
+    if (bad(1) == 0.0_wp) return
+    ! info(6:8) are free for the field code, the set and the value.
+    call MPI_Bcast(info, 8, MPI_DOUBLE_PRECISION, nint(bad(2)), self%dec%comm)
+    field = fields(nint(bad(1)))
+    write (line, '(a,es11.4,a,i0,a,a,a,a,a,i0,a,3es12.4,a,es11.3)') 'monitor: at t = ', self%time, &
+      ' s (step ', self%step, ') the ', trim(field), ' of ', &
+      trim(merge('solid', 'fluid', nint(info(7)) == 1)), ' point id ', nint(info(1), i8), &
+      ' at x =', info(2:4), ' is not valid: ', info(8)
+    call self%log%error(trim(line))
+    call self%log%error('monitor: no frame of this state is written; the last frame is the one '// &
+                        'before; the run stops')
+    if (self%write_output) call self%out%close()
+    self%exit_code = exit_monitor
+  contains
+    subroutine scan_set(ps, is)
+      type(particle_set_t), intent(in) :: ps
+      integer, intent(in) :: is
+      integer :: p, code
+      real(wp) :: v, fdet
+      do p = 1, ps%n
+        code = 0
+        if (.not. all(ieee_is_finite(ps%x(:, p)))) then
+          code = 1; v = sum(ps%x(:, p))
+        else if (.not. all(ieee_is_finite(ps%v(:, p)))) then
+          code = 2; v = sum(ps%v(:, p))
+        else if (.not. all(ieee_is_finite(ps%stress(:, p)))) then
+          code = 3; v = sum(ps%stress(:, p))
+        else if (.not. (ps%vol(p) > 0.0_wp .and. ieee_is_finite(ps%vol(p)))) then
+          code = 4; v = ps%vol(p)
+        end if
+        if (code == 0 .and. ps%has_pressure) then
+          if (.not. ieee_is_finite(ps%pressure(p))) then
+            code = 5; v = ps%pressure(p)
+          end if
+        end if
+        if (code == 0 .and. ps%has_porosity) then
+          if (.not. ieee_is_finite(ps%porosity(p))) then
+            code = 6; v = ps%porosity(p)
+          end if
+        end if
+        if (code == 0 .and. allocated(ps%defgrad)) then
+          if (size(ps%defgrad, 2) >= p) then
+            fdet = det3(ps%defgrad(:, p))
+            if (.not. (fdet > 0.0_wp .and. ieee_is_finite(fdet))) then
+              code = 7; v = fdet
+            end if
+          end if
+        end if
+        if (code /= 0) then
+          bad(1) = real(code, wp)
+          info = point_info(self, ps, p)
+          info(7) = real(is, wp)
+          info(8) = v
+          return
+        end if
+      end do
+    end subroutine scan_set
+  end subroutine check_state
+
+  !> Determinant of a 3x3 matrix stored column-major in 9 values.
+  pure real(wp) function det3(a) result(d)
+    real(wp), intent(in) :: a(9)
+    d = a(1)*(a(5)*a(9) - a(8)*a(6)) - a(4)*(a(2)*a(9) - a(8)*a(3)) + a(7)*(a(2)*a(6) - a(5)*a(3))
+  end function det3
+
+end module dpmpm_energy

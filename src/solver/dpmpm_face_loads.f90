@@ -1,0 +1,166 @@
+!> Face loads: the nodal forces of the &load tractions and of the prescribed pore
+!> pressure of drained faces (the boundary terms of the weak form, paper eq. 5),
+!> each ramped in time and shared among the nodes by their grid functions at the
+!> face, with the exterior share of a mirror wall given to its image.
+module dpmpm_face_loads
+  use dpmpm_kinds, only: wp
+  use dpmpm_config, only: config_t, load_cfg_t, bc_free, fbc_drained, fbc_impermeable
+  use dpmpm_grid, only: grid_t
+  use dpmpm_kernels, only: bspline_1d
+  implicit none
+  private
+  public :: face_loads_t, ramp_factor
+
+  !> The loaded faces of a scene: tractions, pore-fluid conditions and pressures.
+  type :: face_loads_t
+    type(grid_t) :: grid
+    integer :: nd = 1
+    integer :: kernel = 1                 !< grid function (B-spline order)
+    type(load_cfg_t), allocatable :: loads(:)
+    integer :: fbc(6) = 0                 !< resolved pore-fluid condition per face
+    real(wp) :: pore_pressure(6) = 0.0_wp, pore_pressure_ramp(6) = 0.0_wp
+  contains
+    procedure :: init => face_loads_init
+    procedure :: traction => face_traction
+    procedure :: pore_pressure_force => face_pore_pressure
+    procedure :: fluid_ties
+  end type face_loads_t
+
+contains
+
+  !> The loads of cfg on grid with the grid functions of kernel; fbc the resolved
+  !> pore-fluid condition of each face.
+  subroutine face_loads_init(self, cfg, grid, kernel, fbc)
+    class(face_loads_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    type(grid_t), intent(in) :: grid
+    integer, intent(in) :: kernel, fbc(6)
+    self%grid = grid
+    self%nd = cfg%ndim
+    self%kernel = kernel
+    if (allocated(cfg%loads)) then
+      self%loads = cfg%loads
+    else
+      allocate (self%loads(0))
+    end if
+    self%fbc = fbc
+    self%pore_pressure = cfg%pore_pressure
+    self%pore_pressure_ramp = cfg%pore_pressure_ramp
+  end subroutine face_loads_init
+
+  !> Nodal force of the &load tractions at node idx (zero away from the loaded
+  !> faces): the traction, ramped over its ramp time, times the node's share of
+  !> the face area.
+  function face_traction(self, time, idx) result(fext)
+    class(face_loads_t), intent(in) :: self
+    real(wp), intent(in) :: time
+    integer, intent(in) :: idx(3)
+    real(wp) :: fext(3)
+    integer :: l, f
+    real(wp) :: w
+    fext = 0.0_wp
+    do l = 1, size(self%loads)
+      f = self%loads(l)%face
+      w = face_weight(self, idx, f, self%grid%bc)
+      if (w == 0.0_wp) cycle
+      fext(1:self%nd) = fext(1:self%nd) + w*ramp_factor(time, self%loads(l)%ramp_time)* &
+                        face_area(self, idx, (f + 1)/2)*self%loads(l)%traction(1:self%nd)
+    end do
+  end function face_traction
+
+  !> Nodal force of the prescribed pore pressure p_b of drained faces at node idx
+  !> (ramped over pore_pressure_ramp), per unit porosity: A p_b n_out, shared with
+  !> the face conditions bc of the phase that takes it (face_weight). The solid
+  !> takes n_f times it, the fluid minus n_f times it (the split of the total
+  !> traction of the weak form, paper eq. 5).
+  function face_pore_pressure(self, time, idx, bc) result(fp)
+    class(face_loads_t), intent(in) :: self
+    real(wp), intent(in) :: time
+    integer, intent(in) :: idx(3), bc(6)
+    real(wp) :: fp(3), w
+    integer :: f, d
+    fp = 0.0_wp
+    do f = 1, 2*self%nd
+      if (self%fbc(f) /= fbc_drained .or. self%pore_pressure(f) == 0.0_wp) cycle
+      w = face_weight(self, idx, f, bc)
+      if (w == 0.0_wp) cycle
+      d = (f + 1)/2
+      fp(d) = fp(d) + w*ramp_factor(time, self%pore_pressure_ramp(f))* &
+              merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)*self%pore_pressure(f)
+    end do
+  end function face_pore_pressure
+
+  !> Share of node idx in a load on grid face f: the grid function of the node at
+  !> the face, Psi_I(x_face) along the face normal (zero for nodes beyond the grid
+  !> along the other axes), so that a uniform face load balances the internal
+  !> forces of a uniform stress node by node, as in the weak form; with linear
+  !> grid functions only the face nodes carry it. Behind a fixed or roller face
+  !> of bc (mirror-folded exterior nodes) the exterior share goes to the mirror
+  !> image: the solid's conditions for the solid, fluid_mirror_bc for the fluid,
+  !> which is free at a drained face even where the solid is held.
+  real(wp) function face_weight(self, idx, f, bc) result(w)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3), f, bc(6)
+    integer :: t, d, r
+    real(wp) :: dw, wm
+    d = (f + 1)/2
+    w = 0.0_wp
+    do t = 1, self%nd
+      if (t /= d .and. (idx(t) < 0 .or. idx(t) > self%grid%ncells(t))) return
+    end do
+    if (mod(f, 2) == 1) then
+      r = idx(d)
+    else
+      r = self%grid%ncells(d) - idx(d)
+    end if
+    if (bc(f) /= bc_free) then
+      if (r < 0) return
+      call bspline_1d(self%kernel, real(r, wp), w, dw)
+      if (r > 0) then
+        call bspline_1d(self%kernel, real(-r, wp), wm, dw)
+        w = w + wm
+      end if
+    else
+      call bspline_1d(self%kernel, real(r, wp), w, dw)
+    end if
+  end function face_weight
+
+  !> Factor of a load ramped linearly from 0 over t_ramp (1 at once when t_ramp = 0).
+  pure real(wp) function ramp_factor(t, t_ramp) result(r)
+    real(wp), intent(in) :: t, t_ramp
+    r = 1.0_wp
+    if (t_ramp > 0.0_wp) r = min(1.0_wp, t/t_ramp)
+  end function ramp_factor
+
+  !> Share of the face area (normal to axis d) that node idx carries.
+  real(wp) function face_area(self, idx, d)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3), d
+    integer :: t
+    face_area = 1.0_wp
+    do t = 1, self%nd
+      if (t == d) cycle
+      face_area = face_area*self%grid%h(t)
+      if (idx(t) == 0 .or. idx(t) == self%grid%ncells(t)) face_area = 0.5_wp*face_area
+    end do
+  end function face_area
+
+  !> Fluid velocity components tied to the solid at node idx: the normal
+  !> components at impermeable faces where the solid is free to move.
+  function fluid_ties(self, idx) result(tie)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    logical :: tie(3)
+    integer :: d, side, f
+    tie = .false.
+    do d = 1, self%nd
+      do side = 1, 2
+        f = 2*(d - 1) + side
+        if (self%fbc(f) /= fbc_impermeable .or. self%grid%bc(f) /= bc_free) cycle
+        if (side == 1 .and. idx(d) <= 0) tie(d) = .true.
+        if (side == 2 .and. idx(d) >= self%grid%ncells(d)) tie(d) = .true.
+      end do
+    end do
+  end function fluid_ties
+
+end module dpmpm_face_loads

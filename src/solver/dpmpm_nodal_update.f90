@@ -1,0 +1,203 @@
+!> The nodal update (physics.md 4 and 6 steps 7-8): nodal velocities before and
+!> after the step from the summed node fields, with gravity, face loads and the
+!> boundary conditions, for one phase alone or for the two phases coupled by the
+!> drag (dpmpm_drag), and the nodal half of the MUSL remap. Work of the external
+!> forces and the drag dissipation are booked here for the energy balance.
+module dpmpm_nodal_update
+  use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: grid_t
+  use dpmpm_face_loads, only: face_loads_t
+  use dpmpm_drag, only: drag_solve
+  implicit none
+  private
+  public :: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
+
+contains
+
+  !> One phase: nodal velocities before and after the update (nvel, cleared first),
+  !> with gravity, tractions and boundary conditions, on the nodes olo..ohi; the
+  !> work of the external forces is added to ext_work.
+  subroutine nodal_update(nd, lo, olo, ohi, node, gravity, faces, time, dt, nvel, ext_work)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: gravity(3)
+    type(face_loads_t), intent(in) :: faces
+    real(wp), intent(in) :: time, dt
+    real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: ext_work
+    integer :: i, j, k
+    real(wp) :: m, vold(3), vnew(3), fext(3)
+    logical :: fix(3)
+    nvel = 0.0_wp
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          m = node(1, i, j, k)
+          if (m <= 0.0_wp) cycle
+          fix = faces%grid%constrained([i, j, k])
+          vold = 0.0_wp
+          vold(1:nd) = node(2:1 + nd, i, j, k)/m
+          fext = m*gravity + faces%traction(time, [i, j, k])
+          vnew = 0.0_wp
+          vnew(1:nd) = vold(1:nd) + dt*(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
+          where (fix) vold = 0.0_wp
+          where (fix) vnew = 0.0_wp
+          nvel(1:nd, i, j, k) = vold(1:nd)
+          nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
+          ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd), vold(1:nd) + vnew(1:nd))
+        end do
+      end do
+    end do
+  end subroutine nodal_update
+
+  !> Nodal update of both phases on the owned nodes (physics.md 6 steps 7-8):
+  !> forces, gravity, the total-stress traction (on the solid where there is
+  !> solid) and the prescribed pore pressure of drained faces, the drag solve
+  !> (explicit or implicit) where both phases meet, each phase alone elsewhere,
+  !> and the per-phase conditions: solid fixed/roller components are zero; at
+  !> impermeable faces the normal fluid velocity is zero (solid held) or the
+  !> solid's (solid free: the mixture moves together in that component).
+  subroutine nodal_update_coupled(nd, lo, olo, ohi, node_s, node_f, nporo, ndrag, gravity, faces, &
+                                  mbc, implicit, time, dt, nvel_s, nvel_f, ext_work, drag_loss)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: nporo(:, lo(1):, lo(2):, lo(3):), ndrag(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: gravity(3)
+    type(face_loads_t), intent(in) :: faces
+    integer, intent(in) :: mbc(6)            !< the fluid's mirror conditions (fluid_mirror_bc)
+    logical, intent(in) :: implicit          !< implicit drag
+    real(wp), intent(in) :: time, dt
+    real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: ext_work, drag_loss
+    integer :: i, j, k, c
+    real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
+    logical :: sfix(3), ffix(3), tie(3)
+    nvel_s = 0.0_wp
+    nvel_f = 0.0_wp
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          ms = node_s(1, i, j, k)
+          mf = node_f(1, i, j, k)
+          dn = ndrag(1, i, j, k)
+          if (ms <= 0.0_wp .and. mf <= 0.0_wp) cycle
+          if (ms <= 0.0_wp .or. mf <= 0.0_wp) dn = 0.0_wp
+          vs = 0.0_wp; vf = 0.0_wp; fs = 0.0_wp; ff = 0.0_wp
+          tr = faces%traction(time, [i, j, k])
+          fps = faces%pore_pressure_force(time, [i, j, k], faces%grid%bc)
+          fpf = faces%pore_pressure_force(time, [i, j, k], mbc)
+          if (ms > 0.0_wp) then
+            vs(1:nd) = node_s(2:1 + nd, i, j, k)/ms
+            fs(1:nd) = node_s(2 + nd:1 + 2*nd, i, j, k)
+            fs = fs + ms*gravity + tr + nporo(1, i, j, k)*fps
+          end if
+          if (mf > 0.0_wp) then
+            vf(1:nd) = node_f(2:1 + nd, i, j, k)/mf
+            ff(1:nd) = node_f(2 + nd:1 + 2*nd, i, j, k)
+            ff = ff + mf*gravity - nporo(1, i, j, k)*fpf
+            if (ms <= 0.0_wp) ff = ff + tr
+          end if
+          sfix = faces%grid%constrained([i, j, k])
+          ffix = faces%grid%constrained([i, j, k], mbc)
+          tie = faces%fluid_ties([i, j, k])
+          vsn = 0.0_wp; vfn = 0.0_wp
+          do c = 1, nd
+            if (ms > 0.0_wp .and. mf > 0.0_wp .and. tie(c)) then
+              ! The mixture moves together normal to an impermeable face.
+              v = (ms*vs(c) + mf*vf(c))/(ms + mf)
+              vs(c) = v; vf(c) = v
+              v = v + dt*(fs(c) + ff(c))/(ms + mf)
+              vsn(c) = v; vfn(c) = v
+            else if (ms > 0.0_wp .and. mf > 0.0_wp) then
+              if (sfix(c)) then
+                ! Solid held: the fluid moves against a resting skeleton.
+                vs(c) = 0.0_wp
+                af = (ff(c) - dn*vf(c))/merge(mf + dt*dn, mf, implicit)
+              else
+                call drag_solve(ms, mf, dn, fs(c), ff(c), vs(c), vf(c), dt, implicit, as, af)
+                vsn(c) = vs(c) + dt*as
+              end if
+              vfn(c) = vf(c) + dt*af
+            else if (ms > 0.0_wp) then
+              vsn(c) = vs(c) + dt*fs(c)/ms
+            else
+              vfn(c) = vf(c) + dt*ff(c)/mf
+            end if
+            if (sfix(c)) then
+              vs(c) = 0.0_wp; vsn(c) = 0.0_wp
+            end if
+            if (ffix(c)) then
+              vf(c) = 0.0_wp; vfn(c) = 0.0_wp
+            end if
+            ! Energy dissipated by the drag: the drag force (at the old relative
+            ! velocity w, or the new one when implicit) times the mid-step w, with
+            ! the constrained velocities (a held phase does no work; a tied pair and
+            ! a node with one phase, dn = 0, give none).
+            v = dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)*0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
+            ext_work = ext_work - v
+            drag_loss = drag_loss + v
+          end do
+          nvel_s(1:nd, i, j, k) = vs(1:nd)
+          nvel_s(nd + 1:2*nd, i, j, k) = vsn(1:nd)
+          nvel_f(1:nd, i, j, k) = vf(1:nd)
+          nvel_f(nd + 1:2*nd, i, j, k) = vfn(1:nd)
+          ! Work of the external forces (gravity, tractions, boundary pore pressure).
+          if (ms > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product( &
+            ms*gravity(1:nd) + tr(1:nd) + nporo(1, i, j, k)*fps(1:nd), vs(1:nd) + vsn(1:nd))
+          if (mf > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product( &
+            mf*gravity(1:nd) - nporo(1, i, j, k)*fpf(1:nd) + &
+            merge(tr(1:nd), 0.0_wp*tr(1:nd), ms <= 0.0_wp), vf(1:nd) + vfn(1:nd))
+        end do
+      end do
+    end do
+  end subroutine nodal_update_coupled
+
+  !> MUSL remap, at the nodes olo..ohi: the new-velocity slots of nvel (cleared first)
+  !> from the remapped momenta node(2:1+nd) over the step's masses node(1); components
+  !> held by the face conditions bc of grid are zero.
+  subroutine remap_nodal_velocity(nd, lo, olo, ohi, node, grid, bc, nvel)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)
+    type(grid_t), intent(in) :: grid
+    integer, intent(in) :: bc(6)
+    real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k
+    real(wp) :: m
+    logical :: fix(3)
+    nvel = 0.0_wp
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          m = node(1, i, j, k)
+          if (m <= 0.0_wp) cycle
+          fix = grid%constrained([i, j, k], bc)
+          nvel(nd + 1:2*nd, i, j, k) = node(2:1 + nd, i, j, k)/m
+          where (fix(1:nd)) nvel(nd + 1:2*nd, i, j, k) = 0.0_wp
+        end do
+      end do
+    end do
+  end subroutine remap_nodal_velocity
+
+  !> Set the fluid velocity components tied to the solid (fluid_ties) to the solid's
+  !> on the owned nodes, in the new-velocity slots of nvel.
+  subroutine tie_fluid(nd, lo, olo, ohi, faces, node_s, node_f, nvel_s, nvel_f)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    type(face_loads_t), intent(in) :: faces
+    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: nvel_s(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: nvel_f(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k
+    logical :: tie(3)
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          tie = faces%fluid_ties([i, j, k])
+          if (.not. any(tie)) cycle
+          if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
+          where (tie(1:nd)) nvel_f(nd + 1:2*nd, i, j, k) = nvel_s(nd + 1:2*nd, i, j, k)
+        end do
+      end do
+    end do
+  end subroutine tie_fluid
+
+end module dpmpm_nodal_update

@@ -1,0 +1,66 @@
+!> A phase of the step: one point set (solid skeleton or pore fluid) with its
+!> grid-transfer work arrays and node fields. The step runs over a list of one or
+!> two phases; what couples two (nodal porosity, drag) is not a phase's own.
+module dpmpm_phase
+  use dpmpm_kinds, only: wp
+  use dpmpm_particles, only: particle_set_t
+  implicit none
+  private
+  public :: phase_t, solid_phase, fluid_phase
+
+  integer, parameter :: solid_phase = 1     !< index of the solid phase in the list
+  integer, parameter :: fluid_phase = 2     !< index of the fluid phase (two-phase scenes)
+
+  type :: phase_t
+    type(particle_set_t) :: pts               !< the points of the phase
+    integer :: bc(6) = 0                      !< its face conditions at the mirror walls
+    ! Per-point stencil: first node, weights and x-derivatives per axis.
+    integer, allocatable :: i0(:, :)
+    real(wp), allocatable :: sw(:, :, :), sdw(:, :, :)
+    real(wp), allocatable :: vgrad(:, :)      !< velocity gradient of the phase (9, n)
+    real(wp), allocatable :: vgrad2(:, :)     !< fluid points: solid velocity gradient (9, n)
+    ! Node fields on the stored nodes (owned + ghosts).
+    real(wp), allocatable :: node(:, :, :, :) !< mass, momentum(nd), force(nd)
+    real(wp), allocatable :: nvel(:, :, :, :) !< velocity before (nd) and after (nd) the update
+    real(wp), allocatable :: vacc(:, :, :, :) !< MLS nodal velocities: moment sums (velocity_mls)
+    real(wp), allocatable :: bacc(:, :)       !< body acceleration per point (manufactured solution)
+    ! Gauss quadrature: reconstruction sums and solutions (cell arrays), velocity
+    ! gradients at the Gauss points, positions and volumes at the force evaluation,
+    ! effective point volumes. Fluid sets: gsol2 is the solid share -n_s p.
+    real(wp), allocatable :: gacc(:, :, :, :), gsol(:, :, :, :), gsol2(:, :, :, :), glg(:, :, :, :)
+    !> Fluid sets: the sums of the second field and the Gauss-point gradients of the
+    !> second velocity, made in the same passes over the points as the first.
+    real(wp), allocatable :: gacc2(:, :, :, :), glg2(:, :, :, :)
+    real(wp), allocatable :: xold(:, :), volold(:), vt(:)
+  contains
+    procedure :: free => phase_free
+  end type phase_t
+
+contains
+
+  !> Release the points and every work array.
+  subroutine phase_free(self)
+    class(phase_t), intent(inout) :: self
+    call self%pts%free()
+    self%bc = 0
+    if (allocated(self%i0)) deallocate (self%i0)
+    if (allocated(self%sw)) deallocate (self%sw)
+    if (allocated(self%sdw)) deallocate (self%sdw)
+    if (allocated(self%vgrad)) deallocate (self%vgrad)
+    if (allocated(self%vgrad2)) deallocate (self%vgrad2)
+    if (allocated(self%node)) deallocate (self%node)
+    if (allocated(self%nvel)) deallocate (self%nvel)
+    if (allocated(self%vacc)) deallocate (self%vacc)
+    if (allocated(self%bacc)) deallocate (self%bacc)
+    if (allocated(self%gacc)) deallocate (self%gacc)
+    if (allocated(self%gsol)) deallocate (self%gsol)
+    if (allocated(self%gsol2)) deallocate (self%gsol2)
+    if (allocated(self%glg)) deallocate (self%glg)
+    if (allocated(self%gacc2)) deallocate (self%gacc2)
+    if (allocated(self%glg2)) deallocate (self%glg2)
+    if (allocated(self%xold)) deallocate (self%xold)
+    if (allocated(self%volold)) deallocate (self%volold)
+    if (allocated(self%vt)) deallocate (self%vt)
+  end subroutine phase_free
+
+end module dpmpm_phase

@@ -1,0 +1,111 @@
+!> The pore-pressure update of the fluid points (physics.md 6, the paper's eq. 10)
+!> and what goes with it: the nodal porosity from the solid points' sums, the
+!> skeleton's porosity from its volume change, the semi-implicit pressure update
+!> from the new velocity gradients (with the mixture-flux term of dpmpm_transfer),
+!> and the fluid volume and stress from the new pressure. Drained faces load the
+!> nodes in dpmpm_face_loads. Signs: pore pressure positive in compression.
+module dpmpm_pore_pressure
+  use dpmpm_kinds, only: wp
+  use dpmpm_materials, only: material_t
+  implicit none
+  private
+  public :: nodal_porosity, skeleton_porosity, pressure_update, fluid_density, fluid_state, &
+            fluid_pressure_step
+
+contains
+
+  !> Nodal porosity on the nodes olo..ohi: sum N_I m n_f (nporo on entry) over the
+  !> nodal solid mass node_s(1) (1 where there is no solid).
+  pure subroutine nodal_porosity(lo, olo, ohi, node_s, nporo)
+    integer, intent(in) :: lo(3), olo(3), ohi(3)
+    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: nporo(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k
+    real(wp) :: ms
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          ms = node_s(1, i, j, k)
+          if (ms > 0.0_wp) then
+            nporo(1, i, j, k) = nporo(1, i, j, k)/ms
+          else
+            nporo(1, i, j, k) = 1.0_wp
+          end if
+        end do
+      end do
+    end do
+  end subroutine nodal_porosity
+
+  !> Porosity of the skeleton points from their volume change with incompressible
+  !> grains, n' = 1 - (1 - n) V / V' (volb the volumes before the stress update).
+  pure subroutine skeleton_porosity(n, volb, vol, poro)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: volb(:), vol(:)
+    real(wp), intent(inout) :: poro(:)
+    poro(1:n) = 1.0_wp - (1.0_wp - poro(1:n))*volb/vol(1:n)
+  end subroutine skeleton_porosity
+
+  !> The pore pressure of the fluid points over one step (eq. 10) with the bulk
+  !> modulus of each point's fluid; lf, ls the fluid and solid velocity gradients
+  !> at the fluid points, gnrel the mixture-flux term (zero without it).
+  subroutine fluid_pressure_step(n, dt, mats, mat, poro, lf, ls, gnrel, pres)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: dt
+    type(material_t), intent(in) :: mats(:)
+    integer, intent(in) :: mat(:)
+    real(wp), intent(in) :: poro(:), lf(:, :), ls(:, :), gnrel(:)
+    real(wp), intent(inout) :: pres(:)
+    real(wp), allocatable :: kf(:)
+    integer :: m
+    allocate (kf(n))
+    do m = 1, n
+      kf(m) = mats(mat(m))%bulk_fluid
+    end do
+    call pressure_update(n, dt, kf, poro, lf, ls, gnrel, pres)
+  end subroutine fluid_pressure_step
+
+  !> The volume each fluid point represents at its new pressure, V = m / (n rho_f(p)),
+  !> and the stress -p I it exerts.
+  subroutine fluid_state(n, mats, mat, mass, poro, pres, vol, stress)
+    integer, intent(in) :: n
+    type(material_t), intent(in) :: mats(:)
+    integer, intent(in) :: mat(:)
+    real(wp), intent(in) :: mass(:), poro(:), pres(:)
+    real(wp), intent(inout) :: vol(:), stress(:, :)
+    integer :: m
+    do m = 1, n
+      associate (mt => mats(mat(m)))
+        vol(m) = mass(m)/(poro(m)*fluid_density(mt%density, mt%bulk_fluid, pres(m)))
+      end associate
+      stress(1:3, m) = -pres(m)
+    end do
+  end subroutine fluid_state
+
+  !> Semi-implicit pore-pressure update at the fluid points (paper eq. 10) with
+  !> the velocity gradients of the new nodal velocities, lf (fluid) and ls (solid),
+  !> each 3x3 column-major:
+  !> p += -(K_f dt / n) [grad n . (v_f - v_s) + (1 - n) div v_s + n div v_f].
+  !> gn_rel stands for grad n . (v_f - v_s) per point: the rest of the divergence
+  !> of the nodal mixture flux (mixture_flux in dpmpm_transfer), zero when the
+  !> porosity-gradient term is off.
+  pure subroutine pressure_update(n, dt, kf, poro, lf, ls, gn_rel, pres)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: dt, kf(:), poro(:), lf(:, :), ls(:, :), gn_rel(:)
+    real(wp), intent(inout) :: pres(:)
+    integer :: p
+    real(wp) :: divf, divs
+    do p = 1, n
+      divf = lf(1, p) + lf(5, p) + lf(9, p)
+      divs = ls(1, p) + ls(5, p) + ls(9, p)
+      pres(p) = pres(p) - kf(p)*dt/poro(p)*(gn_rel(p) + (1.0_wp - poro(p))*divs + poro(p)*divf)
+    end do
+  end subroutine pressure_update
+
+  !> Intrinsic fluid density at pore pressure p for a linear compressible fluid,
+  !> d rho / rho = dp / K_f integrated exactly.
+  pure elemental real(wp) function fluid_density(rho0, kf, p) result(rho)
+    real(wp), intent(in) :: rho0, kf, p
+    rho = rho0*exp(p/kf)
+  end function fluid_density
+
+end module dpmpm_pore_pressure

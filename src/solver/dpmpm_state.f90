@@ -1,0 +1,105 @@
+!> The run state of a simulation (simulation_t extends it with the run's
+!> procedures): the scene, the list of phases, the coupling node fields, the
+!> step's bookkeeping, schedules, records and the run monitor's state. The
+!> modules of the step (dpmpm_step, dpmpm_time_step, dpmpm_energy, ...) work on it.
+module dpmpm_state
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_log, only: log_t
+  use dpmpm_timer, only: timer_set_t
+  use dpmpm_config, only: config_t
+  use dpmpm_grid, only: grid_t
+  use dpmpm_decomp, only: decomp_t
+  use dpmpm_shape_plan, only: shape_plan_t
+  use dpmpm_mls, only: mls_stats_t
+  use dpmpm_materials, only: material_t
+  use dpmpm_output, only: output_t
+  use dpmpm_two_phase_verify, only: error_name_len
+  use dpmpm_mirror, only: mirror_t
+  use dpmpm_face_loads, only: face_loads_t
+  use dpmpm_phase, only: phase_t
+  implicit none
+  private
+  public :: state_t, exit_bad_input, exit_stopped, exit_monitor
+
+  integer, parameter :: exit_bad_input = 2  !< exit status: bad input, restart or time step
+  integer, parameter :: exit_stopped = 3    !< exit status: stopped early with a checkpoint
+  integer, parameter :: exit_monitor = 4    !< exit status: stopped by the run monitor
+
+  !> The state of a run: the scene, its phases, the step's bookkeeping, the run's
+  !> schedules and records (what init makes and free releases).
+  type :: state_t
+    type(config_t) :: cfg
+    type(decomp_t) :: dec
+    type(grid_t) :: grid
+    type(material_t), allocatable :: mats(:)
+    !> The phases of the step: the solid points and, in two-phase scenes, the fluid
+    !> points (pore or free fluid), each with its transfer arrays and node fields.
+    type(phase_t) :: phase(2)
+    integer :: nph = 1                        !< phases present (1 or 2)
+    logical :: two_phase = .false.            !< the scene has fluid points
+    type(log_t) :: log
+    type(timer_set_t) :: timers
+    type(output_t) :: out
+    logical :: write_output = .true.
+    type(shape_plan_t) :: plan                !< grid functions and MLS choices (&shape)
+    integer :: kernel = 1
+    integer :: nw(3) = 1                      !< stencil nodes per axis
+    type(mirror_t) :: mirror                  !< the mirror walls of this rank's node block
+    type(face_loads_t) :: faces               !< tractions and pore-fluid conditions of the faces
+    ! Two-phase node fields: sum N m_s n_f of the solid points (then the nodal
+    ! porosity, 1 where there is no solid), and the drag coefficient D (kg/s).
+    real(wp), allocatable :: nporo(:, :, :, :), ndrag(:, :, :, :)
+    integer :: fbc(6) = 0                     !< resolved pore-fluid condition per face
+    real(wp) :: kf_max = 0.0_wp, rhof_min = 0.0_wp !< stiffest, lightest pore fluid (CFL)
+    real(wp) :: dt_wave = 0.0_wp, dt_drag = huge(1.0_wp) !< the two limits of the last step
+    integer :: governing = 0                  !< limit that set the last step: 1 wave, 2 drag
+    ! Occupancy of the Gauss cells (one component; see gauss_occupancy).
+    real(wp), allocatable :: occ(:, :, :, :), occ2(:, :, :, :)
+    integer :: fill = 1                       !< half-width of the occupancy closing (cells)
+    type(mls_stats_t) :: mls_stats            !< fallback counts of the MLS solves on this rank
+    integer(i8) :: nkept = 0                  !< point gradients left point-wise (no quadrature weight)
+    integer(i8) :: nwall = 0                  !< points put back inside a wall they had crossed
+    integer :: nd = 1
+    real(wp) :: time = 0.0_wp
+    real(wp) :: dt = 0.0_wp
+    !> work of gravity and tractions on this rank, minus the energy dissipated by drag
+    real(wp) :: ext_work = 0.0_wp
+    integer(i8) :: step = 0
+    real(wp) :: wall_start = 0.0_wp
+    real(wp) :: wall_checkpoint = 0.0_wp      !< wall clock of the last checkpoint (or start)
+    integer :: nframes = 0
+    integer(i8) :: last_frame_step = -1       !< step of the last frame written
+    real(wp) :: next_frame = 0.0_wp
+    real(wp), allocatable :: err_hist(:, :)   !< benchmark errors over diagnostics (time, errors)
+    integer :: nerr = 0
+    !> Two-phase benchmarks: error names and their values at each frame (time, errors).
+    character(len=error_name_len), allocatable :: fnames(:)
+    real(wp), allocatable :: ferr(:, :)
+    integer :: nferr = 0
+    real(wp) :: energy0 = 0.0_wp              !< kinetic + strain - external work at the start
+    real(wp) :: energy_scale = 0.0_wp         !< largest of |energy0| and kinetic + strain so far
+    real(wp) :: energy_error = 0.0_wp         !< largest |energy - energy0| so far
+    real(wp) :: energy_drift = 0.0_wp         !< energy_error / energy_scale
+    !> why the last run stopped before t_end: a signal number, -1 for max_wall_time, 0 not
+    integer :: stopped = 0
+    !> exit status of the run: 0 to go on; 2 bad input or restart, 4 stopped by the monitor
+    !> (collective conditions: every rank sets the same status and returns)
+    integer :: exit_code = 0
+    logical :: growth_stop = .false.          !< the monitor stopped the run for growth
+    ! Run monitor (doc/verification.md, "Long runs"): energies against the work done
+    ! on the body and the energy it started with, not against the run's own maximum.
+    real(wp) :: drag_loss = 0.0_wp            !< energy dissipated by drag on this rank
+    logical :: monitor_started = .false.      !< the first record of this run was taken
+    real(wp) :: mon_e0 = 0.0_wp               !< kinetic + stored energy at the first record
+    real(wp) :: mon_w0 = 0.0_wp               !< work of the loads at the first record
+    real(wp) :: mon_d0 = 0.0_wp               !< drag dissipation at the first record
+    real(wp) :: mon_input = 0.0_wp            !< mon_e0 + largest |work of the loads| so far
+    real(wp) :: mon_ratio = 0.0_wp            !< largest (kinetic + stored) / mon_input so far
+    real(wp) :: mon_ke_max = 0.0_wp           !< largest kinetic energy at a record so far
+    real(wp) :: mon_balance = 0.0_wp          !< largest |E + D - W - E0| / (input + D) so far
+    logical :: mon_warned = .false.           !< the growth warning was given
+    real(wp) :: mon_prev(4) = 0.0_wp          !< field maxima at the previous record
+    real(wp) :: mon_prev_time = 0.0_wp        !< time of the previous record
+  end type state_t
+
+end module dpmpm_state

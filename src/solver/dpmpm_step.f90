@@ -1,0 +1,457 @@
+!> One explicit time step over the list of phases (design.md, "One time step";
+!> physics.md 4 for one phase, 6 for two): stencils, p2g of every phase (with
+!> the coupling terms when there are two), the reverse halo exchange, the nodal
+!> update (MLS nodal velocities where chosen, drag where the phases meet, every
+!> boundary condition), the forward halo exchange, g2p with the MUSL remap or USL,
+!> the stress and pore-pressure updates, and migration. A one-phase scene is the
+!> same step with one phase and no coupling.
+module dpmpm_step
+  use dpmpm_kinds, only: wp
+  use dpmpm_error, only: fatal
+  use dpmpm_timer, only: t_stencil, t_p2g, t_halo, t_nodal, t_g2p, t_stress, t_migrate
+  use dpmpm_config, only: bc_free
+  use dpmpm_kernels, only: max_stencil
+  use dpmpm_reconstruct, only: psi_stencil, velocity_accumulate, velocity_solve, velocity_fold_signs
+  use dpmpm_materials, only: stress_update, model_fluid
+  use dpmpm_benchmarks, only: benchmark_body_force
+  use dpmpm_migrate, only: migrate
+  use dpmpm_mirror, only: mirror_sign
+  use dpmpm_particles, only: particle_set_t
+  use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
+  use dpmpm_state, only: state_t
+  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, fluid_p2g, &
+                            interphase_p2g, solid_porosity_p2g, mixture_flux
+  use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
+  use dpmpm_drag, only: nodal_drag_limit, relax_remapped
+  use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, fluid_pressure_step, fluid_state
+  use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
+  use dpmpm_time_step, only: report_governing
+  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN
+  implicit none
+  private
+  public :: advance
+
+contains
+
+  !> One explicit step of length dt over the phases of self (1: solid; 2: fluid,
+  !> coupled to the solid by drag and pore pressure). dt may shrink to the
+  !> explicit-drag limit of this step's nodes.
+  subroutine advance(self, dt)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(inout) :: dt
+    integer :: m, ip, nlost, ns, nf, nd
+    logical :: coupled
+    real(wp) :: wplastic
+    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:)
+    coupled = self%nph == 2
+    nd = self%nd
+    ns = self%phase(solid_phase)%pts%n
+    nf = 0
+    if (coupled) nf = self%phase(fluid_phase)%pts%n
+
+    ! 1. Stencils of every point, once per step.
+    call self%timers%tic(t_stencil)
+    do ip = 1, self%nph
+      call compute_stencils(self, self%phase(ip))
+    end do
+    call self%timers%toc(t_stencil)
+
+    ! 2. p2g of every phase; the solid's internal force by point quadrature unless
+    ! Gauss quadrature gives it; the fluid's pore-pressure forces come with the coupling.
+    call self%timers%tic(t_p2g)
+    do ip = 1, self%nph
+      associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
+        ph%node = 0.0_wp
+        if (allocated(ph%bacc)) then
+          call benchmark_body_force(self%cfg, self%mats, ps, self%time, ph%bacc)
+          call p2g(nd, self%nw, ps%n, ph%i0, ph%sw, ph%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
+                   ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node, ph%bacc)
+        else
+          call p2g(nd, self%nw, ps%n, ph%i0, ph%sw, ph%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
+                   ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node)
+        end if
+      end associate
+    end do
+    if (coupled) then
+      self%nporo = 0.0_wp
+      self%ndrag = 0.0_wp
+      associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+        call solid_porosity_p2g(self%nw, ns, s%i0, s%sw, s%pts%mass, s%pts%porosity, self%dec%alo, &
+                                self%nporo)
+        call fluid_p2g(nd, self%nw, nf, f%i0, f%sw, f%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
+                       f%pts%pressure, f%pts%kinv, .not. self%plan%gauss, self%dec%alo, s%node, f%node, &
+                       self%ndrag)
+      end associate
+    end if
+    if (self%plan%gauss) then
+      associate (s => self%phase(solid_phase))
+        call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node)
+      end associate
+      if (coupled) then
+        ! Pore pressure at the Gauss points from the fluid points: -n_f p on the
+        ! fluid, -(1 - n_f) p on the solid (physics.md 3.5 step 5), in one pass.
+        associate (f => self%phase(fluid_phase))
+          allocate (pseudo(6, nf), pseudo2(6, nf))
+          pseudo = 0.0_wp
+          pseudo2 = 0.0_wp
+          do m = 1, 3
+            pseudo(m, :) = -f%pts%porosity(1:nf)*f%pts%pressure(1:nf)
+            pseudo2(m, :) = -(1.0_wp - f%pts%porosity(1:nf))*f%pts%pressure(1:nf)
+          end do
+          call gauss_force_integrals(self, f, pseudo, f%gsol, f%node, pseudo2, f%gsol2, &
+                                     self%phase(solid_phase)%node)
+        end associate
+      end if
+    end if
+    do ip = 1, self%nph
+      call self%mirror%fold(self%phase(ip)%node, 1, self%phase(ip)%bc)
+    end do
+    if (coupled) then
+      call self%mirror%fold(self%nporo, 1, self%grid%bc)
+      call self%mirror%fold(self%ndrag, 1, self%phase(fluid_phase)%bc)
+    end if
+    if (self%plan%velocity_mls) then
+      do ip = 1, self%nph
+        associate (ph => self%phase(ip), ps => self%phase(ip)%pts, pl => self%plan)
+          ph%vacc = 0.0_wp
+          call velocity_accumulate(nd, ps%n, ps%x, ps%mass, ps%v, self%grid%origin, self%grid%h, &
+                                   pl%velocity_kernel, pl%velocity_radius, pl%velocity_radial, &
+                                   pl%velocity_basis, self%dec%alo, ph%vacc)
+          call self%mirror%fold_planes(ph%vacc, velocity_signs(self, ph%vacc, ph%bc), .true., ph%bc)
+        end associate
+      end do
+    end if
+    call self%timers%toc(t_p2g)
+
+    ! 3. Reverse halo exchange.
+    call self%timers%tic(t_halo)
+    do ip = 1, self%nph
+      call self%dec%halo_sum(self%phase(ip)%node)
+    end do
+    if (coupled) then
+      call self%dec%halo_sum(self%nporo)
+      call self%dec%halo_sum(self%ndrag)
+    end if
+    if (self%plan%velocity_mls) then
+      do ip = 1, self%nph
+        call self%dec%halo_sum(self%phase(ip)%vacc)
+      end do
+    end if
+    call self%timers%toc(t_halo)
+
+    ! 4. Nodal update: MLS nodal velocities, then each phase alone or both with drag.
+    call self%timers%tic(t_nodal)
+    if (self%plan%velocity_mls) then
+      do ip = 1, self%nph
+        call velocity_solve(nd, self%plan%velocity_basis, self%dec%alo, self%dec%olo, self%dec%ohi, &
+                            self%phase(ip)%vacc, self%phase(ip)%node, self%mls_stats)
+      end do
+    end if
+    if (.not. coupled) then
+      call nodal_update(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
+                        self%cfg%gravity, self%faces, self%time, dt, self%phase(solid_phase)%nvel, &
+                        self%ext_work)
+      call self%timers%toc(t_nodal)
+    else
+      ! Porosity at the nodes, then at the fluid points (start-of-step positions,
+      ! physics.md 6 step 5) with its gradient; the interphase force when asked for.
+      call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
+                          self%nporo)
+      call self%timers%toc(t_nodal)
+      call self%timers%tic(t_halo)
+      call self%dec%halo_copy(self%nporo)
+      call self%mirror%unfold(self%nporo, 1, self%grid%bc)
+      call self%timers%toc(t_halo)
+      call self%timers%tic(t_g2p)
+      allocate (nval(nf), ngrad(3, nf), gnrel(nf))
+      associate (f => self%phase(fluid_phase))
+        call interp_scalar(nd, self%nw, nf, f%i0, f%sw, f%sdw, self%dec%alo, self%nporo, nval, ngrad)
+        f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-6_wp))
+      end associate
+      call self%timers%toc(t_g2p)
+      if (self%cfg%porosity_gradient) call add_interphase_force(self, ngrad)
+
+      call self%timers%tic(t_nodal)
+      self%dt_drag = huge(1.0_wp)
+      if (self%cfg%drag == 'explicit') then
+        self%dt_drag = nodal_drag_limit(self%dec%alo, self%dec%olo, self%dec%ohi, &
+                                        self%phase(solid_phase)%node, self%phase(fluid_phase)%node, self%ndrag)
+        call MPI_Allreduce(MPI_IN_PLACE, self%dt_drag, 1, MPI_DOUBLE_PRECISION, MPI_MIN, self%dec%comm)
+        self%dt_drag = self%cfg%drag_safety*self%dt_drag
+        dt = min(dt, self%dt_drag)
+      end if
+      call report_governing(self, dt)
+      associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+        call nodal_update_coupled(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, f%node, &
+                                  self%nporo, self%ndrag, self%cfg%gravity, self%faces, f%bc, &
+                                  self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
+                                  self%ext_work, self%drag_loss)
+      end associate
+      call self%timers%toc(t_nodal)
+    end if
+
+    ! 5. Forward halo exchange, and the exterior nodes from their mirror images.
+    call self%timers%tic(t_halo)
+    do ip = 1, self%nph
+      call self%dec%halo_copy(self%phase(ip)%nvel)
+      call self%mirror%unfold(self%phase(ip)%nvel, 0, self%phase(ip)%bc)
+    end do
+    call self%timers%toc(t_halo)
+
+    ! 6. g2p: velocities, positions, velocity gradients (MUSL: from the remapped
+    ! nodal velocities; Gauss quadrature: by the transposed force operator).
+    call self%timers%tic(t_g2p)
+    do ip = 1, self%nph
+      associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
+        call g2p(nd, self%nw, ps%n, ph%i0, ph%sw, ph%sdw, self%dec%alo, ph%nvel, self%cfg%flip, dt, &
+                 ps%v, ps%x, ph%vgrad)
+      end associate
+    end do
+    if (self%cfg%scheme == 'musl') then
+      call musl_remap(self, dt)
+    else if (coupled) then
+      associate (f => self%phase(fluid_phase))
+        call point_gradient(nd, self%nw, nf, f%i0, f%sw, f%sdw, self%dec%alo, &
+                            self%phase(solid_phase)%nvel, f%vgrad2)
+      end associate
+    end if
+    if (coupled) then
+      ! With the same nodal velocities as the point gradients (remapped under MUSL).
+      gnrel = 0.0_wp
+      if (self%cfg%porosity_gradient) then
+        associate (f => self%phase(fluid_phase))
+          call mixture_flux(nd, self%nw, nf, f%i0, f%sw, f%sdw, self%dec%alo, f%pts%porosity, &
+                            self%nporo, f%nvel, self%phase(solid_phase)%nvel, gnrel)
+        end associate
+      end if
+    end if
+    if (self%plan%gauss) then
+      ! Strain rates by the transpose of the quadrature force operator (physics.md 3.5).
+      associate (s => self%phase(solid_phase))
+        call gauss_point_gradients(self, s, s%gsol, s%nvel, s%vgrad)
+      end associate
+      if (coupled) then
+        associate (f => self%phase(fluid_phase))
+          call gauss_point_gradients(self, f, f%gsol, f%nvel, f%vgrad, self%phase(solid_phase)%nvel, &
+                                     f%vgrad2)
+        end associate
+      end if
+    end if
+    call self%timers%toc(t_g2p)
+
+    ! Stress of the skeleton; with a fluid, the skeleton's porosity from its volume
+    ! change, then the pore pressure (eq. 10), the fluid volume and stress.
+    call self%timers%tic(t_stress)
+    associate (s => self%phase(solid_phase))
+      if (coupled) volb = s%pts%vol(1:ns)
+      wplastic = 0.0_wp
+      do m = 1, size(self%mats)
+        if (coupled .and. self%mats(m)%model == model_fluid) cycle
+        call stress_update(self%mats(m), m, dt, ns, s%pts%mat, s%vgrad, s%pts%stress, s%pts%vol, &
+                           s%pts%vol0, s%pts%defgrad, s%pts%epsp, wplastic)
+      end do
+      ! The plastic work leaves the energy balance like the drag dissipation.
+      self%ext_work = self%ext_work - wplastic
+      if (coupled) call skeleton_porosity(ns, volb, s%pts%vol, s%pts%porosity)
+    end associate
+    if (coupled) then
+      associate (f => self%phase(fluid_phase))
+        call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
+                                 f%pts%pressure)
+        call fluid_state(nf, self%mats, f%pts%mat, f%pts%mass, f%pts%porosity, f%pts%pressure, &
+                         f%pts%vol, f%pts%stress)
+      end associate
+    end if
+    call self%timers%toc(t_stress)
+
+    ! 7. Migration of the points that left this rank's block.
+    call self%timers%tic(t_migrate)
+    do ip = 1, self%nph
+      call check_inside(self, self%phase(ip)%pts)
+    end do
+    do ip = 1, self%nph
+      call migrate(self%dec, self%grid%origin, self%grid%h, self%phase(ip)%pts, nlost)
+      if (nlost > 0) call fatal(trim(merge('points      ', 'fluid points', ip == solid_phase))// &
+                                ' were lost in migration (moved more than one rank width in a step)', &
+                                'migrate')
+    end do
+    call self%timers%toc(t_migrate)
+  end subroutine advance
+
+  !> MUSL (double mapping): map the updated point momenta of every phase back to the
+  !> grid and take the velocity gradients from these smoother nodal velocities. With
+  !> two phases the fluid is tied to the solid at impermeable faces, and with implicit
+  !> drag, where the drag locks the phases, the relative velocity the remap adds is
+  !> shrunk as the step's drag would (relax_remapped): without it the step is
+  !> unstable on scattered points (doc/verification.md, "Long runs"). The fluid
+  !> points also get the solid's velocity gradient.
+  subroutine musl_remap(self, dt)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    real(wp), allocatable :: wstep(:, :, :, :)
+    integer :: ip, nd
+    logical :: coupled
+    nd = self%nd
+    coupled = self%nph == 2
+    ! Relative velocity of the nodal update, before the remap overwrites it.
+    if (coupled) wstep = self%phase(fluid_phase)%nvel(nd + 1:2*nd, :, :, :) - &
+                         self%phase(solid_phase)%nvel(nd + 1:2*nd, :, :, :)
+    do ip = 1, self%nph
+      call remap_velocities(self, self%phase(ip))
+    end do
+    if (coupled) then
+      associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+        call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, s%node, f%node, &
+                       s%nvel, f%nvel)
+        if (self%cfg%remap_drag .and. self%cfg%drag == 'implicit') &
+          call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
+                              f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
+      end associate
+    end if
+    do ip = 1, self%nph
+      call self%dec%halo_copy(self%phase(ip)%nvel)
+      call self%mirror%unfold(self%phase(ip)%nvel, 0, self%phase(ip)%bc)
+    end do
+    do ip = 1, self%nph
+      associate (ph => self%phase(ip))
+        call point_gradient(nd, self%nw, ph%pts%n, ph%i0, ph%sw, ph%sdw, self%dec%alo, ph%nvel, ph%vgrad)
+      end associate
+    end do
+    if (coupled) then
+      associate (f => self%phase(fluid_phase))
+        call point_gradient(nd, self%nw, f%pts%n, f%i0, f%sw, f%sdw, self%dec%alo, &
+                            self%phase(solid_phase)%nvel, f%vgrad2)
+      end associate
+    end if
+  end subroutine musl_remap
+
+  !> Nodal velocities (new slots of ph%nvel, owned nodes) from the point momenta of
+  !> the phase mapped to the grid again; the masses in ph%node are those of the step.
+  !> Components held by the phase's face conditions are zero.
+  subroutine remap_velocities(self, ph)
+    class(state_t), intent(inout) :: self
+    type(phase_t), intent(inout) :: ph
+    integer :: nd
+    nd = self%nd
+    ! Reuse the momentum slots of node(); the masses are unchanged.
+    ph%node(2:1 + 2*nd, :, :, :) = 0.0_wp
+    call momentum_p2g(nd, self%nw, ph%pts%n, ph%i0, ph%sw, ph%pts%mass, ph%pts%v, self%dec%alo, ph%node)
+    call self%mirror%fold(ph%node, 1, ph%bc)
+    call self%dec%halo_sum(ph%node)
+    call remap_nodal_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, ph%node, self%grid, ph%bc, &
+                              ph%nvel)
+  end subroutine remap_velocities
+
+  !> Kernel weights and derivatives of every point of phase tr, evaluated once per
+  !> step, with its per-point work arrays sized to the set's capacity (and the body
+  !> acceleration of the manufactured solution, when the scene has one).
+  subroutine compute_stencils(self, tr)
+    class(state_t), intent(inout) :: self
+    type(phase_t), intent(inout) :: tr
+    integer :: p, d, n
+    real(wp) :: y(3)
+    n = tr%pts%n
+    if (.not. allocated(tr%i0)) then
+      allocate (tr%i0(3, 0), tr%sw(max_stencil, 3, 0), tr%sdw(max_stencil, 3, 0))
+    end if
+    if (size(tr%i0, 2) < n) then
+      deallocate (tr%i0, tr%sw, tr%sdw)
+      allocate (tr%i0(3, tr%pts%cap), tr%sw(max_stencil, 3, tr%pts%cap), tr%sdw(max_stencil, 3, tr%pts%cap))
+      if (allocated(tr%vgrad)) deallocate (tr%vgrad)
+      if (allocated(tr%vgrad2)) deallocate (tr%vgrad2)
+      if (allocated(tr%xold)) deallocate (tr%xold, tr%volold, tr%vt)
+    end if
+    if (.not. allocated(tr%vgrad)) allocate (tr%vgrad(9, size(tr%i0, 2)))
+    if (tr%pts%has_pressure .and. .not. allocated(tr%vgrad2)) allocate (tr%vgrad2(9, size(tr%i0, 2)))
+    if (self%plan%gauss .and. .not. allocated(tr%xold)) &
+      allocate (tr%xold(self%nd, size(tr%i0, 2)), tr%volold(size(tr%i0, 2)), tr%vt(size(tr%i0, 2)))
+    if (allocated(tr%bacc)) then
+      if (size(tr%bacc, 2) < n) deallocate (tr%bacc)
+    end if
+    if (self%cfg%benchmark == 'mms' .and. .not. allocated(tr%bacc)) &
+      allocate (tr%bacc(self%nd, size(tr%i0, 2)))
+    do p = 1, n
+      y = 0.0_wp
+      do d = 1, self%nd
+        y(d) = (tr%pts%x(d, p) - self%grid%origin(d))/self%grid%h(d)
+      end do
+      call psi_stencil(self%nd, self%kernel, y, self%grid%h, tr%i0(:, p), tr%sw(:, :, p), &
+                       tr%sdw(:, :, p))
+    end do
+  end subroutine compute_stencils
+
+  !> Points that crossed a fixed or roller face (walls are impenetrable) are put
+  !> back just inside it and counted; wide kernels interpolate a small normal
+  !> velocity next to a wall. A point beyond a free face stops the run with its id.
+  subroutine check_inside(self, ps)
+    class(state_t), intent(inout) :: self
+    type(particle_set_t), intent(inout) :: ps
+    integer :: p, d, side
+    real(wp) :: wall(2), eps
+    character(len=256) :: msg
+    do p = 1, ps%n
+      if (self%grid%inside(ps%x(:, p))) cycle
+      do d = 1, self%nd
+        wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
+        eps = 1.0e-9_wp*self%grid%h(d)
+        do side = 1, 2
+          if (self%grid%bc(2*(d - 1) + side) == bc_free) cycle
+          if (side == 1 .and. ps%x(d, p) < wall(1)) then
+            ps%x(d, p) = wall(1) + eps
+            self%nwall = self%nwall + 1
+          else if (side == 2 .and. ps%x(d, p) >= wall(2)) then
+            ps%x(d, p) = wall(2) - eps
+            self%nwall = self%nwall + 1
+          end if
+        end do
+      end do
+      if (.not. self%grid%inside(ps%x(:, p))) then
+        write (msg, '(a,a,a,i0,a,3es12.4)') trim(ps%name), ' ', 'point ', ps%id(p), ' left the grid at x =', &
+          ps%x(:, p)
+        call fatal(trim(msg)//'; enlarge the grid or add a boundary condition', 'step')
+      end if
+    end do
+  end subroutine check_inside
+
+  !> Per-face signs of the nodal velocity moment sums vacc (count, moments, right-hand
+  !> sides) under the face conditions bc of their phase.
+  function velocity_signs(self, vacc, bc) result(sg)
+    class(state_t), intent(in) :: self
+    real(wp), intent(in) :: vacc(:, :, :, :)
+    integer, intent(in) :: bc(6)
+    real(wp) :: sg(size(vacc, 1), 6)
+    real(wp) :: vsign(3)
+    integer :: f, c, d
+    sg = 1.0_wp
+    do f = 1, 2*self%nd
+      d = (f + 1)/2
+      do c = 1, self%nd
+        vsign(c) = mirror_sign(bc(f), d, c)
+      end do
+      call velocity_fold_signs(self%nd, self%plan%velocity_basis, d, vsign(1:self%nd), sg(:, f))
+    end do
+  end function velocity_signs
+
+  !> The interphase force p grad n_f (eq. 2) at the nodes: added to the fluid's
+  !> internal force and taken from the solid's (interphase_p2g), with grad n_f at
+  !> the fluid points from the nodal porosity.
+  subroutine add_interphase_force(self, ngrad)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: ngrad(:, :)
+    real(wp), allocatable :: ff(:, :, :, :), fs(:, :, :, :)
+    integer :: nd
+    nd = self%nd
+    allocate (ff(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                 self%dec%alo(3):self%dec%ahi(3)))
+    ff = 0.0_wp
+    call interphase_p2g(nd, self%nw, self%phase(2)%pts%n, self%phase(2)%i0, self%phase(2)%sw, self%phase(2)%pts%vol, &
+                        self%phase(2)%pts%pressure, ngrad, self%dec%alo, ff)
+    fs = -ff
+    call self%mirror%fold(ff, 0, self%phase(2)%bc)
+    call self%mirror%fold(fs, 0, self%phase(1)%bc)
+    call self%dec%halo_sum(ff)
+    call self%dec%halo_sum(fs)
+    self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) + ff
+    self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) + fs
+  end subroutine add_interphase_force
+end module dpmpm_step

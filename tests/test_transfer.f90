@@ -1,0 +1,283 @@
+!> Transfer kernels (dpmpm_transfer) on a small 2D and 3D grid with scattered
+!> points, for the three B-spline grid functions: p2g conserves mass and momentum,
+!> the internal force of a uniform stress sums to zero, g2p and the point gradient
+!> reproduce a linear nodal velocity field and its gradient, the MUSL momentum
+!> remap of a uniform velocity gives that velocity back at the nodes, and the
+!> nodal porosity of a uniform porosity interpolates back to it with no gradient.
+program test_transfer
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize
+  use dpmpm_kinds, only: wp
+  use dpmpm_kernels, only: kernel_width, kernel_names, ngrid_kernels, max_stencil
+  use dpmpm_reconstruct, only: psi_stencil
+  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar
+  use dpmpm_assert, only: begin_test, check_close, finish_tests
+  implicit none
+  integer, parameter :: npt = 40         !< points of a test set
+  integer, parameter :: ncell = 6        !< cells per axis; points stay two cells from the edges
+  real(wp), parameter :: h(3) = [0.5_wp, 0.25_wp, 0.4_wp]
+  integer :: status
+  call start_mpi()
+  call test_p2g_conserves_mass_and_momentum()
+  call test_uniform_stress_has_no_net_force()
+  call test_g2p_reproduces_linear_velocity()
+  call test_point_gradient_of_linear_velocity()
+  call test_remap_of_uniform_velocity()
+  call test_interp_scalar_partition_of_unity()
+  status = finish_tests()
+  call MPI_Finalize()
+  if (status /= 0) stop 1, quiet = .true.
+
+contains
+
+  !> Stencils of n points scattered (reproducibly) in the inner cells of the grid.
+  subroutine make_points(nd, kernel, n, x, i0, sw, sdw, nw)
+    integer, intent(in) :: nd, kernel, n
+    real(wp), intent(out) :: x(:, :)
+    integer, intent(out) :: i0(:, :), nw(3)
+    real(wp), intent(out) :: sw(:, :, :), sdw(:, :, :)
+    integer :: p, d
+    real(wp) :: y(3)
+    nw = 1
+    nw(1:nd) = kernel_width(kernel)
+    x = 0.0_wp
+    do p = 1, n
+      y = 0.0_wp
+      do d = 1, nd
+        ! A low-discrepancy scatter over cells 2 .. ncell - 2.
+        y(d) = 2.0_wp + real(ncell - 4, wp)*modulo(0.5_wp + real(p, wp)*sqrt(real(d + 1, wp)), 1.0_wp)
+        x(d, p) = y(d)*h(d)
+      end do
+      call psi_stencil(nd, kernel, y, h, i0(:, p), sw(:, :, p), sdw(:, :, p))
+    end do
+  end subroutine make_points
+
+  !> Node arrays over nodes -1 .. ncell + 1 (a ghost layer each side).
+  subroutine make_nodes(nd, ncomp, lo, f)
+    integer, intent(in) :: nd, ncomp
+    integer, intent(out) :: lo(3)
+    real(wp), allocatable, intent(out) :: f(:, :, :, :)
+    integer :: hi(3)
+    lo = 0
+    hi = 0
+    lo(1:nd) = -1
+    hi(1:nd) = ncell + 1
+    allocate (f(ncomp, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+    f = 0.0_wp
+  end subroutine make_nodes
+
+  !> Position of node (i, j, k).
+  pure function node_x(i, j, k) result(x)
+    integer, intent(in) :: i, j, k
+    real(wp) :: x(3)
+    x = [i, j, k]*h
+  end function node_x
+
+  subroutine test_p2g_conserves_mass_and_momentum()
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt)
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
+    real(wp) :: v(3, npt), stress(6, npt)
+    real(wp), allocatable :: node(:, :, :, :)
+    character(len=32) :: tag
+    call begin_test('p2g_conserves_mass_and_momentum')
+    do nd = 2, 3
+      do kernel = 1, ngrid_kernels
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+        do p = 1, npt
+          mass(p) = 1.0_wp + 0.1_wp*real(mod(p, 7), wp)
+          vol(p) = 0.01_wp
+          v(:, p) = [0.3_wp, -1.2_wp, 0.7_wp] + 0.05_wp*real(p, wp)
+        end do
+        stress = 0.0_wp
+        call make_nodes(nd, 1 + 2*nd, lo, node)
+        call p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, .true., lo, node)
+        write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
+        call check_close(sum(node(1, :, :, :)), sum(mass), 1.0e-14_wp, 0.0_wp, trim(tag)//' mass')
+        do p = 1, nd
+          call check_close(sum(node(1 + p, :, :, :)), sum(mass*v(p, :)), 1.0e-14_wp, 1.0e-14_wp, &
+                           trim(tag)//' momentum')
+          call check_close(sum(node(1 + nd + p, :, :, :)), 0.0_wp, 0.0_wp, 1.0e-14_wp, &
+                           trim(tag)//' no force without stress')
+        end do
+      end do
+    end do
+  end subroutine test_p2g_conserves_mass_and_momentum
+
+  !> The internal forces of a uniform stress are internal: they sum to zero over the nodes.
+  subroutine test_uniform_stress_has_no_net_force()
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt)
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
+    real(wp) :: v(3, npt), stress(6, npt)
+    real(wp), allocatable :: node(:, :, :, :)
+    call begin_test('uniform_stress_has_no_net_force')
+    do nd = 2, 3
+      do kernel = 1, ngrid_kernels
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+        mass = 1.0_wp
+        vol = 0.02_wp
+        v = 0.0_wp
+        do p = 1, npt
+          stress(:, p) = [1.0e3_wp, -2.0e3_wp, 5.0e2_wp, 3.0e2_wp, -4.0e2_wp, 7.0e2_wp]
+        end do
+        call make_nodes(nd, 1 + 2*nd, lo, node)
+        call p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, .true., lo, node)
+        do p = 1, nd
+          call check_close(sum(node(1 + nd + p, :, :, :)), 0.0_wp, 0.0_wp, 1.0e-10_wp, &
+                           trim(kernel_names(kernel))//' net internal force')
+        end do
+      end do
+    end do
+  end subroutine test_uniform_stress_has_no_net_force
+
+  !> Nodal velocities v(x) = b + A x (old and new alike): PIC g2p gives v(x_p) at the
+  !> points, moves them by dt v(x_p), and the velocity gradient is A.
+  subroutine test_g2p_reproduces_linear_velocity()
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt), c
+    real(wp) :: x(3, npt), x1(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt)
+    real(wp) :: v(3, npt), vgrad(9, npt), a(3, 3), b(3), ve(3)
+    real(wp), parameter :: dt = 1.0e-3_wp
+    real(wp), allocatable :: nvel(:, :, :, :)
+    call begin_test('g2p_reproduces_linear_velocity')
+    call linear_field(a, b)
+    do nd = 2, 3
+      do kernel = 1, ngrid_kernels
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+        call make_nodes(nd, 2*nd, lo, nvel)
+        call fill_linear(nd, lo, a, b, nvel)
+        v = 0.0_wp
+        x1 = x
+        call g2p(nd, nw, npt, i0, sw, sdw, lo, nvel, 0.0_wp, dt, v(1:nd, :), x1(1:nd, :), vgrad)
+        do p = 1, npt
+          ve = b + matmul(a, x(:, p))
+          do c = 1, nd
+            call check_close(v(c, p), ve(c), 1.0e-13_wp, 1.0e-13_wp, trim(kernel_names(kernel))//' velocity')
+            call check_close(x1(c, p), x(c, p) + dt*ve(c), 1.0e-14_wp, 1.0e-14_wp, &
+                             trim(kernel_names(kernel))//' position')
+          end do
+          call check_gradient(nd, vgrad(:, p), a, trim(kernel_names(kernel))//' g2p gradient')
+        end do
+      end do
+    end do
+  end subroutine test_g2p_reproduces_linear_velocity
+
+  subroutine test_point_gradient_of_linear_velocity()
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt)
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), vgrad(9, npt), a(3, 3), b(3)
+    real(wp), allocatable :: nvel(:, :, :, :)
+    call begin_test('point_gradient_of_linear_velocity')
+    call linear_field(a, b)
+    do nd = 2, 3
+      do kernel = 1, ngrid_kernels
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+        call make_nodes(nd, 2*nd, lo, nvel)
+        call fill_linear(nd, lo, a, b, nvel)
+        call point_gradient(nd, nw, npt, i0, sw, sdw, lo, nvel, vgrad)
+        do p = 1, npt
+          call check_gradient(nd, vgrad(:, p), a, trim(kernel_names(kernel))//' point gradient')
+        end do
+      end do
+    end do
+  end subroutine test_point_gradient_of_linear_velocity
+
+  !> Points of one velocity: the remapped nodal momentum over the nodal mass is that velocity.
+  subroutine test_remap_of_uniform_velocity()
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt), i, j, k, c
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
+    real(wp) :: v(3, npt), stress(6, npt), u(3)
+    real(wp), allocatable :: node(:, :, :, :)
+    call begin_test('remap_of_uniform_velocity')
+    u = [0.4_wp, -0.9_wp, 1.3_wp]
+    do nd = 2, 3
+      do kernel = 1, ngrid_kernels
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+        do p = 1, npt
+          mass(p) = 0.5_wp + 0.25_wp*real(mod(p, 5), wp)
+          v(:, p) = u
+        end do
+        vol = 0.01_wp
+        stress = 0.0_wp
+        call make_nodes(nd, 1 + 2*nd, lo, node)
+        call p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, .true., lo, node)
+        node(2:1 + 2*nd, :, :, :) = 0.0_wp
+        call momentum_p2g(nd, nw, npt, i0, sw, mass, v(1:nd, :), lo, node)
+        do k = lbound(node, 4), ubound(node, 4)
+          do j = lbound(node, 3), ubound(node, 3)
+            do i = lbound(node, 2), ubound(node, 2)
+              if (node(1, i, j, k) <= 1.0e-12_wp) cycle
+              do c = 1, nd
+                call check_close(node(1 + c, i, j, k)/node(1, i, j, k), u(c), 1.0e-13_wp, 0.0_wp, &
+                                 trim(kernel_names(kernel))//' remapped velocity')
+              end do
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine test_remap_of_uniform_velocity
+
+  !> A uniform nodal scalar interpolates to itself with zero gradient (partition of unity).
+  subroutine test_interp_scalar_partition_of_unity()
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt), c
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), val(npt), grad(3, npt)
+    real(wp), allocatable :: f(:, :, :, :)
+    call begin_test('interp_scalar_partition_of_unity')
+    do nd = 2, 3
+      do kernel = 1, ngrid_kernels
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+        call make_nodes(nd, 1, lo, f)
+        f = 0.35_wp
+        grad = 0.0_wp
+        call interp_scalar(nd, nw, npt, i0, sw, sdw, lo, f, val, grad)
+        do p = 1, npt
+          call check_close(val(p), 0.35_wp, 1.0e-14_wp, 0.0_wp, trim(kernel_names(kernel))//' value')
+          do c = 1, nd
+            call check_close(grad(c, p), 0.0_wp, 0.0_wp, 1.0e-13_wp, trim(kernel_names(kernel))//' gradient')
+          end do
+        end do
+      end do
+    end do
+  end subroutine test_interp_scalar_partition_of_unity
+
+  !> A velocity field b + A x with every component of A different.
+  subroutine linear_field(a, b)
+    real(wp), intent(out) :: a(3, 3), b(3)
+    a = reshape([0.1_wp, -0.3_wp, 0.25_wp, 0.7_wp, -0.2_wp, 0.05_wp, -0.45_wp, 0.15_wp, 0.35_wp], [3, 3])
+    b = [1.0_wp, -2.0_wp, 0.5_wp]
+  end subroutine linear_field
+
+  !> Old and new nodal velocities both b + A x_I (the nd leading components).
+  subroutine fill_linear(nd, lo, a, b, nvel)
+    integer, intent(in) :: nd, lo(3)
+    real(wp), intent(in) :: a(3, 3), b(3)
+    real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k
+    real(wp) :: xn(3), vn(3)
+    do k = lbound(nvel, 4), ubound(nvel, 4)
+      do j = lbound(nvel, 3), ubound(nvel, 3)
+        do i = lbound(nvel, 2), ubound(nvel, 2)
+          xn = node_x(i, j, k)
+          if (nd < 3) xn(3) = 0.0_wp
+          vn = b + matmul(a, xn)
+          nvel(1:nd, i, j, k) = vn(1:nd)
+          nvel(nd + 1:2*nd, i, j, k) = vn(1:nd)
+        end do
+      end do
+    end do
+  end subroutine fill_linear
+
+  !> The point gradient (3x3 column-major) against A on the nd x nd block.
+  subroutine check_gradient(nd, lg, a, what)
+    integer, intent(in) :: nd
+    real(wp), intent(in) :: lg(9), a(3, 3)
+    character(len=*), intent(in) :: what
+    real(wp) :: l(3, 3)
+    integer :: r, c
+    l = reshape(lg, [3, 3])
+    do c = 1, nd
+      do r = 1, nd
+        call check_close(l(r, c), a(r, c), 1.0e-12_wp, 1.0e-12_wp, what)
+      end do
+    end do
+  end subroutine check_gradient
+
+end program test_transfer

@@ -87,7 +87,6 @@ contains
     write (s, '(f6.1)') x
   end function fmt_r
 
-
   !> Write the table, the counts and the field case (serial HDF5 file access).
   subroutine write_file(fname)
     character(len=*), intent(in) :: fname
@@ -122,7 +121,7 @@ contains
     ax = xe(1, 1:peaks_neval)
     call put_real(fgid, 'x', ax, [integer(hsize_t) :: peaks_neval])
     call put_real(fgid, 'y', ax, [integer(hsize_t) :: peaks_neval])
-    call put_real(fgid, 'exact', [(peaks(xe(1, i), xe(2, i)), i = 1, size(xe, 2))], &
+    call put_real(fgid, 'exact', [(peaks(xe(1, i), xe(2, i)), i=1, size(xe, 2))], &
                   [integer(hsize_t) :: peaks_neval, peaks_neval])
     call put_real(fgid, 'reconstruction', fh, [integer(hsize_t) :: peaks_neval, peaks_neval])
     call attr_string(fgid, 'kernel', trim(kernel_names(field_kernel)))
@@ -148,7 +147,6 @@ contains
       s = s//','//trim(names(i))
     end do
   end function join_names
-
 
   !> A double dataset of the given (Fortran-order) dims from the flat values v.
   subroutine put_real(loc, name, v, dims)
@@ -189,8 +187,5 @@ contains
     call h5sclose_f(space, ierr)
     call h5check(ierr, 'h5sclose_f('//name//')', 'dpmpm_peaks')
   end subroutine put_i8
-
-
-
 
 end program dpmpm_peaks_table

@@ -4,6 +4,8 @@
 DPMPM_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 DPMPM_DEB_PACKAGES="gfortran libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools libfftw3-dev cmake ninja-build python3 python3-pip"
 DPMPM_PY_MODULES="h5py numpy matplotlib pytest"
+# The source formatters (scripts/format.sh), pinned: another version may lay out differently.
+DPMPM_PY_TOOLS="fprettify==0.3.7 findent==4.3.6"
 
 # Open MPI refuses to run as root and to put more ranks than cores on a machine
 # unless told; both are harmless elsewhere.
@@ -44,6 +46,16 @@ dpmpm_require_packages() {
     echo "dpmpm: installing Python modules ${pymissing[*]}"
     python3 -m pip install -q "${pymissing[@]}" 2>/dev/null \
       || python3 -m pip install -q --break-system-packages "${pymissing[@]}"
+  fi
+  local toolmissing=() t
+  for t in $DPMPM_PY_TOOLS; do
+    [ "$(python3 -m pip show "${t%%==*}" 2>/dev/null | sed -n 's/^Version: //p')" = "${t##*==}" ] \
+      || toolmissing+=("$t")
+  done
+  if [ ${#toolmissing[@]} -gt 0 ]; then
+    echo "dpmpm: installing ${toolmissing[*]}"
+    python3 -m pip install -q "${toolmissing[@]}" 2>/dev/null \
+      || python3 -m pip install -q --break-system-packages "${toolmissing[@]}"
   fi
   # The package dpmpm of this checkout (scripts/python/dpmpm, pyproject.toml), editable.
   if ! python3 -c "import dpmpm, sys; sys.exit(not dpmpm.__file__.startswith('$DPMPM_ROOT/'))" \

@@ -70,7 +70,7 @@ contains
     x = 0.0_wp
     do k = 1, int(nloc)
       ids(k) = 1000 + offset + k - 1
-      x(:, k) = [(real(offset + k - 1, wp) + 0.25_wp*j, j = 1, m)]
+      x(:, k) = [(real(offset + k - 1, wp) + 0.25_wp*j, j=1, m)]
     end do
     call write_columns(file, dxpl, 'id'//suffix, H5T_STD_I64LE, &
                        h5kind_to_type(i8, H5_INTEGER_KIND), 0, nloc, offset, nglob, c_loc(ids), &
@@ -102,7 +102,7 @@ contains
     ok = .true.
     do k = 1, int(nglob)
       ok = ok .and. ids(k) == 1000 + k - 1
-      ok = ok .and. all(x(:, k) == [(real(k - 1, wp) + 0.25_wp*j, j = 1, m)])
+      ok = ok .and. all(x(:, k) == [(real(k - 1, wp) + 0.25_wp*j, j=1, m)])
     end do
   end function pair_is_right
 

@@ -98,7 +98,6 @@ module dpmpm_output
     procedure :: is_active => out_is_active
   end type output_t
 
-
 contains
 
   !> Path of the HDF5 file of a run: <output_dir>/<name>.h5.
@@ -557,7 +556,7 @@ contains
     ibuf = self%diag_buf(1:m)%npoints
     call append_diag(self, self%diag_dset(2), ti8, m, c_loc(ibuf))
     do k = 1, ndiag_real
-      rbuf = [(self%diag_buf(j)%values(k), j = 1, m)]
+      rbuf = [(self%diag_buf(j)%values(k), j=1, m)]
       call append_diag(self, self%diag_dset(2 + k), twp, m, c_loc(rbuf))
     end do
     self%ndiag_written = self%ndiag_written + m
@@ -654,8 +653,6 @@ contains
     self%nrewritten = self%nrewritten + nrew
   end subroutine verify_written
 
-
-
   !> /input: the input file as one fixed-length string (scalar dataset). Rank 0's text is
   !> broadcast so that every rank writes the same bytes.
   subroutine write_input(self, cfg)
@@ -686,12 +683,6 @@ contains
     call h5tclose_f(stype, err)
     call h5check(err, 'h5tclose_f', where)
   end subroutine write_input
-
-
-
-
-
-
 
   !> Create one empty extendible 1D dataset under /diagnostics.
   subroutine create_diag_dset(gid, name, ftype, dset)

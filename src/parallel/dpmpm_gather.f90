@@ -66,7 +66,7 @@ contains
     integer, allocatable :: idx(:), tmp(:)
     integer :: n, width, lo, mid, hi, i, j, k
     n = size(a)
-    idx = [(k, k = 1, n)]
+    idx = [(k, k=1, n)]
     allocate (tmp(n))
     width = 1
     do while (width < n)

@@ -225,7 +225,6 @@ contains
                         trim(rtoa_short(self%time))//' s (raise growth_limit, or 0 to switch the monitor off)')
   end subroutine monitor_stopped
 
-
   !> id, position (3) and cell indices (3, from 0) of point p of ps, as reals.
   function point_info(self, ps, p) result(info)
     class(state_t), intent(in) :: self

@@ -79,7 +79,7 @@ contains
         call solid_porosity_p2g(self%nw, ns, s%i0, s%sw, s%pts%mass, s%pts%porosity, self%dec%alo, &
                                 self%nporo)
         call fluid_p2g(nd, self%nw, nf, f%i0, f%sw, f%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
-                       f%pts%pressure, f%pts%kinv, .not. self%plan%gauss, self%dec%alo, s%node, f%node, &
+                       f%pts%pressure, f%pts%kinv, (.not. self%plan%gauss), self%dec%alo, s%node, f%node, &
                        self%ndrag)
       end associate
     end if

@@ -97,7 +97,6 @@ contains
     if (self%write_output .and. two_phase_benchmark(self)) call write_two_phase_verification(self)
   end subroutine write_verification
 
-
   !> Log how often each MLS path was taken (summed over ranks) and store the
   !> counts as attributes of /verification when the run writes one.
   subroutine report_mls(self)

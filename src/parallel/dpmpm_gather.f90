@@ -7,7 +7,7 @@ module dpmpm_gather
                      MPI_INTEGER8, MPI_DOUBLE_PRECISION
   implicit none
   private
-  public :: gather_points, sort_index
+  public :: gather_points, gather_columns, gather_layout, sort_index
 
 contains
 
@@ -23,24 +23,14 @@ contains
     integer, allocatable :: counts(:), displs(:), order(:)
     integer(i8), allocatable :: gid(:)
     real(wp), allocatable :: buf(:, :), gbuf(:, :)
-    integer :: nr, m, k, ntot, rank
+    integer :: m, ntot, rank
     if (ps%ndim == 0) then
       allocate (ids(0), x(nd, 0), v(nd, 0), stress(6, 0))
       return
     end if
     m = 2*nd + 6
-    call MPI_Comm_size(comm, nr)
     call MPI_Comm_rank(comm, rank)
-    allocate (counts(nr), displs(nr))
-    call MPI_Gather(ps%n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, comm)
-    ntot = 0
-    if (rank == 0) then
-      displs(1) = 0
-      do k = 2, nr
-        displs(k) = displs(k - 1) + counts(k - 1)
-      end do
-      ntot = sum(counts)
-    end if
+    call gather_layout(ps%n, comm, counts, displs, ntot)
     allocate (gid(max(ntot, 1)), gbuf(m, max(ntot, 1)), buf(m, ps%n))
     buf(1:nd, :) = ps%x(:, 1:ps%n)
     buf(nd + 1:2*nd, :) = ps%v(:, 1:ps%n)
@@ -59,6 +49,45 @@ contains
     v = gbuf(nd + 1:2*nd, order)
     stress = gbuf(2*nd + 1:m, order)
   end subroutine gather_points
+
+  !> Layout of a gather of n items per rank to rank 0 of comm: counts(r) items of rank r
+  !> at offset displs(r), ntot in all (on rank 0; the other ranks get zeros).
+  subroutine gather_layout(n, comm, counts, displs, ntot)
+    integer, intent(in) :: n
+    type(MPI_Comm), intent(in) :: comm
+    integer, allocatable, intent(out) :: counts(:), displs(:)
+    integer, intent(out) :: ntot
+    integer :: nr, rank, k
+    call MPI_Comm_size(comm, nr)
+    call MPI_Comm_rank(comm, rank)
+    allocate (counts(nr), displs(nr))
+    counts = 0
+    displs = 0
+    call MPI_Gather(n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, comm)
+    ntot = 0
+    if (rank /= 0) return
+    do k = 2, nr
+      displs(k) = displs(k - 1) + counts(k - 1)
+    end do
+    ntot = sum(counts)
+  end subroutine gather_layout
+
+  !> The columns buf(:, 1:n) of every rank of comm on rank 0, in rank order: all(m, ntot)
+  !> with m = size(buf, 1). The other ranks get all(m, 0) and ntot = 0.
+  subroutine gather_columns(buf, n, comm, all, ntot)
+    real(wp), intent(in) :: buf(:, :)
+    integer, intent(in) :: n
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), allocatable, intent(out) :: all(:, :)
+    integer, intent(out) :: ntot
+    integer, allocatable :: counts(:), displs(:)
+    integer :: m
+    m = size(buf, 1)
+    call gather_layout(n, comm, counts, displs, ntot)
+    allocate (all(m, ntot))
+    call MPI_Gatherv(buf, m*n, MPI_DOUBLE_PRECISION, all, m*counts, m*displs, &
+                     MPI_DOUBLE_PRECISION, 0, comm)
+  end subroutine gather_columns
 
   !> Permutation that sorts a (merge sort, stable).
   function sort_index(a) result(idx)

@@ -19,8 +19,9 @@ module dpmpm_benchmarks
   use dpmpm_config, only: config_t
   use dpmpm_particles, only: particle_set_t
   use dpmpm_materials, only: material_t
+  use dpmpm_gather, only: gather_columns
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM, &
-                     MPI_Comm_rank, MPI_Comm_size, MPI_Gather, MPI_Gatherv, MPI_INTEGER, MPI_Bcast
+                     MPI_Comm_rank, MPI_Bcast, MPI_INTEGER
   implicit none
   private
   public :: benchmark_setup, benchmark_errors, benchmark_error_names, nbench_err
@@ -199,27 +200,15 @@ contains
     real(wp), intent(in) :: t
     type(MPI_Comm), intent(in) :: comm
     real(wp), intent(out) :: gap, empty
-    integer :: rank, nranks, ntot, k, p, q, ix, iy, nl(2), cell(2)
-    integer, allocatable :: counts(:), displs(:), idx(:, :), occupied(:, :)
+    integer :: rank, ntot, k, p, q, ix, iy, nl(2), cell(2)
+    integer, allocatable :: idx(:, :), occupied(:, :)
     real(wp), allocatable :: buf(:, :), all(:, :)
     real(wp) :: a(2), u(2), v(2), f11, f22, c, res(2), ep(2), eq(2)
     call MPI_Comm_rank(comm, rank)
-    call MPI_Comm_size(comm, nranks)
-    allocate (counts(nranks), displs(nranks))
-    call MPI_Gather(ps%n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, comm)
-    ntot = 0
-    if (rank == 0) then
-      displs(1) = 0
-      do k = 2, nranks
-        displs(k) = displs(k - 1) + counts(k - 1)
-      end do
-      ntot = sum(counts)
-    end if
-    allocate (buf(4, ps%n), all(4, max(ntot, 1)))
+    allocate (buf(4, ps%n))
     buf(1:2, :) = ps%x0(1:2, 1:ps%n) - spread(cfg%origin(1:2), 2, ps%n)
     buf(3:4, :) = ps%x(1:2, 1:ps%n) - spread(cfg%origin(1:2), 2, ps%n)
-    call MPI_Gatherv(buf, 4*ps%n, MPI_DOUBLE_PRECISION, all, 4*counts, 4*displs, &
-                     MPI_DOUBLE_PRECISION, 0, comm)
+    call gather_columns(buf, ps%n, comm, all, ntot)
     res = 0.0_wp
     if (rank == 0) then
       c = mms_speed(mats)

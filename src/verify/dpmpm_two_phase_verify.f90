@@ -40,8 +40,9 @@ module dpmpm_two_phase_verify
   use dpmpm_biot_column, only: biot_column_t, biot_column_solve, biot_wave_speeds
   use dpmpm_terzaghi, only: terzaghi_t, terzaghi_pressure, terzaghi_settlement, &
                             terzaghi_time_factor, terzaghi_p0, terzaghi_nterms
-  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Gather, MPI_Gatherv, &
-                     MPI_Bcast, MPI_INTEGER, MPI_DOUBLE_PRECISION
+  use dpmpm_gather, only: gather_columns
+  use mpi_f08, only: MPI_Comm, MPI_Comm_rank, &
+                     MPI_Bcast, MPI_DOUBLE_PRECISION
   implicit none
   private
   public :: two_phase_column, terzaghi_from_scene, two_phase_errors, two_phase_profiles
@@ -255,13 +256,10 @@ contains
     type(MPI_Comm), intent(in) :: comm
     real(wp), allocatable, intent(out) :: all(:, :)
     real(wp), allocatable :: buf(:, :)
-    integer, allocatable :: counts(:), displs(:)
-    integer :: nrow, rank, nranks, ntot, k, nd
-    call MPI_Comm_rank(comm, rank)
-    call MPI_Comm_size(comm, nranks)
+    integer :: nrow, ntot, nd
     nd = max(ps%ndim, 1)
     nrow = row_v + nd - 1
-    allocate (buf(nrow, ps%n), counts(nranks), displs(nranks))
+    allocate (buf(nrow, ps%n))
     if (ps%n > 0) then
       buf(row_x, :) = ps%x(1, 1:ps%n)
       buf(row_x0, :) = ps%x0(1, 1:ps%n)
@@ -274,18 +272,7 @@ contains
       buf(row_v, :) = ps%v(1, 1:ps%n)
       if (nd > 1) buf(row_v + 1:, :) = ps%x(2:nd, 1:ps%n)
     end if
-    call MPI_Gather(ps%n, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, 0, comm)
-    ntot = 0
-    displs = 0
-    if (rank == 0) then
-      do k = 2, nranks
-        displs(k) = displs(k - 1) + counts(k - 1)
-      end do
-      ntot = sum(counts)
-    end if
-    allocate (all(nrow, ntot))
-    call MPI_Gatherv(buf, nrow*ps%n, MPI_DOUBLE_PRECISION, all, nrow*counts, nrow*displs, &
-                     MPI_DOUBLE_PRECISION, 0, comm)
+    call gather_columns(buf, ps%n, comm, all, ntot)
   end subroutine gather_points
 
   !> The column measures (module header) from the gathered tables sol and flu.

@@ -21,6 +21,7 @@ module dpmpm_face_loads
     real(wp) :: pore_pressure(6) = 0.0_wp, pore_pressure_ramp(6) = 0.0_wp
   contains
     procedure :: init => face_loads_init
+    procedure :: free => face_loads_free
     procedure :: traction => face_traction
     procedure :: pore_pressure_force => face_pore_pressure
     procedure :: fluid_ties
@@ -47,6 +48,15 @@ contains
     self%pore_pressure = cfg%pore_pressure
     self%pore_pressure_ramp = cfg%pore_pressure_ramp
   end subroutine face_loads_init
+
+  !> Release what init made; the faces carry no load afterwards.
+  subroutine face_loads_free(self)
+    class(face_loads_t), intent(inout) :: self
+    if (allocated(self%loads)) deallocate (self%loads)
+    self%fbc = 0
+    self%pore_pressure = 0.0_wp
+    self%pore_pressure_ramp = 0.0_wp
+  end subroutine face_loads_free
 
   !> Nodal force of the &load tractions at node idx (zero away from the loaded
   !> faces): the traction, ramped over its ramp time, times the node's share of

@@ -577,7 +577,7 @@ contains
     if (allocated(self%ndrag)) deallocate (self%ndrag)
     if (allocated(self%occ)) deallocate (self%occ)
     if (allocated(self%occ2)) deallocate (self%occ2)
-    if (allocated(self%faces%loads)) deallocate (self%faces%loads)
+    call self%faces%free()
     self%governing = 0
     self%two_phase = .false.
     if (allocated(self%err_hist)) deallocate (self%err_hist)

@@ -8,7 +8,7 @@ module dpmpm_grid
   use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller
   implicit none
   private
-  public :: grid_t, cell_of
+  public :: grid_t, cell_of, cells_of
 
   !> Cell indices are clamped to +-cell_clamp so that a point far away (or at a
   !> NaN position) still gets a valid integer cell, outside the grid.
@@ -96,6 +96,20 @@ contains
       c(d) = floor(s)
     end do
   end function cell_of
+
+  !> cell_of of the points x(:, 1:n) at once: c(:, k) is the cell of x(:, k). One call
+  !> per point set keeps the per-point work inside this module (inlined), not a call
+  !> across modules per point.
+  pure subroutine cells_of(origin, h, x, n, ndim, c)
+    real(wp), intent(in) :: origin(3), h(3)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: n, ndim
+    integer, intent(out) :: c(:, :)
+    integer :: k
+    do k = 1, n
+      c(:, k) = cell_of(origin, h, x(:, k), ndim)
+    end do
+  end subroutine cells_of
 
   !> True when x lies inside the grid (lower faces included, upper excluded).
   pure logical function grid_inside(self, x)

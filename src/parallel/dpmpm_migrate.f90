@@ -12,7 +12,7 @@
 module dpmpm_migrate
   use dpmpm_kinds, only: wp
   use dpmpm_decomp, only: decomp_t
-  use dpmpm_grid, only: cell_of
+  use dpmpm_grid, only: cells_of
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Sendrecv, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
                      MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL
@@ -69,10 +69,12 @@ contains
     integer, intent(out) :: nglobal
     integer, allocatable, intent(out), optional :: idx(:)
     logical, allocatable :: bad(:)
+    integer, allocatable :: cells(:, :)
     integer :: k
-    allocate (bad(ps%n))
+    allocate (bad(ps%n), cells(3, ps%n))
+    call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
     do k = 1, ps%n
-      bad(k) = .not. owns_cell(dec, cell_of(origin, h, ps%x(:, k), dec%ndim))
+      bad(k) = .not. owns_cell(dec, cells(:, k))
     end do
     if (present(idx)) idx = pack([(k, k=1, ps%n)], bad)
     nglobal = count(bad)
@@ -90,16 +92,17 @@ contains
     integer, allocatable :: to_lo(:), to_hi(:)
     logical, allocatable :: gone(:)
     real(wp), allocatable :: slo(:, :), shi(:, :), rlo(:, :), rhi(:, :)
-    integer :: k, c(3), m, nfrom_lo, nfrom_hi
+    integer, allocatable :: cells(:, :)
+    integer :: k, m, nfrom_lo, nfrom_hi
     integer :: dest(ps%n)
     m = ps%nreal_packed()
-    allocate (gone(ps%n))
+    allocate (gone(ps%n), cells(3, ps%n))
+    call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
     ! dest: -1 lower neighbour, +1 upper neighbour, 0 stays.
     do k = 1, ps%n
-      c = cell_of(origin, h, ps%x(:, k), dec%ndim)
       dest(k) = 0
-      if (c(d) < dec%clo(d) .and. dec%nbr_lo(d) /= MPI_PROC_NULL) dest(k) = -1
-      if (c(d) > dec%chi(d) .and. dec%nbr_hi(d) /= MPI_PROC_NULL) dest(k) = 1
+      if (cells(d, k) < dec%clo(d) .and. dec%nbr_lo(d) /= MPI_PROC_NULL) dest(k) = -1
+      if (cells(d, k) > dec%chi(d) .and. dec%nbr_hi(d) /= MPI_PROC_NULL) dest(k) = 1
     end do
     gone = dest /= 0
     to_lo = pack([(k, k=1, ps%n)], dest == -1)

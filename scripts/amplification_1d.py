@@ -78,7 +78,7 @@ def step_matrix(sc, dt, musl=True, flip=1.0, implicit=True, remap_drag=True):
         if musl:
             rs, rf = iS * (Ns.T @ (ms * vs1)), iF * (Nf.T @ (mf * vf1))
             if implicit and remap_drag:
-                # drag_relax in src/solver/dpmpm_two_phase.f90
+                # drag_relax in src/solver/dpmpm_drag.f90
                 f = mIs * mIf / det
                 g = np.where(f < F_LOCK, f + (1 - f) * f / F_LOCK, 1.0)
                 mix = (mIs * rs + mIf * rf) / tot

@@ -7,7 +7,8 @@ program test_rank_invariance
                      MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_UNDEFINED, MPI_COMM_NULL, &
                      operator(/=)
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
+  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_test_scenes, only: column_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, finish_tests, am_root
   implicit none
@@ -118,30 +119,16 @@ contains
   function column_2d(kernel, scheme) result(cfg)
     character(len=*), intent(in) :: kernel, scheme
     type(config_t) :: cfg
+    cfg = column_scene(100, 1.0e-5_wp, 3.0e6_wp, 5.0e-3_wp, 'explicit')
     cfg%name = 'column_2d'
+    cfg%benchmark = 'none'
     cfg%ndim = 2
-    cfg%ncells = [100, 2, 1]
-    cfg%length = [10.0_wp, 0.2_wp, 1.0_wp]
+    cfg%ncells(2) = 2
+    cfg%length(2) = 0.2_wp
     cfg%kernel = kernel
     cfg%scheme = scheme
-    cfg%t_end = 5.0e-3_wp
-    cfg%cfl = 0.5_wp
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
-    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
-                                      youngs_modulus=1.0e7_wp, poisson_ratio=0.0_wp, &
-                                      conductivity=1.0e-5_wp)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=3.0e6_wp)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
     cfg%regions(1)%hi = [10.0_wp, 0.2_wp, 0.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = 0.3_wp
-    cfg%regions(1)%ppc = 2
-    cfg%regions(1)%placement = 'random'
     cfg%regions(1)%seed = 3
-    cfg%loads(1) = load_cfg_t(face=1, traction=[1.0_wp, 0.0_wp, 0.0_wp], ramp_time=0.0_wp)
-    cfg%bc(2) = bc_fixed
     cfg%bc(3) = bc_roller
     cfg%bc(4) = bc_roller
   end function column_2d

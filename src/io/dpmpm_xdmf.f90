@@ -1,0 +1,182 @@
+!> The XDMF 2 sidecar <name>.xmf of a run's HDF5 output, for ParaView: the frames and
+!> point sets written so far, each dataset referred to in the HDF5 file (doc/output.md).
+!> Written by rank 0 alone; no HDF5 call here.
+module dpmpm_xdmf
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_error, only: fatal
+  use dpmpm_config, only: optional_fields
+  use dpmpm_h5, only: rename_file
+  implicit none
+  private
+  public :: frame_rec_t, set_rec_t, write_xdmf
+
+  !> One frame as listed in the XDMF sidecar.
+  type :: frame_rec_t
+    integer(i8) :: step = 0
+    real(wp) :: time = 0.0_wp
+  end type frame_rec_t
+
+  !> One point set written in a frame (for the XDMF sidecar), with the optional
+  !> datasets it holds.
+  type :: set_rec_t
+    integer :: frame = 0
+    character(len=16) :: name = ''
+    integer(i8) :: n = 0
+    !> Which of optional_fields (displacement, stress, material, porosity, pore_pressure,
+    !> plastic_strain) the set holds in this frame.
+    logical :: has(size(optional_fields)) = .false.
+  end type set_rec_t
+
+contains
+
+  !> The XDMF 2 sidecar: one temporal collection per point set (named after the set, so
+  !> that ParaView shows the same block name at every time), holding one point cloud per
+  !> frame in which the set has points. Written to a temporary file and renamed.
+  subroutine write_xdmf(xmf_path, h5_base, ndim, frames, sets)
+    character(len=*), intent(in) :: xmf_path, h5_base
+    integer, intent(in) :: ndim
+    type(frame_rec_t), intent(in) :: frames(:)
+    type(set_rec_t), intent(in) :: sets(:)
+    character(len=*), parameter :: where = 'output%end_frame'
+    character(len=:), allocatable :: tmp_path
+    character(len=16) :: names(8)
+    character(len=32) :: tstr
+    integer :: u, ios, s, k, nnames
+    tmp_path = xmf_path//'.tmp'
+    open (newunit=u, file=tmp_path, status='replace', action='write', iostat=ios)
+    if (ios /= 0) call fatal('cannot write '//tmp_path, where)
+    ! The set names in the order they first appear.
+    nnames = 0
+    do s = 1, size(sets)
+      if (any(names(1:nnames) == sets(s)%name)) cycle
+      if (nnames == size(names)) call fatal('more point sets than the sidecar lists', where)
+      nnames = nnames + 1
+      names(nnames) = sets(s)%name
+    end do
+    write (u, '(a)') '<?xml version="1.0" ?>'
+    write (u, '(a)') '<Xdmf Version="2.0">'
+    write (u, '(a)') ' <Domain>'
+    do k = 1, nnames
+      write (u, '(a)') '  <Grid Name="'//xml_escape(trim(names(k)))// &
+        '" GridType="Collection" CollectionType="Temporal">'
+      do s = 1, size(sets)
+        if (sets(s)%name /= names(k) .or. sets(s)%n == 0) cycle
+        write (tstr, '(es24.16e3)') frames(sets(s)%frame + 1)%time
+        call write_xdmf_set(h5_base, ndim, u, sets(s), trim(adjustl(tstr)))
+      end do
+      write (u, '(a)') '  </Grid>'
+    end do
+    write (u, '(a)') ' </Domain>'
+    write (u, '(a)') '</Xdmf>'
+    close (u, iostat=ios)
+    if (ios /= 0) call fatal('cannot close '//tmp_path, where)
+    call rename_file(tmp_path, xmf_path, where)
+  end subroutine write_xdmf
+
+  !> One Polyvertex grid of a set at one frame: geometry from x, the other datasets as
+  !> node attributes; the stress as six scalars named by their components.
+  subroutine write_xdmf_set(h5_base, ndim, u, set, time)
+    character(len=*), intent(in) :: h5_base
+    integer, intent(in) :: ndim
+    integer, intent(in) :: u
+    type(set_rec_t), intent(in) :: set
+    character(len=*), intent(in) :: time
+    !> Component names of the stress columns in file order (doc/output.md).
+    character(len=2), parameter :: comp(6) = ['xx', 'yy', 'zz', 'yz', 'xz', 'xy']
+    character(len=:), allocatable :: base, nstr, vec
+    character(len=24) :: buf
+    character(len=16) :: fstr
+    integer :: j
+    write (buf, '(i0)') set%n
+    nstr = trim(buf)
+    write (fstr, '(i6.6)') set%frame
+    base = xml_escape(h5_base)//':/frames/'//trim(fstr)//'/'//xml_escape(trim(set%name))//'/'
+    write (buf, '(i0)') ndim
+    vec = nstr//' '//trim(buf)
+    write (u, '(a)') '   <Grid Name="'//xml_escape(trim(set%name))//'" GridType="Uniform">'
+    write (u, '(a)') '    <Time Value="'//time//'"/>'
+    write (u, '(a)') '    <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
+      '" NodesPerElement="1"/>'
+    select case (ndim)
+    case (1)
+      ! ParaView needs 3D coordinates: x from the file, y = z = x - x = 0.
+      write (u, '(a)') '    <Geometry GeometryType="X_Y_Z">'
+      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
+      write (u, '(a)') '     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
+        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>'
+      write (u, '(a)') '     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
+        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>'
+    case (2)
+      write (u, '(a)') '    <Geometry GeometryType="XY">'
+      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
+    case default
+      write (u, '(a)') '    <Geometry GeometryType="XYZ">'
+      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
+    end select
+    write (u, '(a)') '    </Geometry>'
+    if (ndim == 1) then
+      call attribute('v', 'Scalar', vec, 'Float', '8')
+      if (set%has(1)) call attribute('displacement', 'Scalar', vec, 'Float', '8')
+    else
+      call attribute('v', 'Vector', vec, 'Float', '8')
+      if (set%has(1)) call attribute('displacement', 'Vector', vec, 'Float', '8')
+    end if
+    call attribute('mass', 'Scalar', nstr, 'Float', '8')
+    call attribute('volume', 'Scalar', nstr, 'Float', '8')
+    do j = 1, merge(6, 0, set%has(2))
+      ! Column j of the (n, 6) stress dataset: start (0, j-1), stride (1, 1), count (n, 1).
+      write (buf, '(i0)') j - 1
+      write (u, '(a)') '    <Attribute Name="stress_'//comp(j)// &
+        '" AttributeType="Scalar" Center="Node"><DataItem ItemType="HyperSlab" Dimensions="'// &
+        nstr//' 1" Type="HyperSlab"><DataItem Dimensions="3 2" Format="XML">0 '//trim(buf)// &
+        ' 1 1 '//nstr//' 1</DataItem>'//item(nstr//' 6', 'Float', '8', base//'stress')// &
+        '</DataItem></Attribute>'
+    end do
+    if (set%has(3)) call attribute('material', 'Scalar', nstr, 'Int', '4')
+    if (set%has(4)) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
+    if (set%has(5)) call attribute('pore_pressure', 'Scalar', nstr, 'Float', '8')
+    if (set%has(6)) call attribute('plastic_strain', 'Scalar', nstr, 'Float', '8')
+    call attribute('id', 'Scalar', nstr, 'Int', '8')
+    write (u, '(a)') '   </Grid>'
+
+  contains
+
+    subroutine attribute(name, atype, dims, ntype, prec)
+      character(len=*), intent(in) :: name, atype, dims, ntype, prec
+      write (u, '(a)') '    <Attribute Name="'//name//'" AttributeType="'//atype// &
+        '" Center="Node">'//item(dims, ntype, prec, base//name)//'</Attribute>'
+    end subroutine attribute
+
+  end subroutine write_xdmf_set
+
+  !> An HDF DataItem referring to a dataset of the sidecar's HDF5 file.
+  function item(dims, ntype, prec, ref) result(s)
+    character(len=*), intent(in) :: dims, ntype, prec, ref
+    character(len=:), allocatable :: s
+    s = '<DataItem Dimensions="'//dims//'" NumberType="'//ntype//'" Precision="'//prec// &
+        '" Format="HDF">'//ref//'</DataItem>'
+  end function item
+
+  !> Escape the XML special characters of a name.
+  pure function xml_escape(text) result(s)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: s
+    integer :: k
+    s = ''
+    do k = 1, len(text)
+      select case (text(k:k))
+      case ('&')
+        s = s//'&amp;'
+      case ('<')
+        s = s//'&lt;'
+      case ('>')
+        s = s//'&gt;'
+      case ('"')
+        s = s//'&quot;'
+      case default
+        s = s//text(k:k)
+      end select
+    end do
+  end function xml_escape
+
+end module dpmpm_xdmf

@@ -4,6 +4,7 @@
 module dpmpm_phase
   use dpmpm_kinds, only: wp
   use dpmpm_particles, only: particle_set_t
+  use dpmpm_stencil, only: stencil_t
   implicit none
   private
   public :: phase_t, solid_phase, fluid_phase
@@ -14,9 +15,7 @@ module dpmpm_phase
   type :: phase_t
     type(particle_set_t) :: pts               !< the points of the phase
     integer :: bc(6) = 0                      !< its face conditions at the mirror walls
-    ! Per-point stencil: first node, weights and x-derivatives per axis.
-    integer, allocatable :: i0(:, :)
-    real(wp), allocatable :: sw(:, :, :), sdw(:, :, :)
+    type(stencil_t) :: st                     !< the points' stencils, rebuilt every step
     real(wp), allocatable :: vgrad(:, :)      !< velocity gradient of the phase (9, n)
     real(wp), allocatable :: vgrad2(:, :)     !< fluid points: solid velocity gradient (9, n)
     ! Node fields on the stored nodes (owned + ghosts).
@@ -43,9 +42,7 @@ contains
     class(phase_t), intent(inout) :: self
     call self%pts%free()
     self%bc = 0
-    if (allocated(self%i0)) deallocate (self%i0)
-    if (allocated(self%sw)) deallocate (self%sw)
-    if (allocated(self%sdw)) deallocate (self%sdw)
+    call self%st%free()
     if (allocated(self%vgrad)) deallocate (self%vgrad)
     if (allocated(self%vgrad2)) deallocate (self%vgrad2)
     if (allocated(self%node)) deallocate (self%node)

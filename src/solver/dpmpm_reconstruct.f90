@@ -24,8 +24,9 @@
 !> the same storage bounds and the same halo_sum / halo_copy.
 module dpmpm_reconstruct
   use dpmpm_kinds, only: wp
-  use dpmpm_kernels, only: kernel_weight, kernel_reach, kernel_radial, kernel_eval_1d, &
-                           is_grid_kernel, max_stencil, kernel_width, bspline_1d
+  use dpmpm_kernels, only: kernel_weight, kernel_reach, kernel_radial, is_grid_kernel, max_stencil, &
+                           kernel_width, bspline_1d
+  use dpmpm_stencil, only: psi_stencil, stencil_offsets, tensor_weights
   use dpmpm_mls, only: basis_size, packed_size, basis_eval, moment_add, mls_gamma, mls_stats_t
   use dpmpm_materials, only: voigt_to_tensor
   implicit none
@@ -33,7 +34,7 @@ module dpmpm_reconstruct
   public :: gauss_rule, field_components, stress_voigt_index
   public :: velocity_accumulate, velocity_solve, velocity_fold_signs
   public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
-  public :: psi_stencil, occupancy_pass, gauss_cell_components, gauss_solution_components
+  public :: occupancy_pass, gauss_cell_components, gauss_solution_components
 
   !> Most Gauss points of one cell (4 per axis in 3D).
   integer, parameter :: max_gauss_cell = 64
@@ -465,26 +466,6 @@ contains
     end do
   end subroutine gauss_solve
 
-  !> Grid-function weights and gradients (per metre) at a position y in cell units.
-  pure subroutine psi_stencil(nd, kernel, y, h, i0, sw, sdw)
-    integer, intent(in) :: nd, kernel
-    real(wp), intent(in) :: y(3), h(3)
-    integer, intent(out) :: i0(3)
-    real(wp), intent(out) :: sw(max_stencil, 3), sdw(max_stencil, 3)
-    integer :: d
-    do d = 1, 3
-      if (d <= nd) then
-        call kernel_eval_1d(kernel, y(d), i0(d), sw(:, d), sdw(:, d))
-        sdw(:, d) = sdw(:, d)/h(d)
-      else
-        i0(d) = 0
-        sw(:, d) = 0.0_wp
-        sw(1, d) = 1.0_wp
-        sdw(:, d) = 0.0_wp
-      end if
-    end do
-  end subroutine psi_stencil
-
   !> Grid-function gradients (per metre) at the Gauss points of a cell, the same
   !> for every cell: for Gauss point g and stencil node m, the node's offset from
   !> the cell's lower corner (off) and grad Psi (gr). Returns the nodes per point.
@@ -494,25 +475,21 @@ contains
     integer, intent(out) :: nn
     integer, allocatable, intent(out) :: off(:, :, :)
     real(wp), allocatable, intent(out) :: gr(:, :, :)
-    integer :: g, a, b, c, m, i0(3), nw(3)
+    integer :: g, m, i0(3), nw(3)
+    integer, allocatable :: qoff(:, :)
     real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), sw(max_stencil, 3), sdw(max_stencil, 3)
+    real(wp), allocatable :: w(:)
     nw = 1
     nw(1:nd) = kernel_width(kernel)
-    nn = product(nw)
-    allocate (off(3, nn, ng**nd), gr(3, nn, ng**nd))
+    call stencil_offsets(nw, nn, qoff)
+    allocate (off(3, nn, ng**nd), gr(3, nn, ng**nd), w(nn))
+    gr = 0.0_wp
     call gauss_points_of_cell(nd, ng, yg, wg)
     do g = 1, ng**nd
       call psi_stencil(nd, kernel, yg(:, g), h, i0, sw, sdw)
-      m = 0
-      do c = 1, nw(3)
-        do b = 1, nw(2)
-          do a = 1, nw(1)
-            m = m + 1
-            off(:, m, g) = i0 + [a, b, c] - 1
-            gr(:, m, g) = [sdw(a, 1)*sw(b, 2)*sw(c, 3), sw(a, 1)*sdw(b, 2)*sw(c, 3), &
-                           sw(a, 1)*sw(b, 2)*sdw(c, 3)]
-          end do
-        end do
+      call tensor_weights(nd, nn, qoff, sw, sdw, w, gr(:, :, g))
+      do m = 1, nn
+        off(:, m, g) = i0 + qoff(:, m)
       end do
     end do
   end subroutine gauss_psi_table

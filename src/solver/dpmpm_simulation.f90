@@ -8,7 +8,7 @@ module dpmpm_simulation
   use dpmpm_strings, only: i8toa
   use dpmpm_timer, only: t_total, t_output, ntimers, timer_names
   use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable, fbc_names, face_names
-  use dpmpm_kernels, only: kernel_width, kernel_reach
+  use dpmpm_kernels, only: kernel_reach
   use dpmpm_mls, only: mls_stats_t, basis_size, packed_size
   use dpmpm_reconstruct, only: gauss_cell_components, gauss_solution_components
   use dpmpm_generate, only: generate_points
@@ -100,8 +100,6 @@ contains
     self%nd = cfg%ndim
     call self%plan%init(cfg)
     self%kernel = self%plan%grid_kernel
-    self%nw = 1
-    self%nw(1:self%nd) = kernel_width(self%kernel)
     self%mls_stats = mls_stats_t()
     self%nkept = 0
     self%nwall = 0

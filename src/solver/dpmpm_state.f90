@@ -43,7 +43,6 @@ module dpmpm_state
     logical :: write_output = .true.
     type(shape_plan_t) :: plan                !< grid functions and MLS choices (&shape)
     integer :: kernel = 1
-    integer :: nw(3) = 1                      !< stencil nodes per axis
     type(mirror_t) :: mirror                  !< the mirror walls of this rank's node block
     type(face_loads_t) :: faces               !< tractions and pore-fluid conditions of the faces
     ! Two-phase node fields: sum N m_s n_f of the solid points (then the nodal

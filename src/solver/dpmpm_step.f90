@@ -10,8 +10,7 @@ module dpmpm_step
   use dpmpm_error, only: fatal
   use dpmpm_timer, only: t_stencil, t_p2g, t_halo, t_nodal, t_g2p, t_stress, t_migrate
   use dpmpm_config, only: bc_free
-  use dpmpm_kernels, only: max_stencil
-  use dpmpm_reconstruct, only: psi_stencil, velocity_accumulate, velocity_solve, velocity_fold_signs
+  use dpmpm_reconstruct, only: velocity_accumulate, velocity_solve, velocity_fold_signs
   use dpmpm_materials, only: stress_update, model_fluid
   use dpmpm_benchmarks, only: benchmark_body_force
   use dpmpm_migrate, only: migrate
@@ -64,11 +63,11 @@ contains
         ph%node = 0.0_wp
         if (allocated(ph%bacc)) then
           call benchmark_body_force(self%cfg, self%mats, ps, self%time, ph%bacc)
-          call p2g(nd, self%nw, ps%n, ph%i0, ph%sw, ph%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
-                   ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node, ph%bacc)
+          call p2g(ph%st, ps%n, ps%mass, ps%v, ps%vol, ps%stress, ip == solid_phase .and. .not. self%plan%gauss, &
+                   ph%node, ph%bacc)
         else
-          call p2g(nd, self%nw, ps%n, ph%i0, ph%sw, ph%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
-                   ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node)
+          call p2g(ph%st, ps%n, ps%mass, ps%v, ps%vol, ps%stress, ip == solid_phase .and. .not. self%plan%gauss, &
+                   ph%node)
         end if
       end associate
     end do
@@ -76,11 +75,9 @@ contains
       self%nporo = 0.0_wp
       self%ndrag = 0.0_wp
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        call solid_porosity_p2g(self%nw, ns, s%i0, s%sw, s%pts%mass, s%pts%porosity, self%dec%alo, &
-                                self%nporo)
-        call fluid_p2g(nd, self%nw, nf, f%i0, f%sw, f%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
-                       f%pts%pressure, f%pts%kinv, (.not. self%plan%gauss), self%dec%alo, s%node, f%node, &
-                       self%ndrag)
+        call solid_porosity_p2g(s%st, ns, s%pts%mass, s%pts%porosity, self%nporo)
+        call fluid_p2g(f%st, nf, f%pts%mass, f%pts%vol, f%pts%porosity, f%pts%pressure, f%pts%kinv, &
+                       (.not. self%plan%gauss), s%node, f%node, self%ndrag)
       end associate
     end if
     if (self%plan%gauss) then
@@ -165,7 +162,7 @@ contains
       call self%timers%tic(t_g2p)
       allocate (nval(nf), ngrad(3, nf), gnrel(nf))
       associate (f => self%phase(fluid_phase))
-        call interp_scalar(nd, self%nw, nf, f%i0, f%sw, f%sdw, self%dec%alo, self%nporo, nval, ngrad)
+        call interp_scalar(f%st, nf, self%nporo, nval, ngrad)
         f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-6_wp))
       end associate
       call self%timers%toc(t_g2p)
@@ -203,16 +200,14 @@ contains
     call self%timers%tic(t_g2p)
     do ip = 1, self%nph
       associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
-        call g2p(nd, self%nw, ps%n, ph%i0, ph%sw, ph%sdw, self%dec%alo, ph%nvel, self%cfg%flip, dt, &
-                 ps%v, ps%x, ph%vgrad)
+        call g2p(ph%st, ps%n, ph%nvel, self%cfg%flip, dt, ps%v, ps%x, ph%vgrad)
       end associate
     end do
     if (self%cfg%scheme == 'musl') then
       call musl_remap(self, dt)
     else if (coupled) then
       associate (f => self%phase(fluid_phase))
-        call point_gradient(nd, self%nw, nf, f%i0, f%sw, f%sdw, self%dec%alo, &
-                            self%phase(solid_phase)%nvel, f%vgrad2)
+        call point_gradient(f%st, nf, self%phase(solid_phase)%nvel, f%vgrad2)
       end associate
     end if
     if (coupled) then
@@ -220,8 +215,7 @@ contains
       gnrel = 0.0_wp
       if (self%cfg%porosity_gradient) then
         associate (f => self%phase(fluid_phase))
-          call mixture_flux(nd, self%nw, nf, f%i0, f%sw, f%sdw, self%dec%alo, f%pts%porosity, &
-                            self%nporo, f%nvel, self%phase(solid_phase)%nvel, gnrel)
+          call mixture_flux(f%st, nf, f%pts%porosity, self%nporo, f%nvel, self%phase(solid_phase)%nvel, gnrel)
         end associate
       end if
     end if
@@ -314,13 +308,12 @@ contains
     end do
     do ip = 1, self%nph
       associate (ph => self%phase(ip))
-        call point_gradient(nd, self%nw, ph%pts%n, ph%i0, ph%sw, ph%sdw, self%dec%alo, ph%nvel, ph%vgrad)
+        call point_gradient(ph%st, ph%pts%n, ph%nvel, ph%vgrad)
       end associate
     end do
     if (coupled) then
       associate (f => self%phase(fluid_phase))
-        call point_gradient(nd, self%nw, f%pts%n, f%i0, f%sw, f%sdw, self%dec%alo, &
-                            self%phase(solid_phase)%nvel, f%vgrad2)
+        call point_gradient(f%st, f%pts%n, self%phase(solid_phase)%nvel, f%vgrad2)
       end associate
     end if
   end subroutine musl_remap
@@ -335,49 +328,37 @@ contains
     nd = self%nd
     ! Reuse the momentum slots of node(); the masses are unchanged.
     ph%node(2:1 + 2*nd, :, :, :) = 0.0_wp
-    call momentum_p2g(nd, self%nw, ph%pts%n, ph%i0, ph%sw, ph%pts%mass, ph%pts%v, self%dec%alo, ph%node)
+    call momentum_p2g(ph%st, ph%pts%n, ph%pts%mass, ph%pts%v, ph%node)
     call self%mirror%fold(ph%node, 1, ph%bc)
     call self%dec%halo_sum(ph%node)
     call remap_nodal_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, ph%node, self%grid, ph%bc, &
                               ph%nvel)
   end subroutine remap_velocities
 
-  !> Kernel weights and derivatives of every point of phase tr, evaluated once per
+  !> Kernel weights and gradients of every point of phase tr, evaluated once per
   !> step, with its per-point work arrays sized to the set's capacity (and the body
   !> acceleration of the manufactured solution, when the scene has one).
   subroutine compute_stencils(self, tr)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: tr
-    integer :: p, d, n
-    real(wp) :: y(3)
+    integer :: n, cap
     n = tr%pts%n
-    if (.not. allocated(tr%i0)) then
-      allocate (tr%i0(3, 0), tr%sw(max_stencil, 3, 0), tr%sdw(max_stencil, 3, 0))
-    end if
-    if (size(tr%i0, 2) < n) then
-      deallocate (tr%i0, tr%sw, tr%sdw)
-      allocate (tr%i0(3, tr%pts%cap), tr%sw(max_stencil, 3, tr%pts%cap), tr%sdw(max_stencil, 3, tr%pts%cap))
+    if (tr%st%nq == 0) call tr%st%init(self%nd, self%kernel, self%dec%alo, self%dec%ahi)
+    if (size(tr%st%first) < n) then
       if (allocated(tr%vgrad)) deallocate (tr%vgrad)
       if (allocated(tr%vgrad2)) deallocate (tr%vgrad2)
       if (allocated(tr%xold)) deallocate (tr%xold, tr%volold, tr%vt)
     end if
-    if (.not. allocated(tr%vgrad)) allocate (tr%vgrad(9, size(tr%i0, 2)))
-    if (tr%pts%has_pressure .and. .not. allocated(tr%vgrad2)) allocate (tr%vgrad2(9, size(tr%i0, 2)))
+    call tr%st%build(n, tr%pts%cap, tr%pts%x, self%grid%origin, self%grid%h)
+    cap = size(tr%st%first)
+    if (.not. allocated(tr%vgrad)) allocate (tr%vgrad(9, cap))
+    if (tr%pts%has_pressure .and. .not. allocated(tr%vgrad2)) allocate (tr%vgrad2(9, cap))
     if (self%plan%gauss .and. .not. allocated(tr%xold)) &
-      allocate (tr%xold(self%nd, size(tr%i0, 2)), tr%volold(size(tr%i0, 2)), tr%vt(size(tr%i0, 2)))
+      allocate (tr%xold(self%nd, cap), tr%volold(cap), tr%vt(cap))
     if (allocated(tr%bacc)) then
       if (size(tr%bacc, 2) < n) deallocate (tr%bacc)
     end if
-    if (self%cfg%benchmark == 'mms' .and. .not. allocated(tr%bacc)) &
-      allocate (tr%bacc(self%nd, size(tr%i0, 2)))
-    do p = 1, n
-      y = 0.0_wp
-      do d = 1, self%nd
-        y(d) = (tr%pts%x(d, p) - self%grid%origin(d))/self%grid%h(d)
-      end do
-      call psi_stencil(self%nd, self%kernel, y, self%grid%h, tr%i0(:, p), tr%sw(:, :, p), &
-                       tr%sdw(:, :, p))
-    end do
+    if (self%cfg%benchmark == 'mms' .and. .not. allocated(tr%bacc)) allocate (tr%bacc(self%nd, cap))
   end subroutine compute_stencils
 
   !> Points that crossed a fixed or roller face (walls are impenetrable) are put
@@ -444,8 +425,8 @@ contains
     allocate (ff(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                  self%dec%alo(3):self%dec%ahi(3)))
     ff = 0.0_wp
-    call interphase_p2g(nd, self%nw, self%phase(2)%pts%n, self%phase(2)%i0, self%phase(2)%sw, self%phase(2)%pts%vol, &
-                        self%phase(2)%pts%pressure, ngrad, self%dec%alo, ff)
+    call interphase_p2g(self%phase(2)%st, self%phase(2)%pts%n, self%phase(2)%pts%vol, self%phase(2)%pts%pressure, &
+                        ngrad, ff)
     fs = -ff
     call self%mirror%fold(ff, 0, self%phase(2)%bc)
     call self%mirror%fold(fs, 0, self%phase(1)%bc)

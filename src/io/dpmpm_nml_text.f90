@@ -1,0 +1,117 @@
+!> A namelist group as the compiler writes it (write (records, nml=group)) turned
+!> into the input's own style: one "  name = value" line per variable, names in
+!> lower case, strings without their padding, reals in their shortest form that
+!> reads back to the same number, logicals as .true./.false. The group's reader
+!> writes its namelist, so the echo of the input and the list of a group's
+!> variables in messages follow the namelist and need no list of their own.
+module dpmpm_nml_text
+  use dpmpm_kinds, only: wp
+  use dpmpm_strings, only: lower, rtoa
+  implicit none
+  private
+  public :: nml_records, nml_echo, nml_names
+
+  !> Record length and count of the internal file a group is written to: one
+  !> variable per record, the longest a 4096-character string or 64 reals.
+  integer, parameter :: rec_len = 8192, max_recs = 64
+
+contains
+
+  !> Blank records to write a namelist group into.
+  subroutine nml_records(records)
+    character(len=:), allocatable, intent(out) :: records(:)
+    allocate (character(len=rec_len) :: records(max_recs))
+    records = ''
+  end subroutine nml_records
+
+  !> The group in records as input text, one line per variable, ending in a new line.
+  function nml_echo(records) result(text)
+    character(len=*), intent(in) :: records(:)
+    character(len=:), allocatable :: text
+    character(len=:), allocatable :: rec
+    integer :: k, eq
+    text = ''
+    do k = 1, size(records)
+      rec = trim(adjustl(records(k)))
+      if (len(rec) == 0) cycle
+      if (rec(1:1) == '&') then
+        text = text//lower(rec)//new_line('a')
+      else if (rec == '/') then
+        text = text//'/'//new_line('a')
+      else
+        eq = index(rec, '=')
+        if (eq == 0) cycle
+        text = text//'  '//lower(trim(rec(1:eq - 1)))//' = '//values_text(rec(eq + 1:))//new_line('a')
+      end if
+    end do
+  end function nml_echo
+
+  !> The variables of the group in records, as "a, b, c".
+  function nml_names(records) result(list)
+    character(len=*), intent(in) :: records(:)
+    character(len=:), allocatable :: list
+    character(len=:), allocatable :: rec
+    integer :: k, eq
+    list = ''
+    do k = 1, size(records)
+      rec = trim(adjustl(records(k)))
+      if (len(rec) == 0) cycle
+      if (rec(1:1) == '&' .or. rec == '/') cycle
+      eq = index(rec, '=')
+      if (eq == 0) cycle
+      if (len(list) > 0) list = list//', '
+      list = list//lower(trim(rec(1:eq - 1)))
+    end do
+  end function nml_names
+
+  !> The comma-separated values of one variable, each in the input's style.
+  function values_text(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: t
+    character(len=:), allocatable :: tok
+    integer :: i, start
+    logical :: quoted
+    t = ''
+    quoted = .false.
+    start = 1
+    do i = 1, len(s) + 1
+      if (i <= len(s)) then
+        if (s(i:i) == '"') quoted = .not. quoted
+        if (quoted .or. s(i:i) /= ',') cycle
+      end if
+      tok = trim(adjustl(s(start:i - 1)))
+      start = i + 1
+      if (len(tok) == 0) cycle
+      if (len(t) > 0) t = t//', '
+      t = t//value_text(tok)
+    end do
+  end function values_text
+
+  !> One value as written by the compiler ("text", T, 7*0.5, 1.5000000000000000,
+  !> 12) in the input's style.
+  function value_text(tok) result(t)
+    character(len=*), intent(in) :: tok
+    character(len=:), allocatable :: t
+    integer :: star, ios
+    real(wp) :: x
+    if (tok(1:1) == '"') then
+      t = '"'//trim(tok(2:len(tok) - 1))//'"'
+      return
+    end if
+    star = index(tok, '*')
+    if (star > 0) then
+      t = tok(1:star)//value_text(tok(star + 1:))
+    else if (tok == 'T') then
+      t = '.true.'
+    else if (tok == 'F') then
+      t = '.false.'
+    else if (scan(tok, '.Ee') > 0) then
+      read (tok, *, iostat=ios) x
+      t = tok
+      if (ios == 0) t = rtoa(x)
+    else
+      t = tok
+    end if
+  end function value_text
+
+end module dpmpm_nml_text

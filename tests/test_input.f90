@@ -229,6 +229,8 @@ contains
     call read_input(printed, MPI_COMM_WORLD, again, st)
     call check_equal_int(st, 0, 'read_input status')
     call check_full_scene(again)
+    call check(again%echo == cfg%echo, 'the printed parameters print the same again')
+    call check(index(cfg%echo, '&material'//new_line('a')//'  id = ') > 0, 'one line per variable')
   end subroutine test_print_config_reads_back
 
   !> A saturated layer under free water: the phases, the pore fluid, the drag options and the
@@ -384,6 +386,8 @@ contains
       call check(index(pb%prob(1)%s, 'dpmpm: input error: in_memory.nml: &material: ') == 1, &
                  'the problem names the file and the group')
       call check(index(pb%prob(1)%s, 'densty (no such variable)') > 0, 'the variable')
+      call check(index(pb%prob(1)%s, 'the variables of &material are id, model, density, '// &
+                       'youngs_modulus, poisson_ratio, bulk_modulus') > 0, 'the variables of the group')
       call check(index(pb%prob(1)%s, '[group 2 of 2, line 3]') > 0, 'the place')
     end if
     call check(.not. pb%read_ok(4) .and. pb%read_ok(2), 'read_ok per group')

@@ -81,6 +81,8 @@ module dpmpm_config
   type :: config_t
     character(len=4096) :: input_file = ''
     character(len=:), allocatable :: input_text      !< the input file, echoed into the output
+    !> Every group as read, defaults included, in the input's syntax (dpmpm --check prints it)
+    character(len=:), allocatable :: echo
     ! &run
     character(len=name_len) :: name = 'dpmpm'        !< output file base name
     real(wp) :: t_end = 1.0_wp                       !< s

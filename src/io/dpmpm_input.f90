@@ -3,12 +3,12 @@
 !> (dpmpm_input_read). Rank 0 resolves restart = 'latest' against its file system and
 !> checks the values (dpmpm_input_check), then tells every rank the verdict. On any
 !> problem rank 0 prints all of them, one per line, and every rank returns status 2; the
-!> caller stops. A new input variable is declared in config_t, read in its group, checked
-!> and used: nothing here changes.
+!> caller stops. A new input variable is declared in config_t, read in its group's
+!> namelist (which also gives its echo and its place in messages), checked and used:
+!> nothing here changes.
 module dpmpm_input
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use dpmpm_config, only: config_t
-  use dpmpm_config_echo, only: print_config
   use dpmpm_input_problems, only: input_problems_t
   use dpmpm_input_read, only: load_text, parse_input
   use dpmpm_input_check, only: check_config
@@ -101,6 +101,15 @@ contains
     call pb%free()
     status = input_refused
   end subroutine refuse
+
+  !> Print every parameter of the input, defaults included, as namelist groups that read
+  !> back as the same input (the groups' echo made by their readers).
+  subroutine print_config(cfg, unit)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: unit
+    write (unit, '(a)') '! dpmpm: parameters of '//trim(cfg%input_file)//', defaults included'
+    if (allocated(cfg%echo)) write (unit, '(a)', advance='no') cfg%echo
+  end subroutine print_config
 
   !> restart = 'latest': the run's own checkpoint <dir>/<name>.ckpt.h5 when it exists (the
   !> run continues), else none (the run starts at t = 0); said on standard output. This

@@ -8,7 +8,7 @@ module dpmpm_input_problems
   use dpmpm_strings, only: itoa
   implicit none
   private
-  public :: input_problems_t, ngroups, group_names, group_vars, repeatable
+  public :: input_problems_t, ngroups, group_names, repeatable
   public :: g_run, g_grid, g_shape, g_material, g_region, g_boundary, g_load, g_output, g_benchmark
   public :: add_value, add_raw, add_file_problem, place, lines_of, real_ok
 
@@ -18,24 +18,6 @@ module dpmpm_input_problems
     'shape', 'material', 'region', 'boundary', 'load', 'output', 'benchmark']
   logical, parameter :: repeatable(ngroups) = [.false., .false., .false., .true., .true., &
                                                .true., .true., .false., .false.]
-  !> The variables of each group, for messages about a group that cannot be read.
-  character(len=*), parameter :: group_vars(ngroups) = [character(len=192) :: &
-    'name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, drag, '// &
-    'drag_safety, porosity_gradient, restart, max_wall_time, remap_drag, growth_limit', &
-    'ndim, ncells, origin, length, dims', &
-    'kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, gauss_points, '// &
-    'field_kernel, field_basis, field_radius', &
-    'id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity, '// &
-    'friction_angle, dilatancy_angle, cohesion, tensile_strength, cohesion_softening, '// &
-    'residual_cohesion, dp_match', &
-    'shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, porosity, ppc, '// &
-    'placement, seed, fluid_seed, velocity, stress, stress_gradient, pore_pressure, '// &
-    'pore_pressure_gradient', &
-    'face, condition, fluid, pore_pressure, pore_pressure_ramp', &
-    'face, traction, ramp_time', &
-    'dir, frame_interval, diag_every, checkpoint_every, checkpoint_seconds, compression, '// &
-    'solid_fields, fluid_fields', &
-    'name, amplitude']
   character(len=*), parameter :: err_prefix = 'dpmpm: input error: '
 
   !> A string of any length, to collect messages.

@@ -12,11 +12,12 @@ module dpmpm_input_read
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
                           name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, &
                           bc_names, fbc_default, fbc_drained, fbc_impermeable
-  use dpmpm_input_problems, only: input_problems_t, ngroups, group_names, group_vars, &
+  use dpmpm_input_problems, only: input_problems_t, ngroups, group_names, &
                                   repeatable, g_run, g_grid, g_shape, g_material, g_region, &
                                   g_boundary, g_load, g_output, g_benchmark, add_value, add_raw, &
                                   add_file_problem, place, lines_of, real_ok
   use dpmpm_strings, only: itoa, rtoa, quote, lower
+  use dpmpm_nml_text, only: nml_records, nml_echo, nml_names
   implicit none
   private
   public :: load_text, parse_input
@@ -81,8 +82,9 @@ contains
     call scan_groups(pb, text)
     call split_records(text, records)
     ok = .true.
+    cfg%echo = ''
     do g = 1, ngroups
-      if (pb%count(g) == 0) cycle
+      if (pb%count(g) == 0 .and. repeatable(g)) cycle
       if (.not. repeatable(g) .and. pb%count(g) > 1) then
         call add_file_problem(pb, '&'//trim(group_names(g))//' is given '// &
                               itoa(pb%count(g))//' times'//lines_of(pb, g)//': give it once')
@@ -207,11 +209,11 @@ contains
     end do
   end subroutine scan_groups
 
-  !> Record a namelist read error of occurrence k of group g.
-  subroutine read_error(pb, g, k, ios, msg)
+  !> Record a namelist read error of occurrence k of group g, whose variables are names.
+  subroutine read_error(pb, g, k, ios, msg, names)
     type(input_problems_t), intent(inout) :: pb
     integer, intent(in) :: g, k, ios
-    character(len=*), intent(in) :: msg
+    character(len=*), intent(in) :: msg, names
     character(len=*), parameter :: nomatch = 'Cannot match namelist object name '
     character(len=:), allocatable :: what, hint, word
     integer :: i
@@ -237,7 +239,7 @@ contains
       end if
     end if
     call add_raw(pb, '&'//trim(group_names(g))//': cannot read the group: '//what//hint// &
-                 '; the variables of &'//trim(group_names(g))//' are '//trim(group_vars(g))// &
+                 '; the variables of &'//trim(group_names(g))//' are '//names// &
                  place(pb, g, k))
   end subroutine read_error
 
@@ -255,6 +257,7 @@ contains
     integer(i8) :: max_steps
     integer :: ios
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
       drag, drag_safety, porosity_gradient, restart, max_wall_time, remap_drag, growth_limit
     restart = cfg%restart
@@ -264,12 +267,16 @@ contains
     scheme = cfg%scheme; flip = cfg%flip; gravity = cfg%gravity
     progress_seconds = cfg%progress_seconds
     drag = cfg%drag; drag_safety = cfg%drag_safety; porosity_gradient = cfg%porosity_gradient
-    read (records, nml=run, iostat=ios, iomsg=msg)
+    ios = 0
+    if (pb%count(g_run) > 0) read (records, nml=run, iostat=ios, iomsg=msg)
+    call nml_records(echo)
+    write (echo, nml=run)
     ok = ios == 0
     if (.not. ok) then
-      call read_error(pb, g_run, 1, ios, msg)
+      call read_error(pb, g_run, 1, ios, msg, nml_names(echo))
       return
     end if
+    cfg%echo = cfg%echo//nml_echo(echo)
     call check_length(pb, g_run, 'name', name, len(cfg%name))
     call check_length(pb, g_run, 'restart', restart, len(cfg%restart))
     cfg%name = name; cfg%t_end = t_end; cfg%dt = dt; cfg%cfl = cfl; cfg%max_steps = max_steps
@@ -291,15 +298,20 @@ contains
     real(wp) :: origin(3), length(3)
     integer :: ios
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     namelist /grid/ ndim, ncells, origin, length, dims
     ndim = cfg%ndim; ncells = cfg%ncells; origin = cfg%origin; length = cfg%length
     dims = cfg%dims
-    read (records, nml=grid, iostat=ios, iomsg=msg)
+    ios = 0
+    if (pb%count(g_grid) > 0) read (records, nml=grid, iostat=ios, iomsg=msg)
+    call nml_records(echo)
+    write (echo, nml=grid)
     ok = ios == 0
     if (.not. ok) then
-      call read_error(pb, g_grid, 1, ios, msg)
+      call read_error(pb, g_grid, 1, ios, msg, nml_names(echo))
       return
     end if
+    cfg%echo = cfg%echo//nml_echo(echo)
     cfg%ndim = ndim; cfg%ncells = ncells; cfg%origin = origin; cfg%length = length
     cfg%dims = dims
   end subroutine read_grid
@@ -316,6 +328,7 @@ contains
     integer :: gauss_points
     integer :: ios
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     namelist /shape/ kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, &
       gauss_points, field_kernel, field_basis, field_radius
     kernel = cfg%kernel
@@ -323,12 +336,16 @@ contains
     velocity_radius = cfg%velocity_radius; quadrature = cfg%quadrature
     gauss_points = cfg%gauss_points; field_kernel = cfg%field_kernel
     field_basis = cfg%field_basis; field_radius = cfg%field_radius
-    read (records, nml=shape, iostat=ios, iomsg=msg)
+    ios = 0
+    if (pb%count(g_shape) > 0) read (records, nml=shape, iostat=ios, iomsg=msg)
+    call nml_records(echo)
+    write (echo, nml=shape)
     ok = ios == 0
     if (.not. ok) then
-      call read_error(pb, g_shape, 1, ios, msg)
+      call read_error(pb, g_shape, 1, ios, msg, nml_names(echo))
       return
     end if
+    cfg%echo = cfg%echo//nml_echo(echo)
     cfg%kernel = kernel
     cfg%velocity_kernel = velocity_kernel; cfg%velocity_basis = velocity_basis
     cfg%velocity_radius = velocity_radius; cfg%quadrature = quadrature
@@ -350,6 +367,7 @@ contains
     real(wp) :: friction_angle, dilatancy_angle, cohesion, tensile_strength, cohesion_softening, &
                 residual_cohesion
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     namelist /material/ id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, &
       conductivity, friction_angle, dilatancy_angle, cohesion, tensile_strength, &
       cohesion_softening, residual_cohesion, dp_match
@@ -365,11 +383,14 @@ contains
       cohesion_softening = def%cohesion_softening; residual_cohesion = def%residual_cohesion
       dp_match = def%dp_match
       read (records(first_record(pb, g_material, k):), nml=material, iostat=ios, iomsg=msg)
+      call nml_records(echo)
+      write (echo, nml=material)
       if (ios /= 0) then
-        call read_error(pb, g_material, k, ios, msg)
+        call read_error(pb, g_material, k, ios, msg, nml_names(echo))
         ok = .false.
         exit
       end if
+      cfg%echo = cfg%echo//nml_echo(echo)
       n = k
       list(k) = material_cfg_t(id=id, model=model, density=density, &
                                youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, &
@@ -395,6 +416,7 @@ contains
                 porosity, stress_gradient(6, 3), pore_pressure, pore_pressure_gradient(3)
     integer :: npoly, material, fluid_material, ppc, seed, fluid_seed, k, n, ios
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     namelist /region/ shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, &
       porosity, ppc, placement, seed, fluid_seed, velocity, stress, stress_gradient, pore_pressure, &
       pore_pressure_gradient
@@ -409,11 +431,14 @@ contains
       pore_pressure = def%pore_pressure; pore_pressure_gradient = def%pore_pressure_gradient
       fluid_material = def%fluid_material; porosity = def%porosity; fluid_seed = def%fluid_seed
       read (records(first_record(pb, g_region, k):), nml=region, iostat=ios, iomsg=msg)
+      call nml_records(echo)
+      write (echo, nml=region)
       if (ios /= 0) then
-        call read_error(pb, g_region, k, ios, msg)
+        call read_error(pb, g_region, k, ios, msg, nml_names(echo))
         ok = .false.
         exit
       end if
+      cfg%echo = cfg%echo//nml_echo(echo)
       n = k
       list(k)%shape = shape; list(k)%lo = lo; list(k)%hi = hi; list(k)%npoly = npoly
       list(k)%poly(1, :) = poly_x; list(k)%poly(2, :) = poly_y; list(k)%material = material
@@ -441,6 +466,7 @@ contains
     logical :: seen(6), impermeable
     integer :: k, f, c, fc, ios
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     character(len=:), allocatable :: why
     namelist /boundary/ face, condition, fluid, pore_pressure, pore_pressure_ramp
     seen = .false.
@@ -449,11 +475,14 @@ contains
       face = ''; condition = bc_names(bc_free); fluid = ''; pore_pressure = 0.0_wp
       pore_pressure_ramp = 0.0_wp
       read (records(first_record(pb, g_boundary, k):), nml=boundary, iostat=ios, iomsg=msg)
+      call nml_records(echo)
+      write (echo, nml=boundary)
       if (ios /= 0) then
-        call read_error(pb, g_boundary, k, ios, msg)
+        call read_error(pb, g_boundary, k, ios, msg, nml_names(echo))
         ok = .false.
         exit
       end if
+      cfg%echo = cfg%echo//nml_echo(echo)
       f = face_index(face)
       select case (trim(adjustl(condition)))
       case ('free')
@@ -531,6 +560,7 @@ contains
     real(wp) :: traction(3), ramp_time
     integer :: k, n, f, ios
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     namelist /load/ face, traction, ramp_time
     allocate (list(pb%count(g_load)))
     n = 0
@@ -538,11 +568,14 @@ contains
     do k = 1, size(list)
       face = ''; traction = def%traction; ramp_time = def%ramp_time
       read (records(first_record(pb, g_load, k):), nml=load, iostat=ios, iomsg=msg)
+      call nml_records(echo)
+      write (echo, nml=load)
       if (ios /= 0) then
-        call read_error(pb, g_load, k, ios, msg)
+        call read_error(pb, g_load, k, ios, msg, nml_names(echo))
         ok = .false.
         exit
       end if
+      cfg%echo = cfg%echo//nml_echo(echo)
       f = face_index(face)
       if (f == 0) then
         call add_value(pb, g_load, k, 'face', quote(face), 'the faces are '//all_faces())
@@ -567,18 +600,23 @@ contains
     real(wp) :: frame_interval, checkpoint_seconds
     integer :: diag_every, checkpoint_every, compression, ios
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     namelist /output/ dir, frame_interval, diag_every, checkpoint_every, checkpoint_seconds, &
       compression, solid_fields, fluid_fields
     dir = cfg%output_dir; frame_interval = cfg%frame_interval; diag_every = cfg%diag_every
     checkpoint_every = cfg%checkpoint_every; compression = cfg%compression
     checkpoint_seconds = cfg%checkpoint_seconds
     solid_fields = cfg%solid_fields; fluid_fields = cfg%fluid_fields
-    read (records, nml=output, iostat=ios, iomsg=msg)
+    ios = 0
+    if (pb%count(g_output) > 0) read (records, nml=output, iostat=ios, iomsg=msg)
+    call nml_records(echo)
+    write (echo, nml=output)
     ok = ios == 0
     if (.not. ok) then
-      call read_error(pb, g_output, 1, ios, msg)
+      call read_error(pb, g_output, 1, ios, msg, nml_names(echo))
       return
     end if
+    cfg%echo = cfg%echo//nml_echo(echo)
     call check_length(pb, g_output, 'dir', dir, len(cfg%output_dir))
     cfg%output_dir = dir; cfg%frame_interval = frame_interval; cfg%diag_every = diag_every
     cfg%checkpoint_every = checkpoint_every; cfg%compression = compression
@@ -596,14 +634,19 @@ contains
     real(wp) :: amplitude
     integer :: ios
     character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
     namelist /benchmark/ name, amplitude
     name = cfg%benchmark; amplitude = cfg%amplitude
-    read (records, nml=benchmark, iostat=ios, iomsg=msg)
+    ios = 0
+    if (pb%count(g_benchmark) > 0) read (records, nml=benchmark, iostat=ios, iomsg=msg)
+    call nml_records(echo)
+    write (echo, nml=benchmark)
     ok = ios == 0
     if (.not. ok) then
-      call read_error(pb, g_benchmark, 1, ios, msg)
+      call read_error(pb, g_benchmark, 1, ios, msg, nml_names(echo))
       return
     end if
+    cfg%echo = cfg%echo//nml_echo(echo)
     cfg%benchmark = name; cfg%amplitude = amplitude
   end subroutine read_benchmark
 

@@ -89,7 +89,7 @@ contains
 
   !> One value as written by the compiler ("text", T, 7*0.5, 1.5000000000000000,
   !> 12) in the input's style.
-  function value_text(tok) result(t)
+  recursive function value_text(tok) result(t)
     character(len=*), intent(in) :: tok
     character(len=:), allocatable :: t
     integer :: star, ios

@@ -6,7 +6,7 @@ program test_occupancy
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
-  use dpmpm_reconstruct, only: occupancy_pass
+  use dpmpm_gauss_fields, only: occupancy_pass
   use dpmpm_assert, only: begin_test, check, finish_tests
   implicit none
   integer :: status

@@ -2,11 +2,11 @@
 !> the MLS reconstruction of a stress-like field on the Gauss points of the
 !> cells (sums, occupancy of the cells, solve, forces), and the point velocity
 !> gradients by the transpose of the same operator. The algebra is in
-!> dpmpm_reconstruct; here are its passes with their halo exchanges.
+!> dpmpm_gauss_fields; here are its passes with their halo exchanges.
 module dpmpm_quadrature
   use dpmpm_kinds, only: wp
   use dpmpm_timer, only: t_halo
-  use dpmpm_reconstruct, only: occupancy_pass, gauss_accumulate, gauss_solve, gauss_forces, &
+  use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_solve, gauss_forces, &
                                gauss_velocity_gradient, gauss_strain
   use dpmpm_phase, only: phase_t
   use dpmpm_state, only: state_t

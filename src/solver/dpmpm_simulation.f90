@@ -10,7 +10,7 @@ module dpmpm_simulation
   use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable, fbc_names, face_names
   use dpmpm_kernels, only: kernel_reach
   use dpmpm_mls, only: mls_stats_t, basis_size, packed_size
-  use dpmpm_reconstruct, only: gauss_cell_components, gauss_solution_components
+  use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: materials_from_config, model_neo_hookean, model_fluid, is_plastic
   use dpmpm_output, only: output_h5_path

@@ -10,7 +10,7 @@ module dpmpm_step
   use dpmpm_error, only: fatal
   use dpmpm_timer, only: t_stencil, t_p2g, t_halo, t_nodal, t_g2p, t_stress, t_migrate
   use dpmpm_config, only: bc_free
-  use dpmpm_reconstruct, only: velocity_accumulate, velocity_solve, velocity_fold_signs
+  use dpmpm_mls_velocity, only: velocity_accumulate, velocity_solve, velocity_fold_signs
   use dpmpm_materials, only: stress_update, model_fluid
   use dpmpm_benchmarks, only: benchmark_body_force
   use dpmpm_migrate, only: migrate

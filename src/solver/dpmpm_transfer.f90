@@ -9,7 +9,7 @@
 !> (components, node), passed as the block's 4D arrays.
 module dpmpm_transfer
   use dpmpm_kinds, only: wp
-  use dpmpm_materials, only: voigt_to_tensor
+  use dpmpm_voigt, only: voigt_to_tensor
   use dpmpm_drag, only: gravity_drag
   use dpmpm_stencil, only: stencil_t
   implicit none

@@ -1,8 +1,4 @@
-!> MLS reconstruction inside the time step (physics.md 3.2 and 3.5).
-!>
-!> Nodal velocities: the moment sums of every node, sum_p m_p W p p^T and
-!> sum_p m_p W p v_p, are accumulated from the points like masses, pass through
-!> halo_sum, and are solved node by node (dpmpm_mls, with its fallbacks).
+!> MLS fields at Gauss points inside the time step (doc/theory.md 3.6).
 !>
 !> Force integrals at Gauss points: every grid cell carries ng^nd Gauss points.
 !> Stresses are reconstructed there from the points (weights V_p W), and the
@@ -10,29 +6,28 @@
 !> functions Psi. The point velocity gradient is the transpose of that
 !> operator, L_p = sum_g C_gp L_g / sum_g C_gp with C_gp = w_g Phi_p(x_g) and
 !> L_g = sum_I v_I (x) grad Psi_I(x_g), so that the discrete stress power equals
-!> the nodal force power (physics.md 3.5): the pair neither creates nor
+!> the nodal force power (doc/theory.md 3.6): the pair neither creates nor
 !> destroys energy.
 !>
 !> Cells take part in the quadrature when they hold a point or lie in a gap of
 !> at most 2 r cells between such cells along every axis (a morphological
 !> closing of the occupied cells with a box of half-width r, r the field weight's
-!> reach in whole cells; gauss_occupancy in dpmpm_simulation): scattered points
+!> reach in whole cells; gauss_occupancy in dpmpm_quadrature): scattered points
 !> leave cells empty inside the body, and those must count, while the closing
 !> does not move a free surface.
 !>
 !> Cell arrays are indexed like nodes by the cell's lower corner, so they use
 !> the same storage bounds and the same halo_sum / halo_copy.
-module dpmpm_reconstruct
+module dpmpm_gauss_fields
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: kernel_weight, kernel_reach, kernel_radial, is_grid_kernel, max_stencil, &
                            kernel_width, bspline_1d
   use dpmpm_stencil, only: psi_stencil, stencil_offsets, tensor_weights
   use dpmpm_mls, only: basis_size, packed_size, basis_eval, moment_add, mls_gamma, mls_stats_t
-  use dpmpm_materials, only: voigt_to_tensor
+  use dpmpm_voigt, only: voigt_to_tensor
   implicit none
   private
   public :: gauss_rule, field_components, stress_voigt_index
-  public :: velocity_accumulate, velocity_solve, velocity_fold_signs
   public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
   public :: occupancy_pass, gauss_cell_components, gauss_solution_components
 
@@ -104,110 +99,6 @@ contains
     integer, intent(in) :: nd, ng, basis
     n = 1 + ng**nd*(basis_size(basis, nd) + field_components(nd))
   end function gauss_solution_components
-
-  !> Index range of nodes (or cell-centre lattice, shift 0.5) within reach of s.
-  pure subroutine reach_range(s, reach, shift, lo, hi)
-    real(wp), intent(in) :: s, reach, shift
-    integer, intent(out) :: lo, hi
-    lo = ceiling(s - shift - reach)
-    hi = floor(s - shift + reach)
-  end subroutine reach_range
-
-  ! ----------------------------------------------------------------------------
-  ! Nodal velocities
-
-  !> Add every point's MLS moment sums to the nodes within reach of its weight.
-  !> acc(1 + packed + nb*nd, nodes): count of sites, packed sum m W p p^T,
-  !> then sum m W p v_c for each velocity component c.
-  subroutine velocity_accumulate(nd, n, x, mass, v, origin, h, kernel, radius, radial, basis, &
-                                 lo, acc)
-    integer, intent(in) :: nd, n, kernel, basis
-    real(wp), intent(in) :: x(:, :), mass(:), v(:, :), origin(3), h(3), radius
-    logical, intent(in) :: radial
-    integer, intent(in) :: lo(3)
-    real(wp), intent(inout) :: acc(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, i, j, k, nb, np, c, ilo(3), ihi(3), d
-    real(wp) :: s(3), dcell(3), dneg(3), wk, dwk(3), w, pv(10), reach
-    nb = basis_size(basis, nd)
-    np = packed_size(nb)
-    reach = kernel_reach(kernel, radius, radial)
-    ilo = 0; ihi = 0
-    do p = 1, n
-      s = 0.0_wp
-      do d = 1, nd
-        s(d) = (x(d, p) - origin(d))/h(d)
-        call reach_range(s(d), reach, 0.0_wp, ilo(d), ihi(d))
-      end do
-      do k = ilo(3), ihi(3)
-        do j = ilo(2), ihi(2)
-          do i = ilo(1), ihi(1)
-            dcell = real([i, j, k], wp) - s
-            call kernel_weight(kernel, radius, radial, nd, dcell(1:nd), wk, dwk(1:nd))
-            if (wk <= 0.0_wp) cycle
-            w = mass(p)*wk
-            dneg = -dcell
-            call basis_eval(basis, nd, dneg(1:nd), pv(1:nb))
-            acc(1, i, j, k) = acc(1, i, j, k) + 1.0_wp
-            call moment_add(nb, pv(1:nb), w, acc(2:1 + np, i, j, k))
-            do c = 1, nd
-              acc(2 + np + (c - 1)*nb:1 + np + c*nb, i, j, k) = &
-                acc(2 + np + (c - 1)*nb:1 + np + c*nb, i, j, k) + w*v(c, p)*pv(1:nb)
-            end do
-          end do
-        end do
-      end do
-    end do
-  end subroutine velocity_accumulate
-
-  !> Signs of the velocity moment components under a reflection across a plane
-  !> normal to axis d, with the velocity component signs vsign(nd): the basis
-  !> monomials odd in y_d change sign.
-  pure subroutine velocity_fold_signs(nd, basis, d, vsign, sg)
-    integer, intent(in) :: nd, basis, d
-    real(wp), intent(in) :: vsign(nd)
-    real(wp), intent(out) :: sg(:)
-    real(wp) :: y(nd), sb(10)
-    integer :: nb, np, i, j, c
-    nb = basis_size(basis, nd)
-    np = packed_size(nb)
-    y = 1.0_wp
-    y(d) = -1.0_wp
-    call basis_eval(basis, nd, y, sb(1:nb))
-    sg(1) = 1.0_wp
-    do j = 1, nb
-      do i = 1, j
-        sg(1 + j*(j - 1)/2 + i) = sb(i)*sb(j)
-      end do
-    end do
-    do c = 1, nd
-      sg(2 + np + (c - 1)*nb:1 + np + c*nb) = vsign(c)*sb(1:nb)
-    end do
-  end subroutine velocity_fold_signs
-
-  !> Nodal velocities of the owned nodes [olo, ohi] from the summed moments;
-  !> the momentum slots of node (2:1+nd) become m_I v_I.
-  subroutine velocity_solve(nd, basis, lo, olo, ohi, acc, node, stats)
-    integer, intent(in) :: nd, basis, lo(3), olo(3), ohi(3)
-    real(wp), intent(in) :: acc(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    type(mls_stats_t), intent(inout) :: stats
-    integer :: i, j, k, nb, np, c, level
-    real(wp) :: gam(10)
-    nb = basis_size(basis, nd)
-    np = packed_size(nb)
-    do k = olo(3), ohi(3)
-      do j = olo(2), ohi(2)
-        do i = olo(1), ohi(1)
-          if (node(1, i, j, k) <= 0.0_wp) cycle
-          call mls_gamma(basis, nd, acc(2:1 + np, i, j, k), acc(1, i, j, k), gam(1:nb), level, stats)
-          do c = 1, nd
-            node(1 + c, i, j, k) = node(1, i, j, k)* &
-              dot_product(gam(1:nb), acc(2 + np + (c - 1)*nb:1 + np + c*nb, i, j, k))
-          end do
-        end do
-      end do
-    end do
-  end subroutine velocity_solve
 
   ! ----------------------------------------------------------------------------
   ! Gauss-point quadrature
@@ -638,4 +529,4 @@ contains
     end do
   end subroutine gauss_strain
 
-end module dpmpm_reconstruct
+end module dpmpm_gauss_fields

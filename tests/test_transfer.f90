@@ -1,7 +1,5 @@
-!> Point stencils (dpmpm_stencil) and transfer kernels (dpmpm_transfer) on a
-!> small 2D and 3D grid with scattered points, for the three B-spline grid
-!> functions: each stencil node's weight and gradient are the product of 1D
-!> B-splines at the point's distance from that node, p2g conserves mass and momentum,
+!> Transfer kernels (dpmpm_transfer) on a small 2D and 3D grid with scattered
+!> points, for the three B-spline grid functions: p2g conserves mass and momentum,
 !> the internal force of a uniform stress sums to zero, g2p and the point gradient
 !> reproduce a linear nodal velocity field and its gradient, the MUSL momentum
 !> remap of a uniform velocity gives that velocity back at the nodes, and the
@@ -10,17 +8,16 @@ program test_transfer
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
-  use dpmpm_kernels, only: kernel_names, ngrid_kernels, bspline_1d
-  use dpmpm_stencil, only: stencil_t
+  use dpmpm_kernels, only: kernel_width, kernel_names, ngrid_kernels, max_stencil
+  use dpmpm_stencil, only: psi_stencil
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
+  use dpmpm_assert, only: begin_test, check_close, finish_tests
   implicit none
   integer, parameter :: npt = 40         !< points of a test set
   integer, parameter :: ncell = 6        !< cells per axis; points stay two cells from the edges
   real(wp), parameter :: h(3) = [0.5_wp, 0.25_wp, 0.4_wp]
   integer :: status
   call start_mpi()
-  call test_stencil_weights_are_tensor_bsplines()
   call test_p2g_conserves_mass_and_momentum()
   call test_uniform_stress_has_no_net_force()
   call test_g2p_reproduces_linear_velocity()
@@ -33,34 +30,27 @@ program test_transfer
 
 contains
 
-  !> Stencils of n points scattered (reproducibly) in the inner cells of the grid,
-  !> on the node block of make_nodes.
-  subroutine make_points(nd, kernel, n, x, st)
+  !> Stencils of n points scattered (reproducibly) in the inner cells of the grid.
+  subroutine make_points(nd, kernel, n, x, i0, sw, sdw, nw)
     integer, intent(in) :: nd, kernel, n
     real(wp), intent(out) :: x(:, :)
-    type(stencil_t), intent(inout) :: st
-    integer :: p, d, lo(3), hi(3)
-    call block(nd, lo, hi)
+    integer, intent(out) :: i0(:, :), nw(3)
+    real(wp), intent(out) :: sw(:, :, :), sdw(:, :, :)
+    integer :: p, d
+    real(wp) :: y(3)
+    nw = 1
+    nw(1:nd) = kernel_width(kernel)
     x = 0.0_wp
     do p = 1, n
+      y = 0.0_wp
       do d = 1, nd
         ! A low-discrepancy scatter over cells 2 .. ncell - 2.
-        x(d, p) = h(d)*(2.0_wp + real(ncell - 4, wp)*modulo(0.5_wp + real(p, wp)*sqrt(real(d + 1, wp)), 1.0_wp))
+        y(d) = 2.0_wp + real(ncell - 4, wp)*modulo(0.5_wp + real(p, wp)*sqrt(real(d + 1, wp)), 1.0_wp)
+        x(d, p) = y(d)*h(d)
       end do
+      call psi_stencil(nd, kernel, y, h, i0(:, p), sw(:, :, p), sdw(:, :, p))
     end do
-    call st%init(nd, kernel, lo, hi)
-    call st%build(n, n, x, [0.0_wp, 0.0_wp, 0.0_wp], h)
   end subroutine make_points
-
-  !> Nodes -1 .. ncell + 1 on the used axes (a ghost layer each side), 0 on the others.
-  subroutine block(nd, lo, hi)
-    integer, intent(in) :: nd
-    integer, intent(out) :: lo(3), hi(3)
-    lo = 0
-    hi = 0
-    lo(1:nd) = -1
-    hi(1:nd) = ncell + 1
-  end subroutine block
 
   !> Node arrays over nodes -1 .. ncell + 1 (a ghost layer each side).
   subroutine make_nodes(nd, ncomp, lo, f)
@@ -68,7 +58,10 @@ contains
     integer, intent(out) :: lo(3)
     real(wp), allocatable, intent(out) :: f(:, :, :, :)
     integer :: hi(3)
-    call block(nd, lo, hi)
+    lo = 0
+    hi = 0
+    lo(1:nd) = -1
+    hi(1:nd) = ncell + 1
     allocate (f(ncomp, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
     f = 0.0_wp
   end subroutine make_nodes
@@ -80,62 +73,16 @@ contains
     x = [i, j, k]*h
   end function node_x
 
-  !> Every stencil node's weight is prod_d B(y_d - i_d) and its gradient the
-  !> product with one factor differentiated (per metre), for the node found from
-  !> the point's first node and the shared offsets; the nodes lie within the
-  !> kernel's reach of the point.
-  subroutine test_stencil_weights_are_tensor_bsplines()
-    integer :: nd, kernel, p, q, d, e, m, lo(3), hi(3), ext(3), idx(3)
-    real(wp) :: x(3, npt), b(3), db(3), w, dw
-    type(stencil_t) :: st
-    call begin_test('stencil_weights_are_tensor_bsplines')
-    do nd = 2, 3
-      do kernel = 1, ngrid_kernels
-        call make_points(nd, kernel, npt, x, st)
-        call block(nd, lo, hi)
-        ext = hi - lo + 1
-        call check_equal_int(st%nq, (kernel + 1)**nd, 'nodes per point')
-        do p = 1, npt
-          do q = 1, st%nq
-            ! Node indices from the linear index of the stored block.
-            m = st%first(p) + st%qoff(q) - 1
-            idx(1) = lo(1) + mod(m, ext(1))
-            idx(2) = lo(2) + mod(m/ext(1), ext(2))
-            idx(3) = lo(3) + m/(ext(1)*ext(2))
-            b = 1.0_wp
-            db = 0.0_wp
-            do d = 1, nd
-              call bspline_1d(kernel, x(d, p)/h(d) - real(idx(d), wp), b(d), db(d))
-              db(d) = db(d)/h(d)
-              call check(abs(x(d, p)/h(d) - real(idx(d), wp)) <= 0.5_wp*real(kernel + 1, wp), &
-                         trim(kernel_names(kernel))//' node within reach')
-            end do
-            w = product(b)
-            call check_close(st%w(q, p), w, 1.0e-15_wp, 1.0e-15_wp, trim(kernel_names(kernel))//' weight')
-            do d = 1, nd
-              dw = db(d)
-              do e = 1, nd
-                if (e /= d) dw = dw*b(e)
-              end do
-              call check_close(st%dw(d, q, p), dw, 1.0e-13_wp, 1.0e-13_wp, trim(kernel_names(kernel))//' gradient')
-            end do
-          end do
-        end do
-      end do
-    end do
-  end subroutine test_stencil_weights_are_tensor_bsplines
-
   subroutine test_p2g_conserves_mass_and_momentum()
-    integer :: nd, kernel, p, lo(3)
-    real(wp) :: x(3, npt), mass(npt), vol(npt)
-    type(stencil_t) :: st
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt)
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
     real(wp) :: v(3, npt), stress(6, npt)
     real(wp), allocatable :: node(:, :, :, :)
     character(len=32) :: tag
     call begin_test('p2g_conserves_mass_and_momentum')
     do nd = 2, 3
       do kernel = 1, ngrid_kernels
-        call make_points(nd, kernel, npt, x, st)
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         do p = 1, npt
           mass(p) = 1.0_wp + 0.1_wp*real(mod(p, 7), wp)
           vol(p) = 0.01_wp
@@ -143,7 +90,7 @@ contains
         end do
         stress = 0.0_wp
         call make_nodes(nd, 1 + 2*nd, lo, node)
-        call p2g(st, npt, mass, v(1:nd, :), vol, stress, .true., node)
+        call p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, .true., lo, node)
         write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
         call check_close(sum(node(1, :, :, :)), sum(mass), 1.0e-14_wp, 0.0_wp, trim(tag)//' mass')
         do p = 1, nd
@@ -158,15 +105,14 @@ contains
 
   !> The internal forces of a uniform stress are internal: they sum to zero over the nodes.
   subroutine test_uniform_stress_has_no_net_force()
-    integer :: nd, kernel, p, lo(3)
-    real(wp) :: x(3, npt), mass(npt), vol(npt)
-    type(stencil_t) :: st
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt)
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
     real(wp) :: v(3, npt), stress(6, npt)
     real(wp), allocatable :: node(:, :, :, :)
     call begin_test('uniform_stress_has_no_net_force')
     do nd = 2, 3
       do kernel = 1, ngrid_kernels
-        call make_points(nd, kernel, npt, x, st)
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         mass = 1.0_wp
         vol = 0.02_wp
         v = 0.0_wp
@@ -174,7 +120,7 @@ contains
           stress(:, p) = [1.0e3_wp, -2.0e3_wp, 5.0e2_wp, 3.0e2_wp, -4.0e2_wp, 7.0e2_wp]
         end do
         call make_nodes(nd, 1 + 2*nd, lo, node)
-        call p2g(st, npt, mass, v(1:nd, :), vol, stress, .true., node)
+        call p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, .true., lo, node)
         do p = 1, nd
           call check_close(sum(node(1 + nd + p, :, :, :)), 0.0_wp, 0.0_wp, 1.0e-10_wp, &
                            trim(kernel_names(kernel))//' net internal force')
@@ -186,9 +132,8 @@ contains
   !> Nodal velocities v(x) = b + A x (old and new alike): PIC g2p gives v(x_p) at the
   !> points, moves them by dt v(x_p), and the velocity gradient is A.
   subroutine test_g2p_reproduces_linear_velocity()
-    integer :: nd, kernel, p, lo(3), c
-    real(wp) :: x(3, npt), x1(3, npt)
-    type(stencil_t) :: st
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt), c
+    real(wp) :: x(3, npt), x1(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt)
     real(wp) :: v(3, npt), vgrad(9, npt), a(3, 3), b(3), ve(3)
     real(wp), parameter :: dt = 1.0e-3_wp
     real(wp), allocatable :: nvel(:, :, :, :)
@@ -196,12 +141,12 @@ contains
     call linear_field(a, b)
     do nd = 2, 3
       do kernel = 1, ngrid_kernels
-        call make_points(nd, kernel, npt, x, st)
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         call make_nodes(nd, 2*nd, lo, nvel)
         call fill_linear(nd, lo, a, b, nvel)
         v = 0.0_wp
         x1 = x
-        call g2p(st, npt, nvel, 0.0_wp, dt, v(1:nd, :), x1(1:nd, :), vgrad)
+        call g2p(nd, nw, npt, i0, sw, sdw, lo, nvel, 0.0_wp, dt, v(1:nd, :), x1(1:nd, :), vgrad)
         do p = 1, npt
           ve = b + matmul(a, x(:, p))
           do c = 1, nd
@@ -216,18 +161,17 @@ contains
   end subroutine test_g2p_reproduces_linear_velocity
 
   subroutine test_point_gradient_of_linear_velocity()
-    integer :: nd, kernel, p, lo(3)
-    real(wp) :: x(3, npt), vgrad(9, npt), a(3, 3), b(3)
-    type(stencil_t) :: st
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt)
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), vgrad(9, npt), a(3, 3), b(3)
     real(wp), allocatable :: nvel(:, :, :, :)
     call begin_test('point_gradient_of_linear_velocity')
     call linear_field(a, b)
     do nd = 2, 3
       do kernel = 1, ngrid_kernels
-        call make_points(nd, kernel, npt, x, st)
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         call make_nodes(nd, 2*nd, lo, nvel)
         call fill_linear(nd, lo, a, b, nvel)
-        call point_gradient(st, npt, nvel, vgrad)
+        call point_gradient(nd, nw, npt, i0, sw, sdw, lo, nvel, vgrad)
         do p = 1, npt
           call check_gradient(nd, vgrad(:, p), a, trim(kernel_names(kernel))//' point gradient')
         end do
@@ -237,16 +181,15 @@ contains
 
   !> Points of one velocity: the remapped nodal momentum over the nodal mass is that velocity.
   subroutine test_remap_of_uniform_velocity()
-    integer :: nd, kernel, p, lo(3), i, j, k, c
-    real(wp) :: x(3, npt), mass(npt), vol(npt)
-    type(stencil_t) :: st
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt), i, j, k, c
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
     real(wp) :: v(3, npt), stress(6, npt), u(3)
     real(wp), allocatable :: node(:, :, :, :)
     call begin_test('remap_of_uniform_velocity')
     u = [0.4_wp, -0.9_wp, 1.3_wp]
     do nd = 2, 3
       do kernel = 1, ngrid_kernels
-        call make_points(nd, kernel, npt, x, st)
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         do p = 1, npt
           mass(p) = 0.5_wp + 0.25_wp*real(mod(p, 5), wp)
           v(:, p) = u
@@ -254,9 +197,9 @@ contains
         vol = 0.01_wp
         stress = 0.0_wp
         call make_nodes(nd, 1 + 2*nd, lo, node)
-        call p2g(st, npt, mass, v(1:nd, :), vol, stress, .true., node)
+        call p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, .true., lo, node)
         node(2:1 + 2*nd, :, :, :) = 0.0_wp
-        call momentum_p2g(st, npt, mass, v(1:nd, :), node)
+        call momentum_p2g(nd, nw, npt, i0, sw, mass, v(1:nd, :), lo, node)
         do k = lbound(node, 4), ubound(node, 4)
           do j = lbound(node, 3), ubound(node, 3)
             do i = lbound(node, 2), ubound(node, 2)
@@ -274,18 +217,17 @@ contains
 
   !> A uniform nodal scalar interpolates to itself with zero gradient (partition of unity).
   subroutine test_interp_scalar_partition_of_unity()
-    integer :: nd, kernel, p, lo(3), c
-    real(wp) :: x(3, npt), val(npt), grad(3, npt)
-    type(stencil_t) :: st
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt), c
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), val(npt), grad(3, npt)
     real(wp), allocatable :: f(:, :, :, :)
     call begin_test('interp_scalar_partition_of_unity')
     do nd = 2, 3
       do kernel = 1, ngrid_kernels
-        call make_points(nd, kernel, npt, x, st)
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         call make_nodes(nd, 1, lo, f)
         f = 0.35_wp
         grad = 0.0_wp
-        call interp_scalar(st, npt, f, val, grad)
+        call interp_scalar(nd, nw, npt, i0, sw, sdw, lo, f, val, grad)
         do p = 1, npt
           call check_close(val(p), 0.35_wp, 1.0e-14_wp, 0.0_wp, trim(kernel_names(kernel))//' value')
           do c = 1, nd

@@ -3,7 +3,6 @@
 !> one material. Stress is Cauchy, tension positive, Voigt order xx yy zz yz xz xy.
 module dpmpm_materials
   use dpmpm_kinds, only: wp
-  use dpmpm_voigt, only: voigt_to_tensor, tensor_to_voigt
   use dpmpm_config, only: material_cfg_t
   use dpmpm_plasticity, only: plastic_params_t, plastic_setup, plastic_return, dp_match_names, &
                               dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
@@ -12,6 +11,7 @@ module dpmpm_materials
   public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
   public :: model_mohr_coulomb, model_drucker_prager, is_plastic
   public :: materials_from_config, stress_update, strain_energy, wave_speed
+  public :: voigt_to_tensor, tensor_to_voigt
 
   integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
   !> Elasto-plastic soils (dpmpm_plasticity): linear elastic with the Jaumann rate, then a
@@ -102,6 +102,24 @@ contains
     real(wp), intent(in) :: rho
     c = sqrt(mat%pwave/rho)
   end function wave_speed
+
+  !> 3x3 symmetric tensor from Voigt components.
+  pure function voigt_to_tensor(s) result(t)
+    real(wp), intent(in) :: s(6)
+    real(wp) :: t(3, 3)
+    t(1, 1) = s(1); t(2, 2) = s(2); t(3, 3) = s(3)
+    t(2, 3) = s(4); t(3, 2) = s(4)
+    t(1, 3) = s(5); t(3, 1) = s(5)
+    t(1, 2) = s(6); t(2, 1) = s(6)
+  end function voigt_to_tensor
+
+  !> Voigt components of the symmetric part of a 3x3 tensor.
+  pure function tensor_to_voigt(t) result(s)
+    real(wp), intent(in) :: t(3, 3)
+    real(wp) :: s(6)
+    s = [t(1, 1), t(2, 2), t(3, 3), 0.5_wp*(t(2, 3) + t(3, 2)), 0.5_wp*(t(1, 3) + t(3, 1)), &
+         0.5_wp*(t(1, 2) + t(2, 1))]
+  end function tensor_to_voigt
 
   !> Update stress, volume (and F) of the points of material index m over one
   !> step dt, given each point's velocity gradient vgrad(9, n) (3x3, column-major).

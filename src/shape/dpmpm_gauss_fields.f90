@@ -24,7 +24,7 @@ module dpmpm_gauss_fields
                            kernel_width, bspline_1d
   use dpmpm_stencil, only: psi_stencil, stencil_offsets, tensor_weights
   use dpmpm_mls, only: basis_size, packed_size, basis_eval, moment_add, mls_gamma, mls_stats_t
-  use dpmpm_voigt, only: voigt_to_tensor
+  use dpmpm_materials, only: voigt_to_tensor
   implicit none
   private
   public :: gauss_rule, field_components, stress_voigt_index
@@ -374,11 +374,10 @@ contains
     nw(1:nd) = kernel_width(kernel)
     call stencil_offsets(nw, nn, qoff)
     allocate (off(3, nn, ng**nd), gr(3, nn, ng**nd), w(nn))
-    gr = 0.0_wp
     call gauss_points_of_cell(nd, ng, yg, wg)
     do g = 1, ng**nd
       call psi_stencil(nd, kernel, yg(:, g), h, i0, sw, sdw)
-      call tensor_weights(nd, nn, qoff, sw, sdw, w, gr(:, :, g))
+      call tensor_weights(nw, sw, sdw, w, gr(:, :, g))
       do m = 1, nn
         off(:, m, g) = i0 + qoff(:, m)
       end do

@@ -63,11 +63,11 @@ contains
         ph%node = 0.0_wp
         if (allocated(ph%bacc)) then
           call benchmark_body_force(self%cfg, self%mats, ps, self%time, ph%bacc)
-          call p2g(ph%st, ps%n, ps%mass, ps%v, ps%vol, ps%stress, ip == solid_phase .and. .not. self%plan%gauss, &
-                   ph%node, ph%bacc)
+          call p2g(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
+                   ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node, ph%bacc)
         else
-          call p2g(ph%st, ps%n, ps%mass, ps%v, ps%vol, ps%stress, ip == solid_phase .and. .not. self%plan%gauss, &
-                   ph%node)
+          call p2g(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
+                   ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node)
         end if
       end associate
     end do
@@ -75,9 +75,10 @@ contains
       self%nporo = 0.0_wp
       self%ndrag = 0.0_wp
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        call solid_porosity_p2g(s%st, ns, s%pts%mass, s%pts%porosity, self%nporo)
-        call fluid_p2g(f%st, nf, f%pts%mass, f%pts%vol, f%pts%porosity, f%pts%pressure, f%pts%kinv, &
-                       (.not. self%plan%gauss), s%node, f%node, self%ndrag)
+        call solid_porosity_p2g(s%st%nw, ns, s%st%i0, s%st%sw, s%pts%mass, s%pts%porosity, self%dec%alo, &
+                                self%nporo)
+    call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, f%pts%pressure, f%pts%kinv, &
+                       (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag)
       end associate
     end if
     if (self%plan%gauss) then
@@ -162,7 +163,7 @@ contains
       call self%timers%tic(t_g2p)
       allocate (nval(nf), ngrad(3, nf), gnrel(nf))
       associate (f => self%phase(fluid_phase))
-        call interp_scalar(f%st, nf, self%nporo, nval, ngrad)
+        call interp_scalar(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, self%nporo, nval, ngrad)
         f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-6_wp))
       end associate
       call self%timers%toc(t_g2p)
@@ -200,14 +201,16 @@ contains
     call self%timers%tic(t_g2p)
     do ip = 1, self%nph
       associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
-        call g2p(ph%st, ps%n, ph%nvel, self%cfg%flip, dt, ps%v, ps%x, ph%vgrad)
+        call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, dt, &
+                 ps%v, ps%x, ph%vgrad)
       end associate
     end do
     if (self%cfg%scheme == 'musl') then
       call musl_remap(self, dt)
     else if (coupled) then
       associate (f => self%phase(fluid_phase))
-        call point_gradient(f%st, nf, self%phase(solid_phase)%nvel, f%vgrad2)
+        call point_gradient(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, &
+                            self%phase(solid_phase)%nvel, f%vgrad2)
       end associate
     end if
     if (coupled) then
@@ -215,7 +218,8 @@ contains
       gnrel = 0.0_wp
       if (self%cfg%porosity_gradient) then
         associate (f => self%phase(fluid_phase))
-          call mixture_flux(f%st, nf, f%pts%porosity, self%nporo, f%nvel, self%phase(solid_phase)%nvel, gnrel)
+          call mixture_flux(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, f%pts%porosity, &
+                            self%nporo, f%nvel, self%phase(solid_phase)%nvel, gnrel)
         end associate
       end if
     end if
@@ -308,12 +312,13 @@ contains
     end do
     do ip = 1, self%nph
       associate (ph => self%phase(ip))
-        call point_gradient(ph%st, ph%pts%n, ph%nvel, ph%vgrad)
+        call point_gradient(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, ph%vgrad)
       end associate
     end do
     if (coupled) then
       associate (f => self%phase(fluid_phase))
-        call point_gradient(f%st, f%pts%n, self%phase(solid_phase)%nvel, f%vgrad2)
+        call point_gradient(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, &
+                            self%phase(solid_phase)%nvel, f%vgrad2)
       end associate
     end if
   end subroutine musl_remap
@@ -328,7 +333,7 @@ contains
     nd = self%nd
     ! Reuse the momentum slots of node(); the masses are unchanged.
     ph%node(2:1 + 2*nd, :, :, :) = 0.0_wp
-    call momentum_p2g(ph%st, ph%pts%n, ph%pts%mass, ph%pts%v, ph%node)
+    call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, ph%node)
     call self%mirror%fold(ph%node, 1, ph%bc)
     call self%dec%halo_sum(ph%node)
     call remap_nodal_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, ph%node, self%grid, ph%bc, &
@@ -343,14 +348,14 @@ contains
     type(phase_t), intent(inout) :: tr
     integer :: n, cap
     n = tr%pts%n
-    if (tr%st%nq == 0) call tr%st%init(self%nd, self%kernel, self%dec%alo, self%dec%ahi)
-    if (size(tr%st%first) < n) then
+    if (tr%st%nd == 0) call tr%st%init(self%nd, self%kernel)
+    if (size(tr%st%i0, 2) < n) then
       if (allocated(tr%vgrad)) deallocate (tr%vgrad)
       if (allocated(tr%vgrad2)) deallocate (tr%vgrad2)
       if (allocated(tr%xold)) deallocate (tr%xold, tr%volold, tr%vt)
     end if
     call tr%st%build(n, tr%pts%cap, tr%pts%x, self%grid%origin, self%grid%h)
-    cap = size(tr%st%first)
+    cap = size(tr%st%i0, 2)
     if (.not. allocated(tr%vgrad)) allocate (tr%vgrad(9, cap))
     if (tr%pts%has_pressure .and. .not. allocated(tr%vgrad2)) allocate (tr%vgrad2(9, cap))
     if (self%plan%gauss .and. .not. allocated(tr%xold)) &
@@ -425,8 +430,8 @@ contains
     allocate (ff(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                  self%dec%alo(3):self%dec%ahi(3)))
     ff = 0.0_wp
-    call interphase_p2g(self%phase(2)%st, self%phase(2)%pts%n, self%phase(2)%pts%vol, self%phase(2)%pts%pressure, &
-                        ngrad, ff)
+    call interphase_p2g(nd, self%phase(2)%st%nw, self%phase(2)%pts%n, self%phase(2)%st%i0, self%phase(2)%st%sw, &
+                        self%phase(2)%pts%vol, self%phase(2)%pts%pressure, ngrad, self%dec%alo, ff)
     fs = -ff
     call self%mirror%fold(ff, 0, self%phase(2)%bc)
     call self%mirror%fold(fs, 0, self%phase(1)%bc)

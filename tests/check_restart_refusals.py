@@ -6,7 +6,9 @@
 A short run writes a checkpoint; restarting it with the same grid must work (the control),
 while a grid with another origin or another length (same ncells) and a checkpoint with one
 point made non-finite and one moved outside the grid must stop with a non-zero exit code
-and a message saying why (the grid, or how many points).
+and a message saying why (the grid, or how many points). A checkpoint of the earlier
+layout (18 numbers in /state: no drag dissipation, no monitor state) still continues, and the
+log says that the energy monitor measures from the restart.
 """
 import pathlib
 import shutil
@@ -76,6 +78,18 @@ p = run("damaged.nml", scene(restart="out/damaged.ckpt.h5"))
 expect(p.returncode != 0, "damaged checkpoint: refused (non-zero exit code)")
 expect(f"1 of its {pts.shape[0]} solid points have a non-finite value and 1 lie outside the grid"
        in p.stderr, "damaged checkpoint: the message counts the points")
+
+# The earlier layout: /state without the drag dissipation and the monitor's state.
+earlier = work / "out" / "earlier.ckpt.h5"
+shutil.copy(ckpt, earlier)
+with h5py.File(earlier, "r+") as f:
+    state = f["state"][...]
+    expect(state.size > 18, f"/state holds the monitor's state ({state.size} numbers)")
+    del f["state"]
+    f["state"] = state.reshape(-1)[:18].reshape(1, 18)
+p = run("earlier.nml", scene(restart="out/earlier.ckpt.h5"))
+expect(p.returncode == 0, "a checkpoint of the earlier layout continues")
+expect("holds no monitor state" in p.stdout, "the log says the monitor starts over")
 
 print("PASS" if not failures else f"{len(failures)} check(s) failed")
 sys.exit(1 if failures else 0)

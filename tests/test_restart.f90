@@ -66,12 +66,12 @@ contains
   end function scene
 
   !> Run cfg on comm and return the points of both sets (rank 0 of comm, sorted by id)
-  !> with the end time, step and energy balance.
-  subroutine run(cfg, comm_self, sx, sv, ss, fx, fv, fs, t, steps, drift)
+  !> with the end time, step, energy balance and the monitor's largest ratio and balance error.
+  subroutine run(cfg, comm_self, sx, sv, ss, fx, fv, fs, t, steps, drift, mon)
     type(config_t), intent(in) :: cfg
     logical, intent(in) :: comm_self
     real(wp), allocatable, intent(out) :: sx(:, :), sv(:, :), ss(:, :), fx(:, :), fv(:, :), fs(:, :)
-    real(wp), intent(out) :: t, drift
+    real(wp), intent(out) :: t, drift, mon(2)
     integer(i8), intent(out) :: steps
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
@@ -86,30 +86,31 @@ contains
     t = sim%time
     steps = sim%step
     drift = sim%energy_drift
+    mon = [sim%mon_ratio, sim%mon_balance]
     call sim%free()
   end subroutine run
 
   !> 40 steps in one go; 20 steps with a checkpoint, then 20 more from it: the same
-  !> points to the last bit, the same time and energy balance. From the same
+  !> points to the last bit, the same time, energy balance and monitor. From the same
   !> checkpoint on one rank (when the test runs on more): the same to round-off.
   subroutine test_restart_continues_the_run_exactly()
     type(config_t) :: cfg
     real(wp), allocatable :: ax(:, :), av(:, :), as(:, :), afx(:, :), afv(:, :), afs(:, :)
     real(wp), allocatable :: bx(:, :), bv(:, :), bs(:, :), bfx(:, :), bfv(:, :), bfs(:, :)
-    real(wp) :: ta, tb, da, db, dev
+    real(wp) :: ta, tb, da, db, dev, ma(2), mb(2)
     integer(i8) :: na, nb
     logical :: exists, tmp_left
     call begin_test('restart_continues_the_run_exactly')
-    call run(scene(40), .false., ax, av, as, afx, afv, afs, ta, na, da)
+    call run(scene(40), .false., ax, av, as, afx, afv, afs, ta, na, da, ma)
     cfg = scene(20)
     cfg%checkpoint_every = 20
-    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db)
+    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb)
     inquire (file=dir//'/restart.ckpt.h5', exist=exists)
     inquire (file=dir//'/restart.ckpt.h5.tmp', exist=tmp_left)
     call check(exists .and. .not. tmp_left, 'the checkpoint is written, no temporary left')
     cfg = scene(40)
     cfg%restart = dir//'/restart.ckpt.h5'
-    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db)
+    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb)
     if (rank == 0) then
       print '(a,2i5,2es12.4)', '  steps, energy balance (one go, restarted):', na, nb, da, db
       call check(nb == na .and. tb == ta, 'same step count and time')
@@ -119,10 +120,14 @@ contains
       ! The work of the loads is summed over the ranks; restarted, the sum so far sits on
       ! rank 0, so the balance agrees to round-off rather than to the bit.
       call check(abs(db - da) <= 1.0e-12_wp*abs(da), 'same energy balance')
+      ! The monitor goes on from the checkpoint: measured against what the body was given
+      ! since t = 0, not since the restart.
+      print '(a,4es12.4)', '  monitor ratio and balance (one go, restarted):', ma, mb
+      call check(all(abs(mb - ma) <= 1.0e-12_wp*abs(ma)), 'same monitor ratio and balance')
     end if
     if (nranks > 1) then
       if (rank == 0) then
-        call run(cfg, .true., bx, bv, bs, bfx, bfv, bfs, tb, nb, db)
+        call run(cfg, .true., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb)
         dev = max(maxval(abs(bx - ax)), maxval(abs(bfx - afx)))/maxval(abs(ax)) + &
               max(maxval(abs(bs - as)), maxval(abs(bfs - afs)))/maxval(abs(as))
         print '(a,es11.3)', '  restarted on 1 rank, relative deviation:', dev

@@ -1,5 +1,5 @@
 !> Checkpoints: the state of a run (every point of both sets, time, step, energy
-!> balance, frame schedule) in one HDF5 file, <output_dir>/<name>.ckpt.h5. Written
+!> balance and run monitor, frame schedule) in one HDF5 file, <output_dir>/<name>.ckpt.h5. Written
 !> collectively to <file>.tmp and renamed, so that a crash while writing never leaves a
 !> broken checkpoint behind; read back on any number of ranks, each rank keeping the
 !> points in its own cells.
@@ -28,7 +28,13 @@ module dpmpm_checkpoint
   use dpmpm_posix, only: posix_fsync, posix_strerror
   implicit none
   private
-  public :: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
+  public :: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint, nmonitor
+
+  !> Numbers of the run monitor's state; checkpoints of earlier versions hold nstate_grid
+  !> numbers (no drag dissipation, no monitor), older ones fewer (no grid: refused).
+  integer, parameter :: nmonitor = 14
+  integer, parameter :: nstate_grid = 18
+  integer, parameter :: nstate = nstate_grid + 1 + nmonitor
 
   !> Scalars of a run's state that the points do not carry.
   type :: checkpoint_state_t
@@ -44,9 +50,10 @@ module dpmpm_checkpoint
     integer :: ncells(3) = 0
     real(wp) :: origin(3) = 0.0_wp        !< grid of the run, checked on restart
     real(wp) :: length(3) = 0.0_wp
+    real(wp) :: drag_loss = 0.0_wp        !< energy dissipated by drag (the monitor's D)
+    logical :: has_monitor = .false.      !< monitor holds a state (not in older checkpoints)
+    real(wp) :: monitor(nmonitor) = 0.0_wp !< the run monitor's state (dpmpm_energy)
   end type checkpoint_state_t
-
-  integer, parameter :: nstate = 18
 
 contains
 
@@ -143,7 +150,7 @@ contains
     call h5dget_space_f(dset, space, err)
     call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
     call h5sclose_f(space, err)
-    if (dims(1) /= nstate) then
+    if (dims(1) /= nstate .and. dims(1) /= nstate_grid) then
       problem = path//' was written by an earlier dpmpm that did not record the grid''s '// &
                 'origin and length, so it cannot be checked against this input; run the '// &
                 'scene again from its start'
@@ -151,11 +158,13 @@ contains
       call h5fclose_f(file, err)
       return
     end if
+    state = 0.0_wp
     cp = c_loc(state)
     call h5dread_f(dset, h5kind_to_type(wp, H5_REAL_KIND), cp, err)
     call h5check(err, 'h5dread_f(state)', where)
     call h5dclose_f(dset, err)
     st = array_to_state(state)
+    st%has_monitor = dims(1) == nstate
     if (st%ndim /= nd .or. any(st%ncells(1:nd) /= ncells(1:nd)) .or. &
         any(abs(st%origin(1:nd) - origin(1:nd)) > 1.0e-12_wp*length(1:nd)) .or. &
         any(abs(st%length(1:nd) - length(1:nd)) > 1.0e-12_wp*length(1:nd))) then
@@ -214,7 +223,7 @@ contains
     real(wp) :: a(nstate)
     a = [real(st%step, wp), st%time, st%ext_work, st%energy0, st%energy_scale, st%energy_error, &
          st%next_frame, real(st%nframes, wp), real(st%ndim, wp), real(st%ncells, wp), st%origin, &
-         st%length]
+         st%length, st%drag_loss, st%monitor]
   end function state_to_array
 
   pure function array_to_state(a) result(st)
@@ -232,6 +241,8 @@ contains
     st%ncells = nint(a(10:12))
     st%origin = a(13:15)
     st%length = a(16:18)
+    st%drag_loss = a(19)
+    st%monitor = a(20:nstate)
   end function array_to_state
 
   !> The packed points of a set: this rank's at its offset in the global order.

@@ -14,7 +14,7 @@ module dpmpm_energy
                      MPI_MAXLOC, MPI_2DOUBLE_PRECISION, MPI_Bcast
   implicit none
   private
-  public :: diagnostics, monitor_stopped, check_state
+  public :: diagnostics, monitor_stopped, check_state, monitor_state, set_monitor_state
 
 contains
 
@@ -152,6 +152,32 @@ contains
     self%mon_prev = fm
     self%mon_prev_time = self%time
   end subroutine monitor_energy
+
+  !> The run monitor's state as numbers, for a checkpoint (set_monitor_state reads them
+  !> back), so that a continued run measures against what the body was given since t = 0.
+  pure function monitor_state(self) result(a)
+    class(state_t), intent(in) :: self
+    real(wp) :: a(14)
+    a = [merge(1.0_wp, 0.0_wp, self%monitor_started), self%mon_e0, self%mon_w0, self%mon_d0, &
+         self%mon_input, self%mon_ratio, self%mon_ke_max, self%mon_balance, &
+         merge(1.0_wp, 0.0_wp, self%mon_warned), self%mon_prev, self%mon_prev_time]
+  end function monitor_state
+
+  pure subroutine set_monitor_state(self, a)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: a(14)
+    self%monitor_started = a(1) > 0.5_wp
+    self%mon_e0 = a(2)
+    self%mon_w0 = a(3)
+    self%mon_d0 = a(4)
+    self%mon_input = a(5)
+    self%mon_ratio = a(6)
+    self%mon_ke_max = a(7)
+    self%mon_balance = a(8)
+    self%mon_warned = a(9) > 0.5_wp
+    self%mon_prev = a(10:13)
+    self%mon_prev_time = a(14)
+  end subroutine set_monitor_state
 
   !> Name the growing field (the monitored field whose maximum grew most since
   !> the previous record), the point that holds its largest value (id, set,

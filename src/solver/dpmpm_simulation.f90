@@ -24,7 +24,7 @@ module dpmpm_simulation
   use dpmpm_state, only: state_t, exit_bad_input, exit_stopped
   use dpmpm_step, only: advance
   use dpmpm_time_step, only: stable_dt
-  use dpmpm_energy, only: diagnostics, monitor_stopped, check_state
+  use dpmpm_energy, only: diagnostics, monitor_stopped, check_state, monitor_state, set_monitor_state
   use dpmpm_verification_log, only: two_phase_benchmark, record_two_phase_errors, write_verification, &
                                     report_mls
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_INTEGER8, &
@@ -282,6 +282,16 @@ contains
     ! ext_work is kept per rank and summed in the diagnostics: the total goes to rank 0.
     self%ext_work = 0.0_wp
     if (self%dec%rank == 0) self%ext_work = st%ext_work
+    ! Drag dissipation and the run monitor go on from their values at the checkpoint (a
+    ! checkpoint of an earlier version has neither: the monitor then starts over).
+    self%drag_loss = 0.0_wp
+    if (self%dec%rank == 0) self%drag_loss = st%drag_loss
+    if (st%has_monitor) then
+      call set_monitor_state(self, st%monitor)
+    else
+      call self%log%info('dpmpm: '//path//' holds no monitor state (an earlier version wrote '// &
+                         'it): the energy monitor measures from the restart')
+    end if
     self%energy0 = st%energy0
     self%energy_scale = st%energy_scale
     self%energy_error = st%energy_error
@@ -321,10 +331,12 @@ contains
     class(simulation_t), intent(inout) :: self
     type(checkpoint_state_t) :: st
     character(len=:), allocatable :: path
-    real(wp) :: work
+    real(wp) :: work(2)
     call self%timers%tic(t_output)
-    call MPI_Allreduce(self%ext_work, work, 1, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
-    st = checkpoint_state_t(step=self%step, time=self%time, ext_work=work, &
+    call MPI_Allreduce([self%ext_work, self%drag_loss], work, 2, MPI_DOUBLE_PRECISION, MPI_SUM, &
+                       self%dec%comm)
+    st = checkpoint_state_t(step=self%step, time=self%time, ext_work=work(1), drag_loss=work(2), &
+                            has_monitor=.true., monitor=monitor_state(self), &
                             energy0=self%energy0, energy_scale=self%energy_scale, &
                             energy_error=self%energy_error, next_frame=self%next_frame, &
                             nframes=self%nframes, ndim=self%nd, ncells=self%cfg%ncells, &

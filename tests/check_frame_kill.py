@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""A run killed (SIGKILL) while it writes frames loses nothing once it is continued.
+
+    check_frame_kill.py <mpiexec> <dpmpm> <work dir> [trials]
+
+The scene writes a frame at every step and a checkpoint every 25 steps, so that most of a
+step's wall time is spent in the output file and a kill lands in a frame write more often
+than not. A run without a break is the reference; its wall time T sets the kill times
+(seeded, uniform in 0.3 T .. 0.9 T). After each kill:
+- scripts/check_output.py on the killed file ends with 0 or 1 and prints no traceback: a
+  torn last frame (half-written datasets, a sidecar one frame behind) is reported, not a
+  crash;
+- `dpmpm --restart` continues the run from its own checkpoint to the end with exit code 0;
+- the continued file holds the reference's frames, every dataset equal to the last bit
+  (points matched by id), its diagnostics the reference's steps in order, each once (and
+  the record of the state it continued from), and
+  scripts/check_output.py passes on it; no temporary checkpoint is left.
+At least one kill must have torn a frame (check_output.py rejected the killed file):
+otherwise the test did not test what it says.
+"""
+import os
+import pathlib
+import random
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+HERE = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from frames_by_id import compare  # noqa: E402
+
+CHECK_OUTPUT = HERE.parent / "scripts" / "check_output.py"
+mpiexec, dpmpm, work = sys.argv[1], sys.argv[2], pathlib.Path(sys.argv[3])
+trials = int(sys.argv[4]) if len(sys.argv) > 4 else 5
+shutil.rmtree(work, ignore_errors=True)
+work.mkdir(parents=True)
+MAX_STEPS = 300
+failures = []
+
+
+def expect(cond, what):
+    print(("ok:   " if cond else "FAIL: ") + what, flush=True)
+    if not cond:
+        failures.append(what)
+
+
+def scene(name):
+    """A saturated column on a fixed floor under gravity (the two-phase part of the scene of
+    check_stop_signal.py) with a frame at every step."""
+    text = f"""&run name = '{name}', t_end = 100.0, max_steps = {MAX_STEPS}, cfl = 0.4,
+  gravity = 0.0, -9.81, drag = 'implicit' /
+&grid ndim = 2, ncells = 16, 16, length = 1.0, 1.0 /
+&shape kernel = 'quadratic' /
+&material id = 1, density = 2650.0, youngs_modulus = 1.0e6, poisson_ratio = 0.3,
+  conductivity = 1.0e-3 /
+&material id = 2, model = 'fluid', density = 1000.0, bulk_modulus = 2.0e7 /
+&region lo = 0.0, 0.0, hi = 0.375, 0.5, material = 1, phase = 'saturated',
+  fluid_material = 2, porosity = 0.4, placement = 'random' /
+&boundary face = 'x-', condition = 'roller' /
+&boundary face = 'x+', condition = 'roller' /
+&boundary face = 'y-', condition = 'fixed' /
+&output dir = 'out', frame_interval = 1.0e-9, checkpoint_every = 25 /
+"""
+    (work / f"{name}.nml").write_text(text)
+    return f"{name}.nml"
+
+
+def run(args):
+    r = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", dpmpm] + args, cwd=work,
+                       capture_output=True, text=True, timeout=600)
+    return r.returncode, r.stdout + r.stderr
+
+
+def check_output(path):
+    r = subprocess.run([sys.executable, str(CHECK_OUTPUT), str(path)], capture_output=True,
+                       text=True)
+    return r.returncode, r.stdout + r.stderr
+
+
+start = time.monotonic()
+rc, log = run([scene("ref")])
+wall = time.monotonic() - start
+expect(rc == 0, f"the run without a break ends with exit code 0 ({wall:.1f} s)")
+if rc != 0:
+    print(log)
+    sys.exit(1)
+ref = work / "out" / "ref.h5"
+with h5py.File(ref, "r") as f:
+    ref_steps = f["diagnostics/step"][...].tolist()
+
+rng = random.Random(2026)
+torn = 0
+for t in range(trials):
+    name = f"kill{t}"
+    nml = scene(name)
+    after = rng.uniform(0.3, 0.9) * wall
+    p = subprocess.Popen([mpiexec, "--oversubscribe", "-n", "2", dpmpm, nml], cwd=work,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    time.sleep(after)
+    ranks = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True,
+                           text=True).stdout.split()
+    for pid in ranks:
+        try:
+            os.kill(int(pid), signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    p.kill()
+    p.wait()
+    h5 = work / "out" / f"{name}.h5"
+    if not h5.exists():
+        print(f"{name}: killed after {after:.1f} s before the file was made")
+        continue
+    with h5py.File(h5, "r") as f:
+        nframes = len(f["frames"])
+    rc, out = check_output(h5)
+    last = out.strip().splitlines()[-1] if out.strip() else ""
+    print(f"{name}: killed after {after:.1f} s with {nframes} frames; check_output.py: "
+          f"exit {rc}, {last}")
+    expect(rc in (0, 1) and "Traceback" not in out,
+           f"{name}: check_output.py reports on the killed file without a crash")
+    torn += rc == 1
+
+    rc, out = run(["--restart", nml])
+    expect(rc == 0, f"{name}: the continued run ends with exit code 0")
+    if rc != 0:
+        print(out)
+        continue
+    said = [line for line in out.splitlines() if "continuing" in line or "restart" in line]
+    print("  " + "\n  ".join(said[:2]))
+    bad, worst = compare(ref, h5, 0.0)
+    expect(not bad, f"{name}: every frame equal to the run without a break "
+                    f"(largest relative deviation {worst:.1e})")
+    for b in bad[:5]:
+        print("    " + b)
+    with h5py.File(h5, "r") as f:
+        steps = f["diagnostics/step"][...].tolist()
+    # The continued run adds one record: the state it starts from, at the checkpoint's step.
+    extra = sorted(set(steps) - set(ref_steps))
+    expect(all(np.diff(steps) > 0) and set(ref_steps) <= set(steps) and len(extra) <= 1,
+           f"{name}: diagnostics at the reference's steps, each once (and {extra})")
+    rc, out = check_output(h5)
+    expect(rc == 0, f"{name}: check_output.py passes on the continued file")
+    if rc != 0:
+        print(out)
+    left = sorted(str(q.name) for q in (work / "out").glob(f"{name}*.tmp"))
+    expect(not left, f"{name}: no temporary file left ({left})")
+
+expect(torn > 0, f"{torn} of {trials} kills tore a frame (check_output.py rejected the file)")
+print("PASS" if not failures else f"{len(failures)} check(s) failed")
+sys.exit(1 if failures else 0)

@@ -8,7 +8,7 @@ module dpmpm_test_scenes
 
 contains
 
-  !> The saturated column of physics.md section 0 (W1 unless changed): 1D along x,
+  !> The saturated column of doc/theory.md 9.1 (W1 unless changed): 1D along x,
   !> loaded and drained at x-, fixed and impermeable at x+.
   function column_scene(ncells, k, kf, t_end, drag) result(cfg)
     integer, intent(in) :: ncells

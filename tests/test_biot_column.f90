@@ -1,5 +1,5 @@
-!> Tests of the analytical references for the saturated column (dpmpm_biot_column, physics.md
-!> 1.2-1.3) and for Terzaghi consolidation (dpmpm_terzaghi, physics.md 1.5). Every bound is a
+!> Tests of the analytical references for the saturated column (dpmpm_biot_column, doc/theory.md
+!> 2.7 and 9.2) and for Terzaghi consolidation (dpmpm_terzaghi, doc/theory.md 9.3). Every bound is a
 !> measured error (debug build) times a stated margin; the measurements are in the comments and
 !> in doc/verification.md.
 program test_biot_column
@@ -31,7 +31,7 @@ program test_biot_column
 
 contains
 
-  !> physics.md's sanity set (section 1.3) with conductivity k.
+  !> the sanity set of doc/theory.md 9.2 with conductivity k.
   function sanity_column(k) result(col)
     real(wp), intent(in) :: k
     type(biot_column_t) :: col
@@ -39,16 +39,16 @@ contains
                         e_c=13.46e6_wp, k_f=2.2e9_wp, conductivity=k, load=1.0_wp)
   end function sanity_column
 
-  !> W1 of physics.md section 0 (strongly coupled, soft fluid).
+  !> W1 of doc/theory.md 9.1 (strongly coupled, soft fluid).
   function w1_column() result(col)
     type(biot_column_t) :: col
     col = biot_column_t(length=10.0_wp, porosity=0.3_wp, rho_s=2650.0_wp, rho_f=1000.0_wp, &
                         e_c=10.0e6_wp, k_f=3.0e6_wp, conductivity=1.0e-5_wp, load=1.0_wp)
   end function w1_column
 
-  !> The worked numbers of physics.md 1.2, given there to 3-4 digits: bound half a unit of the
+  !> The worked numbers of doc/theory.md 9.2, given there to 3-4 digits: bound half a unit of the
   !> last digit given (measured: 1664.51, 73.490; set A 2001.35, 90.856, 90.943, which are
-  !> physics.md's numbers with E_c = lambda + 2 mu = 22.333 MPa, as in test (c)). The drag
+  !> the numbers of doc/theory.md 9.2 with E_c = lambda + 2 mu = 22.333 MPa, as in test (c)). The drag
   !> coefficient of W1: 0.3^2 1000 9.81 / 1e-5 = 8.829e7 exactly.
   subroutine test_wave_speeds_match_worked_numbers()
     type(biot_column_t) :: col
@@ -84,8 +84,8 @@ contains
     call biot_undrained_split(col, p_u, sig_u)
     call biot_wave_speeds(col, c_u, c_s)
     v_u = col%load/((0.6_wp*col%rho_s + 0.4_wp*col%rho_f)*c_u)
-    ! physics.md: p_u = 0.99756; the split carries the whole load.
-    call check_close(p_u, 0.99756_wp, 0.0_wp, 5.0e-6_wp, 'p_u against physics.md')
+    ! doc/theory.md 9.2: p_u = 0.99756; the split carries the whole load.
+    call check_close(p_u, 0.99756_wp, 0.0_wp, 5.0e-6_wp, 'p_u against doc/theory.md 9.2')
     call check_close(sig_u - p_u, -col%load, 1.0e-15_wp, 0.0_wp, 'sigma_u - p_u = -q')
     z = [2.0_wp, 1.0_wp]
     t = [2.0e-3_wp, 3.0e-3_wp, 5.0e-3_wp, 8.0e-3_wp]
@@ -125,12 +125,12 @@ contains
   end subroutine test_zero_ahead_of_fast_front
 
   !> (c) Incompressible constituents: algorithm A at K_f = 1e13 against the closed form
-  !> (algorithm B, image sum, reflection included at 0.2 s) on physics.md's cross-check set,
+  !> (algorithm B, image sum, reflection included at 0.2 s) on the cross-check set of doc/theory.md 9.2,
   !> z = 5 m. Measured |A - B|: 5.5e-7 ... 6.6e-7, which is the physics of a finite K_f (the fast
   !> wave carries sigma'_u = -q E_c/(E_c + M) = -7.4e-7); with K_f = 1e15 it falls to 1.2e-8 ...
   !> 1.5e-8 (aliasing level). Bounds: 1e-6 at K_f = 1e13 (1.5x) and 5e-8 at K_f = 1e15 (3.3x).
   !> Incompressible mass balance v_f = -(n_s/n_f) v_s: measured 1.2e-8 relative, bound 5e-8.
-  !> physics.md's values (-0.00041, -0.00529, -0.02873, -0.09548) come out with
+  !> doc/theory.md 9.2 values (-0.00041, -0.00529, -0.02873, -0.09548) come out with
   !> E_c = lambda + 2 mu = 22.333 MPa of set A (with 22.33 MPa the last two read -0.02872,
   !> -0.09546). Measured differences up to 4.5e-6 (A and B alike: the listed values are
   !> rounded); bound half a unit of their last digit, plus the 1e-6 above for A.
@@ -155,16 +155,16 @@ contains
     call biot_column_solve(col, 0.2_wp, 1, z, 4, t, p, sig, vs, vf)
     do i = 1, 4
       call check_close(sig(1, i), ref(i), 0.0_wp, 5.0e-8_wp, 'A (K_f = 1e15) against B')
-      ! Incompressible: n_s v_s + n_f v_f = 0 (physics.md 1.2), v_f = -(n_s/n_f) v_s.
+      ! Incompressible: n_s v_s + n_f v_f = 0 (doc/theory.md 2.7), v_f = -(n_s/n_f) v_s.
       call check_close(vf(1, i), -0.67_wp/0.33_wp*vs(1, i), 5.0e-8_wp, 0.0_wp, &
                        'v_f = -(n_s/n_f) v_s')
     end do
     col%e_c = 22.333e6_wp
     call biot_column_solve(col, 0.2_wp, 1, z, 4, t, p, sig, vs, vf)
     do i = 1, 4
-      call check_close(sig(1, i), listed(i), 0.0_wp, 6.0e-6_wp, 'A against physics.md values')
+      call check_close(sig(1, i), listed(i), 0.0_wp, 6.0e-6_wp, 'A against the doc/theory.md 9.2 values')
       call check_close(biot_incompressible_sigma(col, z(1), t(i)), listed(i), 0.0_wp, 5.0e-6_wp, &
-                       'B against physics.md values')
+                       'B against the doc/theory.md 9.2 values')
     end do
   end subroutine test_incompressible_closed_form
 
@@ -224,7 +224,7 @@ contains
     end do
   end subroutine test_w1_drained_top_layer_is_terzaghi
 
-  !> T1 of physics.md section 0.
+  !> T1 of doc/theory.md 9.1.
   function t1_layer() result(ter)
     type(terzaghi_t) :: ter
     ter = terzaghi_t(height=1.0_wp, porosity=0.3_wp, e_c=10.0e6_wp, k_f=2.2e9_wp, &

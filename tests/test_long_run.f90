@@ -118,7 +118,7 @@ contains
     call check(ke > GROWS, 'kinetic energy grows far beyond the physical level')
   end subroutine test_w1_standard_grows_without_remap_drag
 
-  !> The MLS pair (physics.md 3.5) on the uniform scatter of inputs/w1.nml (seed 1),
+  !> The MLS pair (doc/theory.md 3.6) on the uniform scatter of inputs/w1.nml (seed 1),
   !> 20 transits at cfl 0.5.
   subroutine test_w1_pair_uniform_scatter_bounded_over_20_transits()
     real(wp) :: ke, ratio, t

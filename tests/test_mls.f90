@@ -1,6 +1,6 @@
 !> MLS tests: basis reproduction, partition of unity, gradients against finite differences,
 !> every fallback path with its counter, the Standard-MPM identity of the constant basis, and
-!> the P1 peaks errors at h = 0.15 (physics.md 3 and 4).
+!> the P1 peaks errors at h = 0.15 (doc/theory.md 3.3 and 9.5).
 !> Tolerances are measured values with a stated margin (noted next to each constant).
 program test_mls
   use, intrinsic :: iso_fortran_env, only: output_unit
@@ -441,7 +441,7 @@ contains
   end subroutine test_constant_basis_is_mass_projection
 
   !> P1 at h = 0.15: our error below our measured value + 10 %, and within 5 % of the
-  !> independent reference of physics.md 4 (a different jitter draw moves the digits by up
+  !> independent reference of doc/theory.md 9.5 (a different jitter draw moves the digits by up
   !> to 3.5 % at this h). All 2401 evaluation points take the full path.
   subroutine test_peaks_errors_h015()
     integer, parameter :: ncase = 6
@@ -449,7 +449,7 @@ contains
                                          kernel_wendland_c4, kernel_quadratic, kernel_cubic]
     integer, parameter :: bas(ncase) = [basis_constant, basis_constant, basis_linear, &
                                         basis_linear, basis_quadratic, basis_quadratic]
-    ! Our measured errors (seed peaks_seed) and the physics.md reference values.
+    ! Our measured errors (seed peaks_seed) and the reference values of doc/theory.md 9.5.
     real(wp), parameter :: measured(ncase) = [3.357e-2_wp, 2.885e-2_wp, 3.174e-2_wp, &
                                               2.191e-2_wp, 2.962e-3_wp, 2.210e-3_wp]
     real(wp), parameter :: reference(ncase) = [3.36e-2_wp, 2.99e-2_wp, 3.17e-2_wp, &

@@ -1,6 +1,6 @@
 !> MLS inside the time step: Standard MPM is the linear-kernel, constant-basis
 !> MLS path; the Gauss-point quadrature with the transposed strain operator
-!> (physics.md 3.5) keeps the energy of a long elastic run; the manufactured
+!> (doc/theory.md 3.6) keeps the energy of a long elastic run; the manufactured
 !> solution M1 at B = 0.05 cracks Standard MPM but not the MLS pair, which
 !> converges at second order. Bounds are measured values with the margins in
 !> doc/verification.md.
@@ -71,7 +71,7 @@ contains
     if (pair) call use_pair(cfg)
   end function mms_scene
 
-  !> The physics.md 3.5 pair: cubic grid functions, Gauss points, Wendland C2 stresses.
+  !> The pair of doc/theory.md 3.6: cubic grid functions, Gauss points, Wendland C2 stresses.
   subroutine use_pair(cfg)
     type(config_t), intent(inout) :: cfg
     cfg%kernel = 'cubic'

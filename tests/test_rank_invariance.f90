@@ -114,7 +114,7 @@ contains
     end select
   end function scene
 
-  !> W1 (physics.md section 0) as a 2D column of 100 x 2 cells along x with roller
+  !> W1 (doc/theory.md 9.1) as a 2D column of 100 x 2 cells along x with roller
   !> sides, explicit drag, to 5 ms.
   function column_2d(kernel, scheme) result(cfg)
     character(len=*), intent(in) :: kernel, scheme

@@ -397,7 +397,7 @@ contains
     end if
   end subroutine test_seepage_without_porosity_gradient_keeps_n_p_continuous
 
-  !> T1: Terzaghi consolidation of a 1 m layer with real water (physics.md 1.5),
+  !> T1: Terzaghi consolidation of a 1 m layer with real water (doc/theory.md 9.3),
   !> load ramped over 0.02 s; pore pressure and settlement at time factor tv.
   subroutine test_t1_terzaghi(tv)
     real(wp), intent(in) :: tv

@@ -72,7 +72,7 @@ contains
     call materials_from_config(cfg%materials, mats)
   end subroutine column_scene
 
-  !> W1 of physics.md section 0 on a 20-cell grid (h = 0.5 m), 1D or 2D.
+  !> W1 of doc/theory.md 9.1 on a 20-cell grid (h = 0.5 m), 1D or 2D.
   subroutine w1_scene(ndim, cfg, mats)
     integer, intent(in) :: ndim
     type(config_t), intent(out) :: cfg

@@ -110,7 +110,7 @@ module dpmpm_config
     real(wp) :: length(3) = [1.0_wp, 1.0_wp, 1.0_wp]
     integer :: dims(3) = [0, 0, 0]                   !< ranks per axis; 0 = MPI_Dims_create
     ! &shape: grid functions, and how velocities and the force-integral fields are
-    ! reconstructed from the points (doc/input.md, physics.md 3)
+    ! reconstructed from the points (doc/input.md, doc/theory.md 3.3)
     character(len=name_len) :: kernel = 'linear'     !< grid functions: linear | quadratic | cubic
     character(len=name_len) :: velocity_kernel = ''  !< MLS weight of nodal velocities; '' = projection
     character(len=name_len) :: velocity_basis = 'constant'

@@ -3,7 +3,7 @@
 !>   regular grid: kernel_eval_1d gives a point's stencil of nodes and weights;
 !> - reconstruction weights of MLS (any B-spline, tensor product or radial, and
 !>   the radial Wendland C2 and C4 functions): kernel_weight gives the weight of
-!>   a data site at an offset from an evaluation point (physics.md 3.3).
+!>   a data site at an offset from an evaluation point (doc/theory.md 3.3).
 !> Offsets and radii are in cell units; derivatives are with respect to them.
 module dpmpm_kernels
   use dpmpm_kinds, only: wp
@@ -91,7 +91,7 @@ contains
   end subroutine kernel_eval_1d
 
   !> 1D B-spline of the given order (linear, quadratic, cubic) centred at 0, at
-  !> xi in cell units, with its derivative (physics.md 3.3).
+  !> xi in cell units, with its derivative (doc/theory.md 3.3).
   elemental subroutine bspline_1d(kernel, xi, w, dw)
     integer, intent(in) :: kernel
     real(wp), intent(in) :: xi

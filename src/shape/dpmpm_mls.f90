@@ -1,4 +1,4 @@
-!> Moving Least Squares (MLS) reconstruction (physics.md 3.1 and 3.4).
+!> Moving Least Squares (MLS) reconstruction (doc/theory.md 3.3 and 3.4).
 !>
 !> The basis is shifted to the evaluation point x and scaled by the cell size h:
 !> a site at s contributes pv = p(y), y = (s - x)/h, so p(x) becomes e_1 and the moment
@@ -9,7 +9,7 @@
 !> (constant, linear, quadratic), so a lower level is the leading block of a higher one and
 !> the moments of a lower level are the first packed_size(m) entries of the packed moments.
 !>
-!> Fallback policy (physics.md 3.4), applied per evaluation point in mls_gamma:
+!> Fallback policy (doc/theory.md 3.4), applied per evaluation point in mls_gamma:
 !> 1. mom(1) <= 0 (no site in range): gamma = 0, level -1 (counted nempty).
 !> 2. The requested level is accepted when count >= basis size, the Cholesky factor of Mhat
 !>    exists (pivots of the diagonally equilibrated matrix above nb*epsilon) and a 1-norm
@@ -39,7 +39,7 @@ module dpmpm_mls
   integer, parameter :: mls_max_basis = 10, mls_max_packed = 55
   !> Smallest accepted reciprocal condition estimate of the equilibrated moment matrix.
   real(wp), parameter :: mls_rcond_min = 1.0e-8_wp
-  !> Tikhonov factor: eps = mls_tikhonov * trace(Mhat)/nb (physics.md 3.4 item 3).
+  !> Tikhonov factor: eps = mls_tikhonov * trace(Mhat)/nb (doc/theory.md 3.4).
   real(wp), parameter :: mls_tikhonov = 1.0e-6_wp
 
   !> How often each fallback path was taken (one counter per evaluation point).
@@ -157,7 +157,7 @@ contains
     call scaled_solve(m, u, sc, rhs(1:m), gamma(1:m))
   end subroutine mls_gamma
 
-  !> MLS shape functions of scattered sites at x and their gradients (physics.md 3.1).
+  !> MLS shape functions of scattered sites at x and their gradients (doc/theory.md 3.3).
   !> x(nd): evaluation point; sites(nd, n); weight(n) multiplies each kernel weight (volume or
   !> mass; ones for plain MLS); kernel offsets are (x - sites(:,p))/h in cell units, radius and
   !> radial as in kernel_weight. phi(n) = Phi_p(x), dphi(nd, n) = d Phi_p / d x (per metre).

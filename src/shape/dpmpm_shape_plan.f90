@@ -2,7 +2,7 @@
 !> of the transfer (P2G, G2P, nodal masses), how nodal velocities are
 !> reconstructed (mass-weighted projection or MLS), and how the force integrals
 !> are evaluated (point quadrature, or Gauss points of the grid cells with
-!> stresses reconstructed by MLS; physics.md 3.2 and 3.5).
+!> stresses reconstructed by MLS; doc/theory.md 3.3 and 3.6).
 !>
 !> Standard MPM is the linear grid kernel with projection velocities and point
 !> quadrature; the projection is the constant-basis MLS with the grid kernel

@@ -6,11 +6,11 @@
 !> sin(omega t), omega = beta c, c = sqrt(M/rho) with the constrained modulus M
 !> (1D is uniaxial strain).
 !>
-!> mms: the manufactured solution of physics.md 2 on the unit square (M1):
+!> mms: the manufactured solution of doc/theory.md 9.4 on the unit square (M1):
 !> u_x = B sin(pi X) sin(c pi t), u_y = B sin(pi Y) sin(c pi t + pi), c = sqrt(E/rho0),
-!> compressible neo-Hookean, driven by the body force of physics.md 2.2 at the
+!> compressible neo-Hookean, driven by the body force of doc/theory.md 9.4 at the
 !> points' reference positions and the step's start time. Errors: e_u(t) of
-!> physics.md 2.3, the volume-weighted RMS velocity error, the mean velocity
+!> doc/theory.md 9.4, the volume-weighted RMS velocity error, the mean velocity
 !> error of the paper's eq. (15) (time-averaged from the history), and two crack
 !> measures: the largest ratio of the distance between initially neighbouring
 !> points to its exact value, and the number of grid cells without a point.
@@ -64,7 +64,7 @@ contains
   end subroutine mms_exact
 
   !> Body acceleration of the manufactured solution at each point's reference
-  !> position and time t (physics.md 2.2):
+  !> position and time t (doc/theory.md 9.4):
   !> b_x = (pi^2 u_x/rho0) [(lambda (1 - ln J) + mu)/F11^2 + mu - rho0 c^2], b_y alike.
   subroutine benchmark_body_force(cfg, mats, ps, t, bacc)
     type(config_t), intent(in) :: cfg

@@ -1,4 +1,4 @@
-!> Analytical reference for the finite 1D saturated column under a step load (physics.md 1.1-1.3).
+!> Analytical reference for the finite 1D saturated column under a step load (doc/theory.md 2.7 and 9.2).
 !>
 !> Column 0 <= z <= L, z measured down from the loaded top. Top: total stress step
 !> sigma(0,t) = sigma' - p = -q H(t), drained, p(0,t) = 0, so sigma'(0,t) = -q. Bottom: fixed and
@@ -6,7 +6,7 @@
 !> through the drag coefficient Q = n_f^2 rho_f g / k). Signs: sigma' positive in tension, p
 !> positive in compression, velocities positive downwards.
 !>
-!> Algorithm A of physics.md 1.3 (compressible constituents): in the Laplace domain the solution
+!> Algorithm A of doc/theory.md 9.2 (compressible constituents): in the Laplace domain the solution
 !> is exact in space, a sum of two downward modes e^{-lambda_j z} and two upward modes
 !> e^{-lambda_j (L - z)} (the decaying form, so nothing overflows). The 4x4 system of the two top
 !> and the two bottom conditions is solved in closed form: with V_s(L) = V_f(L) = 0 and two
@@ -30,7 +30,7 @@
 !> - FFT length 16 N, so the highest kept frequency has 8 samples per period for the cubic
 !>   interpolation; 32 samples per period changed no result by more than 1e-9 q, even at fronts.
 !> Measured errors away from fronts: 3.8e-8 q on the W1 plateau, 1.5e-8 q against algorithm B
-!> (K_f = 1e15), 8e-8 q against the undrained split of physics.md's sanity set.
+!> (K_f = 1e15), 8e-8 q against the undrained split of the sanity set of doc/theory.md 9.2.
 !> Cost: about 0.3 s plus 0.03 s per depth (debug build).
 module dpmpm_biot_column
   use, intrinsic :: iso_c_binding
@@ -77,7 +77,7 @@ module dpmpm_biot_column
 
 contains
 
-  !> Drag coefficient Q = n_f^2 rho_f g / k [kg m^-3 s^-1] of the v_s-v_f equations (physics.md 1.1).
+  !> Drag coefficient Q = n_f^2 rho_f g / k [kg m^-3 s^-1] of the v_s-v_f equations (doc/theory.md 2.2).
   pure function biot_drag(col) result(q_drag)
     type(biot_column_t), intent(in) :: col
     real(wp) :: q_drag
@@ -95,7 +95,7 @@ contains
     sigma_u = -col%load*col%e_c/(col%e_c + m)
   end subroutine biot_undrained_split
 
-  !> Wave speeds of physics.md 1.2. c_fast: undrained speed c_u = sqrt((E_c + M)/rho_sat), the
+  !> Wave speeds of doc/theory.md 2.7. c_fast: undrained speed c_u = sqrt((E_c + M)/rho_sat), the
   !> one the CFL check uses. c_slow: the slow root of the uncoupled (Q -> 0) relation
   !> m_s m_f c^4 - (a m_f + d m_s) c^2 + E_c d = 0, a = E_c + n_s^2 M, d = n_f^2 M.
   !> Optional: c_fast_uncoupled (the fast root of that relation) and c_incompressible =
@@ -224,7 +224,7 @@ contains
     call fftw_destroy_plan(plan)
   end subroutine biot_column_solve
 
-  !> Algorithm B of physics.md 1.3: sigma'(z,t) of the finite column with incompressible
+  !> Algorithm B of doc/theory.md 9.2: sigma'(z,t) of the finite column with incompressible
   !> constituents (telegraph equation rho~ u_tt = E_c u_zz - (rho_f g/k) u_t), as the image sum
   !> sigma' = sum_j (-1)^j [f(2jL + z, t) + f(2(j+1)L - z, t)] of the half-space solution
   !> f(zeta,t) = -q H(t - a)[e^{-beta a} + a beta int_a^t e^{-beta tau} I_1(beta r)/r dtau],
@@ -258,7 +258,7 @@ contains
   !> Half-space step response f of algorithm B at travel time a = zeta/c. With tau = a cosh(theta),
   !> r = a sinh(theta), dtau = r dtheta, the integrand becomes e^{-beta a e^{-theta}} e^{-x} I_1(x),
   !> x = beta a sinh(theta): smooth and bounded, integrated by composite Simpson in theta (4000
-  !> panels; halving them changed the results by < 1e-13 at the physics.md cross-check points).
+  !> panels; halving them changed the results by < 1e-13 at the cross-check points of doc/theory.md 9.2).
   pure function half_space_sigma(q, a, beta, t) result(f)
     real(wp), intent(in) :: q, a, beta, t
     real(wp) :: f
@@ -323,7 +323,7 @@ contains
     end if
   end function scaled_i1
 
-  !> The two modes of physics.md 1.3 at Laplace variable s, reduced to the amplitudes of the
+  !> The two modes of doc/theory.md 9.2 at Laplace variable s, reduced to the amplitudes of the
   !> fields per unit load after the boundary conditions are applied:
   !> amp(:, j) = (phi_s, phi_f, Sigma', P)_j * c_j, c_j = d_j / (1 + e^{-2 lambda_j L}).
   pure subroutine column_modes(col, s, lam, amp)

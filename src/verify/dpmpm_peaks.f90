@@ -1,4 +1,4 @@
-!> Verification case P1 (physics.md 4): MLS reconstruction of MATLAB's "peaks" function
+!> Verification case P1 (doc/theory.md 9.5): MLS reconstruction of MATLAB's "peaks" function
 !> from a jittered grid of data sites, measured on the 49 x 49 peaks grid.
 !> Sites: the regular grid of spacing h on [-3, 3]^2, interior sites moved by up to
 !> +-0.25 h per axis with hash_uniform (fixed seed), boundary sites left on the grid.
@@ -26,7 +26,7 @@ module dpmpm_peaks
 
 contains
 
-  !> MATLAB's peaks function (physics.md 4).
+  !> MATLAB's peaks function (doc/theory.md 9.5).
   elemental real(wp) function peaks(x, y) result(f)
     real(wp), intent(in) :: x, y
     f = 3.0_wp*(1.0_wp - x)**2*exp(-x*x - (y + 1.0_wp)**2) &

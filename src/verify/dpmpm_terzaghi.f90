@@ -1,4 +1,4 @@
-!> Terzaghi 1D consolidation with a compressible pore fluid (physics.md 1.5): the quasi-static
+!> Terzaghi 1D consolidation with a compressible pore fluid (doc/theory.md 9.3): the quasi-static
 !> reference for the two-phase solver.
 !>
 !> Layer 0 <= z <= H, z measured down from the drained top (p = 0), impermeable rigid bottom;
@@ -9,7 +9,7 @@
 !> - U(T_v) = 1 - sum_{m>=0} (2/M_m^2) exp(-M_m^2 T_v).
 !> - Settlement s = int_0^H (q - p)/E_c dz (sigma' = p - q, compression strain -sigma'/E_c)
 !>   = s_u + (p_0 H/E_c) U, with the undrained settlement s_u = q H/(E_c + M); the same as
-!>   physics.md's s_u + (q/E_c - s_u/H) H U.
+!>   s_u + (q/E_c - s_u/H) H U of doc/theory.md, eq. (9.1).
 !> Number of terms: every term with M_m^2 T_v < 40 is kept (the first left out is below
 !> e^{-40} = 4e-18 relative): 64 terms at T_v = 1e-3, 7 at T_v = 0.1, 2 at T_v = 1; in general
 !> about sqrt(40/T_v)/pi. The series then converge to round-off for every T_v > 0 (measured

@@ -1,4 +1,4 @@
-"""Terzaghi's one-dimensional consolidation (physics.md 1.5, the same series as
+"""Terzaghi's one-dimensional consolidation (doc/theory.md 9.3, the same series as
 src/verify/dpmpm_terzaghi.f90, written again here): a layer of thickness H, drained loaded top,
 impermeable bottom, a load q applied at t = 0.
 

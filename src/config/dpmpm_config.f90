@@ -129,6 +129,8 @@ module dpmpm_config
     integer :: fluid_bc(6) = fbc_default             !< pore-fluid condition per face
     real(wp) :: pore_pressure(6) = 0.0_wp            !< Pa, prescribed on drained faces
     real(wp) :: pore_pressure_ramp(6) = 0.0_wp       !< s, linear ramp of pore_pressure; 0 = step
+    !> condition 'absorbing': the material id whose impedance the face's dashpots match; 0 = none
+    integer :: absorbing(6) = 0
     ! &output
     character(len=1024) :: output_dir = '.'
     real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only

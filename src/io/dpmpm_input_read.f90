@@ -464,16 +464,17 @@ contains
     character(len=name_len) :: face, condition, fluid
     real(wp) :: pore_pressure, pore_pressure_ramp
     logical :: seen(6), impermeable
-    integer :: k, f, c, fc, ios
+    integer :: k, f, c, fc, ios, material, absorbing
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     character(len=:), allocatable :: why
-    namelist /boundary/ face, condition, fluid, pore_pressure, pore_pressure_ramp
+    namelist /boundary/ face, condition, fluid, pore_pressure, pore_pressure_ramp, material
     seen = .false.
     ok = .true.
     do k = 1, pb%count(g_boundary)
       face = ''; condition = bc_names(bc_free); fluid = ''; pore_pressure = 0.0_wp
-      pore_pressure_ramp = 0.0_wp
+      pore_pressure_ramp = 0.0_wp; material = 0
+      absorbing = 0
       read (records(first_record(pb, g_boundary, k):), nml=boundary, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=boundary)
@@ -491,11 +492,17 @@ contains
         c = bc_fixed
       case ('roller')
         c = bc_roller
+      case ('absorbing')
+        c = bc_free
+        absorbing = absorbing_material(pb, k, cfg, material)
       case default
         c = -1
         call add_value(pb, g_boundary, k, 'condition', quote(condition), &
-                       'the conditions are free, fixed, roller')
+                       'the conditions are free, fixed, roller, absorbing')
       end select
+      if (material /= 0 .and. trim(adjustl(condition)) /= 'absorbing') &
+        call add_value(pb, g_boundary, k, 'material', itoa(material), &
+                       "only an absorbing face takes a material (condition = 'absorbing')")
       select case (trim(adjustl(fluid)))
       case ('', 'default')
         fc = fbc_default
@@ -544,9 +551,43 @@ contains
         cfg%fluid_bc(f) = fc
         cfg%pore_pressure(f) = pore_pressure
         cfg%pore_pressure_ramp(f) = pore_pressure_ramp
+        cfg%absorbing(f) = absorbing
       end if
     end do
   end subroutine read_boundaries
+
+  !> The material whose impedance the dashpots of an absorbing face (&boundary k) match:
+  !> material when given, else the scene's only material of a body (a soil, or the fluid
+  !> where there is no other); 0 with a problem added when there is no such choice.
+  integer function absorbing_material(pb, k, cfg, material) result(id)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k, material
+    type(config_t), intent(in) :: cfg
+    integer :: m, nsolid
+    id = 0
+    if (.not. allocated(cfg%materials)) return
+    if (material /= 0) then
+      if (findloc(cfg%materials%id, material, dim=1) == 0) then
+        call add_value(pb, g_boundary, k, 'material', itoa(material), &
+                       'no &material has this id')
+      else
+        id = material
+      end if
+      return
+    end if
+    nsolid = count(cfg%materials%model /= 'fluid')
+    do m = 1, size(cfg%materials)
+      if (nsolid == 0 .or. cfg%materials(m)%model /= 'fluid') then
+        if (id /= 0) then
+          call add_value(pb, g_boundary, k, 'material', '(not given)', "an absorbing face "// &
+                         "matches the impedance of one material: name it with material = id")
+          id = 0
+          return
+        end if
+        id = cfg%materials(m)%id
+      end if
+    end do
+  end function absorbing_material
 
   !> Read every &load.
   subroutine read_loads(pb, records, cfg, ok)

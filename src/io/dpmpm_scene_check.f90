@@ -1,5 +1,5 @@
 !> Checks of a scene that need its points: every &region makes points, and every &load
-!> acts on a face that the body touches. Run once the points are generated; a failure is
+!> and absorbing face acts on a face that the body touches. Run once the points are generated; a failure is
 !> reported like an input error, once by rank 0, and every rank returns status 2 (the
 !> caller stops, with exit code 2).
 module dpmpm_scene_check
@@ -29,6 +29,7 @@ contains
     integer, intent(out) :: status
     type(particle_set_t), intent(in), optional :: fluid
     integer(i8), allocatable :: nreg(:), nload(:)
+    integer(i8) :: nabs(6)
     integer :: r, l, f, rank, nbad
     character(len=32) :: spacing
     call MPI_Comm_rank(comm, rank)
@@ -40,7 +41,14 @@ contains
       if (present(fluid)) nload(l) = nload(l) + points_next_to_face(grid, cfg%loads(l)%face, fluid)
     end do
     call MPI_Allreduce(MPI_IN_PLACE, nload, size(nload), MPI_INTEGER8, MPI_SUM, comm)
-    nbad = count(nreg == 0) + count(nload == 0)
+    nabs = 1
+    do f = 1, 2*cfg%ndim
+      if (cfg%absorbing(f) == 0) cycle
+      nabs(f) = points_next_to_face(grid, f, solid)
+      if (present(fluid)) nabs(f) = nabs(f) + points_next_to_face(grid, f, fluid)
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, nabs, 6, MPI_INTEGER8, MPI_SUM, comm)
+    nbad = count(nreg == 0) + count(nload == 0) + count(nabs == 0)
     status = 0
     if (nbad == 0) return
     if (rank == 0) then
@@ -59,6 +67,13 @@ contains
                     ''': the body does not touch face '//face_names(f)//' (no point in the '// &
                     'layer of cells next to it), so the traction would act on nothing; '// &
                     'move the load to a face the body reaches, or extend the body to it')
+      end do
+      do f = 1, 6
+        if (nabs(f) > 0) cycle
+        call report(cfg, '&boundary face = '''//face_names(f)//''', condition = '// &
+                    '''absorbing'': the body does not touch face '//face_names(f)//' (no '// &
+                    'point in the layer of cells next to it), so its dashpots would act on '// &
+                    'nothing; extend the body to the face')
       end do
       flush (error_unit)
     end if

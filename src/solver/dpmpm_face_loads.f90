@@ -1,7 +1,8 @@
 !> Face loads: the nodal forces of the &load tractions and of the prescribed pore
 !> pressure of drained faces (the boundary terms of the weak form, paper eq. 5),
 !> each ramped in time and shared among the nodes by their grid functions at the
-!> face, with the exterior share of a mirror wall given to its image.
+!> face, with the exterior share of a mirror wall given to its image; and the
+!> dashpots of absorbing faces.
 module dpmpm_face_loads
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, load_cfg_t, bc_free, fbc_drained, fbc_impermeable
@@ -19,12 +20,17 @@ module dpmpm_face_loads
     type(load_cfg_t), allocatable :: loads(:)
     integer :: fbc(6) = 0                 !< resolved pore-fluid condition per face
     real(wp) :: pore_pressure(6) = 0.0_wp, pore_pressure_ramp(6) = 0.0_wp
+    !> Dashpots of absorbing faces, force per area and velocity (Pa s/m): on the skeleton
+    !> normal and tangential to the face, on the pore fluid normal to it
+    real(wp) :: z_normal(6) = 0.0_wp, z_shear(6) = 0.0_wp, z_fluid(6) = 0.0_wp
+    logical :: absorbing = .false.        !< some face absorbs
   contains
     procedure :: init => face_loads_init
     procedure :: free => face_loads_free
     procedure :: traction => face_traction
     procedure :: pore_pressure_force => face_pore_pressure
     procedure :: fluid_ties
+    procedure :: dashpot
   end type face_loads_t
 
 contains
@@ -47,7 +53,88 @@ contains
     self%fbc = fbc
     self%pore_pressure = cfg%pore_pressure
     self%pore_pressure_ramp = cfg%pore_pressure_ramp
+    call absorbing_impedances(self, cfg)
   end subroutine face_loads_init
+
+  !> Dashpot coefficients of the absorbing faces (doc/theory.md 6.6), matched to a plane
+  !> wave of the face's material leaving the body normally: with the constrained modulus
+  !> E_c, shear modulus G, porosity n and pore-fluid modulus K_f of its first region (n = 0
+  !> for a dry body), the mixture density rho and the undrained speed c = sqrt((E_c +
+  !> K_f/n)/rho), a wave with both phases moving at v carries sigma' = -E_c v/c and p =
+  !> K_f v/(n c); the skeleton takes sigma' and its share (1 - n) of p, the pore fluid its
+  !> share n of p, so that z_normal = E_c/c + (1 - n) K_f/(n c), z_fluid = K_f/c, and the
+  !> sum is rho c. Shear: z_shear = sqrt(G rho). A fluid material: z_fluid = z_normal =
+  !> sqrt(K_f rho_f), no shear.
+  subroutine absorbing_impedances(self, cfg)
+    class(face_loads_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    integer :: f, m, r, mf
+    real(wp) :: e, nu, ec, g, n, kf, rhof, rho, c
+    self%z_normal = 0.0_wp
+    self%z_shear = 0.0_wp
+    self%z_fluid = 0.0_wp
+    self%absorbing = any(cfg%absorbing(1:2*cfg%ndim) /= 0)
+    do f = 1, 2*cfg%ndim
+      if (cfg%absorbing(f) == 0) cycle
+      m = findloc(cfg%materials%id, cfg%absorbing(f), dim=1)
+      associate (mat => cfg%materials(m))
+        if (mat%model == 'fluid') then
+          ! Free water: the points of a one-phase scene are its only set.
+          self%z_fluid(f) = sqrt(mat%bulk_modulus*mat%density)
+          self%z_normal(f) = self%z_fluid(f)
+          cycle
+        end if
+        e = mat%youngs_modulus
+        nu = mat%poisson_ratio
+        ec = e*(1.0_wp - nu)/((1.0_wp + nu)*(1.0_wp - 2.0_wp*nu))
+        g = e/(2.0_wp*(1.0_wp + nu))
+        n = 0.0_wp; kf = 0.0_wp; rhof = 0.0_wp
+        do r = 1, size(cfg%regions)
+          if (cfg%regions(r)%material /= cfg%absorbing(f)) cycle
+          if (cfg%regions(r)%phase == 'saturated') then
+            mf = findloc(cfg%materials%id, cfg%regions(r)%fluid_material, dim=1)
+            n = cfg%regions(r)%porosity
+            kf = cfg%materials(mf)%bulk_modulus
+            rhof = cfg%materials(mf)%density
+          end if
+          exit
+        end do
+        rho = (1.0_wp - n)*mat%density + n*rhof
+        if (n > 0.0_wp) then
+          c = sqrt((ec + kf/n)/rho)
+          self%z_normal(f) = ec/c + (1.0_wp - n)*kf/(n*c)
+          self%z_fluid(f) = kf/c
+        else
+          self%z_normal(f) = sqrt(ec*rho)
+        end if
+        self%z_shear(f) = sqrt(g*rho)
+      end associate
+    end do
+  end subroutine absorbing_impedances
+
+  !> Dashpot coefficients (force per velocity, per component) of node idx on the
+  !> skeleton (fluid = .false.) or the pore fluid: the face impedances times the node's
+  !> share of the face area (face_weight, face_area); zero away from absorbing faces.
+  function dashpot(self, idx, fluid) result(cd)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    logical, intent(in) :: fluid
+    real(wp) :: cd(3), w, zn, zt
+    integer :: f, d
+    cd = 0.0_wp
+    if (.not. self%absorbing) return
+    do f = 1, 2*self%nd
+      zn = merge(self%z_fluid(f), self%z_normal(f), fluid)
+      zt = merge(0.0_wp, self%z_shear(f), fluid)
+      if (zn == 0.0_wp .and. zt == 0.0_wp) cycle
+      w = face_weight(self, idx, f, self%grid%bc)
+      if (w == 0.0_wp) cycle
+      d = (f + 1)/2
+      w = w*face_area(self, idx, d)
+      cd(1:self%nd) = cd(1:self%nd) + w*zt
+      cd(d) = cd(d) + w*(zn - zt)
+    end do
+  end function dashpot
 
   !> Release what init made; the faces carry no load afterwards.
   subroutine face_loads_free(self)
@@ -56,6 +143,10 @@ contains
     self%fbc = 0
     self%pore_pressure = 0.0_wp
     self%pore_pressure_ramp = 0.0_wp
+    self%z_normal = 0.0_wp
+    self%z_shear = 0.0_wp
+    self%z_fluid = 0.0_wp
+    self%absorbing = .false.
   end subroutine face_loads_free
 
   !> Nodal force of the &load tractions at node idx (zero away from the loaded

@@ -1,7 +1,7 @@
 !> The nodal update (physics.md 4 and 6 steps 7-8): nodal velocities before and
 !> after the step from the summed node fields, with gravity, face loads and the
 !> boundary conditions, for one phase alone or for the two phases coupled by the
-!> drag (dpmpm_drag), and the nodal half of the MUSL remap. Work of the external
+!> drag (dpmpm_drag), the dashpots of absorbing faces, and the nodal half of the MUSL remap. Work of the external
 !> forces and the drag dissipation are booked here for the energy balance.
 module dpmpm_nodal_update
   use dpmpm_kinds, only: wp
@@ -26,7 +26,7 @@ contains
     real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: ext_work
     integer :: i, j, k
-    real(wp) :: m, vold(3), vnew(3), fext(3)
+    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3)
     logical :: fix(3)
     nvel = 0.0_wp
     do k = olo(3), ohi(3)
@@ -40,11 +40,15 @@ contains
           fext = m*gravity + faces%traction(time, [i, j, k])
           vnew = 0.0_wp
           vnew(1:nd) = vold(1:nd) + dt*(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
+          ! Dashpots of absorbing faces, at the new velocity (stable at any step).
+          cd = faces%dashpot([i, j, k], .false.)
+          if (any(cd(1:nd) > 0.0_wp)) vnew(1:nd) = vnew(1:nd)*m/(m + dt*cd(1:nd))
           where (fix) vold = 0.0_wp
           where (fix) vnew = 0.0_wp
           nvel(1:nd, i, j, k) = vold(1:nd)
           nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
-          ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd), vold(1:nd) + vnew(1:nd))
+          ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd) - cd(1:nd)*vnew(1:nd), &
+                                                      vold(1:nd) + vnew(1:nd))
         end do
       end do
     end do
@@ -71,6 +75,7 @@ contains
     real(wp), intent(inout) :: ext_work, drag_loss
     integer :: i, j, k, c
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
+    real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd
     logical :: sfix(3), ffix(3), tie(3)
     nvel_s = 0.0_wp
     nvel_f = 0.0_wp
@@ -100,28 +105,35 @@ contains
           sfix = faces%grid%constrained([i, j, k])
           ffix = faces%grid%constrained([i, j, k], mbc)
           tie = faces%fluid_ties([i, j, k])
+          cs = faces%dashpot([i, j, k], .false.)
+          cf = faces%dashpot([i, j, k], .true.)
           vsn = 0.0_wp; vfn = 0.0_wp
           do c = 1, nd
+            ! Dashpots of absorbing faces act at the new velocities (-cs vsn, -cf vfn):
+            ! they add dt cs, dt cf to the masses and -cs vs, -cf vf to the forces of
+            ! the solve (nothing where cs = cf = 0).
+            msd = ms + dt*cs(c); mfd = mf + dt*cf(c)
+            fsd = fs(c) - cs(c)*vs(c); ffd = ff(c) - cf(c)*vf(c)
             if (ms > 0.0_wp .and. mf > 0.0_wp .and. tie(c)) then
               ! The mixture moves together normal to an impermeable face.
               v = (ms*vs(c) + mf*vf(c))/(ms + mf)
               vs(c) = v; vf(c) = v
-              v = v + dt*(fs(c) + ff(c))/(ms + mf)
+              v = v + dt*(fs(c) + ff(c) - (cs(c) + cf(c))*v)/(msd + mfd)
               vsn(c) = v; vfn(c) = v
             else if (ms > 0.0_wp .and. mf > 0.0_wp) then
               if (sfix(c)) then
                 ! Solid held: the fluid moves against a resting skeleton.
                 vs(c) = 0.0_wp
-                af = (ff(c) - dn*vf(c))/merge(mf + dt*dn, mf, implicit)
+                af = (ffd - dn*vf(c))/merge(mfd + dt*dn, mfd, implicit)
               else
-                call drag_solve(ms, mf, dn, fs(c), ff(c), vs(c), vf(c), dt, implicit, as, af)
+                call drag_solve(msd, mfd, dn, fsd, ffd, vs(c), vf(c), dt, implicit, as, af)
                 vsn(c) = vs(c) + dt*as
               end if
               vfn(c) = vf(c) + dt*af
             else if (ms > 0.0_wp) then
-              vsn(c) = vs(c) + dt*fs(c)/ms
+              vsn(c) = vs(c) + dt*fsd/msd
             else
-              vfn(c) = vf(c) + dt*ff(c)/mf
+              vfn(c) = vf(c) + dt*ffd/mfd
             end if
             if (sfix(c)) then
               vs(c) = 0.0_wp; vsn(c) = 0.0_wp
@@ -136,6 +148,9 @@ contains
             v = dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)*0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
             ext_work = ext_work - v
             drag_loss = drag_loss + v
+            ! Work of the dashpots (energy leaving through absorbing faces).
+            ext_work = ext_work - 0.5_wp*dt*(merge(cs(c)*vsn(c)*(vs(c) + vsn(c)), 0.0_wp, ms > 0.0_wp) + &
+                                             merge(cf(c)*vfn(c)*(vf(c) + vfn(c)), 0.0_wp, mf > 0.0_wp))
           end do
           nvel_s(1:nd, i, j, k) = vs(1:nd)
           nvel_s(nd + 1:2*nd, i, j, k) = vsn(1:nd)

@@ -5,7 +5,8 @@
 !> dashpots of absorbing faces.
 module dpmpm_face_loads
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, load_cfg_t, bc_free, fbc_drained, fbc_impermeable
+  use dpmpm_config, only: config_t, load_cfg_t, region_cfg_t, bc_free, fbc_drained, fbc_impermeable
+  use dpmpm_generate, only: point_in_polygon
   use dpmpm_grid, only: grid_t
   use dpmpm_kernels, only: bspline_1d
   implicit none
@@ -24,6 +25,7 @@ module dpmpm_face_loads
     !> normal and tangential to the face, on the pore fluid normal to it
     real(wp) :: z_normal(6) = 0.0_wp, z_shear(6) = 0.0_wp, z_fluid(6) = 0.0_wp
     logical :: absorbing = .false.        !< some face absorbs
+    type(region_cfg_t), allocatable :: regions(:) !< initial states (absorbing faces' static load)
   contains
     procedure :: init => face_loads_init
     procedure :: free => face_loads_free
@@ -31,6 +33,7 @@ module dpmpm_face_loads
     procedure :: pore_pressure_force => face_pore_pressure
     procedure :: fluid_ties
     procedure :: dashpot
+    procedure :: absorbing_static
   end type face_loads_t
 
 contains
@@ -74,6 +77,7 @@ contains
     self%z_shear = 0.0_wp
     self%z_fluid = 0.0_wp
     self%absorbing = any(cfg%absorbing(1:2*cfg%ndim) /= 0)
+    if (self%absorbing) self%regions = cfg%regions
     do f = 1, 2*cfg%ndim
       if (cfg%absorbing(f) == 0) cycle
       m = findloc(cfg%materials%id, cfg%absorbing(f), dim=1)
@@ -147,6 +151,7 @@ contains
     self%z_shear = 0.0_wp
     self%z_fluid = 0.0_wp
     self%absorbing = .false.
+    if (allocated(self%regions)) deallocate (self%regions)
   end subroutine face_loads_free
 
   !> Nodal force of the &load tractions at node idx (zero away from the loaded
@@ -190,6 +195,75 @@ contains
               merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)*self%pore_pressure(f)
     end do
   end function face_pore_pressure
+
+  !> Static load of the absorbing faces at node idx on the skeleton (fluid = .false.) or
+  !> the pore fluid: the initial state of the body at the face, which the dashpots cannot
+  !> carry, as a constant traction (doc/theory.md 6.6). At the node's point on the face
+  !> the first &region that holds it gives the effective stress sigma' and, when
+  !> saturated, the pore pressure p and porosity n (stress, stress_gradient, pore_pressure,
+  !> pore_pressure_gradient); with the outward normal e the skeleton takes (sigma' e -
+  !> (1 - n) p e) A and the fluid -n p e A (A the node's share of the face area).
+  function absorbing_static(self, idx, fluid) result(fs)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    logical, intent(in) :: fluid
+    real(wp) :: fs(3), w, x(3), sg, sig(6), p, n
+    integer :: f, d, r, k
+    integer, parameter :: col(3, 3) = reshape([1, 6, 5, 6, 2, 4, 5, 4, 3], [3, 3])
+    fs = 0.0_wp
+    if (.not. self%absorbing) return
+    do f = 1, 2*self%nd
+      if (self%z_normal(f) == 0.0_wp .and. self%z_fluid(f) == 0.0_wp) cycle
+      w = face_weight(self, idx, f, self%grid%bc)
+      if (w == 0.0_wp) cycle
+      d = (f + 1)/2
+      sg = merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)
+      x = 0.0_wp
+      x(1:self%nd) = self%grid%origin(1:self%nd) + real(idx(1:self%nd), wp)*self%grid%h(1:self%nd)
+      ! On the face, a hair inside the body.
+      x(d) = self%grid%origin(d) + merge(0.0_wp, real(self%grid%ncells(d), wp), sg < 0.0_wp)* &
+             self%grid%h(d) - sg*1.0e-9_wp*self%grid%h(d)
+      r = region_at(self, x)
+      if (r == 0) cycle
+      associate (reg => self%regions(r))
+        sig = reg%stress
+        do k = 1, 3
+          sig = sig + reg%stress_gradient(:, k)*x(k)
+        end do
+        n = 0.0_wp
+        p = 0.0_wp
+        if (reg%phase == 'saturated') then
+          n = reg%porosity
+          p = reg%pore_pressure + dot_product(reg%pore_pressure_gradient, x)
+        end if
+      end associate
+      w = w*face_area(self, idx, d)
+      if (fluid) then
+        fs(d) = fs(d) - w*n*p*sg
+      else
+        fs(1:self%nd) = fs(1:self%nd) + w*sg*sig(col(1:self%nd, d))
+        fs(d) = fs(d) - w*(1.0_wp - n)*p*sg
+      end if
+    end do
+  end function absorbing_static
+
+  !> The first region that holds x (boxes with their faces, polygons in 2D); 0 for none.
+  integer function region_at(self, x) result(r)
+    class(face_loads_t), intent(in) :: self
+    real(wp), intent(in) :: x(3)
+    integer :: nd
+    nd = self%nd
+    do r = 1, size(self%regions)
+      associate (reg => self%regions(r))
+        if (reg%shape == 'polygon') then
+          if (point_in_polygon(x(1:2), reg%poly(:, 1:reg%npoly))) return
+        else
+          if (all(x(1:nd) >= reg%lo(1:nd)) .and. all(x(1:nd) <= reg%hi(1:nd))) return
+        end if
+      end associate
+    end do
+    r = 0
+  end function region_at
 
   !> Share of node idx in a load on grid face f: the grid function of the node at
   !> the face, Psi_I(x_face) along the face normal (zero for nodes beyond the grid

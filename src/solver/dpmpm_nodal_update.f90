@@ -1,4 +1,4 @@
-!> The nodal update (physics.md 4 and 6 steps 7-8): nodal velocities before and
+!> The nodal update (doc/theory.md 4.2): nodal velocities before and
 !> after the step from the summed node fields, with gravity, face loads and the
 !> boundary conditions, for one phase alone or for the two phases coupled by the
 !> drag (dpmpm_drag), the dashpots of absorbing faces, and the nodal half of the MUSL remap. Work of the external
@@ -37,7 +37,7 @@ contains
           fix = faces%grid%constrained([i, j, k])
           vold = 0.0_wp
           vold(1:nd) = node(2:1 + nd, i, j, k)/m
-          fext = m*gravity + faces%traction(time, [i, j, k])
+          fext = m*gravity + faces%traction(time, [i, j, k]) + faces%absorbing_static([i, j, k], .false.)
           vnew = 0.0_wp
           vnew(1:nd) = vold(1:nd) + dt*(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
           ! Dashpots of absorbing faces, at the new velocity (stable at any step).
@@ -54,7 +54,7 @@ contains
     end do
   end subroutine nodal_update
 
-  !> Nodal update of both phases on the owned nodes (physics.md 6 steps 7-8):
+  !> Nodal update of both phases on the owned nodes (doc/theory.md 4.2):
   !> forces, gravity, the total-stress traction (on the solid where there is
   !> solid) and the prescribed pore pressure of drained faces, the drag solve
   !> (explicit or implicit) where both phases meet, each phase alone elsewhere,
@@ -75,7 +75,7 @@ contains
     real(wp), intent(inout) :: ext_work, drag_loss
     integer :: i, j, k, c
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
-    real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd
+    real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd, ts(3), tf(3)
     logical :: sfix(3), ffix(3), tie(3)
     nvel_s = 0.0_wp
     nvel_f = 0.0_wp
@@ -89,17 +89,20 @@ contains
           if (ms <= 0.0_wp .or. mf <= 0.0_wp) dn = 0.0_wp
           vs = 0.0_wp; vf = 0.0_wp; fs = 0.0_wp; ff = 0.0_wp
           tr = faces%traction(time, [i, j, k])
+          ! The static load of absorbing faces on each phase.
+          ts = faces%absorbing_static([i, j, k], .false.)
+          tf = faces%absorbing_static([i, j, k], .true.)
           fps = faces%pore_pressure_force(time, [i, j, k], faces%grid%bc)
           fpf = faces%pore_pressure_force(time, [i, j, k], mbc)
           if (ms > 0.0_wp) then
             vs(1:nd) = node_s(2:1 + nd, i, j, k)/ms
             fs(1:nd) = node_s(2 + nd:1 + 2*nd, i, j, k)
-            fs = fs + ms*gravity + tr + nporo(1, i, j, k)*fps
+            fs = fs + ms*gravity + tr + nporo(1, i, j, k)*fps + ts
           end if
           if (mf > 0.0_wp) then
             vf(1:nd) = node_f(2:1 + nd, i, j, k)/mf
             ff(1:nd) = node_f(2 + nd:1 + 2*nd, i, j, k)
-            ff = ff + mf*gravity - nporo(1, i, j, k)*fpf
+            ff = ff + mf*gravity - nporo(1, i, j, k)*fpf + tf
             if (ms <= 0.0_wp) ff = ff + tr
           end if
           sfix = faces%grid%constrained([i, j, k])
@@ -158,9 +161,9 @@ contains
           nvel_f(nd + 1:2*nd, i, j, k) = vfn(1:nd)
           ! Work of the external forces (gravity, tractions, boundary pore pressure).
           if (ms > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product( &
-            ms*gravity(1:nd) + tr(1:nd) + nporo(1, i, j, k)*fps(1:nd), vs(1:nd) + vsn(1:nd))
+            ms*gravity(1:nd) + tr(1:nd) + nporo(1, i, j, k)*fps(1:nd) + ts(1:nd), vs(1:nd) + vsn(1:nd))
           if (mf > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product( &
-            mf*gravity(1:nd) - nporo(1, i, j, k)*fpf(1:nd) + &
+            mf*gravity(1:nd) - nporo(1, i, j, k)*fpf(1:nd) + tf(1:nd) + &
             merge(tr(1:nd), 0.0_wp*tr(1:nd), ms <= 0.0_wp), vf(1:nd) + vfn(1:nd))
         end do
       end do

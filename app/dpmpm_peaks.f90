@@ -1,4 +1,4 @@
-!> P1 "peaks" table (physics.md 4): relative L2 error of the MLS reconstruction for every
+!> P1 "peaks" table (doc/theory.md 9.5): relative L2 error of the MLS reconstruction for every
 !> kernel x basis x spacing, printed and written to HDF5.
 !> Usage: dpmpm_peaks [output.h5]   (default out/peaks.h5)
 !> File layout (shapes as h5py shows them):

@@ -1,4 +1,4 @@
-!> The drag between the phases (physics.md 5): the coefficient's gravity, the
+!> The drag between the phases (doc/theory.md 4.2 and 7.2): the coefficient's gravity, the
 !> per-node solve of the coupled accelerations (explicit Euler or the implicit
 !> 2x2 system), the relaxation of a MUSL-remapped pair, and the explicit-drag
 !> time-step limit. The coefficient itself is carried to the nodes by fluid_p2g
@@ -20,7 +20,7 @@ contains
   !> ms, mf, forces fs, ff (everything but drag), drag coefficient d and the
   !> velocities vs, vf at the start of the step. Explicit: forward Euler on the
   !> drag, m_s a_s = f_s + d (v_f - v_s), m_f a_f = f_f - d (v_f - v_s). Implicit
-  !> (physics.md 5.4): the drag at the new velocities, the 2x2 system
+  !> (doc/theory.md 4.2): the drag at the new velocities, the 2x2 system
   !> [ms + dt d, -dt d; -dt d, mf + dt d] (a_s, a_f) = (f_s + d w, f_f - d w),
   !> w = v_f - v_s, determinant ms mf + dt d (ms + mf) > 0.
   pure subroutine drag_solve(ms, mf, d, fs, ff, vs, vf, dt, implicit, as, af)
@@ -70,7 +70,7 @@ contains
   end subroutine drag_relax
 
   !> Largest stable step of forward Euler on the relative motion of the two
-  !> phases at a node, 2 / (d (1/ms + 1/mf)) (physics.md 5, the binding limit of
+  !> phases at a node, 2 / (d (1/ms + 1/mf)) (doc/theory.md 7.2, the binding limit of
   !> explicit drag); huge where a phase or the drag is absent.
   pure real(wp) function drag_limit(ms, mf, d) result(dt)
     real(wp), intent(in) :: ms, mf, d

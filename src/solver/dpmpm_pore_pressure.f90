@@ -1,4 +1,4 @@
-!> The pore-pressure update of the fluid points (physics.md 6, the paper's eq. 10)
+!> The pore-pressure update of the fluid points (doc/theory.md 4.6, the paper's eq. 10)
 !> and what goes with it: the nodal porosity from the solid points' sums, the
 !> skeleton's porosity from its volume change, the semi-implicit pressure update
 !> from the new velocity gradients (with the mixture-flux term of dpmpm_transfer),

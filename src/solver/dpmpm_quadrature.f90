@@ -1,4 +1,4 @@
-!> Gauss quadrature of the internal forces (physics.md 3.5): the driving code of
+!> Gauss quadrature of the internal forces (doc/theory.md 3.6): the driving code of
 !> the MLS reconstruction of a stress-like field on the Gauss points of the
 !> cells (sums, occupancy of the cells, solve, forces), and the point velocity
 !> gradients by the transpose of the same operator. The algebra is in
@@ -104,7 +104,7 @@ contains
 
   !> Point velocity gradients vgrad of the points of ps by the transpose of the
   !> quadrature force operator of their reconstruction sol, from the nodal
-  !> velocities nvel (physics.md 3.5 step 7).
+  !> velocities nvel (doc/theory.md 3.6).
   subroutine gauss_point_gradients(self, tr, sol, nvel, vgrad, nvel2, vgrad2)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: tr

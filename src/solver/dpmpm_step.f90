@@ -1,5 +1,5 @@
-!> One explicit time step over the list of phases (design.md, "One time step";
-!> physics.md 4 for one phase, 6 for two): stencils, p2g of every phase (with
+!> One explicit time step over the list of phases (doc/architecture.md, "One step";
+!> doc/theory.md 4.1): stencils, p2g of every phase (with
 !> the coupling terms when there are two), the reverse halo exchange, the nodal
 !> update (MLS nodal velocities where chosen, drag where the phases meet, every
 !> boundary condition), the forward halo exchange, g2p with the MUSL remap or USL,
@@ -87,7 +87,7 @@ contains
       end associate
       if (coupled) then
         ! Pore pressure at the Gauss points from the fluid points: -n_f p on the
-        ! fluid, -(1 - n_f) p on the solid (physics.md 3.5 step 5), in one pass.
+        ! fluid, -(1 - n_f) p on the solid (doc/theory.md 3.6), in one pass.
         associate (f => self%phase(fluid_phase))
           allocate (pseudo(6, nf), pseudo2(6, nf))
           pseudo = 0.0_wp
@@ -152,7 +152,7 @@ contains
       call self%timers%toc(t_nodal)
     else
       ! Porosity at the nodes, then at the fluid points (start-of-step positions,
-      ! physics.md 6 step 5) with its gradient; the interphase force when asked for.
+      ! doc/theory.md 3.5) with its gradient; the interphase force when asked for.
       call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
                           self%nporo)
       call self%timers%toc(t_nodal)
@@ -224,7 +224,7 @@ contains
       end if
     end if
     if (self%plan%gauss) then
-      ! Strain rates by the transpose of the quadrature force operator (physics.md 3.5).
+      ! Strain rates by the transpose of the quadrature force operator (doc/theory.md 3.6).
       associate (s => self%phase(solid_phase))
         call gauss_point_gradients(self, s, s%gsol, s%nvel, s%vgrad)
       end associate

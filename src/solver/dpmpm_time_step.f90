@@ -28,7 +28,7 @@ contains
       rho = self%phase(1)%pts%mass(p)/self%phase(1)%pts%vol(p)
       c = wave_speed(self%mats(self%phase(1)%pts%mat(p)), rho)
       if (self%two_phase) then
-        ! Undrained wave of the mixture, c_u^2 = (E_c + K_f/n) / rho_sat (physics.md 5).
+        ! Undrained wave of the mixture, c_u^2 = (E_c + K_f/n) / rho_sat (doc/theory.md 7.1).
         nf = self%phase(1)%pts%porosity(p)
         if (nf > 0.0_wp) c = sqrt((self%mats(self%phase(1)%pts%mat(p))%pwave + self%kf_max/nf)/ &
                                   (rho + nf*self%rhof_min))

@@ -1,4 +1,4 @@
-!> Transfers between the points and the grid (physics.md 3 and 6): p2g of mass,
+!> Transfers between the points and the grid (doc/theory.md 3.5 and 4): p2g of mass,
 !> momentum and internal force, g2p (FLIP/PIC velocity, position, velocity
 !> gradient), point velocity gradients, the MUSL momentum remap, nodal scalars
 !> interpolated to the points, and the two-phase terms that the points carry to
@@ -291,7 +291,7 @@ contains
   end subroutine interphase_p2g
 
   !> Solid points to the grid: sum N_I m n_f (the nodal porosity is this over the
-  !> nodal solid mass, physics.md 6 step 3).
+  !> nodal solid mass, doc/theory.md 3.5).
   subroutine solid_porosity_p2g(nw, n, i0, sw, mass, poro, lo, sporo)
     integer, intent(in) :: nw(3), n
     integer, intent(in) :: i0(:, :)

@@ -1,12 +1,16 @@
 !> External loads: a face traction and gravity change the total momentum at
 !> exactly the applied rate (internal forces sum to zero, FLIP transfers nodal
-!> momentum changes exactly).
+!> momentum changes exactly); a traction on part of a face has the exact resultant for
+!> every grid function, and the time functions give their factors.
 program test_loads
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, &
                      MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t
+  use dpmpm_grid, only: grid_t
+  use dpmpm_face_loads, only: face_loads_t
+  use dpmpm_kernels, only: kernel_from_name
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests
   implicit none
@@ -14,6 +18,8 @@ program test_loads
   call start_mpi()
   call test_traction_changes_momentum_at_applied_rate()
   call test_gravity_changes_momentum_at_applied_rate()
+  call test_strip_load_has_its_exact_resultant()
+  call test_load_time_functions()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -100,5 +106,91 @@ contains
     call check(sim%energy_drift < 1.0e-12_wp, 'free fall: kinetic energy equals the work of gravity')
     call sim%free()
   end subroutine test_gravity_changes_momentum_at_applied_rate
+
+  !> Sum over the nodes of a 2D grid (20 x 20 cells of 0.1 m, exterior layers included) of
+  !> the nodal forces of the loads of cfg on face y- (free) at time t.
+  function resultant(cfg, kernel, t) result(r)
+    type(config_t), intent(in) :: cfg
+    character(len=*), intent(in) :: kernel
+    real(wp), intent(in) :: t
+    real(wp) :: r(3)
+    type(grid_t) :: grid
+    type(face_loads_t) :: faces
+    integer :: i, j
+    call grid%init(cfg)
+    call faces%init(cfg, grid, kernel_from_name(kernel), [1, 1, 1, 1, 1, 1])
+    r = 0.0_wp
+    do j = -2, 22
+      do i = -2, 22
+        r = r + faces%traction(t, [i, j, 0])
+      end do
+    end do
+    call faces%free()
+  end function resultant
+
+  !> 2D grid of 2 m x 2 m with one &load on face y- (traction 0, 3 Pa).
+  function strip_scene() result(cfg)
+    type(config_t) :: cfg
+    cfg%ndim = 2
+    cfg%ncells = [20, 20, 1]
+    cfg%length = [2.0_wp, 2.0_wp, 1.0_wp]
+    allocate (cfg%loads(1))
+    cfg%loads(1) = load_cfg_t(face=3, traction=[0.0_wp, 3.0_wp, 0.0_wp])
+  end function strip_scene
+
+  !> A strip x = 0.55 .. 1.37 m (not on nodes) of face y-: the nodal forces sum to the
+  !> traction times 0.82 m for linear, quadratic and cubic grid functions (partition of
+  !> unity, integrated exactly); the whole face gives 2 m.
+  subroutine test_strip_load_has_its_exact_resultant()
+    type(config_t) :: cfg
+    real(wp) :: r(3)
+    integer :: k
+    character(len=9), parameter :: kernels(3) = ['linear   ', 'quadratic', 'cubic    ']
+    call begin_test('strip_load_has_its_exact_resultant')
+    do k = 1, 3
+      cfg = strip_scene()
+      r = resultant(cfg, trim(kernels(k)), 0.0_wp)
+      call check_close(r(2), 6.0_wp, 1.0e-13_wp, 0.0_wp, trim(kernels(k))//': whole face, 3 Pa x 2 m')
+      cfg%loads(1)%lo = [0.55_wp, 0.0_wp, 0.0_wp]
+      cfg%loads(1)%hi = [1.37_wp, 0.0_wp, 0.0_wp]
+      r = resultant(cfg, trim(kernels(k)), 0.0_wp)
+      call check_close(r(2), 3.0_wp*0.82_wp, 1.0e-13_wp, 0.0_wp, trim(kernels(k))//': strip, 3 Pa x 0.82 m')
+      call check(r(1) == 0.0_wp, trim(kernels(k))//': no force along the face')
+    end do
+  end subroutine test_strip_load_has_its_exact_resultant
+
+  !> The factor of each time function, as the resultant of a whole-face load over 6 N:
+  !> ramp over 0.2 s at 0.05 s (0.25); sine of 5 Hz at 0.03 s (sin(0.3 pi)) and after
+  !> its duration 0.1 s (0); table (0, 0), (0.1, 1), (0.3, -1) at 0.2 s (0), 0.05 s (0.5)
+  !> and 0.5 s (-1, the last factor).
+  subroutine test_load_time_functions()
+    type(config_t) :: cfg
+    real(wp), parameter :: pi = 3.14159265358979323846264338327950_wp
+    call begin_test('load_time_functions')
+    cfg = strip_scene()
+    cfg%loads(1)%ramp_time = 0.2_wp
+    call check_close(fy(cfg, 0.05_wp), 0.25_wp, 1.0e-14_wp, 0.0_wp, 'ramp')
+    cfg = strip_scene()
+    cfg%loads(1)%time_function = 'sine'
+    cfg%loads(1)%frequency = 5.0_wp
+    cfg%loads(1)%duration = 0.1_wp
+    call check_close(fy(cfg, 0.03_wp), sin(0.3_wp*pi), 1.0e-14_wp, 0.0_wp, 'sine')
+    call check(fy(cfg, 0.1_wp) == 0.0_wp, 'sine: 0 after its duration')
+    cfg = strip_scene()
+    cfg%loads(1)%time_function = 'table'
+    cfg%loads(1)%times(1:3) = [0.0_wp, 0.1_wp, 0.3_wp]
+    cfg%loads(1)%factors(1:3) = [0.0_wp, 1.0_wp, -1.0_wp]
+    call check_close(fy(cfg, 0.2_wp), 0.0_wp, 0.0_wp, 1.0e-14_wp, 'table between entries 2 and 3')
+    call check_close(fy(cfg, 0.05_wp), 0.5_wp, 1.0e-14_wp, 0.0_wp, 'table between entries 1 and 2')
+    call check_close(fy(cfg, 0.5_wp), -1.0_wp, 1.0e-14_wp, 0.0_wp, 'table after its last entry')
+  end subroutine test_load_time_functions
+
+  real(wp) function fy(cfg, t)
+    type(config_t), intent(in) :: cfg
+    real(wp), intent(in) :: t
+    real(wp) :: r(3)
+    r = resultant(cfg, 'linear', t)
+    fy = r(2)/6.0_wp
+  end function fy
 
 end program test_loads

@@ -6,8 +6,8 @@ module dpmpm_config
   use dpmpm_strings, only: next_word
   implicit none
   private
-  public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t
-  public :: max_poly, name_len, face_names, face_index
+  public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t, table_length
+  public :: max_poly, max_table, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
   public :: optional_fields, field_listed
@@ -15,6 +15,7 @@ module dpmpm_config
   integer, parameter :: name_len = 64
   !> Largest number of vertices of a 2D polygon region.
   integer, parameter :: max_poly = 64
+  integer, parameter :: max_table = 64   !< entries of a load's time table
   !> Grid faces in the order used by every per-face array: x-, x+, y-, y+, z-, z+.
   character(len=2), parameter :: face_names(6) = ['x-', 'x+', 'y-', 'y+', 'z-', 'z+']
   !> Boundary condition types on a grid face.
@@ -70,11 +71,19 @@ module dpmpm_config
     real(wp) :: pore_pressure_gradient(3) = 0.0_wp   !< its gradient (Pa/m)
   end type region_cfg_t
 
-  !> One &load group: a traction on a grid face, ramped linearly over ramp_time.
+  !> One &load group: a traction on a grid face (or on the part lo..hi of it), times a
+  !> function of time.
   type :: load_cfg_t
     integer :: face = 0                              !< index into face_names
     real(wp) :: traction(3) = 0.0_wp                 !< Pa, force per area on the body
     real(wp) :: ramp_time = 0.0_wp                   !< s; 0 = step load
+    !> m; the load acts on lo(t) <= x(t) <= hi(t) along each axis t of the face with hi(t) > lo(t)
+    real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp
+    character(len=name_len) :: time_function = 'ramp' !< ramp | sine | table
+    real(wp) :: frequency = 0.0_wp                   !< Hz (sine)
+    real(wp) :: duration = 0.0_wp                    !< s the sine lasts; 0 = for ever
+    real(wp) :: times(max_table) = -1.0_wp           !< s (table; the entries >= 0, increasing)
+    real(wp) :: factors(max_table) = 0.0_wp          !< the factor at each time (table)
   end type load_cfg_t
 
   !> All parameters of a run.
@@ -182,5 +191,15 @@ contains
       if (trim(adjustl(name)) == face_names(k)) face_index = k
     end do
   end function face_index
+
+  !> Entries of a load's time table: the leading times >= 0.
+  pure integer function table_length(times) result(n)
+    real(wp), intent(in) :: times(:)
+    n = 0
+    do while (n < size(times))
+      if (times(n + 1) < 0.0_wp) exit
+      n = n + 1
+    end do
+  end function table_length
 
 end module dpmpm_config

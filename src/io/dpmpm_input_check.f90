@@ -5,7 +5,8 @@
 module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, max_poly, optional_fields, field_listed
+  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, optional_fields, field_listed, &
+                          table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
   use dpmpm_mls, only: basis_from_name
   use dpmpm_shape_plan, only: shape_plan_t, max_gauss
@@ -151,6 +152,8 @@ contains
       call check_finite(pb, g_load, k, 'traction', cfg%loads(k)%traction)
       if (.not. real_ok(cfg%loads(k)%ramp_time, ge=0.0_wp)) call add_value(pb, g_load, k, &
         'ramp_time', rtoa(cfg%loads(k)%ramp_time), 'must be >= 0 (s; 0 = step load)')
+      call check_load_time(pb, k, cfg%loads(k))
+      call check_load_part(pb, cfg, k, cfg%loads(k))
     end do
 
     ! &output
@@ -180,6 +183,64 @@ contains
     if (.not. real_ok(cfg%amplitude)) call add_value(pb, g_benchmark, 1, 'amplitude', &
       rtoa(cfg%amplitude), 'must be a finite number')
   end subroutine check_config
+
+  !> The time function of &load k: ramp (ramp_time), sine (frequency > 0, duration >= 0) or
+  !> table (times >= 0 increasing from the first entry, then only unused entries < 0;
+  !> finite factors).
+  subroutine check_load_time(pb, k, ld)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(load_cfg_t), intent(in) :: ld
+    integer :: n, i
+    select case (trim(ld%time_function))
+    case ('ramp')
+    case ('sine')
+      if (.not. real_ok(ld%frequency, gt=0.0_wp)) call add_value(pb, g_load, k, 'frequency', &
+        rtoa(ld%frequency), "must be > 0 (Hz) with time_function = 'sine'")
+      if (.not. real_ok(ld%duration, ge=0.0_wp)) call add_value(pb, g_load, k, 'duration', &
+        rtoa(ld%duration), 'must be >= 0 (s; 0 = for ever)')
+    case ('table')
+      n = table_length(ld%times)
+      if (n == 0) then
+        call add_value(pb, g_load, k, 'times', '(none >= 0)', "time_function = 'table' needs "// &
+                       'times (s, from the first entry on, increasing) and their factors')
+      else if (any(ld%times(n + 1:) >= 0.0_wp)) then
+        call add_value(pb, g_load, k, 'times', rtoa(ld%times(n + 1)), 'the table ends at its '// &
+                       'first negative entry (entry '//itoa(n + 1)//'); give the times in order')
+      end if
+      do i = 2, n
+        if (ld%times(i) <= ld%times(i - 1)) then
+          call add_value(pb, g_load, k, 'times', rtoa(ld%times(i)), 'must increase (entry '// &
+                         itoa(i)//' is not after entry '//itoa(i - 1)//')')
+          exit
+        end if
+      end do
+      if (n > 0) call check_finite(pb, g_load, k, 'factors', ld%factors(1:n))
+    case default
+      call add_value(pb, g_load, k, 'time_function', quote(ld%time_function), &
+                     'the time functions are ramp (over ramp_time), sine (frequency, duration), '// &
+                     'table (times, factors)')
+    end select
+  end subroutine check_load_time
+
+  !> The part lo..hi of the face of &load k: finite, and along each axis of the face where
+  !> hi > lo an interval that overlaps the grid.
+  subroutine check_load_part(pb, cfg, k, ld)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    type(load_cfg_t), intent(in) :: ld
+    integer :: t
+    call check_finite(pb, g_load, k, 'lo', ld%lo)
+    call check_finite(pb, g_load, k, 'hi', ld%hi)
+    if (ld%face < 1 .or. ld%face > 2*cfg%ndim) return
+    do t = 1, cfg%ndim
+      if (t == (ld%face + 1)/2 .or. ld%hi(t) <= ld%lo(t)) cycle
+      if (ld%hi(t) <= cfg%origin(t) .or. ld%lo(t) >= cfg%origin(t) + cfg%length(t)) &
+        call add_value(pb, g_load, k, 'lo', rtoa(ld%lo(t)), 'the part '//rtoa(ld%lo(t))// &
+                       ' to '//rtoa(ld%hi(t))//' along axis '//itoa(t)//' lies outside the grid')
+    end do
+  end subroutine check_load_part
 
   !> Check one MLS reconstruction choice of &shape (prefix velocity or field) when it is used.
   subroutine check_mls_choice(pb, prefix, kernel, basis, radius, used)

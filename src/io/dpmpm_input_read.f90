@@ -10,7 +10,7 @@
 module dpmpm_input_read
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
-                          name_len, face_names, face_index, bc_free, bc_fixed, bc_roller, &
+                          name_len, max_table, face_names, face_index, bc_free, bc_fixed, bc_roller, &
                           bc_names, fbc_default, fbc_drained, fbc_impermeable
   use dpmpm_input_problems, only: input_problems_t, ngroups, group_names, &
                                   repeatable, g_run, g_grid, g_shape, g_material, g_region, &
@@ -597,17 +597,21 @@ contains
     logical, intent(out) :: ok
     type(load_cfg_t) :: def
     type(load_cfg_t), allocatable :: list(:)
-    character(len=name_len) :: face
-    real(wp) :: traction(3), ramp_time
+    character(len=name_len) :: face, time_function
+    real(wp) :: traction(3), ramp_time, lo(3), hi(3), frequency, duration
+    real(wp) :: times(max_table), factors(max_table)
     integer :: k, n, f, ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /load/ face, traction, ramp_time
+    namelist /load/ face, traction, ramp_time, lo, hi, time_function, frequency, duration, times, &
+      factors
     allocate (list(pb%count(g_load)))
     n = 0
     ok = .true.
     do k = 1, size(list)
-      face = ''; traction = def%traction; ramp_time = def%ramp_time
+      face = ''; traction = def%traction; ramp_time = def%ramp_time; lo = def%lo; hi = def%hi
+      time_function = def%time_function; frequency = def%frequency; duration = def%duration
+      times = def%times; factors = def%factors
       read (records(first_record(pb, g_load, k):), nml=load, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=load)
@@ -625,7 +629,9 @@ contains
                        'the grid has no such face with ndim = '//itoa(cfg%ndim))
       end if
       n = k
-      list(k) = load_cfg_t(f, traction, ramp_time)
+      list(k) = load_cfg_t(face=f, traction=traction, ramp_time=ramp_time, lo=lo, hi=hi, &
+                           time_function=lower(time_function), frequency=frequency, &
+                           duration=duration, times=times, factors=factors)
     end do
     cfg%loads = list(1:n)
   end subroutine read_loads

@@ -37,8 +37,9 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, nreg, size(nreg), MPI_INTEGER8, MPI_SUM, comm)
     allocate (nload(size(cfg%loads)))
     do l = 1, size(cfg%loads)
-      nload(l) = points_next_to_face(grid, cfg%loads(l)%face, solid)
-      if (present(fluid)) nload(l) = nload(l) + points_next_to_face(grid, cfg%loads(l)%face, fluid)
+      nload(l) = points_next_to_face(grid, cfg%loads(l)%face, solid, cfg%loads(l)%lo, cfg%loads(l)%hi)
+      if (present(fluid)) nload(l) = nload(l) + points_next_to_face(grid, cfg%loads(l)%face, fluid, &
+                                                                    cfg%loads(l)%lo, cfg%loads(l)%hi)
     end do
     call MPI_Allreduce(MPI_IN_PLACE, nload, size(nload), MPI_INTEGER8, MPI_SUM, comm)
     nabs = 1
@@ -65,7 +66,8 @@ contains
         f = cfg%loads(l)%face
         call report(cfg, '&load'//which(l, size(nload))//' face = '''//face_names(f)// &
                     ''': the body does not touch face '//face_names(f)//' (no point in the '// &
-                    'layer of cells next to it), so the traction would act on nothing; '// &
+                    'layer of cells next to it, or next to lo..hi on it), so the traction '// &
+                    'would act on nothing; '// &
                     'move the load to a face the body reaches, or extend the body to it')
       end do
       do f = 1, 6
@@ -96,18 +98,30 @@ contains
       trim(text)
   end subroutine report
 
-  !> Points of ps in the layer of cells next to grid face f (on this rank).
-  integer(i8) function points_next_to_face(grid, f, ps) result(n)
+  !> Points of ps in the layer of cells next to grid face f (on this rank); with lo, hi,
+  !> only those within a cell of lo..hi along each axis of the face where hi > lo (the
+  !> part of the face a &load acts on).
+  integer(i8) function points_next_to_face(grid, f, ps, lo, hi) result(n)
     type(grid_t), intent(in) :: grid
     integer, intent(in) :: f
     type(particle_set_t), intent(in) :: ps
-    integer :: p, d, c(3), layer
+    real(wp), intent(in), optional :: lo(3), hi(3)
+    integer :: p, d, t, c(3), layer
+    logical :: near
     d = (f + 1)/2
     layer = merge(0, grid%ncells(d) - 1, mod(f, 2) == 1)
     n = 0
     do p = 1, ps%n
       c = cell_of(grid%origin, grid%h, ps%x(:, p), grid%ndim)
-      if (c(d) == layer) n = n + 1
+      if (c(d) /= layer) cycle
+      near = .true.
+      if (present(lo)) then
+        do t = 1, grid%ndim
+          if (t == d .or. hi(t) <= lo(t)) cycle
+          if (ps%x(t, p) < lo(t) - grid%h(t) .or. ps%x(t, p) > hi(t) + grid%h(t)) near = .false.
+        end do
+      end if
+      if (near) n = n + 1
     end do
   end function points_next_to_face
 

@@ -5,7 +5,8 @@
 !> dashpots of absorbing faces.
 module dpmpm_face_loads
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, load_cfg_t, region_cfg_t, bc_free, fbc_drained, fbc_impermeable
+  use dpmpm_config, only: config_t, load_cfg_t, region_cfg_t, table_length, bc_free, fbc_drained, &
+                          fbc_impermeable
   use dpmpm_generate, only: point_in_polygon
   use dpmpm_grid, only: grid_t
   use dpmpm_kernels, only: bspline_1d
@@ -169,10 +170,93 @@ contains
       f = self%loads(l)%face
       w = face_weight(self, idx, f, self%grid%bc)
       if (w == 0.0_wp) cycle
-      fext(1:self%nd) = fext(1:self%nd) + w*ramp_factor(time, self%loads(l)%ramp_time)* &
-                        face_area(self, idx, (f + 1)/2)*self%loads(l)%traction(1:self%nd)
+      fext(1:self%nd) = fext(1:self%nd) + w*load_factor(self%loads(l), time)* &
+                        load_area(self, idx, self%loads(l))*self%loads(l)%traction(1:self%nd)
     end do
   end function face_traction
+
+  !> The factor of load ld at time t: ramp_factor over ramp_time (ramp); sin(2 pi f t)
+  !> for t < duration, 0 after (sine; duration 0 = for ever); the table's factors
+  !> interpolated linearly in time, the first before its first time and the last after its
+  !> last (table).
+  real(wp) function load_factor(ld, t) result(r)
+    type(load_cfg_t), intent(in) :: ld
+    real(wp), intent(in) :: t
+    real(wp), parameter :: two_pi = 6.283185307179586476925286766559_wp
+    integer :: n, i
+    select case (trim(ld%time_function))
+    case ('sine')
+      r = 0.0_wp
+      if (ld%duration <= 0.0_wp .or. t < ld%duration) r = sin(two_pi*ld%frequency*t)
+    case ('table')
+      n = table_length(ld%times)
+      if (t <= ld%times(1)) then
+        r = ld%factors(1)
+      else if (t >= ld%times(n)) then
+        r = ld%factors(n)
+      else
+        i = 1
+        do while (ld%times(i + 1) < t)
+          i = i + 1
+        end do
+        r = ld%factors(i) + (ld%factors(i + 1) - ld%factors(i))*(t - ld%times(i))/ &
+            (ld%times(i + 1) - ld%times(i))
+      end if
+    case default
+      r = ramp_factor(t, ld%ramp_time)
+    end select
+  end function load_factor
+
+  !> The share of the face area of load ld that node idx carries: face_area along the
+  !> axes of the face where the load covers the whole face; along an axis where it acts
+  !> on lo..hi only, h times the integral of the node's grid function over lo..hi (within
+  !> the grid), so that a uniform traction on part of a face gives its exact resultant.
+  real(wp) function load_area(self, idx, ld) result(a)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    type(load_cfg_t), intent(in) :: ld
+    integer :: t, d
+    real(wp) :: lo, hi, xi
+    d = (ld%face + 1)/2
+    if (all(ld%hi(1:self%nd) <= ld%lo(1:self%nd) .or. [(t == d, t=1, self%nd)])) then
+      a = face_area(self, idx, d)
+      return
+    end if
+    a = 1.0_wp
+    do t = 1, self%nd
+      if (t == d) cycle
+      if (ld%hi(t) > ld%lo(t)) then
+        lo = max(ld%lo(t), self%grid%origin(t))
+        hi = min(ld%hi(t), self%grid%origin(t) + real(self%grid%ncells(t), wp)*self%grid%h(t))
+        xi = self%grid%origin(t) + real(idx(t), wp)*self%grid%h(t)
+        a = a*self%grid%h(t)*kernel_integral(self%kernel, (lo - xi)/self%grid%h(t), &
+                                             (hi - xi)/self%grid%h(t))
+      else
+        a = a*self%grid%h(t)
+        if (idx(t) == 0 .or. idx(t) == self%grid%ncells(t)) a = 0.5_wp*a
+      end if
+    end do
+  end function load_area
+
+  !> The integral of the 1D B-spline grid function of kernel over a..b (cell units):
+  !> three Gauss points on each piece between the half-integers (exact for the cubic
+  !> pieces); 0 where b <= a.
+  real(wp) function kernel_integral(kernel, a, b) result(s)
+    integer, intent(in) :: kernel
+    real(wp), intent(in) :: a, b
+    real(wp), parameter :: gx(3) = [-0.774596669241483377035853079956_wp, 0.0_wp, &
+                                    0.774596669241483377035853079956_wp]
+    real(wp), parameter :: gw(3) = [5.0_wp/9.0_wp, 8.0_wp/9.0_wp, 5.0_wp/9.0_wp]
+    real(wp) :: x0, x1, w(3), dw(3)
+    s = 0.0_wp
+    x0 = max(a, -2.0_wp)
+    do while (x0 < min(b, 2.0_wp))
+      x1 = min(b, 2.0_wp, (floor(2.0_wp*x0 + 1.0e-12_wp) + 1)*0.5_wp)
+      call bspline_1d(kernel, 0.5_wp*(x0 + x1) + 0.5_wp*(x1 - x0)*gx, w, dw)
+      s = s + 0.5_wp*(x1 - x0)*sum(gw*w)
+      x0 = x1
+    end do
+  end function kernel_integral
 
   !> Nodal force of the prescribed pore pressure p_b of drained faces at node idx
   !> (ramped over pore_pressure_ramp), per unit porosity: A p_b n_out, shared with

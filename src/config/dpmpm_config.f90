@@ -112,6 +112,10 @@ module dpmpm_config
     logical :: remap_drag = .true.                   !< MUSL: the step's implicit drag on the remapped pair
     ! run monitor (&run)
     real(wp) :: growth_limit = 10.0_wp               !< stop when energy exceeds this x (input + initial); 0 = off
+    !> s of the equilibrium phase: gravity ramped over its first half, local damping
+    !> (equilibrium_damping) throughout, the velocities set to zero at its end; 0 = none
+    real(wp) :: equilibrium_time = 0.0_wp
+    real(wp) :: equilibrium_damping = 0.8_wp         !< local damping coefficient alpha, in [0, 1)
     ! &grid
     integer :: ndim = 2
     integer :: ncells(3) = [1, 1, 1]

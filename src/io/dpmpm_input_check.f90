@@ -61,6 +61,11 @@ contains
       'drag_safety', rtoa(cfg%drag_safety), 'must be in (0, 1] (fraction of the nodal drag limit)')
     if (.not. real_ok(cfg%growth_limit, ge=0.0_wp)) call add_value(pb, g_run, 1, &
       'growth_limit', rtoa(cfg%growth_limit), 'must be >= 0 (0 = no growth monitor)')
+    if (.not. real_ok(cfg%equilibrium_time, ge=0.0_wp)) call add_value(pb, g_run, 1, &
+      'equilibrium_time', rtoa(cfg%equilibrium_time), 'must be >= 0 (s; 0 = no equilibrium phase)')
+    if (.not. real_ok(cfg%equilibrium_damping, ge=0.0_wp) .or. .not. cfg%equilibrium_damping < 1.0_wp) &
+      call add_value(pb, g_run, 1, 'equilibrium_damping', rtoa(cfg%equilibrium_damping), &
+                     'must be in [0, 1) (the fraction of the unbalanced force the damping takes)')
 
     ! &grid
     ndim_ok = cfg%ndim >= 1 .and. cfg%ndim <= 3

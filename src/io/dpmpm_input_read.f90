@@ -252,15 +252,17 @@ contains
     character(len=name_len) :: scheme, drag
     character(len=long_len) :: name, restart
     real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety, max_wall_time
-    real(wp) :: growth_limit
+    real(wp) :: growth_limit, equilibrium_time, equilibrium_damping
     logical :: porosity_gradient, remap_drag
     integer(i8) :: max_steps
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
-      drag, drag_safety, porosity_gradient, restart, max_wall_time, remap_drag, growth_limit
+      drag, drag_safety, porosity_gradient, restart, max_wall_time, remap_drag, growth_limit, &
+      equilibrium_time, equilibrium_damping
     restart = cfg%restart
+    equilibrium_time = cfg%equilibrium_time; equilibrium_damping = cfg%equilibrium_damping
     max_wall_time = cfg%max_wall_time
     remap_drag = cfg%remap_drag; growth_limit = cfg%growth_limit
     name = cfg%name; t_end = cfg%t_end; dt = cfg%dt; cfl = cfg%cfl; max_steps = cfg%max_steps
@@ -286,6 +288,7 @@ contains
     cfg%restart = restart
     cfg%max_wall_time = max_wall_time
     cfg%remap_drag = remap_drag; cfg%growth_limit = growth_limit
+    cfg%equilibrium_time = equilibrium_time; cfg%equilibrium_damping = equilibrium_damping
   end subroutine read_run
 
   !> Read &grid.

@@ -14,7 +14,7 @@ module dpmpm_energy
                      MPI_MAXLOC, MPI_2DOUBLE_PRECISION, MPI_Bcast
   implicit none
   private
-  public :: diagnostics, monitor_stopped, check_state, monitor_state, set_monitor_state
+  public :: diagnostics, monitor_stopped, check_state, monitor_state, set_monitor_state, end_equilibrium
 
 contains
 
@@ -152,6 +152,34 @@ contains
     self%mon_prev = fm
     self%mon_prev_time = self%time
   end subroutine monitor_energy
+
+  !> The end of the equilibrium phase (&run equilibrium_time; collective): report what
+  !> kinetic energy is left, against the work of gravity and the loads so far, and the
+  !> largest speed; then set every point's velocity to zero (the damping is off from here).
+  subroutine end_equilibrium(self)
+    class(state_t), intent(inout) :: self
+    real(wp) :: s(3), vmax
+    integer :: ip, p
+    character(len=400) :: line
+    s = [0.0_wp, self%ext_work + self%drag_loss, 0.0_wp]
+    vmax = 0.0_wp
+    do ip = 1, self%nph
+      associate (ps => self%phase(ip)%pts)
+        do p = 1, ps%n
+          s(1) = s(1) + 0.5_wp*ps%mass(p)*sum(ps%v(:, p)**2)
+          vmax = max(vmax, norm2(ps%v(:, p)))
+        end do
+        ps%v(:, 1:ps%n) = 0.0_wp
+      end associate
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, s, 3, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    call MPI_Allreduce(MPI_IN_PLACE, vmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
+    write (line, '(a,es12.5,a,i0,a,es10.3,a,es10.3,a,es10.3,a)') 'dpmpm: equilibrium phase over at t = ', &
+      self%time, ' (step ', self%step, '): kinetic energy ', s(1), ' J, ', &
+      s(1)/max(abs(s(2)), tiny(1.0_wp)), ' of the work of gravity and loads; largest speed ', vmax, &
+      ' m/s; damping off, velocities set to zero'
+    call self%log%info(trim(line))
+  end subroutine end_equilibrium
 
   !> The run monitor's state as numbers, for a checkpoint (set_monitor_state reads them
   !> back), so that a continued run measures against what the body was given since t = 0.

@@ -17,7 +17,8 @@ contains
   !> One phase: nodal velocities before and after the update (nvel, cleared first),
   !> with gravity, tractions and boundary conditions, on the nodes olo..ohi; the
   !> work of the external forces is added to ext_work.
-  subroutine nodal_update(nd, lo, olo, ohi, node, gravity, faces, time, dt, nvel, ext_work)
+  subroutine nodal_update(nd, lo, olo, ohi, node, gravity, faces, time, dt, nvel, ext_work, &
+                          damping, dissipated)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: gravity(3)
@@ -25,8 +26,10 @@ contains
     real(wp), intent(in) :: time, dt
     real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: ext_work
+    real(wp), intent(in) :: damping           !< local damping coefficient (0 = none)
+    real(wp), intent(inout) :: dissipated     !< energy taken by the local damping
     integer :: i, j, k
-    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3)
+    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3)
     logical :: fix(3)
     nvel = 0.0_wp
     do k = olo(3), ohi(3)
@@ -39,6 +42,13 @@ contains
           vold(1:nd) = node(2:1 + nd, i, j, k)/m
           fext = m*gravity + faces%traction(time, [i, j, k]) + faces%absorbing_static([i, j, k], .false.)
           vnew = 0.0_wp
+          if (damping > 0.0_wp) then
+            ! Local damping: a force against the motion of each component, a fraction of
+            ! the unbalanced force (doc/theory.md 6.5).
+            fd(1:nd) = -damping*abs(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))*sign(1.0_wp, vold(1:nd))
+            where (vold(1:nd) == 0.0_wp) fd(1:nd) = 0.0_wp
+            fext(1:nd) = fext(1:nd) + fd(1:nd)
+          end if
           vnew(1:nd) = vold(1:nd) + dt*(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
           ! Dashpots of absorbing faces, at the new velocity (stable at any step).
           cd = faces%dashpot([i, j, k], .false.)
@@ -49,6 +59,11 @@ contains
           nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
           ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd) - cd(1:nd)*vnew(1:nd), &
                                                       vold(1:nd) + vnew(1:nd))
+          if (damping > 0.0_wp) then
+            ! The damping force is no load: its work (in ext_work above, like the drag's)
+            ! is the energy it takes.
+            dissipated = dissipated - 0.5_wp*dt*dot_product(fd(1:nd), vold(1:nd) + vnew(1:nd))
+          end if
         end do
       end do
     end do
@@ -62,7 +77,7 @@ contains
   !> impermeable faces the normal fluid velocity is zero (solid held) or the
   !> solid's (solid free: the mixture moves together in that component).
   subroutine nodal_update_coupled(nd, lo, olo, ohi, node_s, node_f, nporo, ndrag, gravity, faces, &
-                                  mbc, implicit, time, dt, nvel_s, nvel_f, ext_work, drag_loss)
+                                  mbc, implicit, time, dt, nvel_s, nvel_f, ext_work, drag_loss, damping)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: nporo(:, lo(1):, lo(2):, lo(3):), ndrag(:, lo(1):, lo(2):, lo(3):)
@@ -73,9 +88,10 @@ contains
     real(wp), intent(in) :: time, dt
     real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: ext_work, drag_loss
+    real(wp), intent(in) :: damping          !< local damping coefficient (0 = none)
     integer :: i, j, k, c
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
-    real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd, ts(3), tf(3)
+    real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd, ts(3), tf(3), fds(3), fdf(3)
     logical :: sfix(3), ffix(3), tie(3)
     nvel_s = 0.0_wp
     nvel_f = 0.0_wp
@@ -111,6 +127,16 @@ contains
           cs = faces%dashpot([i, j, k], .false.)
           cf = faces%dashpot([i, j, k], .true.)
           vsn = 0.0_wp; vfn = 0.0_wp
+          fds = 0.0_wp; fdf = 0.0_wp
+          if (damping > 0.0_wp) then
+            ! Local damping of each phase, against its motion (doc/theory.md 6.5).
+            if (ms > 0.0_wp) fds(1:nd) = -damping*abs(fs(1:nd))*sign(1.0_wp, vs(1:nd))
+            if (mf > 0.0_wp) fdf(1:nd) = -damping*abs(ff(1:nd))*sign(1.0_wp, vf(1:nd))
+            where (vs(1:nd) == 0.0_wp) fds(1:nd) = 0.0_wp
+            where (vf(1:nd) == 0.0_wp) fdf(1:nd) = 0.0_wp
+            fs = fs + fds
+            ff = ff + fdf
+          end if
           do c = 1, nd
             ! Dashpots of absorbing faces act at the new velocities (-cs vsn, -cf vfn):
             ! they add dt cs, dt cf to the masses and -cs vs, -cf vf to the forces of
@@ -154,6 +180,13 @@ contains
             ! Work of the dashpots (energy leaving through absorbing faces).
             ext_work = ext_work - 0.5_wp*dt*(merge(cs(c)*vsn(c)*(vs(c) + vsn(c)), 0.0_wp, ms > 0.0_wp) + &
                                              merge(cf(c)*vfn(c)*(vf(c) + vfn(c)), 0.0_wp, mf > 0.0_wp))
+            if (damping > 0.0_wp) then
+              ! The damping forces' work: taken from ext_work and counted as dissipated,
+              ! as the drag's.
+              v = 0.5_wp*dt*(fds(c)*(vs(c) + vsn(c)) + fdf(c)*(vf(c) + vfn(c)))
+              ext_work = ext_work + v
+              drag_loss = drag_loss - v
+            end if
           end do
           nvel_s(1:nd, i, j, k) = vs(1:nd)
           nvel_s(nd + 1:2*nd, i, j, k) = vsn(1:nd)

@@ -24,7 +24,8 @@ module dpmpm_simulation
   use dpmpm_state, only: state_t, exit_bad_input, exit_stopped
   use dpmpm_step, only: advance
   use dpmpm_time_step, only: stable_dt
-  use dpmpm_energy, only: diagnostics, monitor_stopped, check_state, monitor_state, set_monitor_state
+  use dpmpm_energy, only: diagnostics, monitor_stopped, check_state, monitor_state, set_monitor_state, &
+                          end_equilibrium
   use dpmpm_verification_log, only: two_phase_benchmark, record_two_phase_errors, write_verification, &
                                     report_mls
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_INTEGER8, &
@@ -313,6 +314,7 @@ contains
     character(len=32) :: tag
     logical :: ok
     call self%out%resume(self%cfg, self%dec%comm, self%nframes, self%step, ok, why)
+    if (ok .and. len(why) > 0) call self%log%info('dpmpm: '//why)
     if (ok) then
       write (tag, '(i0)') self%nframes
       call self%log%info('dpmpm: continuing '//output_h5_path(self%cfg)//' from its first '// &
@@ -405,6 +407,8 @@ contains
       self%step = self%step + 1
       call check_state(self)
       if (self%exit_code /= 0) exit
+      if (self%time - self%dt < self%cfg%equilibrium_time .and. &
+          self%time >= self%cfg%equilibrium_time) call end_equilibrium(self)
       ! With explicit drag the first step may be far shorter than the wave step.
       if (self%step == 1 .and. self%cfg%diag_every <= 0) &
         diag_every = max(1_i8, int(self%cfg%t_end/self%dt/500.0_wp, i8))
@@ -448,7 +452,8 @@ contains
     end if
     ! Stopped early: the checkpoint first, of the state exactly as the loop left it.
     if (self%stopped /= 0) call write_state(self)
-    if (mod(self%step, diag_every) /= 0) then
+    ! (A run that took no step, continued from a checkpoint at its end, has its record.)
+    if (mod(self%step, diag_every) /= 0 .and. self%step /= step0) then
       call record_diagnostics(self)
       if (self%exit_code /= 0) return
     end if

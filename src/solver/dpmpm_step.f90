@@ -147,8 +147,8 @@ contains
     end if
     if (.not. coupled) then
       call nodal_update(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
-                        self%cfg%gravity, self%faces, self%time, dt, self%phase(solid_phase)%nvel, &
-                        self%ext_work)
+                        gravity_now(self), self%faces, self%time, dt, self%phase(solid_phase)%nvel, &
+                        self%ext_work, damping_now(self), self%drag_loss)
       call self%timers%toc(t_nodal)
     else
       ! Porosity at the nodes, then at the fluid points (start-of-step positions,
@@ -181,9 +181,9 @@ contains
       call report_governing(self, dt)
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         call nodal_update_coupled(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, f%node, &
-                                  self%nporo, self%ndrag, self%cfg%gravity, self%faces, f%bc, &
+                                  self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
                                   self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
-                                  self%ext_work, self%drag_loss)
+                                  self%ext_work, self%drag_loss, damping_now(self))
       end associate
       call self%timers%toc(t_nodal)
     end if
@@ -440,4 +440,22 @@ contains
     self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) + ff
     self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) + fs
   end subroutine add_interphase_force
+  !> Gravity at the start of the step: ramped linearly over the first half of the
+  !> equilibrium phase (&run equilibrium_time), full afterwards.
+  function gravity_now(self) result(g)
+    class(state_t), intent(in) :: self
+    real(wp) :: g(3)
+    g = self%cfg%gravity
+    if (self%cfg%equilibrium_time > 0.0_wp) &
+      g = g*min(1.0_wp, self%time/(0.5_wp*self%cfg%equilibrium_time))
+  end function gravity_now
+
+  !> The local damping coefficient of the step: equilibrium_damping during the
+  !> equilibrium phase, 0 afterwards.
+  real(wp) function damping_now(self) result(a)
+    class(state_t), intent(in) :: self
+    a = 0.0_wp
+    if (self%time < self%cfg%equilibrium_time) a = self%cfg%equilibrium_damping
+  end function damping_now
+
 end module dpmpm_step

@@ -7,7 +7,7 @@ module dpmpm_output
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char
   use mpi_f08, only: MPI_Comm, MPI_Comm_dup, MPI_Comm_free, MPI_Comm_rank, MPI_Comm_size, &
                      MPI_Barrier, MPI_Bcast, MPI_Exscan, MPI_Allreduce, MPI_INTEGER, &
-                     MPI_SUM, MPI_MIN, MPI_MAX, MPI_CHARACTER, MPI_Wtime
+                     MPI_SUM, MPI_MIN, MPI_MAX, MPI_CHARACTER, MPI_Wtime, MPI_IN_PLACE
   use hdf5, only: hid_t, hsize_t, h5fcreate_f, h5fclose_f, h5fflush_f, h5pcreate_f, h5pclose_f, &
                   h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5screate_f, h5screate_simple_f, &
                   h5gopen_f, h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5dcreate_f, &
@@ -17,16 +17,17 @@ module dpmpm_output
                   H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE, &
                   h5fopen_f, h5ldelete_f, h5dopen_f, h5dread_f, h5aopen_f, h5aread_f, h5aclose_f, &
                   h5adelete_f, h5aexists_f, h5sget_simple_extent_dims_f, h5eset_auto_f, &
-                  H5F_ACC_RDWR_F
+                  H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, h5oopen_f, h5oclose_f, h5ocopy_f
   use dpmpm_kinds, only: wp, i8, i4, mpi_i8
   use dpmpm_error, only: fatal
+  use dpmpm_strings, only: itoa
   use dpmpm_config, only: config_t, optional_fields, field_listed
   use dpmpm_particles, only: particle_set_t
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
                       write_columns, write_check_t, mpio_access_list, &
-                      collective_transfer_list
+                      collective_transfer_list, rename_file
   use dpmpm_log, only: log_t
   use dpmpm_xdmf, only: frame_rec_t, set_rec_t, write_xdmf
   implicit none
@@ -155,14 +156,14 @@ contains
   !> Continue the file of an earlier run from its checkpoint (collective): open
   !> <dir>/<name>.h5, keep its first nframes frames and the diagnostics before step, delete
   !> what the earlier run wrote after that (the continued run writes it again), and go on
-  !> numbering frames from nframes. ok is false, with the file untouched, where there is no
-  !> such file, HDF5 cannot open it, or it holds fewer frames; the caller then starts a
-  !> new file.
+  !> numbering frames from nframes. A file that a kill left damaged is rebuilt (salvage):
+  !> nframes becomes the number of frames kept, and why names what was lost. ok is false,
+  !> with nothing written, where there is no such file; the caller then starts a new file.
   subroutine out_resume(self, cfg, comm, nframes, step, ok, why)
     class(output_t), intent(inout) :: self
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
-    integer, intent(in) :: nframes
+    integer, intent(inout) :: nframes
     integer(i8), intent(in) :: step
     logical, intent(out) :: ok
     character(len=:), allocatable, intent(out) :: why
@@ -173,7 +174,7 @@ contains
     integer(i8), allocatable, target :: steps(:)
     type(c_ptr) :: p
     logical :: exists
-    integer :: err, k, nkeep
+    integer :: err, e2, k, nkeep
     call start(self, cfg, comm)
     ok = .false.
     inquire (file=self%h5_path, exist=exists)
@@ -182,44 +183,43 @@ contains
       call MPI_Comm_free(self%comm)
       return
     end if
-    fapl = mpio_access_list(self%comm, where)
-    ! A file torn by a kill may not open: that is an answer here, not an error to print.
-    call h5eset_auto_f(0, err)
-    call h5fopen_f(self%h5_path, H5F_ACC_RDWR_F, self%file_id, err, access_prp=fapl)
-    call h5eset_auto_f(1, k)
-    call h5pclose_f(fapl, k)
-    if (err < 0) then
-      why = 'HDF5 cannot open '//self%h5_path
-      call MPI_Comm_free(self%comm)
+    ! A file torn by a kill (HDF5 cannot open it, or a group or frame header is damaged):
+    ! its readable frames and diagnostics go into a new file of the same name.
+    if (.not. file_sound(self%h5_path, nframes)) then
+      call salvage(self, cfg, comm, nframes, step, why)
+      ok = .true.
       return
     end if
-    do k = 0, nframes - 1
-      write (gname, '(a,i6.6)') 'frames/', k
-      call h5lexists_f(self%file_id, trim(gname), exists, err)
-      if (.not. exists) then
-        why = self%h5_path//' holds fewer frames than the checkpoint counts'
-        call h5fclose_f(self%file_id, err)
-        call MPI_Comm_free(self%comm)
-        return
-      end if
-    end do
+    fapl = mpio_access_list(self%comm, where)
+    call h5fopen_f(self%h5_path, H5F_ACC_RDWR_F, self%file_id, err, access_prp=fapl)
+    call h5check(err, 'h5fopen_f('//self%h5_path//')', where)
+    call h5pclose_f(fapl, k)
     ok = .true.
     why = ''
     self%dxpl = collective_transfer_list(where)
     ! Frames written after the checkpoint, and the benchmark results of the end of the run.
+    ! A damaged group can refuse the deletion (its name heap broken by a kill): the file is
+    ! then rebuilt from the frames before the checkpoint.
+    call h5eset_auto_f(0, err)
     k = nframes
     do
       write (gname, '(a,i6.6)') 'frames/', k
       call h5lexists_f(self%file_id, trim(gname), exists, err)
-      if (.not. exists) exit
+      if (err < 0 .or. .not. exists) exit
       call h5ldelete_f(self%file_id, trim(gname), err)
-      call h5check(err, 'h5ldelete_f('//trim(gname)//')', where)
+      if (err < 0) exit
       k = k + 1
     end do
-    call h5lexists_f(self%file_id, 'verification', exists, err)
-    if (exists) then
-      call h5ldelete_f(self%file_id, 'verification', err)
-      call h5check(err, 'h5ldelete_f(/verification)', where)
+    if (err >= 0) then
+      call h5lexists_f(self%file_id, 'verification', exists, err)
+      if (err >= 0 .and. exists) call h5ldelete_f(self%file_id, 'verification', err)
+    end if
+    call h5eset_auto_f(1, e2)
+    call MPI_Allreduce(MPI_IN_PLACE, err, 1, MPI_INTEGER, MPI_MIN, self%comm)
+    if (err < 0) then
+      call h5fclose_f(self%file_id, e2)
+      call salvage(self, cfg, comm, nframes, step, why)
+      return
     end if
     call h5aexists_f(self%file_id, 'nranks', exists, err)
     if (exists) call h5adelete_f(self%file_id, 'nranks', err)
@@ -263,6 +263,193 @@ contains
     if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, self%sets(1:self%nsets))
     call MPI_Barrier(self%comm)
   end subroutine out_resume
+
+  !> The file opens, its first nframes frames and the diagnostics can be read (every
+  !> frame group opens with its point sets' ids), and so can the later frames that a
+  !> continued run deletes (every rank looks on its own; the answer is the same on all).
+  !> HDF5's error printing is off meanwhile: damage is an answer here.
+  logical function file_sound(path, nframes) result(sound)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: nframes
+    integer(hid_t) :: file
+    integer :: err, k, e2
+    character(len=32) :: gname
+    logical :: exists
+    call h5eset_auto_f(0, err)
+    call h5fopen_f(path, H5F_ACC_RDONLY_F, file, err)
+    sound = err >= 0
+    if (sound) then
+      sound = object_sound(file, 'diagnostics/step')
+      do k = 0, nframes - 1
+        if (.not. sound) exit
+        sound = frame_sound(file, k)
+      end do
+      ! The frames after the checkpoint are deleted: each must open for that.
+      k = nframes
+      do while (sound)
+        write (gname, '(a,i6.6)') 'frames/', k
+        call h5lexists_f(file, trim(gname), exists, err)
+        if (err < 0) sound = .false.
+        if (err < 0 .or. .not. exists) exit
+        sound = object_sound(file, trim(gname))
+        k = k + 1
+      end do
+      call h5fclose_f(file, e2)
+    end if
+    call h5eset_auto_f(1, e2)
+  end function file_sound
+
+  !> Frame k of an open file can be opened, and so can the ids of its point sets.
+  logical function frame_sound(file, k) result(sound)
+    integer(hid_t), intent(in) :: file
+    integer, intent(in) :: k
+    character(len=32) :: gname
+    write (gname, '(a,i6.6)') 'frames/', k
+    sound = object_sound(file, trim(gname))
+    if (sound) sound = object_sound(file, trim(gname)//'/solid/id')
+  end function frame_sound
+
+  !> The object at path opens (links and header readable).
+  logical function object_sound(file, path) result(sound)
+    integer(hid_t), intent(in) :: file
+    character(len=*), intent(in) :: path
+    integer(hid_t) :: obj
+    integer :: err, e2
+    logical :: exists
+    call h5lexists_f(file, path, exists, err)
+    sound = err >= 0 .and. exists
+    if (.not. sound) return
+    call h5oopen_f(file, path, obj, err)
+    sound = err >= 0
+    if (sound) call h5oclose_f(obj, e2)
+  end function object_sound
+
+  !> Rebuild a damaged <name>.h5 (collective): it is renamed <name>.damaged.h5, a new
+  !> <name>.h5 is made (out_open), and the frames before nframes that can still be read
+  !> are copied into it in order (renumbered without gaps), with the diagnostics records
+  !> before step. nframes becomes the number of frames kept; why says what was lost.
+  subroutine salvage(self, cfg, comm, nframes, step, why)
+    class(output_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(inout) :: nframes
+    integer(i8), intent(in) :: step
+    character(len=:), allocatable, intent(out) :: why
+    character(len=*), parameter :: where = 'output%salvage'
+    character(len=:), allocatable :: damaged
+    character(len=32) :: src_name, dst_name
+    integer(hid_t) :: src
+    integer :: err, e2, k, kept, nlost, ndiag
+    type(diag_record_t), allocatable :: recs(:)
+    damaged = self%h5_path(1:len(self%h5_path) - 3)//'.damaged.h5'
+    call MPI_Comm_free(self%comm)
+    call MPI_Comm_rank(comm, k)
+    if (k == 0) call rename_file(self%h5_path, damaged, where)
+    call MPI_Barrier(comm)
+    call self%open(cfg, comm)
+    kept = 0
+    nlost = 0
+    ndiag = 0
+    call h5eset_auto_f(0, err)
+    call h5fopen_f(damaged, H5F_ACC_RDONLY_F, src, err)
+    if (err >= 0) then
+      do k = 0, nframes - 1
+        write (src_name, '(a,i6.6)') 'frames/', k
+        write (dst_name, '(a,i6.6)') 'frames/', kept
+        err = -1
+        if (frame_sound(src, k)) call h5ocopy_f(src, trim(src_name), self%file_id, trim(dst_name), err)
+        if (err >= 0) then
+          call add_frame_records(self, kept, where)
+          kept = kept + 1
+        else
+          nlost = nlost + 1
+        end if
+      end do
+      call read_diag_records(src, step, recs, ndiag)
+      call h5fclose_f(src, e2)
+    else
+      nlost = nframes
+    end if
+    call h5eset_auto_f(1, e2)
+    do k = 1, ndiag
+      call self%add_diag(recs(k))
+    end do
+    call self%flush_diag()
+    call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
+    call h5check(err, 'h5fflush_f', where)
+    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, self%sets(1:self%nsets))
+    call MPI_Barrier(self%comm)
+    why = self%h5_path//' is damaged (as a kill while writing can leave it); kept as '//damaged// &
+          ', its '//itoa(kept)//' readable frames of '//itoa(nframes)//' and '//itoa(ndiag)// &
+          ' diagnostics records copied into a new '//self%h5_path
+    if (nlost > 0) why = why//'; '//itoa(nlost)//' frames could not be read and are lost'
+    nframes = kept
+  end subroutine salvage
+
+  !> The diagnostics records of an open file with step before step (none when they
+  !> cannot be read).
+  subroutine read_diag_records(file, step, recs, n)
+    integer(hid_t), intent(in) :: file
+    integer(i8), intent(in) :: step
+    type(diag_record_t), allocatable, intent(out) :: recs(:)
+    integer, intent(out) :: n
+    integer(hid_t) :: dset, space
+    integer(hsize_t) :: dims(1), maxdims(1)
+    integer(i8), allocatable, target :: steps(:), npts(:)
+    real(wp), allocatable, target :: vals(:)
+    type(c_ptr) :: cp
+    integer :: err, e2, k, m
+    n = 0
+    allocate (recs(0))
+    call h5dopen_f(file, 'diagnostics/step', dset, err)
+    if (err < 0) return
+    call h5dget_space_f(dset, space, err)
+    call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
+    call h5sclose_f(space, e2)
+    m = int(dims(1))
+    allocate (steps(max(m, 1)), npts(max(m, 1)), vals(max(m, 1)))
+    cp = c_loc(steps)
+    if (m > 0) call h5dread_f(dset, h5kind_to_type(i8, H5_INTEGER_KIND), cp, err)
+    call h5dclose_f(dset, e2)
+    if (err < 0 .or. m == 0) return
+    n = count(steps(1:m) < step)
+    deallocate (recs)
+    allocate (recs(n))
+    do k = 1, n
+      recs(k)%step = steps(k)
+    end do
+    call read_column(file, 'diagnostics/npoints', h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(npts), err)
+    if (err < 0) then
+      n = 0
+      return
+    end if
+    recs(1:n)%npoints = npts(1:n)
+    do k = 1, ndiag_real
+      call read_column(file, 'diagnostics/'//trim(diag_real_names(k)), &
+                       h5kind_to_type(wp, H5_REAL_KIND), c_loc(vals), err)
+      if (err < 0) then
+        n = 0
+        return
+      end if
+      recs(1:n)%values(k) = vals(1:n)
+    end do
+  end subroutine read_diag_records
+
+  !> Read a whole 1D dataset into buf (err < 0 when it cannot be read).
+  subroutine read_column(file, path, mtype, buf, err)
+    integer(hid_t), intent(in) :: file, mtype
+    character(len=*), intent(in) :: path
+    type(c_ptr), intent(in) :: buf
+    integer, intent(out) :: err
+    integer(hid_t) :: dset
+    type(c_ptr) :: p
+    integer :: e2
+    call h5dopen_f(file, path, dset, err)
+    if (err < 0) return
+    p = buf
+    call h5dread_f(dset, mtype, p, err)
+    call h5dclose_f(dset, e2)
+  end subroutine read_column
 
   !> The state of an output_t before a file is opened: communicator, paths, no records.
   subroutine start(self, cfg, comm)

@@ -30,6 +30,7 @@ program test_input
   call test_optional_groups_give_defaults()
   call test_print_config_reads_back()
   call test_two_phase_scene()
+  call test_porosity_gradient_where_porosity_varies()
   call test_every_rank_parses_the_same_config()
   call test_text_parses_without_a_file()
   call test_refused_input_returns_status()
@@ -273,6 +274,37 @@ contains
     call check_equal_int(st, 0, 'read_input status')
     call check_two_phase(again)
   end subroutine test_two_phase_scene
+
+  !> porosity_gradient left out: on where the porosity varies between the regions (free
+  !> water over soil), off in one soil; given as .false., it stays off.
+  subroutine test_porosity_gradient_where_porosity_varies()
+    type(config_t) :: cfg
+    integer :: st, k
+    character(len=:), allocatable :: file
+    character(len=100), parameter :: runs(3) = [character(len=100) :: '&run t_end = 0.1 /', &
+                                                '&run porosity_gradient = .false. /', &
+                                                '&run t_end = 0.1 /']
+    logical, parameter :: expect(3) = [.true., .false., .false.]
+    character(len=100), parameter :: water(3) = [character(len=100) :: &
+                                    '&region lo = 0.0, 1.0, hi = 1.0, 1.5, phase = ''fluid'', material = 4 /', &
+                                    '&region lo = 0.0, 1.0, hi = 1.0, 1.5, phase = ''fluid'', material = 4 /', '']
+    call begin_test('porosity_gradient_where_porosity_varies')
+    do k = 1, 3
+      file = 'test_input_'//trim(tag)//'_pgrad.nml'
+      call write_file(file, [character(len=100) :: runs(k), &
+        '&grid ndim = 2, ncells = 8, 16, length = 1.0, 2.0 /', &
+        '&material id = 4, model = ''fluid'', density = 998.0, bulk_modulus = 2.0e9 /', &
+        '&material id = 9, density = 2650.0, youngs_modulus = 1.0e7, poisson_ratio = 0.25,', &
+        '          conductivity = 1.0e-3 /', &
+        '&region lo = 0.0, 0.0, hi = 1.0, 1.0, phase = ''saturated'', material = 9,', &
+        '        fluid_material = 4, porosity = 0.35 /', &
+        water(k)])
+      call read_input(file, MPI_COMM_WORLD, cfg, st)
+      call check_equal_int(st, 0, 'read_input status')
+      call check(cfg%porosity_gradient .eqv. expect(k), 'porosity_gradient of case '//char(48 + k))
+      call check(cfg%porosity_gradient_given .eqv. (k == 2), 'given in case '//char(48 + k))
+    end do
+  end subroutine test_porosity_gradient_where_porosity_varies
 
   !> Every value of the two-phase scene as read on this rank.
   subroutine check_two_phase(c)

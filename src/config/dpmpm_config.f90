@@ -10,7 +10,7 @@ module dpmpm_config
   public :: max_poly, max_table, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
-  public :: optional_fields, field_listed
+  public :: optional_fields, field_listed, porosity_varies
 
   integer, parameter :: name_len = 64
   !> Largest number of vertices of a 2D polygon region.
@@ -38,6 +38,8 @@ module dpmpm_config
     real(wp) :: poisson_ratio = 0.3_wp
     real(wp) :: bulk_modulus = 2.2e9_wp      !< Pa, fluid K_f (model fluid)
     real(wp) :: conductivity = 0.0_wp        !< m/s, hydraulic conductivity k of a soil; 0 = none
+    !> constant | kozeny_carman (k scaled by n^3/(1-n)^2 against its value at the initial porosity)
+    character(len=name_len) :: conductivity_law = 'constant'
     ! mohr_coulomb and drucker_prager (effective stress of the skeleton)
     real(wp) :: friction_angle = 30.0_wp     !< degrees, phi
     real(wp) :: dilatancy_angle = 0.0_wp     !< degrees, psi, 0 <= psi <= phi
@@ -57,7 +59,8 @@ module dpmpm_config
     integer :: material = 1                          !< material id
     character(len=name_len) :: phase = 'solid'      !< solid | fluid | saturated
     integer :: fluid_material = 0                    !< material id of the pore fluid (saturated)
-    real(wp) :: porosity = 0.0_wp                    !< initial porosity n_f (saturated)
+    !> initial porosity n_f: saturated soil, or dry porous soil in a solid region (0 = not porous)
+    real(wp) :: porosity = 0.0_wp
     integer :: ppc = 2                               !< points per cell per direction
     !> regular | random (scattered in each cell) | uniform (scattered over the whole region)
     character(len=name_len) :: placement = 'regular'
@@ -108,7 +111,9 @@ module dpmpm_config
     ! two-phase coupling (&run)
     character(len=name_len) :: drag = 'explicit'     !< explicit | implicit (per-node 2x2 solve)
     real(wp) :: drag_safety = 0.8_wp                 !< fraction of the nodal drag limit (explicit)
-    logical :: porosity_gradient = .false.           !< grad n_f term of the pressure equation
+    !> grad n_f term of the pressure equation; when not given, on where the porosity varies
+    logical :: porosity_gradient = .false.
+    logical :: porosity_gradient_given = .false.     !< porosity_gradient was set in &run
     logical :: remap_drag = .true.                   !< MUSL: the step's implicit drag on the remapped pair
     ! run monitor (&run)
     real(wp) :: growth_limit = 10.0_wp               !< stop when energy exceeds this x (input + initial); 0 = off
@@ -197,6 +202,39 @@ contains
   end function face_index
 
   !> Entries of a load's time table: the leading times >= 0.
+  !> True when the initial porosity differs between the regions of a two-phase scene:
+  !> free water (n = 1) beside porous soil, or porous regions of different porosity.
+  !> Bodies that are not porous (solid, porosity 0) take no part.
+  pure logical function porosity_varies(cfg) result(varies)
+    type(config_t), intent(in) :: cfg
+    real(wp) :: n, first
+    logical :: have
+    integer :: r
+    varies = .false.
+    have = .false.
+    first = 0.0_wp
+    if (.not. allocated(cfg%regions)) return
+    do r = 1, size(cfg%regions)
+      select case (trim(cfg%regions(r)%phase))
+      case ('fluid')
+        n = 1.0_wp
+      case ('saturated')
+        n = cfg%regions(r)%porosity
+      case default
+        n = cfg%regions(r)%porosity
+        if (.not. n > 0.0_wp) cycle
+      end select
+      if (.not. have) then
+        first = n
+        have = .true.
+      else if (n /= first) then
+        varies = .true.
+      end if
+    end do
+    if (.not. any(cfg%regions%phase == 'fluid' .or. cfg%regions%phase == 'saturated')) &
+      varies = .false.
+  end function porosity_varies
+
   pure integer function table_length(times) result(n)
     real(wp), intent(in) :: times(:)
     n = 0

@@ -8,7 +8,7 @@
 !> nothing here changes.
 module dpmpm_input
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
-  use dpmpm_config, only: config_t
+  use dpmpm_config, only: config_t, porosity_varies
   use dpmpm_input_problems, only: input_problems_t
   use dpmpm_input_read, only: load_text, parse_input
   use dpmpm_input_check, only: check_config
@@ -49,6 +49,8 @@ contains
     end if
 
     call parse_input(text, cfg, pb)
+    ! The porosity-gradient terms where the porosity varies, unless &run says otherwise.
+    if (.not. cfg%porosity_gradient_given .and. porosity_varies(cfg)) cfg%porosity_gradient = .true.
     nprob = 0
     if (rank == 0) then
       if (present(restart_latest)) then

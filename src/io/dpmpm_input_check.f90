@@ -135,6 +135,10 @@ contains
         end if
         if (.not. real_ok(m%conductivity, ge=0.0_wp)) call add_value(pb, g_material, k, &
           'conductivity', rtoa(m%conductivity), 'must be >= 0 (m/s; 0 = no pore fluid flow)')
+        if (.not. any(m%conductivity_law == [character(len=13) :: 'constant', 'kozeny_carman'])) &
+          call add_value(pb, g_material, k, 'conductivity_law', quote(m%conductivity_law), &
+                         'the laws are constant, kozeny_carman (k = conductivity n^3 (1 - n0)^2 / '// &
+                         '((1 - n)^2 n0^3) at porosity n, initial porosity n0)')
         if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') &
           call check_plastic(pb, k, m)
         do j = 1, k - 1
@@ -416,10 +420,11 @@ contains
         if (r%fluid_material /= 0) call add_value(pb, g_region, k, 'fluid_material', &
           itoa(r%fluid_material), "only a saturated region has a pore fluid; leave it out "// &
           "or set phase = 'saturated'")
-        if (r%porosity /= 0.0_wp) call add_value(pb, g_region, k, 'porosity', &
-          rtoa(r%porosity), "only a saturated region has a porosity; leave it out or set "// &
-          "phase = 'saturated'")
       end if
+      if (trim(r%phase) == 'fluid' .and. r%porosity /= 0.0_wp) call add_value(pb, g_region, k, &
+        'porosity', rtoa(r%porosity), "a fluid region has no porosity (free water is n = 1); "// &
+        'leave it out')
+      if (trim(r%phase) == 'solid') call check_dry_porous(pb, cfg, k, materials_ok)
       if (r%ppc < 1 .or. r%ppc > 10) call add_value(pb, g_region, k, 'ppc', itoa(r%ppc), &
         'must be in 1..10 (points per cell along each axis)')
       if (.not. any(r%placement == [character(len=7) :: 'regular', 'random', 'uniform'])) &
@@ -436,6 +441,35 @@ contains
       call check_finite(pb, g_region, k, 'pore_pressure_gradient', r%pore_pressure_gradient)
     end associate
   end subroutine check_region
+
+  !> Check the porosity of solid region k: 0 for a body that is not porous (a footing, a
+  !> wall), in (0, 1) for dry soil; dry soil in a scene with a fluid needs a conductivity
+  !> (its pores take the water that reaches them).
+  subroutine check_dry_porous(pb, cfg, k, materials_ok)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    logical, intent(in) :: materials_ok
+    integer :: m
+    associate (r => cfg%regions(k))
+      if (.not. real_ok(r%porosity, ge=0.0_wp, lt=1.0_wp)) then
+        call add_value(pb, g_region, k, 'porosity', rtoa(r%porosity), 'must be in [0, 1) '// &
+                       'for a solid region: 0 (the default) for a body that is not porous, '// &
+                       'the volume fraction of the pores for dry soil')
+        return
+      end if
+      if (r%porosity == 0.0_wp .or. .not. materials_ok) return
+      if (.not. any(cfg%regions%phase == 'fluid' .or. cfg%regions%phase == 'saturated')) return
+      m = findloc(cfg%materials%id, r%material, dim=1)
+      if (m == 0) return
+      if (.not. real_ok(cfg%materials(m)%conductivity, gt=0.0_wp)) &
+        call add_value(pb, g_region, k, 'material', itoa(r%material), 'material '// &
+                       itoa(r%material)//' has conductivity = '// &
+                       rtoa(cfg%materials(m)%conductivity)//'; dry soil (porosity > 0) in a '// &
+                       'scene with pore or free water needs a hydraulic conductivity > 0 (m/s) '// &
+                       'for the water that enters it')
+    end associate
+  end subroutine check_dry_porous
 
   !> Check the soil skeleton, pore fluid and porosity of saturated region k.
   subroutine check_saturated(pb, cfg, k, materials_ok)

@@ -253,7 +253,7 @@ contains
     character(len=long_len) :: name, restart
     real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety, max_wall_time
     real(wp) :: growth_limit, equilibrium_time, equilibrium_damping
-    logical :: porosity_gradient, remap_drag
+    logical :: porosity_gradient, remap_drag, given
     integer(i8) :: max_steps
     integer :: ios
     character(len=512) :: msg
@@ -279,6 +279,16 @@ contains
       return
     end if
     cfg%echo = cfg%echo//nml_echo(echo)
+    ! Whether porosity_gradient was given: a second read from the other default keeps it
+    ! only if the group sets it.
+    cfg%porosity_gradient_given = .false.
+    if (pb%count(g_run) > 0) then
+      given = porosity_gradient
+      porosity_gradient = .not. cfg%porosity_gradient
+      read (records, nml=run, iostat=ios)
+      cfg%porosity_gradient_given = porosity_gradient .eqv. given
+      porosity_gradient = given
+    end if
     call check_length(pb, g_run, 'name', name, len(cfg%name))
     call check_length(pb, g_run, 'restart', restart, len(cfg%restart))
     cfg%name = name; cfg%t_end = t_end; cfg%dt = dt; cfg%cfl = cfl; cfg%max_steps = max_steps
@@ -365,15 +375,15 @@ contains
     type(material_cfg_t) :: def
     type(material_cfg_t), allocatable :: list(:)
     integer :: id, k, n, ios
-    character(len=name_len) :: model, dp_match
+    character(len=name_len) :: model, dp_match, conductivity_law
     real(wp) :: density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity
     real(wp) :: friction_angle, dilatancy_angle, cohesion, tensile_strength, cohesion_softening, &
                 residual_cohesion
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     namelist /material/ id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, &
-      conductivity, friction_angle, dilatancy_angle, cohesion, tensile_strength, &
-      cohesion_softening, residual_cohesion, dp_match
+      conductivity, conductivity_law, friction_angle, dilatancy_angle, cohesion, &
+      tensile_strength, cohesion_softening, residual_cohesion, dp_match
     allocate (list(pb%count(g_material)))
     n = 0
     ok = .true.
@@ -381,6 +391,7 @@ contains
       id = def%id; model = def%model; density = def%density
       youngs_modulus = def%youngs_modulus; poisson_ratio = def%poisson_ratio
       bulk_modulus = def%bulk_modulus; conductivity = def%conductivity
+      conductivity_law = def%conductivity_law
       friction_angle = def%friction_angle; dilatancy_angle = def%dilatancy_angle
       cohesion = def%cohesion; tensile_strength = def%tensile_strength
       cohesion_softening = def%cohesion_softening; residual_cohesion = def%residual_cohesion
@@ -398,6 +409,7 @@ contains
       list(k) = material_cfg_t(id=id, model=model, density=density, &
                                youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, &
                                bulk_modulus=bulk_modulus, conductivity=conductivity, &
+                               conductivity_law=conductivity_law, &
                                friction_angle=friction_angle, dilatancy_angle=dilatancy_angle, &
                                cohesion=cohesion, tensile_strength=tensile_strength, &
                                cohesion_softening=cohesion_softening, &

@@ -28,6 +28,7 @@ module dpmpm_materials
     real(wp) :: pwave = 0.0_wp          !< constrained modulus lambda + 2 mu
     real(wp) :: bulk_fluid = 0.0_wp     !< K_f of a fluid
     real(wp) :: conductivity = 0.0_wp   !< hydraulic conductivity of a soil (m/s), 0 = none
+    logical :: kozeny_carman = .false.  !< k follows the porosity (Kozeny-Carman)
     type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
   end type material_t
 
@@ -73,6 +74,7 @@ contains
       mats(k)%pwave = mats(k)%lambda + 2.0_wp*mats(k)%mu
       mats(k)%bulk_fluid = cfgs(k)%bulk_modulus
       mats(k)%conductivity = cfgs(k)%conductivity
+      mats(k)%kozeny_carman = cfgs(k)%conductivity_law == 'kozeny_carman'
       if (is_plastic(mats(k)%model)) then
         match = findloc(dp_match_names, trim(cfgs(k)%dp_match), dim=1)
         if (match == 0) match = dp_plane_strain

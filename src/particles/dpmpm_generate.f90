@@ -41,8 +41,9 @@ contains
 
   !> Append to ps the points of every region that fall in the cells clo..chi (global,
   !> 0-based, per axis: the cells this rank owns; all cells on one rank).
-  !> phase = 'solid' (default): points of solid regions (porosity 0) and the skeleton of
-  !> saturated regions (mass (1 - n) rho_s V, porosity n). phase = 'fluid': points of fluid
+  !> phase = 'solid' (default): points of solid regions (porosity 0, or dry soil of porosity
+  !> n and mass (1 - n) rho_s V) and the skeleton of saturated regions (mass (1 - n) rho_s V,
+  !> porosity n). phase = 'fluid': points of fluid
   !> regions (mass rho_f V, porosity 1, kinv 0) and the pore fluid of saturated regions
   !> (mass n rho_f V, porosity n, kinv = 1/conductivity of the soil, material = the fluid
   !> material), placed independently of the skeleton with seed fluid_seed (seed + 1 when
@@ -99,7 +100,9 @@ contains
     select case (trim(reg%phase))
     case ('solid')
       used = which == 'solid'
-      fill = fill_t(mat=imat, rho=mats(imat)%density, porosity=0.0_wp, seed=reg%seed)
+      ! Dry soil (porosity > 0): density is that of the grains, as in saturated soil.
+      fill = fill_t(mat=imat, rho=(1.0_wp - reg%porosity)*mats(imat)%density, &
+                    porosity=reg%porosity, seed=reg%seed)
     case ('fluid')
       used = which == 'fluid'
       fill = fill_t(mat=imat, rho=mats(imat)%density, porosity=1.0_wp, seed=reg%seed, &

@@ -9,41 +9,71 @@ module dpmpm_pore_pressure
   use dpmpm_materials, only: material_t
   implicit none
   private
-  public :: nodal_porosity, skeleton_porosity, pressure_update, fluid_density, fluid_state, &
+  public :: nodal_porosity, skeleton_porosity, skeleton_kinv, pressure_update, fluid_density, fluid_state, &
             fluid_pressure_step
 
 contains
 
-  !> Nodal porosity on the nodes olo..ohi: sum N_I m n_f (nporo on entry) over the
-  !> nodal solid mass node_s(1) (1 where there is no solid).
-  pure subroutine nodal_porosity(lo, olo, ohi, node_s, nporo)
+  !> Nodal fields of the porous skeleton on the nodes olo..ohi: on entry the sums
+  !> sum N m n, sum N m and sum N m / k over the porous solid points (solid_porosity_p2g);
+  !> on return the nodal porosity n_I (1 where no porous solid reaches: free water), the
+  !> porous mass, and the mass-weighted 1/k (0 there: no drag). Bodies that are not
+  !> porous (porosity 0) take no part, so water beside them is free water.
+  pure subroutine nodal_porosity(lo, olo, ohi, nporo)
     integer, intent(in) :: lo(3), olo(3), ohi(3)
-    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: nporo(:, lo(1):, lo(2):, lo(3):)
     integer :: i, j, k
     real(wp) :: ms
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)
-          ms = node_s(1, i, j, k)
+          ms = nporo(2, i, j, k)
           if (ms > 0.0_wp) then
             nporo(1, i, j, k) = nporo(1, i, j, k)/ms
+            nporo(3, i, j, k) = nporo(3, i, j, k)/ms
           else
             nporo(1, i, j, k) = 1.0_wp
+            nporo(3, i, j, k) = 0.0_wp
           end if
         end do
       end do
     end do
   end subroutine nodal_porosity
 
-  !> Porosity of the skeleton points from their volume change with incompressible
-  !> grains, n' = 1 - (1 - n) V / V' (volb the volumes before the stress update).
+  !> Porosity of the porous skeleton points from their volume change with
+  !> incompressible grains, n' = 1 - (1 - n) V / V' (volb the volumes before the stress
+  !> update). Points of porosity 0 (bodies that are not porous) keep it.
   pure subroutine skeleton_porosity(n, volb, vol, poro)
     integer, intent(in) :: n
     real(wp), intent(in) :: volb(:), vol(:)
     real(wp), intent(inout) :: poro(:)
-    poro(1:n) = 1.0_wp - (1.0_wp - poro(1:n))*volb/vol(1:n)
+    where (poro(1:n) > 0.0_wp) poro(1:n) = 1.0_wp - (1.0_wp - poro(1:n))*volb/vol(1:n)
   end subroutine skeleton_porosity
+
+  !> 1/k of each solid point (s/m): that of its material, 0 for a body that is not
+  !> porous or a material without conductivity; with the Kozeny-Carman law k scales
+  !> as n^3 / (1 - n)^2 against the initial porosity n0 = 1 - (1 - n) V / V0.
+  pure subroutine skeleton_kinv(n, mats, mat, poro, vol, vol0, kinv)
+    integer, intent(in) :: n
+    type(material_t), intent(in) :: mats(:)
+    integer, intent(in) :: mat(:)
+    real(wp), intent(in) :: poro(:), vol(:), vol0(:)
+    real(wp), intent(out) :: kinv(:)
+    integer :: p
+    real(wp) :: n0, np
+    do p = 1, n
+      kinv(p) = 0.0_wp
+      associate (mt => mats(mat(p)))
+        if (poro(p) <= 0.0_wp .or. .not. mt%conductivity > 0.0_wp) cycle
+        kinv(p) = 1.0_wp/mt%conductivity
+        if (mt%kozeny_carman) then
+          np = min(max(poro(p), 1.0e-3_wp), 0.999_wp)
+          n0 = min(max(1.0_wp - (1.0_wp - poro(p))*vol(p)/vol0(p), 1.0e-3_wp), 0.999_wp)
+          kinv(p) = kinv(p)*(n0/np)**3*((1.0_wp - np)/(1.0_wp - n0))**2
+        end if
+      end associate
+    end do
+  end subroutine skeleton_kinv
 
   !> The pore pressure of the fluid points over one step (eq. 10) with the bulk
   !> modulus of each point's fluid; lf, ls the fluid and solid velocity gradients

@@ -155,6 +155,8 @@ contains
       call MPI_Allreduce(MPI_IN_PLACE, nfl, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
       write (line, '(a,i0,a,a)') 'dpmpm: ', nfl, ' fluid points; drag ', trim(cfg%drag)
       if (cfg%porosity_gradient) line = trim(line)//'; with the porosity-gradient term'
+      if (cfg%porosity_gradient .and. .not. cfg%porosity_gradient_given) &
+        line = trim(line)//' (the porosity varies between the regions)'
       call self%log%info(trim(line))
       ntot = ntot + nfl
     end if
@@ -189,7 +191,7 @@ contains
       if (self%two_phase) then
         allocate (self%phase(2)%node, mold=self%phase(1)%node)
         allocate (self%phase(2)%nvel, mold=self%phase(1)%nvel)
-        allocate (self%nporo(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (self%nporo(3, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         allocate (self%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         if (self%plan%gauss) then
           allocate (self%phase(2)%gacc, mold=self%phase(1)%gacc)

@@ -45,8 +45,9 @@ module dpmpm_state
     integer :: kernel = 1
     type(mirror_t) :: mirror                  !< the mirror walls of this rank's node block
     type(face_loads_t) :: faces               !< tractions and pore-fluid conditions of the faces
-    ! Two-phase node fields: sum N m_s n_f of the solid points (then the nodal
-    ! porosity, 1 where there is no solid), and the drag coefficient D (kg/s).
+    ! Two-phase node fields of the porous solid points (dpmpm_pore_pressure): nodal
+    ! porosity (1 where there is no porous solid), porous mass, 1/k (0 there); and the
+    ! drag coefficient D (kg/s).
     real(wp), allocatable :: nporo(:, :, :, :), ndrag(:, :, :, :)
     integer :: fbc(6) = 0                     !< resolved pore-fluid condition per face
     real(wp) :: kf_max = 0.0_wp, rhof_min = 0.0_wp !< stiffest, lightest pore fluid (CFL)

@@ -18,11 +18,12 @@ module dpmpm_step
   use dpmpm_particles, only: particle_set_t
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, fluid_p2g, &
+  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, &
+                            fluid_p2g, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped
-  use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, fluid_pressure_step, fluid_state
+  use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, fluid_pressure_step, fluid_state
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
   use dpmpm_time_step, only: report_governing
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN
@@ -41,7 +42,7 @@ contains
     integer :: m, ip, nlost, ns, nf, nd
     logical :: coupled
     real(wp) :: wplastic
-    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:)
+    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:), skinv(:)
     coupled = self%nph == 2
     nd = self%nd
     ns = self%phase(solid_phase)%pts%n
@@ -75,8 +76,10 @@ contains
       self%nporo = 0.0_wp
       self%ndrag = 0.0_wp
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        call solid_porosity_p2g(s%st%nw, ns, s%st%i0, s%st%sw, s%pts%mass, s%pts%porosity, self%dec%alo, &
-                                self%nporo)
+        allocate (skinv(ns))
+        call skeleton_kinv(ns, self%mats, s%pts%mat, s%pts%porosity, s%pts%vol, s%pts%vol0, skinv)
+        call solid_porosity_p2g(s%st%nw, ns, s%st%i0, s%st%sw, s%pts%mass, s%pts%porosity, skinv, &
+                                self%dec%alo, self%nporo)
     call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, f%pts%pressure, f%pts%kinv, &
                        (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag)
       end associate
@@ -105,7 +108,7 @@ contains
       call self%mirror%fold(self%phase(ip)%node, 1, self%phase(ip)%bc)
     end do
     if (coupled) then
-      call self%mirror%fold(self%nporo, 1, self%grid%bc)
+      call self%mirror%fold(self%nporo, 3, self%grid%bc)
       call self%mirror%fold(self%ndrag, 1, self%phase(fluid_phase)%bc)
     end if
     if (self%plan%velocity_mls) then
@@ -151,20 +154,25 @@ contains
                         self%ext_work, damping_now(self), self%drag_loss)
       call self%timers%toc(t_nodal)
     else
-      ! Porosity at the nodes, then at the fluid points (start-of-step positions,
-      ! doc/theory.md 3.5) with its gradient; the interphase force when asked for.
-      call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
-                          self%nporo)
+      ! Porosity and 1/k of the porous skeleton at the nodes, then at the fluid points
+      ! (start-of-step positions, doc/theory.md 3.5): the porosity with its gradient for
+      ! the pressure update, 1/k for the next step's drag; the interphase force when
+      ! asked for. Free water (no porous solid around) gets n = 1 and no drag.
+      call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%nporo)
       call self%timers%toc(t_nodal)
       call self%timers%tic(t_halo)
       call self%dec%halo_copy(self%nporo)
-      call self%mirror%unfold(self%nporo, 1, self%grid%bc)
+      call self%mirror%unfold(self%nporo, 3, self%grid%bc)
       call self%timers%toc(t_halo)
       call self%timers%tic(t_g2p)
       allocate (nval(nf), ngrad(3, nf), gnrel(nf))
       associate (f => self%phase(fluid_phase))
         call interp_scalar(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, self%nporo, nval, ngrad)
-        f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-6_wp))
+        ! The floor only guards against negative interpolation weights; porous points
+        ! have n > 0 and water away from them n = 1.
+        f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-3_wp))
+        call interp_value(f%st%nw, nf, f%st%i0, f%st%sw, self%dec%alo, self%nporo, 3, nval)
+        f%pts%kinv(1:nf) = max(0.0_wp, nval)
       end associate
       call self%timers%toc(t_g2p)
       if (self%cfg%porosity_gradient) call add_interphase_force(self, ngrad)

@@ -15,7 +15,10 @@ module dpmpm_time_step
 contains
 
   !> Stable step: Courant number times the smallest cell size over the fastest
-  !> signal (wave speed plus point speed). A fixed dt above the critical step
+  !> signal (wave speed plus point speed). In two-phase scenes every porous skeleton
+  !> point (saturated or dry soil) carries the undrained wave at its own porosity;
+  !> the porosity a fluid point uses is a weighted mean of these, so its K_f / n is
+  !> covered. Bodies that are not porous (porosity 0) carry their own wave. A fixed dt above the critical step
   !> (Courant number 1) is refused, and a non-finite speed stops the run (collective:
   !> exit_code set on every rank, dt = 0).
   real(wp) function stable_dt(self) result(dt)

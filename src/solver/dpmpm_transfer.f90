@@ -12,7 +12,7 @@ module dpmpm_transfer
   use dpmpm_drag, only: gravity_drag
   implicit none
   private
-  public :: p2g, g2p, point_gradient, momentum_p2g, interp_scalar
+  public :: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux
 
 contains
@@ -220,6 +220,31 @@ contains
     end do
   end subroutine interp_scalar
 
+  !> Interpolate component comp of the nodal field f to the points (value only).
+  subroutine interp_value(nw, n, i0, sw, lo, f, comp, val)
+    integer, intent(in) :: nw(3), n
+    integer, intent(in) :: i0(:, :)
+    real(wp), intent(in) :: sw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    integer, intent(in) :: comp
+    real(wp), intent(out) :: val(:)
+    integer :: p, a, b, c, i, j, k
+    do p = 1, n
+      val(p) = 0.0_wp
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            val(p) = val(p) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(comp, i, j, k)
+          end do
+        end do
+      end do
+    end do
+  end subroutine interp_value
+
   !> Fluid points to the grid: the pore-pressure forces of the weak form (paper eq. 5),
   !> f_f,I += V n_f p grad N_I and f_s,I += V (1 - n_f) p grad N_I (point quadrature,
   !> only when point_forces), and the drag coefficient D_I += N_I m n_f g / k.
@@ -290,23 +315,29 @@ contains
     end do
   end subroutine interphase_p2g
 
-  !> Solid points to the grid: sum N_I m n_f (the nodal porosity is this over the
-  !> nodal solid mass, doc/theory.md 3.5).
-  subroutine solid_porosity_p2g(nw, n, i0, sw, mass, poro, lo, sporo)
+  !> Porous solid points to the grid (porosity > 0): sum N_I m n_f, sum N_I m and
+  !> sum N_I m / k, from which nodal_porosity takes the nodal porosity and 1/k
+  !> (doc/theory.md 3.5); points of porosity 0 are not porous and take no part.
+  subroutine solid_porosity_p2g(nw, n, i0, sw, mass, poro, kinv, lo, sporo)
     integer, intent(in) :: nw(3), n
     integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), mass(:), poro(:)
+    real(wp), intent(in) :: sw(:, :, :), mass(:), poro(:), kinv(:)
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
+    real(wp) :: nn
     do p = 1, n
+      if (.not. poro(p) > 0.0_wp) cycle
       do c = 1, nw(3)
         k = i0(3, p) + c - 1
         do b = 1, nw(2)
           j = i0(2, p) + b - 1
           do a = 1, nw(1)
             i = i0(1, p) + a - 1
-            sporo(1, i, j, k) = sporo(1, i, j, k) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*mass(p)*poro(p)
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*mass(p)
+            sporo(1, i, j, k) = sporo(1, i, j, k) + nn*poro(p)
+            sporo(2, i, j, k) = sporo(2, i, j, k) + nn
+            sporo(3, i, j, k) = sporo(3, i, j, k) + nn*kinv(p)
           end do
         end do
       end do

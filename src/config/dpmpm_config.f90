@@ -114,6 +114,9 @@ module dpmpm_config
     !> grad n_f term of the pressure equation; when not given, on where the porosity varies
     logical :: porosity_gradient = .false.
     logical :: porosity_gradient_given = .false.     !< porosity_gradient was set in &run
+    !> Pa (gauge, compression positive): the pore pressure does not fall below it (the
+    !> water cavitates); about minus the atmospheric pressure
+    real(wp) :: cavitation_pressure = -1.0e5_wp
     logical :: remap_drag = .true.                   !< MUSL: the step's implicit drag on the remapped pair
     ! run monitor (&run)
     real(wp) :: growth_limit = 10.0_wp               !< stop when energy exceeds this x (input + initial); 0 = off

@@ -59,6 +59,9 @@ contains
       'drag_safety), implicit (solid and fluid velocities solved together at each node)')
     if (.not. real_ok(cfg%drag_safety, gt=0.0_wp, le=1.0_wp)) call add_value(pb, g_run, 1, &
       'drag_safety', rtoa(cfg%drag_safety), 'must be in (0, 1] (fraction of the nodal drag limit)')
+    if (.not. real_ok(cfg%cavitation_pressure, le=0.0_wp)) call add_value(pb, g_run, 1, &
+      'cavitation_pressure', rtoa(cfg%cavitation_pressure), 'must be a finite pressure <= 0 '// &
+      '(Pa, gauge; -1e5 is about a vacuum, a large negative value switches the cut off)')
     if (.not. real_ok(cfg%growth_limit, ge=0.0_wp)) call add_value(pb, g_run, 1, &
       'growth_limit', rtoa(cfg%growth_limit), 'must be >= 0 (0 = no growth monitor)')
     if (.not. real_ok(cfg%equilibrium_time, ge=0.0_wp)) call add_value(pb, g_run, 1, &

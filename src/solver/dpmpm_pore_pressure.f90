@@ -5,7 +5,7 @@
 !> and the fluid volume and stress from the new pressure. Drained faces load the
 !> nodes in dpmpm_face_loads. Signs: pore pressure positive in compression.
 module dpmpm_pore_pressure
-  use dpmpm_kinds, only: wp
+  use dpmpm_kinds, only: wp, i8
   use dpmpm_materials, only: material_t
   implicit none
   private
@@ -77,10 +77,13 @@ contains
 
   !> The pore pressure of the fluid points over one step (eq. 10) with the bulk
   !> modulus of each point's fluid; lf, ls the fluid and solid velocity gradients
-  !> at the fluid points, gnrel the mixture-flux term (zero without it).
-  subroutine fluid_pressure_step(n, dt, mats, mat, poro, lf, ls, gnrel, pres)
+  !> at the fluid points, gnrel the mixture-flux term (zero without it). The pressure
+  !> is cut at pcav (cavitation: water does not carry a tension below it); ncut counts
+  !> the points cut.
+  subroutine fluid_pressure_step(n, dt, mats, mat, poro, lf, ls, gnrel, pcav, pres, ncut)
     integer, intent(in) :: n
-    real(wp), intent(in) :: dt
+    real(wp), intent(in) :: dt, pcav
+    integer(i8), intent(inout) :: ncut
     type(material_t), intent(in) :: mats(:)
     integer, intent(in) :: mat(:)
     real(wp), intent(in) :: poro(:), lf(:, :), ls(:, :), gnrel(:)
@@ -92,6 +95,8 @@ contains
       kf(m) = mats(mat(m))%bulk_fluid
     end do
     call pressure_update(n, dt, kf, poro, lf, ls, gnrel, pres)
+    ncut = ncut + count(pres(1:n) < pcav)
+    pres(1:n) = max(pres(1:n), pcav)
   end subroutine fluid_pressure_step
 
   !> The volume each fluid point represents at its new pressure, V = m / (n rho_f(p)),

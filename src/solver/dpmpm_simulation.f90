@@ -5,7 +5,7 @@
 !> leaves an exit status (run_scene's result) for the program to end with.
 module dpmpm_simulation
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_strings, only: i8toa
+  use dpmpm_strings, only: i8toa, rtoa
   use dpmpm_timer, only: t_total, t_output, ntimers, timer_names
   use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable, fbc_names, face_names
   use dpmpm_kernels, only: kernel_reach
@@ -104,6 +104,7 @@ contains
     self%mls_stats = mls_stats_t()
     self%nkept = 0
     self%nwall = 0
+    self%ncavitated = 0
     call self%grid%init(cfg)
     call self%dec%init(comm, cfg%ndim, cfg%ncells, self%plan%ghost_width(), cfg%dims)
     call materials_from_config(cfg%materials, self%mats)
@@ -481,6 +482,11 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
     if (nwall > 0) call self%log%info('  points put back inside a wall they had crossed: '// &
                                       i8toa(nwall))
+    nwall = self%ncavitated
+    call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+    if (nwall > 0) call self%log%info('  pore pressure cut at the cavitation pressure '// &
+                                      trim(rtoa(self%cfg%cavitation_pressure))//' Pa: '// &
+                                      i8toa(nwall)//' point-steps')
     do k = 2, ntimers
       write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
       call self%log%info(line)

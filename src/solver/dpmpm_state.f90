@@ -59,6 +59,7 @@ module dpmpm_state
     type(mls_stats_t) :: mls_stats            !< fallback counts of the MLS solves on this rank
     integer(i8) :: nkept = 0                  !< point gradients left point-wise (no quadrature weight)
     integer(i8) :: nwall = 0                  !< points put back inside a wall they had crossed
+    integer(i8) :: ncavitated = 0             !< fluid point-steps cut at the cavitation pressure
     integer :: nd = 1
     real(wp) :: time = 0.0_wp
     real(wp) :: dt = 0.0_wp

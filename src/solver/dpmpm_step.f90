@@ -263,7 +263,7 @@ contains
     if (coupled) then
       associate (f => self%phase(fluid_phase))
         call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
-                                 f%pts%pressure)
+                                 self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated)
         call fluid_state(nf, self%mats, f%pts%mat, f%pts%mass, f%pts%porosity, f%pts%pressure, &
                          f%pts%vol, f%pts%stress)
       end associate

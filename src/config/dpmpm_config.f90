@@ -117,6 +117,9 @@ module dpmpm_config
     !> Pa (gauge, compression positive): the pore pressure does not fall below it (the
     !> water cavitates); about minus the atmospheric pressure
     real(wp) :: cavitation_pressure = -1.0e5_wp
+    !> none | cell: the pore-pressure change of a step smoothed over the fluid points of
+    !> each cell
+    character(len=name_len) :: pressure_smoothing = 'none'
     logical :: remap_drag = .true.                   !< MUSL: the step's implicit drag on the remapped pair
     ! run monitor (&run)
     real(wp) :: growth_limit = 10.0_wp               !< stop when energy exceeds this x (input + initial); 0 = off

@@ -49,8 +49,12 @@ contains
     end if
 
     call parse_input(text, cfg, pb)
-    ! The porosity-gradient terms where the porosity varies, unless &run says otherwise.
-    if (.not. cfg%porosity_gradient_given .and. porosity_varies(cfg)) cfg%porosity_gradient = .true.
+    ! The porosity-gradient terms where the porosity varies, unless &run says otherwise;
+    ! with the grid functions where they are stable (linear and quadratic, point
+    ! quadrature; check_config refuses the others unless the choice is given).
+    if (.not. cfg%porosity_gradient_given .and. porosity_varies(cfg)) &
+      cfg%porosity_gradient = (cfg%kernel == 'linear' .or. cfg%kernel == 'quadratic') .and. &
+                              cfg%quadrature == 'points'
     nprob = 0
     if (rank == 0) then
       if (present(restart_latest)) then

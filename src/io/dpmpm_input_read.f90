@@ -249,7 +249,7 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: scheme, drag
+    character(len=name_len) :: scheme, drag, pressure_smoothing
     character(len=long_len) :: name, restart
     real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety, max_wall_time
     real(wp) :: growth_limit, equilibrium_time, equilibrium_damping, cavitation_pressure
@@ -260,9 +260,9 @@ contains
     character(len=:), allocatable :: echo(:)
     namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
       drag, drag_safety, porosity_gradient, restart, max_wall_time, remap_drag, growth_limit, &
-      equilibrium_time, equilibrium_damping, cavitation_pressure
+      equilibrium_time, equilibrium_damping, cavitation_pressure, pressure_smoothing
     restart = cfg%restart
-    cavitation_pressure = cfg%cavitation_pressure
+    cavitation_pressure = cfg%cavitation_pressure; pressure_smoothing = cfg%pressure_smoothing
     equilibrium_time = cfg%equilibrium_time; equilibrium_damping = cfg%equilibrium_damping
     max_wall_time = cfg%max_wall_time
     remap_drag = cfg%remap_drag; growth_limit = cfg%growth_limit
@@ -300,7 +300,7 @@ contains
     cfg%max_wall_time = max_wall_time
     cfg%remap_drag = remap_drag; cfg%growth_limit = growth_limit
     cfg%equilibrium_time = equilibrium_time; cfg%equilibrium_damping = equilibrium_damping
-    cfg%cavitation_pressure = cavitation_pressure
+    cfg%cavitation_pressure = cavitation_pressure; cfg%pressure_smoothing = pressure_smoothing
   end subroutine read_run
 
   !> Read &grid.

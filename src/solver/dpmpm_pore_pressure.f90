@@ -9,7 +9,8 @@ module dpmpm_pore_pressure
   use dpmpm_materials, only: material_t
   implicit none
   private
-  public :: nodal_porosity, skeleton_porosity, skeleton_kinv, pressure_update, fluid_density, fluid_state, &
+  public :: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, smooth_pressure_change
+  public :: pressure_update, fluid_density, fluid_state, &
             fluid_pressure_step
 
 contains
@@ -77,27 +78,75 @@ contains
 
   !> The pore pressure of the fluid points over one step (eq. 10) with the bulk
   !> modulus of each point's fluid; lf, ls the fluid and solid velocity gradients
-  !> at the fluid points, gnrel the mixture-flux term (zero without it). The pressure
-  !> is cut at pcav (cavitation: water does not carry a tension below it); ncut counts
-  !> the points cut.
-  subroutine fluid_pressure_step(n, dt, mats, mat, poro, lf, ls, gnrel, pcav, pres, ncut)
+  !> at the fluid points, gnrel the mixture-flux term (zero without it). With cell
+  !> (point_cells), ncell and vol the change is smoothed over each cell
+  !> (smooth_pressure_change). The pressure is then cut at pcav (cavitation: water does
+  !> not carry a tension below it); ncut counts the points cut.
+  subroutine fluid_pressure_step(n, dt, mats, mat, poro, lf, ls, gnrel, pcav, pres, ncut, &
+                                 cell, ncell, vol)
     integer, intent(in) :: n
     real(wp), intent(in) :: dt, pcav
     integer(i8), intent(inout) :: ncut
+    integer, intent(in), optional :: cell(:), ncell
+    real(wp), intent(in), optional :: vol(:)
     type(material_t), intent(in) :: mats(:)
     integer, intent(in) :: mat(:)
     real(wp), intent(in) :: poro(:), lf(:, :), ls(:, :), gnrel(:)
     real(wp), intent(inout) :: pres(:)
-    real(wp), allocatable :: kf(:)
+    real(wp), allocatable :: kf(:), pold(:)
     integer :: m
     allocate (kf(n))
     do m = 1, n
       kf(m) = mats(mat(m))%bulk_fluid
     end do
+    if (present(cell)) pold = pres(1:n)
     call pressure_update(n, dt, kf, poro, lf, ls, gnrel, pres)
+    if (present(cell)) call smooth_pressure_change(n, ncell, cell, vol, pold, pres)
     ncut = ncut + count(pres(1:n) < pcav)
     pres(1:n) = max(pres(1:n), pcav)
   end subroutine fluid_pressure_step
+
+  !> Local index (1-based, over this rank's cells clo..chi) of the cell holding each of
+  !> the n points at x; points just outside the block count to its edge cell.
+  pure subroutine point_cells(nd, n, x, origin, h, clo, chi, cell)
+    integer, intent(in) :: nd, n
+    real(wp), intent(in) :: x(:, :), origin(3), h(3)
+    integer, intent(in) :: clo(3), chi(3)
+    integer, intent(out) :: cell(:)
+    integer :: p, d, c(3), w(3)
+    w = chi - clo + 1
+    do p = 1, n
+      c = 0
+      do d = 1, nd
+        c(d) = min(max(floor((x(d, p) - origin(d))/h(d)), clo(d)), chi(d)) - clo(d)
+      end do
+      cell(p) = 1 + c(1) + w(1)*(c(2) + w(2)*c(3))
+    end do
+  end subroutine point_cells
+
+  !> Strain smoothing of the pore pressure: the step's pressure change of each fluid
+  !> point replaced by the volume-weighted mean change of the fluid points in its cell
+  !> (cell from point_cells; pold the pressures before the step). A cell's points then
+  !> move together, which removes the point-to-point scatter of the pressure without
+  !> touching its cell means.
+  pure subroutine smooth_pressure_change(n, ncell, cell, vol, pold, pres)
+    integer, intent(in) :: n, ncell
+    integer, intent(in) :: cell(:)
+    real(wp), intent(in) :: vol(:), pold(:)
+    real(wp), intent(inout) :: pres(:)
+    real(wp), allocatable :: sv(:), sdp(:)
+    integer :: p
+    allocate (sv(ncell), sdp(ncell))
+    sv = 0.0_wp
+    sdp = 0.0_wp
+    do p = 1, n
+      sv(cell(p)) = sv(cell(p)) + vol(p)
+      sdp(cell(p)) = sdp(cell(p)) + vol(p)*(pres(p) - pold(p))
+    end do
+    do p = 1, n
+      pres(p) = pold(p) + sdp(cell(p))/sv(cell(p))
+    end do
+  end subroutine smooth_pressure_change
 
   !> The volume each fluid point represents at its new pressure, V = m / (n rho_f(p)),
   !> and the stress -p I it exerts.

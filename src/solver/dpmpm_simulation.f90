@@ -105,6 +105,8 @@ contains
     self%nkept = 0
     self%nwall = 0
     self%ncavitated = 0
+    self%noutflow = 0
+    self%outflow_mass = 0.0_wp
     call self%grid%init(cfg)
     call self%dec%init(comm, cfg%ndim, cfg%ncells, self%plan%ghost_width(), cfg%dims)
     call materials_from_config(cfg%materials, self%mats)
@@ -154,6 +156,11 @@ contains
     if (self%two_phase) then
       nfl = self%phase(2)%pts%n
       call MPI_Allreduce(MPI_IN_PLACE, nfl, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+      ! Ids of fluid points added at inflow faces start above every id there is.
+      self%inflow_id0 = 0
+      if (self%phase(2)%pts%n > 0) self%inflow_id0 = maxval(self%phase(2)%pts%id(1:self%phase(2)%pts%n))
+      call MPI_Allreduce(MPI_IN_PLACE, self%inflow_id0, 1, MPI_INTEGER8, MPI_MAX, self%dec%comm)
+      self%ninflow = 0
       write (line, '(a,i0,a,a)') 'dpmpm: ', nfl, ' fluid points; drag ', trim(cfg%drag)
       if (cfg%porosity_gradient) line = trim(line)//'; with the porosity-gradient term'
       if (cfg%porosity_gradient .and. .not. cfg%porosity_gradient_given) &
@@ -389,7 +396,7 @@ contains
     integer(i8) :: diag_every, nwall, step0
     logical :: checkpoint_due
     character(len=16) :: eta_text
-    real(wp) :: last_progress, now, eta, dt, loop_start, time0, done
+    real(wp) :: last_progress, now, eta, dt, loop_start, time0, done, mout
     character(len=256) :: line
     integer :: k
     self%stopped = 0
@@ -482,6 +489,12 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
     if (nwall > 0) call self%log%info('  points put back inside a wall they had crossed: '// &
                                       i8toa(nwall))
+    nwall = self%noutflow
+    call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+    mout = self%outflow_mass
+    call MPI_Allreduce(MPI_IN_PLACE, mout, 1, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    if (nwall > 0) call self%log%info('  fluid points that left through drained faces: '// &
+                                      i8toa(nwall)//', mass '//trim(rtoa(mout)))
     nwall = self%ncavitated
     call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
     if (nwall > 0) call self%log%info('  pore pressure cut at the cavitation pressure '// &

@@ -6,10 +6,10 @@
 !> the stress and pore-pressure updates, and migration. A one-phase scene is the
 !> same step with one phase and no coupling.
 module dpmpm_step
-  use dpmpm_kinds, only: wp
+  use dpmpm_kinds, only: wp, i8
   use dpmpm_error, only: fatal
   use dpmpm_timer, only: t_stencil, t_p2g, t_halo, t_nodal, t_g2p, t_stress, t_migrate
-  use dpmpm_config, only: bc_free
+  use dpmpm_config, only: bc_free, fbc_drained
   use dpmpm_mls_velocity, only: velocity_accumulate, velocity_solve, velocity_fold_signs
   use dpmpm_materials, only: stress_update, model_fluid
   use dpmpm_benchmarks, only: benchmark_body_force
@@ -23,7 +23,8 @@ module dpmpm_step
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped
-  use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, fluid_pressure_step, fluid_state
+  use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, fluid_density, &
+                                 fluid_pressure_step, fluid_state
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
   use dpmpm_time_step, only: report_governing
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN
@@ -40,6 +41,7 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(inout) :: dt
     integer :: m, ip, nlost, ns, nf, nd
+    integer, allocatable :: fcell(:)
     logical :: coupled
     real(wp) :: wplastic
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:), skinv(:)
@@ -54,6 +56,13 @@ contains
     do ip = 1, self%nph
       call compute_stencils(self, self%phase(ip))
     end do
+    ! The cell of each fluid point at the start of the step (points are in this rank's
+    ! cells then), for the cell smoothing of the pore pressure.
+    if (coupled .and. self%cfg%pressure_smoothing == 'cell') then
+      allocate (fcell(nf))
+      call point_cells(nd, nf, self%phase(fluid_phase)%pts%x, self%grid%origin, self%grid%h, &
+                       self%dec%clo, self%dec%chi, fcell)
+    end if
     call self%timers%toc(t_stencil)
 
     ! 2. p2g of every phase; the solid's internal force by point quadrature unless
@@ -80,7 +89,8 @@ contains
         call skeleton_kinv(ns, self%mats, s%pts%mat, s%pts%porosity, s%pts%vol, s%pts%vol0, skinv)
         call solid_porosity_p2g(s%st%nw, ns, s%st%i0, s%st%sw, s%pts%mass, s%pts%porosity, skinv, &
                                 self%dec%alo, self%nporo)
-    call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, f%pts%pressure, f%pts%kinv, &
+        call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
+                       f%pts%pressure, f%pts%kinv, &
                        (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag)
       end associate
     end if
@@ -262,8 +272,14 @@ contains
     end associate
     if (coupled) then
       associate (f => self%phase(fluid_phase))
-        call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
-                                 self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated)
+        if (allocated(fcell)) then
+          call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
+                                   self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated, &
+                                   fcell, product(self%dec%chi - self%dec%clo + 1), f%pts%vol)
+        else
+          call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
+                                   self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated)
+        end if
         call fluid_state(nf, self%mats, f%pts%mat, f%pts%mass, f%pts%porosity, f%pts%pressure, &
                          f%pts%vol, f%pts%stress)
       end associate
@@ -273,7 +289,7 @@ contains
     ! 7. Migration of the points that left this rank's block.
     call self%timers%tic(t_migrate)
     do ip = 1, self%nph
-      call check_inside(self, self%phase(ip)%pts)
+      call check_inside(self, self%phase(ip)%pts, ip == fluid_phase)
     end do
     do ip = 1, self%nph
       call migrate(self%dec, self%grid%origin, self%grid%h, self%phase(ip)%pts, nlost)
@@ -281,8 +297,86 @@ contains
                                 ' were lost in migration (moved more than one rank width in a step)', &
                                 'migrate')
     end do
+    if (coupled) call refill_inflow(self, self%phase(fluid_phase)%pts)
     call self%timers%toc(t_migrate)
   end subroutine advance
+
+  !> Inflow through drained faces: where the pore water of a cell next to a drained face
+  !> flows in (its mean velocity points away from the face) and has left a gap at the
+  !> face worth at least one of its points' volume, a new fluid point fills it. It sits
+  !> in the middle of the gap at the centre of the cell's face, with the mean volume,
+  !> porosity, 1/k and velocity of the cell's fluid points, the face's pore pressure,
+  !> and the mass n rho_f(p) V. Without it seepage drains the cells at an inflow face of
+  !> their pore water. Called after migration (points are in this rank's cells).
+  subroutine refill_inflow(self, ps)
+    class(state_t), intent(inout) :: self
+    type(particle_set_t), intent(inout) :: ps
+    integer :: f, d, side, cb, p, k, nc, c(3), w(3), ic, m
+    integer(i8) :: id
+    real(wp), allocatable :: acc(:, :)
+    integer, allocatable :: first(:)
+    real(wp) :: vcell, vt, deficit, vn, x(3), pface, poro, rho
+    if (.not. any(self%fbc(1:2*self%nd) == fbc_drained)) return
+    vcell = product(self%grid%h(1:self%nd))
+    w = self%dec%chi - self%dec%clo + 1
+    do f = 1, 2*self%nd
+      if (self%fbc(f) /= fbc_drained) cycle
+      d = (f + 1)/2
+      side = 2 - mod(f, 2)
+      cb = merge(0, self%grid%ncells(d) - 1, side == 1)
+      if (cb < self%dec%clo(d) .or. cb > self%dec%chi(d)) cycle
+      ! Per cell of this rank's boundary layer: count, volume, mass, mass x normal
+      ! velocity, mass x porosity, mass x 1/k, momentum; one fluid material.
+      nc = product(w)
+      allocate (acc(6 + self%nd, nc), first(nc))
+      acc = 0.0_wp
+      first = 0
+      do p = 1, ps%n
+        do k = 1, self%nd
+          c(k) = min(max(floor((ps%x(k, p) - self%grid%origin(k))/self%grid%h(k)), self%dec%clo(k)), &
+                     self%dec%chi(k)) - self%dec%clo(k)
+        end do
+        if (c(d) + self%dec%clo(d) /= cb) cycle
+        c(self%nd + 1:3) = 0
+        ic = 1 + c(1) + w(1)*(c(2) + w(2)*c(3))
+        if (first(ic) == 0) first(ic) = p
+        acc(1, ic) = acc(1, ic) + 1.0_wp
+        acc(2, ic) = acc(2, ic) + ps%vol(p)
+        acc(3, ic) = acc(3, ic) + ps%mass(p)
+        acc(4, ic) = acc(4, ic) + ps%mass(p)*ps%v(d, p)
+        acc(5, ic) = acc(5, ic) + ps%mass(p)*ps%porosity(p)
+        acc(6, ic) = acc(6, ic) + ps%mass(p)*ps%kinv(p)
+        acc(7:6 + self%nd, ic) = acc(7:6 + self%nd, ic) + ps%mass(p)*ps%v(:, p)
+      end do
+      pface = self%cfg%pore_pressure(f)
+      do ic = 1, nc
+        if (first(ic) == 0) cycle
+        vn = merge(1.0_wp, -1.0_wp, side == 1)*acc(4, ic)/acc(3, ic)
+        vt = acc(2, ic)/acc(1, ic)
+        deficit = vcell - acc(2, ic)
+        if (.not. (vn > 0.0_wp .and. deficit >= vt)) cycle
+        ! Cell indices of ic, then the point at the centre of the gap next to the face.
+        c(1) = mod(ic - 1, w(1))
+        c(2) = mod((ic - 1)/w(1), w(2))
+        c(3) = (ic - 1)/(w(1)*w(2))
+        x = 0.0_wp
+        do k = 1, self%nd
+          x(k) = self%grid%origin(k) + (c(k) + self%dec%clo(k) + 0.5_wp)*self%grid%h(k)
+        end do
+        x(d) = self%grid%origin(d) + merge(0.0_wp, self%grid%ncells(d)*self%grid%h(d), side == 1) + &
+               merge(1.0_wp, -1.0_wp, side == 1)*0.5_wp*deficit/vcell*self%grid%h(d)
+        poro = acc(5, ic)/acc(3, ic)
+        m = ps%mat(first(ic))
+        rho = fluid_density(self%mats(m)%density, self%mats(m)%bulk_fluid, pface)
+        id = self%inflow_id0 + 1_i8 + int(self%dec%rank, i8) + int(self%dec%nranks, i8)*self%ninflow
+        self%ninflow = self%ninflow + 1
+        call ps%append(id, m, x, acc(7:6 + self%nd, ic)/acc(3, ic), poro*rho*vt, vt, &
+                       [-pface, -pface, -pface, 0.0_wp, 0.0_wp, 0.0_wp], porosity=poro, &
+                       pressure=pface, kinv=acc(6, ic)/acc(3, ic))
+      end do
+      deallocate (acc, first)
+    end do
+  end subroutine refill_inflow
 
   !> MUSL (double mapping): map the updated point momenta of every phase back to the
   !> grid and take the velocity gradients from these smoother nodal velocities. With
@@ -376,15 +470,37 @@ contains
 
   !> Points that crossed a fixed or roller face (walls are impenetrable) are put
   !> back just inside it and counted; wide kernels interpolate a small normal
-  !> velocity next to a wall. A point beyond a free face stops the run with its id.
-  subroutine check_inside(self, ps)
+  !> velocity next to a wall. Fluid points (outflow) that crossed a face drained for
+  !> the pore fluid have left the model through it: they are removed and counted with
+  !> their mass. A point beyond a free face stops the run with its id.
+  subroutine check_inside(self, ps, outflow)
     class(state_t), intent(inout) :: self
     type(particle_set_t), intent(inout) :: ps
-    integer :: p, d, side
+    logical, intent(in) :: outflow
+    integer :: p, d, side, face
     real(wp) :: wall(2), eps
+    logical, allocatable :: gone(:)
     character(len=256) :: msg
+    allocate (gone(ps%n))
+    gone = .false.
     do p = 1, ps%n
       if (self%grid%inside(ps%x(:, p))) cycle
+      if (outflow) then
+        do d = 1, self%nd
+          wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
+          do side = 1, 2
+            face = 2*(d - 1) + side
+            if (self%fbc(face) /= fbc_drained) cycle
+            if ((side == 1 .and. ps%x(d, p) < wall(1)) .or. (side == 2 .and. ps%x(d, p) >= wall(2))) &
+              gone(p) = .true.
+          end do
+        end do
+        if (gone(p)) then
+          self%noutflow = self%noutflow + 1
+          self%outflow_mass = self%outflow_mass + ps%mass(p)
+          cycle
+        end if
+      end if
       do d = 1, self%nd
         wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
         eps = 1.0e-9_wp*self%grid%h(d)
@@ -405,6 +521,7 @@ contains
         call fatal(trim(msg)//'; enlarge the grid or add a boundary condition', 'step')
       end if
     end do
+    if (any(gone)) call ps%remove(gone)
   end subroutine check_inside
 
   !> Per-face signs of the nodal velocity moment sums vacc (count, moments, right-hand

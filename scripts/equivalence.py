@@ -40,6 +40,7 @@ SCENES = {
     "axial_bar": 0.1,
     "c1_a2": 0.05,
     "consolidation_2d": 0.1,
+    "dam_break_dry_bed_2d": 0.05,
     "default": 0.1,
     "dry_block_2d": 0.05,
     "footing_dry_2d": 0.05,

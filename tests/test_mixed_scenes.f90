@@ -291,7 +291,7 @@ contains
   !> A 0.4 m wide strip of inputs/submerged_layer_2d.nml (4 x 30 cells of 0.1 m, linear,
   !> rollers at the sides): 1.5 m of saturated sand (n = 0.4) under 0.5 m of free water,
   !> started hydrostatic and geostatic, run for 0.3 s. With the porosity-gradient terms
-  !> (on by default here, given explicitly in this configuration) the largest
+  !> (which the input of such a scene must choose; given here) the largest
   !> |p - p_h| / (rho_f g H) over the soil's fluid points measured 0.0148 (1 and 2
   !> ranks); without them 0.375 (the pore pressure sits 37 % above hydrostatic).
   !> Bounds: 0.02 with (+35 %), and at least 0.3 without (the test of the default).

@@ -111,7 +111,7 @@ module dpmpm_config
     ! two-phase coupling (&run)
     character(len=name_len) :: drag = 'explicit'     !< explicit | implicit (per-node 2x2 solve)
     real(wp) :: drag_safety = 0.8_wp                 !< fraction of the nodal drag limit (explicit)
-    !> grad n_f term of the pressure equation; when not given, on where the porosity varies
+    !> grad n_f term of the pressure equation; must be given where the porosity varies
     logical :: porosity_gradient = .false.
     logical :: porosity_gradient_given = .false.     !< porosity_gradient was set in &run
     !> Pa (gauge, compression positive): the pore pressure does not fall below it (the

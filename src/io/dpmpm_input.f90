@@ -8,7 +8,7 @@
 !> nothing here changes.
 module dpmpm_input
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
-  use dpmpm_config, only: config_t, porosity_varies
+  use dpmpm_config, only: config_t
   use dpmpm_input_problems, only: input_problems_t
   use dpmpm_input_read, only: load_text, parse_input
   use dpmpm_input_check, only: check_config
@@ -49,12 +49,6 @@ contains
     end if
 
     call parse_input(text, cfg, pb)
-    ! The porosity-gradient terms where the porosity varies, unless &run says otherwise;
-    ! with the grid functions where they are stable (linear and quadratic, point
-    ! quadrature; check_config refuses the others unless the choice is given).
-    if (.not. cfg%porosity_gradient_given .and. porosity_varies(cfg)) &
-      cfg%porosity_gradient = (cfg%kernel == 'linear' .or. cfg%kernel == 'quadratic') .and. &
-                              cfg%quadrature == 'points'
     nprob = 0
     if (rank == 0) then
       if (present(restart_latest)) then

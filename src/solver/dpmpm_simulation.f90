@@ -163,8 +163,6 @@ contains
       self%ninflow = 0
       write (line, '(a,i0,a,a)') 'dpmpm: ', nfl, ' fluid points; drag ', trim(cfg%drag)
       if (cfg%porosity_gradient) line = trim(line)//'; with the porosity-gradient term'
-      if (cfg%porosity_gradient .and. .not. cfg%porosity_gradient_given) &
-        line = trim(line)//' (the porosity varies between the regions)'
       call self%log%info(trim(line))
       ntot = ntot + nfl
     end if

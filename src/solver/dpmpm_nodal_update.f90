@@ -119,7 +119,10 @@ contains
             vf(1:nd) = node_f(2:1 + nd, i, j, k)/mf
             ff(1:nd) = node_f(2 + nd:1 + 2*nd, i, j, k)
             ff = ff + mf*gravity - nporo(1, i, j, k)*fpf + tf
-            if (ms <= 0.0_wp) ff = ff + tr
+            ! Where there is no solid the traction (a total stress) loads the water, unless
+            ! a drained face's pore pressure already does: for water alone both are the
+            ! same load, -p.
+            if (ms <= 0.0_wp .and. all(fpf == 0.0_wp)) ff = ff + tr
           end if
           sfix = faces%grid%constrained([i, j, k])
           ffix = faces%grid%constrained([i, j, k], mbc)

@@ -30,6 +30,7 @@ module dpmpm_output
                       collective_transfer_list, rename_file
   use dpmpm_log, only: log_t
   use dpmpm_xdmf, only: frame_rec_t, set_rec_t, write_xdmf
+  use dpmpm_h5_salvage, only: file_sound, frame_sound, read_diag_records
   implicit none
   private
   public :: output_t, output_h5_path, output_xmf_path
@@ -264,66 +265,6 @@ contains
     call MPI_Barrier(self%comm)
   end subroutine out_resume
 
-  !> The file opens, its first nframes frames and the diagnostics can be read (every
-  !> frame group opens with its point sets' ids), and so can the later frames that a
-  !> continued run deletes (every rank looks on its own; the answer is the same on all).
-  !> HDF5's error printing is off meanwhile: damage is an answer here.
-  logical function file_sound(path, nframes) result(sound)
-    character(len=*), intent(in) :: path
-    integer, intent(in) :: nframes
-    integer(hid_t) :: file
-    integer :: err, k, e2
-    character(len=32) :: gname
-    logical :: exists
-    call h5eset_auto_f(0, err)
-    call h5fopen_f(path, H5F_ACC_RDONLY_F, file, err)
-    sound = err >= 0
-    if (sound) then
-      sound = object_sound(file, 'diagnostics/step')
-      do k = 0, nframes - 1
-        if (.not. sound) exit
-        sound = frame_sound(file, k)
-      end do
-      ! The frames after the checkpoint are deleted: each must open for that.
-      k = nframes
-      do while (sound)
-        write (gname, '(a,i6.6)') 'frames/', k
-        call h5lexists_f(file, trim(gname), exists, err)
-        if (err < 0) sound = .false.
-        if (err < 0 .or. .not. exists) exit
-        sound = object_sound(file, trim(gname))
-        k = k + 1
-      end do
-      call h5fclose_f(file, e2)
-    end if
-    call h5eset_auto_f(1, e2)
-  end function file_sound
-
-  !> Frame k of an open file can be opened, and so can the ids of its point sets.
-  logical function frame_sound(file, k) result(sound)
-    integer(hid_t), intent(in) :: file
-    integer, intent(in) :: k
-    character(len=32) :: gname
-    write (gname, '(a,i6.6)') 'frames/', k
-    sound = object_sound(file, trim(gname))
-    if (sound) sound = object_sound(file, trim(gname)//'/solid/id')
-  end function frame_sound
-
-  !> The object at path opens (links and header readable).
-  logical function object_sound(file, path) result(sound)
-    integer(hid_t), intent(in) :: file
-    character(len=*), intent(in) :: path
-    integer(hid_t) :: obj
-    integer :: err, e2
-    logical :: exists
-    call h5lexists_f(file, path, exists, err)
-    sound = err >= 0 .and. exists
-    if (.not. sound) return
-    call h5oopen_f(file, path, obj, err)
-    sound = err >= 0
-    if (sound) call h5oclose_f(obj, e2)
-  end function object_sound
-
   !> Rebuild a damaged <name>.h5 (collective): it is renamed <name>.damaged.h5, a new
   !> <name>.h5 is made (out_open), and the frames before nframes that can still be read
   !> are copied into it in order (renumbered without gaps), with the diagnostics records
@@ -385,71 +326,6 @@ contains
     if (nlost > 0) why = why//'; '//itoa(nlost)//' frames could not be read and are lost'
     nframes = kept
   end subroutine salvage
-
-  !> The diagnostics records of an open file with step before step (none when they
-  !> cannot be read).
-  subroutine read_diag_records(file, step, recs, n)
-    integer(hid_t), intent(in) :: file
-    integer(i8), intent(in) :: step
-    type(diag_record_t), allocatable, intent(out) :: recs(:)
-    integer, intent(out) :: n
-    integer(hid_t) :: dset, space
-    integer(hsize_t) :: dims(1), maxdims(1)
-    integer(i8), allocatable, target :: steps(:), npts(:)
-    real(wp), allocatable, target :: vals(:)
-    type(c_ptr) :: cp
-    integer :: err, e2, k, m
-    n = 0
-    allocate (recs(0))
-    call h5dopen_f(file, 'diagnostics/step', dset, err)
-    if (err < 0) return
-    call h5dget_space_f(dset, space, err)
-    call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
-    call h5sclose_f(space, e2)
-    m = int(dims(1))
-    allocate (steps(max(m, 1)), npts(max(m, 1)), vals(max(m, 1)))
-    cp = c_loc(steps)
-    if (m > 0) call h5dread_f(dset, h5kind_to_type(i8, H5_INTEGER_KIND), cp, err)
-    call h5dclose_f(dset, e2)
-    if (err < 0 .or. m == 0) return
-    n = count(steps(1:m) < step)
-    deallocate (recs)
-    allocate (recs(n))
-    do k = 1, n
-      recs(k)%step = steps(k)
-    end do
-    call read_column(file, 'diagnostics/npoints', h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(npts), err)
-    if (err < 0) then
-      n = 0
-      return
-    end if
-    recs(1:n)%npoints = npts(1:n)
-    do k = 1, ndiag_real
-      call read_column(file, 'diagnostics/'//trim(diag_real_names(k)), &
-                       h5kind_to_type(wp, H5_REAL_KIND), c_loc(vals), err)
-      if (err < 0) then
-        n = 0
-        return
-      end if
-      recs(1:n)%values(k) = vals(1:n)
-    end do
-  end subroutine read_diag_records
-
-  !> Read a whole 1D dataset into buf (err < 0 when it cannot be read).
-  subroutine read_column(file, path, mtype, buf, err)
-    integer(hid_t), intent(in) :: file, mtype
-    character(len=*), intent(in) :: path
-    type(c_ptr), intent(in) :: buf
-    integer, intent(out) :: err
-    integer(hid_t) :: dset
-    type(c_ptr) :: p
-    integer :: e2
-    call h5dopen_f(file, path, dset, err)
-    if (err < 0) return
-    p = buf
-    call h5dread_f(dset, mtype, p, err)
-    call h5dclose_f(dset, e2)
-  end subroutine read_column
 
   !> The state of an output_t before a file is opened: communicator, paths, no records.
   subroutine start(self, cfg, comm)

@@ -31,6 +31,7 @@ program test_input
   call test_print_config_reads_back()
   call test_two_phase_scene()
   call test_porosity_gradient_where_porosity_varies()
+  call test_geostatic_level_ground()
   call test_every_rank_parses_the_same_config()
   call test_text_parses_without_a_file()
   call test_refused_input_returns_status()
@@ -307,6 +308,54 @@ contains
       call check(cfg%porosity_gradient_given .eqv. (k == 2), 'given in case '//char(48 + k))
     end do
   end subroutine test_porosity_gradient_where_porosity_varies
+
+  !> geostatic = .true.: a saturated layer (n = 0.4, rho_s = 2650, rho_f = 1000, nu = 0.3)
+  !> on 0 <= y <= 1.5 m under water up to y = 2 m, and dry sand (porosity 0.4) on top of a
+  !> box from y = 1.5 to 1.75 m with an overburden of 1 kPa and K0 = 0.5, against the
+  !> closed forms: sigma'_v = -(q + gamma (S - y)), sigma'_h = K0 sigma'_v, p = rho_f g (W - y).
+  subroutine test_geostatic_level_ground()
+    type(config_t) :: cfg
+    integer :: st
+    character(len=:), allocatable :: file
+    real(wp) :: gs, gd
+    call begin_test('geostatic_level_ground')
+    file = 'test_input_'//trim(tag)//'_geostatic.nml'
+    call write_file(file, [character(len=100) :: &
+      '&run gravity = 0.0, -9.81, porosity_gradient = .true. /', &
+      '&grid ndim = 2, ncells = 8, 16, length = 1.0, 2.0 /', &
+      '&material id = 2, model = ''fluid'', density = 1000.0, bulk_modulus = 2.2e9 /', &
+      '&material id = 1, density = 2650.0, youngs_modulus = 1.0e7, poisson_ratio = 0.3,', &
+      '          conductivity = 1.0e-4 /', &
+      '&region lo = 0.0, 0.0, hi = 1.0, 1.5, phase = ''saturated'', material = 1,', &
+      '        fluid_material = 2, porosity = 0.4, geostatic = .true., water_level = 2.0 /', &
+      '&region lo = 0.0, 1.5, hi = 1.0, 1.75, material = 1, porosity = 0.4,', &
+      '        geostatic = .true., overburden = 1.0e3, k0 = 0.5 /'])
+    call read_input(file, MPI_COMM_WORLD, cfg, st)
+    call check_equal_int(st, 0, 'read_input status')
+    if (st /= 0) return
+    gs = 0.6_wp*1650.0_wp*9.81_wp
+    gd = 0.6_wp*2650.0_wp*9.81_wp
+    associate (r => cfg%regions(1))
+      call check_close(r%stress(2), -gs*1.5_wp, 1.0e-14_wp, 0.0_wp, 'saturated sigma''_v at y = 0')
+      call check_close(r%stress_gradient(2, 2), gs, 1.0e-14_wp, 0.0_wp, 'saturated d sigma''_v / dy')
+      call check_close(r%stress(1), -gs*1.5_wp*0.3_wp/0.7_wp, 1.0e-14_wp, 0.0_wp, 'K0 = nu / (1 - nu)')
+      call check_close(r%stress(3), r%stress(1), 1.0e-14_wp, 0.0_wp, 'sigma''_zz = sigma''_xx')
+      call check_close(r%stress_gradient(1, 2), gs*0.3_wp/0.7_wp, 1.0e-14_wp, 0.0_wp, &
+                       'horizontal gradient')
+      call check_close(r%pore_pressure, 1000.0_wp*9.81_wp*2.0_wp, 1.0e-14_wp, 0.0_wp, &
+                       'pore pressure at y = 0 under water to y = 2')
+      call check_close(r%pore_pressure_gradient(2), -9810.0_wp, 1.0e-14_wp, 0.0_wp, 'dp / dy')
+      call check(r%stress_gradient(2, 1) == 0.0_wp .and. all(r%stress(4:6) == 0.0_wp), &
+                 'no shear, nothing along x')
+    end associate
+    associate (r => cfg%regions(2))
+      call check_close(r%stress(2), -(1.0e3_wp + gd*1.75_wp), 1.0e-14_wp, 0.0_wp, &
+                       'dry sigma''_v at y = 0 with the overburden')
+      call check_close(r%stress(1), 0.5_wp*r%stress(2), 1.0e-14_wp, 0.0_wp, 'given K0')
+      call check_close(r%stress_gradient(2, 2), gd, 1.0e-14_wp, 0.0_wp, 'dry unit weight')
+      call check(r%pore_pressure == 0.0_wp, 'dry soil has no pore pressure')
+    end associate
+  end subroutine test_geostatic_level_ground
 
   !> Every value of the two-phase scene as read on this rank.
   subroutine check_two_phase(c)

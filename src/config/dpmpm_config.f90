@@ -10,7 +10,7 @@ module dpmpm_config
   public :: max_poly, max_table, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
-  public :: optional_fields, field_listed, porosity_varies
+  public :: optional_fields, field_listed, porosity_varies, resolve_geostatic, region_top
 
   integer, parameter :: name_len = 64
   !> Largest number of vertices of a 2D polygon region.
@@ -72,6 +72,13 @@ module dpmpm_config
     real(wp) :: stress_gradient(6, 3) = 0.0_wp
     real(wp) :: pore_pressure = 0.0_wp               !< initial pore pressure at x = 0 (Pa)
     real(wp) :: pore_pressure_gradient(3) = 0.0_wp   !< its gradient (Pa/m)
+    !> level ground at rest under gravity (along -axis ndim): the stress and pore pressure
+    !> above come from the weight of the region (resolve_geostatic)
+    logical :: geostatic = .false.
+    real(wp) :: k0 = -1.0_wp                         !< sigma'_h / sigma'_v; < 0: nu / (1 - nu)
+    real(wp) :: surface = -huge(1.0_wp)              !< m, ground surface; default the region's top
+    real(wp) :: water_level = -huge(1.0_wp)          !< m, free water surface; default the surface
+    real(wp) :: overburden = 0.0_wp                  !< Pa, vertical effective stress at the surface
   end type region_cfg_t
 
   !> One &load group: a traction on a grid face (or on the part lo..hi of it), times a
@@ -208,6 +215,75 @@ contains
   end function face_index
 
   !> Entries of a load's time table: the leading times >= 0.
+  !> Top of region r along the vertical axis ndim (box hi, or the highest polygon vertex).
+  pure real(wp) function region_top(cfg, r) result(top)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: r
+    associate (reg => cfg%regions(r))
+      if (reg%shape == 'polygon' .and. cfg%ndim == 2) then
+        top = maxval(reg%poly(2, 1:reg%npoly))
+      else
+        top = reg%hi(cfg%ndim)
+      end if
+    end associate
+  end function region_top
+
+  !> The initial state of the geostatic regions of level ground (doc/input.md, "Initial
+  !> state"): with g = -gravity(ndim) along the vertical axis ndim, the surface S, water
+  !> level W and overburden q of the region, the vertical effective stress
+  !> sigma'_v = -(q + gamma (S - y)), the horizontal ones K0 sigma'_v, and in water and
+  !> saturated soil the pore pressure p = rho_f g (W - y). gamma is the unit weight that
+  !> loads the skeleton: (1 - n)(rho_s - rho_f) g in saturated soil (buoyant), (1 - n) rho_s g
+  !> in dry soil, rho g in a body that is not porous. Writes stress, stress_gradient,
+  !> pore_pressure and pore_pressure_gradient of each such region (checked by
+  !> check_config: none of them given, gravity along -ndim only).
+  subroutine resolve_geostatic(cfg)
+    type(config_t), intent(inout) :: cfg
+    integer :: r, a, m, mf, c
+    real(wp) :: g, s, w, gam, k0, rhof, n
+    if (.not. allocated(cfg%regions)) return
+    a = cfg%ndim
+    g = -cfg%gravity(a)
+    do r = 1, size(cfg%regions)
+      associate (reg => cfg%regions(r))
+        if (.not. reg%geostatic) cycle
+        s = reg%surface
+        if (s == -huge(1.0_wp)) s = region_top(cfg, r)
+        w = reg%water_level
+        if (w == -huge(1.0_wp)) w = s
+        m = findloc(cfg%materials%id, reg%material, dim=1)
+        n = reg%porosity
+        reg%stress = 0.0_wp
+        reg%stress_gradient = 0.0_wp
+        reg%pore_pressure = 0.0_wp
+        reg%pore_pressure_gradient = 0.0_wp
+        rhof = 0.0_wp
+        select case (trim(reg%phase))
+        case ('fluid')
+          rhof = cfg%materials(m)%density
+          gam = 0.0_wp
+        case ('saturated')
+          mf = findloc(cfg%materials%id, reg%fluid_material, dim=1)
+          rhof = cfg%materials(mf)%density
+          gam = (1.0_wp - n)*(cfg%materials(m)%density - rhof)*g
+        case default
+          gam = (1.0_wp - n)*cfg%materials(m)%density*g
+        end select
+        if (rhof > 0.0_wp) then
+          reg%pore_pressure = rhof*g*w
+          reg%pore_pressure_gradient(a) = -rhof*g
+        end if
+        if (trim(reg%phase) == 'fluid') cycle
+        k0 = reg%k0
+        if (k0 < 0.0_wp) k0 = cfg%materials(m)%poisson_ratio/(1.0_wp - cfg%materials(m)%poisson_ratio)
+        do c = 1, 3
+          reg%stress(c) = -(reg%overburden + gam*s)*merge(1.0_wp, k0, c == a)
+          reg%stress_gradient(c, a) = gam*merge(1.0_wp, k0, c == a)
+        end do
+      end associate
+    end do
+  end subroutine resolve_geostatic
+
   !> True when the initial porosity differs between the regions of a two-phase scene:
   !> free water (n = 1) beside porous soil, or porous regions of different porosity.
   !> Bodies that are not porous (solid, porosity 0) take no part.

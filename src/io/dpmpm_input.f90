@@ -8,7 +8,7 @@
 !> nothing here changes.
 module dpmpm_input
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
-  use dpmpm_config, only: config_t
+  use dpmpm_config, only: config_t, resolve_geostatic
   use dpmpm_input_problems, only: input_problems_t
   use dpmpm_input_read, only: load_text, parse_input
   use dpmpm_input_check, only: check_config
@@ -63,6 +63,8 @@ contains
       call refuse(pb, rank, status)
       return
     end if
+    ! The initial state of level ground, where asked for (checked above).
+    call resolve_geostatic(cfg)
     ! The checkpoint to continue from, as rank 0 found it.
     call MPI_Bcast(cfg%restart, len(cfg%restart), MPI_CHARACTER, 0, comm)
     cfg%input_file = filename

@@ -6,7 +6,7 @@ module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, optional_fields, field_listed, &
-                          porosity_varies, &
+                          porosity_varies, region_top, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
   use dpmpm_mls, only: basis_from_name
@@ -454,8 +454,55 @@ contains
       call check_finite(pb, g_region, k, 'stress_gradient', reshape(r%stress_gradient, [18]))
       call check_finite(pb, g_region, k, 'pore_pressure', [r%pore_pressure])
       call check_finite(pb, g_region, k, 'pore_pressure_gradient', r%pore_pressure_gradient)
+      call check_geostatic(pb, cfg, k)
     end associate
   end subroutine check_region
+
+  !> The level-ground initial state of region k (geostatic = .true.): it computes stress
+  !> and pore pressure itself, needs gravity along -axis ndim only, and a saturated
+  !> region lies below its water level; its parameters are refused without it.
+  subroutine check_geostatic(pb, cfg, k)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    real(wp) :: s, w
+    character(len=*), parameter :: only = 'only a region with geostatic = .true. takes it'
+    associate (r => cfg%regions(k))
+      if (.not. r%geostatic) then
+        if (r%k0 /= -1.0_wp) call add_value(pb, g_region, k, 'k0', rtoa(r%k0), only)
+        if (r%surface /= -huge(1.0_wp)) call add_value(pb, g_region, k, 'surface', rtoa(r%surface), only)
+        if (r%water_level /= -huge(1.0_wp)) &
+          call add_value(pb, g_region, k, 'water_level', rtoa(r%water_level), only)
+        if (r%overburden /= 0.0_wp) &
+          call add_value(pb, g_region, k, 'overburden', rtoa(r%overburden), only)
+        return
+      end if
+      if (any(r%stress /= 0.0_wp) .or. any(r%stress_gradient /= 0.0_wp) .or. &
+          r%pore_pressure /= 0.0_wp .or. any(r%pore_pressure_gradient /= 0.0_wp)) &
+        call add_value(pb, g_region, k, 'geostatic', '.true.', 'it computes the stress and pore '// &
+                       'pressure from gravity; leave stress, stress_gradient, pore_pressure and '// &
+                       'pore_pressure_gradient out')
+      if (.not. (cfg%gravity(cfg%ndim) < 0.0_wp .and. all(cfg%gravity(1:cfg%ndim - 1) == 0.0_wp))) &
+        call add_value(pb, g_region, k, 'geostatic', '.true.', 'level ground needs gravity '// &
+                       'along the last grid axis, pointing down (&run gravity = 0, ..., -9.81)')
+      if (.not. (real_ok(r%k0, ge=0.0_wp) .or. r%k0 == -1.0_wp)) &
+        call add_value(pb, g_region, k, 'k0', rtoa(r%k0), 'must be >= 0, or left out for '// &
+                       'nu / (1 - nu) of the material')
+      if (.not. real_ok(r%overburden, ge=0.0_wp)) call add_value(pb, g_region, k, 'overburden', &
+        rtoa(r%overburden), 'must be >= 0 (Pa, the vertical effective stress at the surface)')
+      s = r%surface
+      if (s == -huge(1.0_wp)) s = region_top(cfg, k)
+      w = r%water_level
+      if (w == -huge(1.0_wp)) w = s
+      if (.not. (real_ok(s) .and. real_ok(w))) then
+        call add_value(pb, g_region, k, 'surface', rtoa(s), 'surface and water_level must be '// &
+                       'finite (m)')
+      else if (trim(r%phase) == 'saturated' .and. w < s) then
+        call add_value(pb, g_region, k, 'water_level', rtoa(w), 'a saturated region lies below '// &
+                       'its water level; the surface is at '//rtoa(s)//' m')
+      end if
+    end associate
+  end subroutine check_geostatic
 
   !> Check the porosity of solid region k: 0 for a body that is not porous (a footing, a
   !> wall), in (0, 1) for dry soil; dry soil in a scene with a fluid needs a conductivity

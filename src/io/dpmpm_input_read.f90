@@ -430,13 +430,15 @@ contains
     type(region_cfg_t), allocatable :: list(:)
     character(len=name_len) :: shape, phase, placement
     real(wp) :: lo(3), hi(3), poly_x(max_poly), poly_y(max_poly), velocity(3), stress(6), &
-                porosity, stress_gradient(6, 3), pore_pressure, pore_pressure_gradient(3)
+                porosity, stress_gradient(6, 3), pore_pressure, pore_pressure_gradient(3), k0, &
+                surface, water_level, overburden
+    logical :: geostatic
     integer :: npoly, material, fluid_material, ppc, seed, fluid_seed, k, n, ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     namelist /region/ shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, &
       porosity, ppc, placement, seed, fluid_seed, velocity, stress, stress_gradient, pore_pressure, &
-      pore_pressure_gradient
+      pore_pressure_gradient, geostatic, k0, surface, water_level, overburden
     allocate (list(pb%count(g_region)))
     n = 0
     ok = .true.
@@ -447,6 +449,8 @@ contains
       velocity = def%velocity; stress = def%stress; stress_gradient = def%stress_gradient
       pore_pressure = def%pore_pressure; pore_pressure_gradient = def%pore_pressure_gradient
       fluid_material = def%fluid_material; porosity = def%porosity; fluid_seed = def%fluid_seed
+      geostatic = def%geostatic; k0 = def%k0; surface = def%surface
+      water_level = def%water_level; overburden = def%overburden
       read (records(first_record(pb, g_region, k):), nml=region, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=region)
@@ -464,6 +468,8 @@ contains
       list(k)%fluid_material = fluid_material; list(k)%porosity = porosity
       list(k)%fluid_seed = fluid_seed; list(k)%stress_gradient = stress_gradient
       list(k)%pore_pressure = pore_pressure; list(k)%pore_pressure_gradient = pore_pressure_gradient
+      list(k)%geostatic = geostatic; list(k)%k0 = k0; list(k)%surface = surface
+      list(k)%water_level = water_level; list(k)%overburden = overburden
     end do
     cfg%regions = list(1:n)
   end subroutine read_regions

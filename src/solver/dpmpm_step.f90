@@ -297,48 +297,49 @@ contains
                                 ' were lost in migration (moved more than one rank width in a step)', &
                                 'migrate')
     end do
-    if (coupled) call refill_inflow(self, self%phase(fluid_phase)%pts)
+    if (coupled) call refill_inflow(self, self%phase(fluid_phase)%pts, self%phase(solid_phase)%pts)
     call self%timers%toc(t_migrate)
   end subroutine advance
 
   !> Inflow through drained faces: where the pore water of a cell next to a drained face
-  !> flows in (its mean velocity points away from the face) and has left a gap at the
-  !> face worth at least one of its points' volume, a new fluid point fills it. It sits
-  !> in the middle of the gap at the centre of the cell's face, with the mean volume,
-  !> porosity, 1/k and velocity of the cell's fluid points, the face's pore pressure,
-  !> and the mass n rho_f(p) V. Without it seepage drains the cells at an inflow face of
-  !> their pore water. Called after migration (points are in this rank's cells).
-  subroutine refill_inflow(self, ps)
+  !> flows in relative to the skeleton there (its mean velocity away from the face
+  !> exceeds the skeleton's) and has left a gap worth at least one of its points' volume
+  !> (against the skeleton's volume in the cell, or the whole cell where there is no
+  !> skeleton), a new fluid point fills it: in the middle of the gap at the centre of
+  !> the cell's face, with the mean volume, porosity, 1/k and velocity of the cell's
+  !> fluid points, the face's pore pressure, and the mass n rho_f(p) V. A body that moves
+  !> away from the face with its water (consolidation under a load) gets none. Called
+  !> after migration (points are in this rank's cells).
+  subroutine refill_inflow(self, ps, sol)
     class(state_t), intent(inout) :: self
     type(particle_set_t), intent(inout) :: ps
-    integer :: f, d, side, cb, p, k, nc, c(3), w(3), ic, m
+    type(particle_set_t), intent(in) :: sol
+    integer :: f, d, side, cb, p, k, nc, w(3), ic, m, c(3)
     integer(i8) :: id
-    real(wp), allocatable :: acc(:, :)
+    real(wp), allocatable :: acc(:, :), sacc(:, :)
     integer, allocatable :: first(:)
-    real(wp) :: vcell, vt, deficit, vn, x(3), pface, poro, rho
+    real(wp) :: vcell, vt, deficit, vn, x(3), pface, poro, rho, sg
     if (.not. any(self%fbc(1:2*self%nd) == fbc_drained)) return
     vcell = product(self%grid%h(1:self%nd))
     w = self%dec%chi - self%dec%clo + 1
+    nc = product(w)
     do f = 1, 2*self%nd
       if (self%fbc(f) /= fbc_drained) cycle
       d = (f + 1)/2
       side = 2 - mod(f, 2)
+      sg = merge(1.0_wp, -1.0_wp, side == 1)   ! +1: away from the face is +x_d
       cb = merge(0, self%grid%ncells(d) - 1, side == 1)
       if (cb < self%dec%clo(d) .or. cb > self%dec%chi(d)) cycle
-      ! Per cell of this rank's boundary layer: count, volume, mass, mass x normal
-      ! velocity, mass x porosity, mass x 1/k, momentum; one fluid material.
-      nc = product(w)
-      allocate (acc(6 + self%nd, nc), first(nc))
+      ! Per cell of this rank's boundary layer. Fluid: count, volume, mass, mass x normal
+      ! velocity, mass x porosity, mass x 1/k, momentum. Skeleton: volume, mass, mass x
+      ! normal velocity.
+      allocate (acc(6 + self%nd, nc), sacc(3, nc), first(nc))
       acc = 0.0_wp
+      sacc = 0.0_wp
       first = 0
       do p = 1, ps%n
-        do k = 1, self%nd
-          c(k) = min(max(floor((ps%x(k, p) - self%grid%origin(k))/self%grid%h(k)), self%dec%clo(k)), &
-                     self%dec%chi(k)) - self%dec%clo(k)
-        end do
-        if (c(d) + self%dec%clo(d) /= cb) cycle
-        c(self%nd + 1:3) = 0
-        ic = 1 + c(1) + w(1)*(c(2) + w(2)*c(3))
+        ic = boundary_cell(ps%x(:, p))
+        if (ic == 0) cycle
         if (first(ic) == 0) first(ic) = p
         acc(1, ic) = acc(1, ic) + 1.0_wp
         acc(2, ic) = acc(2, ic) + ps%vol(p)
@@ -348,12 +349,23 @@ contains
         acc(6, ic) = acc(6, ic) + ps%mass(p)*ps%kinv(p)
         acc(7:6 + self%nd, ic) = acc(7:6 + self%nd, ic) + ps%mass(p)*ps%v(:, p)
       end do
+      do p = 1, sol%n
+        ic = boundary_cell(sol%x(:, p))
+        if (ic == 0) cycle
+        sacc(1, ic) = sacc(1, ic) + sol%vol(p)
+        sacc(2, ic) = sacc(2, ic) + sol%mass(p)
+        sacc(3, ic) = sacc(3, ic) + sol%mass(p)*sol%v(d, p)
+      end do
       pface = self%cfg%pore_pressure(f)
       do ic = 1, nc
         if (first(ic) == 0) cycle
-        vn = merge(1.0_wp, -1.0_wp, side == 1)*acc(4, ic)/acc(3, ic)
-        vt = acc(2, ic)/acc(1, ic)
+        vn = sg*acc(4, ic)/acc(3, ic)
         deficit = vcell - acc(2, ic)
+        if (sacc(2, ic) > 0.0_wp) then
+          vn = vn - sg*sacc(3, ic)/sacc(2, ic)
+          deficit = min(sacc(1, ic), vcell) - acc(2, ic)
+        end if
+        vt = acc(2, ic)/acc(1, ic)
         if (.not. (vn > 0.0_wp .and. deficit >= vt)) cycle
         ! Cell indices of ic, then the point at the centre of the gap next to the face.
         c(1) = mod(ic - 1, w(1))
@@ -364,7 +376,7 @@ contains
           x(k) = self%grid%origin(k) + (c(k) + self%dec%clo(k) + 0.5_wp)*self%grid%h(k)
         end do
         x(d) = self%grid%origin(d) + merge(0.0_wp, self%grid%ncells(d)*self%grid%h(d), side == 1) + &
-               merge(1.0_wp, -1.0_wp, side == 1)*0.5_wp*deficit/vcell*self%grid%h(d)
+               sg*0.5_wp*deficit/vcell*self%grid%h(d)
         poro = acc(5, ic)/acc(3, ic)
         m = ps%mat(first(ic))
         rho = fluid_density(self%mats(m)%density, self%mats(m)%bulk_fluid, pface)
@@ -374,8 +386,23 @@ contains
                        [-pface, -pface, -pface, 0.0_wp, 0.0_wp, 0.0_wp], porosity=poro, &
                        pressure=pface, kinv=acc(6, ic)/acc(3, ic))
       end do
-      deallocate (acc, first)
+      deallocate (acc, sacc, first)
     end do
+
+  contains
+
+    !> Local index of the boundary-layer cell of face f holding xp, 0 for another layer.
+    integer function boundary_cell(xp) result(ic)
+      real(wp), intent(in) :: xp(:)
+      integer :: kk, cc(3)
+      cc = 0
+      do kk = 1, self%nd
+        cc(kk) = min(max(floor((xp(kk) - self%grid%origin(kk))/self%grid%h(kk)), self%dec%clo(kk)), &
+                     self%dec%chi(kk)) - self%dec%clo(kk)
+      end do
+      ic = 0
+      if (cc(d) + self%dec%clo(d) == cb) ic = 1 + cc(1) + w(1)*(cc(2) + w(2)*cc(3))
+    end function boundary_cell
   end subroutine refill_inflow
 
   !> MUSL (double mapping): map the updated point momenta of every phase back to the

@@ -10,7 +10,7 @@ module dpmpm_config
   public :: max_poly, max_table, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
-  public :: optional_fields, field_listed, porosity_varies, resolve_geostatic, region_top
+  public :: optional_fields, field_listed, porosity_varies, resolve_geostatic, region_top, level_unset
 
   integer, parameter :: name_len = 64
   !> Largest number of vertices of a 2D polygon region.
@@ -18,6 +18,9 @@ module dpmpm_config
   integer, parameter :: max_table = 64   !< entries of a load's time table
   !> Grid faces in the order used by every per-face array: x-, x+, y-, y+, z-, z+.
   character(len=2), parameter :: face_names(6) = ['x-', 'x+', 'y-', 'y+', 'z-', 'z+']
+  !> surface and water_level of a region not given (a finite value, so that the echo of
+  !> the input reads back)
+  real(wp), parameter :: level_unset = -1.0e30_wp
   !> Boundary condition types on a grid face.
   integer, parameter :: bc_free = 0, bc_fixed = 1, bc_roller = 2
   character(len=6), parameter :: bc_names(0:2) = ['free  ', 'fixed ', 'roller']
@@ -76,8 +79,8 @@ module dpmpm_config
     !> above come from the weight of the region (resolve_geostatic)
     logical :: geostatic = .false.
     real(wp) :: k0 = -1.0_wp                         !< sigma'_h / sigma'_v; < 0: nu / (1 - nu)
-    real(wp) :: surface = -huge(1.0_wp)              !< m, ground surface; default the region's top
-    real(wp) :: water_level = -huge(1.0_wp)          !< m, free water surface; default the surface
+    real(wp) :: surface = level_unset                !< m, ground surface; default the region's top
+    real(wp) :: water_level = level_unset            !< m, free water surface; default the surface
     real(wp) :: overburden = 0.0_wp                  !< Pa, vertical effective stress at the surface
   end type region_cfg_t
 
@@ -248,9 +251,9 @@ contains
       associate (reg => cfg%regions(r))
         if (.not. reg%geostatic) cycle
         s = reg%surface
-        if (s == -huge(1.0_wp)) s = region_top(cfg, r)
+        if (s == level_unset) s = region_top(cfg, r)
         w = reg%water_level
-        if (w == -huge(1.0_wp)) w = s
+        if (w == level_unset) w = s
         m = findloc(cfg%materials%id, reg%material, dim=1)
         n = reg%porosity
         reg%stress = 0.0_wp

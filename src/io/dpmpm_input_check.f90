@@ -6,7 +6,7 @@ module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, optional_fields, field_listed, &
-                          porosity_varies, region_top, &
+                          porosity_varies, region_top, level_unset, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
   use dpmpm_mls, only: basis_from_name
@@ -470,8 +470,8 @@ contains
     associate (r => cfg%regions(k))
       if (.not. r%geostatic) then
         if (r%k0 /= -1.0_wp) call add_value(pb, g_region, k, 'k0', rtoa(r%k0), only)
-        if (r%surface /= -huge(1.0_wp)) call add_value(pb, g_region, k, 'surface', rtoa(r%surface), only)
-        if (r%water_level /= -huge(1.0_wp)) &
+        if (r%surface /= level_unset) call add_value(pb, g_region, k, 'surface', rtoa(r%surface), only)
+        if (r%water_level /= level_unset) &
           call add_value(pb, g_region, k, 'water_level', rtoa(r%water_level), only)
         if (r%overburden /= 0.0_wp) &
           call add_value(pb, g_region, k, 'overburden', rtoa(r%overburden), only)
@@ -491,9 +491,9 @@ contains
       if (.not. real_ok(r%overburden, ge=0.0_wp)) call add_value(pb, g_region, k, 'overburden', &
         rtoa(r%overburden), 'must be >= 0 (Pa, the vertical effective stress at the surface)')
       s = r%surface
-      if (s == -huge(1.0_wp)) s = region_top(cfg, k)
+      if (s == level_unset) s = region_top(cfg, k)
       w = r%water_level
-      if (w == -huge(1.0_wp)) w = s
+      if (w == level_unset) w = s
       if (.not. (real_ok(s) .and. real_ok(w))) then
         call add_value(pb, g_region, k, 'surface', rtoa(s), 'surface and water_level must be '// &
                        'finite (m)')

@@ -7,7 +7,8 @@ program test_mixed_scenes
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
       MPI_DOUBLE_PRECISION, MPI_MIN, MPI_MAX, MPI_SUM
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained
+  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained, &
+                          resolve_geostatic
   use dpmpm_materials, only: material_t, materials_from_config
   use dpmpm_pore_pressure, only: skeleton_kinv, skeleton_porosity, smooth_pressure_change, &
                                  point_cells
@@ -29,6 +30,7 @@ program test_mixed_scenes
   call test_cell_smoothing_removes_the_scatter_under_a_strip_load()
   call test_seepage_through_two_layers()
   call test_water_face_load_counted_once()
+  call test_hydrostatic_side_faces()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -567,6 +569,67 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, e, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
     call check(e < 0.1_wp, say('largest |p - 1 kPa| / 1 kPa', e, 0.1_wp))
   end subroutine test_water_face_load_counted_once
+
+  !> A saturated column 0.4 m wide and 1 m high (4 x 20 cells, linear, n = 0.4, E = 10 MPa,
+  !> nu = 0.3, k = 1e-4 m/s, K_f = 2.2 GPa) started geostatic and hydrostatic (water table
+  !> at its top), its sides rollers drained to a reservoir at the same level: pore
+  !> pressure rho_f g (1 - y) on the faces (pore_pressure = 9810, pore_pressure_gradient =
+  !> 0, -9810). The column stays at rest for 0.2 s. With a uniform 9810 Pa on the sides
+  !> instead, water is pushed in near the top and the column moves. Measured: largest
+  !> speed 2.0e-6 m/s with the gradient, 1.58e-3 m/s without (1 and 2 ranks alike);
+  !> bounds 3e-6 m/s (+50 %) and at least 1e-3 m/s.
+  subroutine test_hydrostatic_side_faces()
+    real(wp) :: v(2)
+    call begin_test('hydrostatic_side_faces')
+    v(1) = side_column(-9810.0_wp)
+    v(2) = side_column(0.0_wp)
+    call check(v(1) < 3.0e-6_wp, &
+               say('with the face gradient: largest speed (m/s)', v(1), 3.0e-6_wp))
+    call check(v(2) > 1.0e-3_wp, say('uniform face pressure: largest speed (m/s)', v(2), 1.0e-3_wp))
+  end subroutine test_hydrostatic_side_faces
+
+  !> Largest point speed of the column with drained sides of face pore pressure
+  !> 9810 + slope y (Pa) after 0.2 s.
+  real(wp) function side_column(slope) result(vmax)
+    real(wp), intent(in) :: slope
+    type(config_t) :: cfg
+    type(simulation_t) :: sim
+    integer :: ip
+    cfg%name = 'side_column'
+    cfg%ndim = 2
+    cfg%ncells = [4, 20, 1]
+    cfg%length = [0.4_wp, 1.0_wp, 1.0_wp]
+    cfg%t_end = 0.2_wp
+    cfg%drag = 'implicit'
+    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
+    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))
+    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
+                                      youngs_modulus=1.0e7_wp, poisson_ratio=0.3_wp, &
+                                      conductivity=1.0e-4_wp)
+    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.2e9_wp)
+    cfg%regions(1)%lo = 0.0_wp
+    cfg%regions(1)%hi = [0.4_wp, 1.0_wp, 1.0_wp]
+    cfg%regions(1)%material = 1
+    cfg%regions(1)%phase = 'saturated'
+    cfg%regions(1)%fluid_material = 2
+    cfg%regions(1)%porosity = 0.4_wp
+    cfg%regions(1)%geostatic = .true.
+    call resolve_geostatic(cfg)
+    cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
+    cfg%fluid_bc(1:2) = fbc_drained
+    cfg%pore_pressure(1:2) = 9810.0_wp
+    cfg%pore_pressure_gradient(2, 1:2) = slope
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    call sim%run()
+    vmax = 0.0_wp
+    do ip = 1, 2
+      associate (ps => sim%phase(ip)%pts)
+        if (ps%n > 0) vmax = max(vmax, maxval(abs(ps%v(:, 1:ps%n))))
+      end associate
+    end do
+    call sim%free()
+    call MPI_Allreduce(MPI_IN_PLACE, vmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
+  end function side_column
 
   !> Lowest pore pressure over the ranks of the pulled water column with the cut at pcav.
   real(wp) function pulled_water(pcav) result(pmin)

@@ -163,6 +163,9 @@ module dpmpm_config
     integer :: fluid_bc(6) = fbc_default             !< pore-fluid condition per face
     real(wp) :: pore_pressure(6) = 0.0_wp            !< Pa, prescribed on drained faces
     real(wp) :: pore_pressure_ramp(6) = 0.0_wp       !< s, linear ramp of pore_pressure; 0 = step
+    !> Pa/m, gradient of a drained face's pore pressure along the face (a reservoir: rho_f g
+    !> down); with it the pressure is pore_pressure + gradient . x, not below 0
+    real(wp) :: pore_pressure_gradient(3, 6) = 0.0_wp
     !> condition 'absorbing': the material id whose impedance the face's dashpots match; 0 = none
     integer :: absorbing(6) = 0
     ! &output

@@ -16,7 +16,7 @@ module dpmpm_input_read
                                   repeatable, g_run, g_grid, g_shape, g_material, g_region, &
                                   g_boundary, g_load, g_output, g_benchmark, add_value, add_raw, &
                                   add_file_problem, place, lines_of, real_ok
-  use dpmpm_strings, only: itoa, rtoa, quote, lower
+  use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote, lower
   use dpmpm_nml_text, only: nml_records, nml_echo, nml_names
   implicit none
   private
@@ -485,18 +485,19 @@ contains
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
     character(len=name_len) :: face, condition, fluid
-    real(wp) :: pore_pressure, pore_pressure_ramp
+    real(wp) :: pore_pressure, pore_pressure_ramp, pore_pressure_gradient(3)
     logical :: seen(6), impermeable
-    integer :: k, f, c, fc, ios, material, absorbing
+    integer :: k, f, c, fc, ios, material, absorbing, j
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     character(len=:), allocatable :: why
-    namelist /boundary/ face, condition, fluid, pore_pressure, pore_pressure_ramp, material
+    namelist /boundary/ face, condition, fluid, pore_pressure, pore_pressure_ramp, material, &
+      pore_pressure_gradient
     seen = .false.
     ok = .true.
     do k = 1, pb%count(g_boundary)
       face = ''; condition = bc_names(bc_free); fluid = ''; pore_pressure = 0.0_wp
-      pore_pressure_ramp = 0.0_wp; material = 0
+      pore_pressure_ramp = 0.0_wp; material = 0; pore_pressure_gradient = 0.0_wp
       absorbing = 0
       read (records(first_record(pb, g_boundary, k):), nml=boundary, iostat=ios, iomsg=msg)
       call nml_records(echo)
@@ -539,6 +540,14 @@ contains
                        'default (drained at a free face, impermeable at a fixed or roller '// &
                        'face), drained, impermeable')
       end select
+      if (.not. all([(real_ok(pore_pressure_gradient(j)), j=1, 3)])) then
+        call add_value(pb, g_boundary, k, 'pore_pressure_gradient', rtoa_list(pore_pressure_gradient), &
+                       'must be finite numbers (Pa/m)')
+      else if (any(pore_pressure_gradient /= 0.0_wp) .and. pore_pressure == 0.0_wp) then
+        call add_value(pb, g_boundary, k, 'pore_pressure_gradient', rtoa_list(pore_pressure_gradient), &
+                       'goes with the pore_pressure at x = 0 (a reservoir to height H along y: '// &
+                       'pore_pressure = rho_f g H, pore_pressure_gradient = 0, -rho_f g)')
+      end if
       if (.not. real_ok(pore_pressure)) then
         call add_value(pb, g_boundary, k, 'pore_pressure', rtoa(pore_pressure), &
                        'must be a finite number (Pa)')
@@ -574,6 +583,7 @@ contains
         cfg%fluid_bc(f) = fc
         cfg%pore_pressure(f) = pore_pressure
         cfg%pore_pressure_ramp(f) = pore_pressure_ramp
+        cfg%pore_pressure_gradient(:, f) = pore_pressure_gradient
         cfg%absorbing(f) = absorbing
       end if
     end do

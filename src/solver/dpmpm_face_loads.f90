@@ -22,6 +22,7 @@ module dpmpm_face_loads
     type(load_cfg_t), allocatable :: loads(:)
     integer :: fbc(6) = 0                 !< resolved pore-fluid condition per face
     real(wp) :: pore_pressure(6) = 0.0_wp, pore_pressure_ramp(6) = 0.0_wp
+    real(wp) :: pore_pressure_gradient(3, 6) = 0.0_wp !< Pa/m along each drained face
     !> Dashpots of absorbing faces, force per area and velocity (Pa s/m): on the skeleton
     !> normal and tangential to the face, on the pore fluid normal to it
     real(wp) :: z_normal(6) = 0.0_wp, z_shear(6) = 0.0_wp, z_fluid(6) = 0.0_wp
@@ -32,6 +33,7 @@ module dpmpm_face_loads
     procedure :: free => face_loads_free
     procedure :: traction => face_traction
     procedure :: pore_pressure_force => face_pore_pressure
+    procedure :: pore_pressure_at
     procedure :: fluid_ties
     procedure :: dashpot
     procedure :: absorbing_static
@@ -57,6 +59,7 @@ contains
     self%fbc = fbc
     self%pore_pressure = cfg%pore_pressure
     self%pore_pressure_ramp = cfg%pore_pressure_ramp
+    self%pore_pressure_gradient = cfg%pore_pressure_gradient
     call absorbing_impedances(self, cfg)
   end subroutine face_loads_init
 
@@ -267,7 +270,7 @@ contains
     class(face_loads_t), intent(in) :: self
     real(wp), intent(in) :: time
     integer, intent(in) :: idx(3), bc(6)
-    real(wp) :: fp(3), w
+    real(wp) :: fp(3), w, x(3)
     integer :: f, d
     fp = 0.0_wp
     do f = 1, 2*self%nd
@@ -275,10 +278,24 @@ contains
       w = face_weight(self, idx, f, bc)
       if (w == 0.0_wp) cycle
       d = (f + 1)/2
-      fp(d) = fp(d) + w*ramp_factor(time, self%pore_pressure_ramp(f))* &
-              merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)*self%pore_pressure(f)
+      x = 0.0_wp
+      x(1:self%nd) = self%grid%origin(1:self%nd) + real(idx(1:self%nd), wp)*self%grid%h(1:self%nd)
+      fp(d) = fp(d) + w*merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)*face_area(self, idx, d)* &
+              self%pore_pressure_at(time, f, x)
     end do
   end function face_pore_pressure
+
+  !> Prescribed pore pressure of drained face f at the point x at time t: pore_pressure
+  !> (plus pore_pressure_gradient . x, not below 0, where a gradient is given), ramped.
+  pure real(wp) function pore_pressure_at(self, time, f, x) result(p)
+    class(face_loads_t), intent(in) :: self
+    real(wp), intent(in) :: time, x(3)
+    integer, intent(in) :: f
+    p = self%pore_pressure(f)
+    if (any(self%pore_pressure_gradient(:, f) /= 0.0_wp)) &
+      p = max(0.0_wp, p + dot_product(self%pore_pressure_gradient(:, f), x))
+    p = p*ramp_factor(time, self%pore_pressure_ramp(f))
+  end function pore_pressure_at
 
   !> Static load of the absorbing faces at node idx on the skeleton (fluid = .false.) or
   !> the pore fluid: the initial state of the body at the face, which the dashpots cannot

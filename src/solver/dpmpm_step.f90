@@ -356,7 +356,6 @@ contains
         sacc(2, ic) = sacc(2, ic) + sol%mass(p)
         sacc(3, ic) = sacc(3, ic) + sol%mass(p)*sol%v(d, p)
       end do
-      pface = self%cfg%pore_pressure(f)
       do ic = 1, nc
         if (first(ic) == 0) cycle
         vn = sg*acc(4, ic)/acc(3, ic)
@@ -378,6 +377,7 @@ contains
         x(d) = self%grid%origin(d) + merge(0.0_wp, self%grid%ncells(d)*self%grid%h(d), side == 1) + &
                sg*0.5_wp*deficit/vcell*self%grid%h(d)
         poro = acc(5, ic)/acc(3, ic)
+        pface = self%faces%pore_pressure_at(self%time, f, x)
         m = ps%mat(first(ic))
         rho = fluid_density(self%mats(m)%density, self%mats(m)%bulk_fluid, pface)
         id = self%inflow_id0 + 1_i8 + int(self%dec%rank, i8) + int(self%dec%nranks, i8)*self%ninflow

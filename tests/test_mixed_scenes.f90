@@ -7,7 +7,8 @@ program test_mixed_scenes
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
       MPI_DOUBLE_PRECISION, MPI_MIN, MPI_MAX, MPI_SUM
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained, &
+  use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, bc_fixed, bc_roller, &
+                          fbc_drained, &
                           resolve_geostatic
   use dpmpm_materials, only: material_t, materials_from_config
   use dpmpm_pore_pressure, only: skeleton_kinv, skeleton_porosity, smooth_pressure_change, &
@@ -53,17 +54,11 @@ contains
     cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     cfg%kernel = 'quadratic'
     allocate (cfg%materials(3), cfg%regions(2), cfg%loads(0))
-    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
-        youngs_modulus=1.0e7_wp, poisson_ratio=0.3_wp, conductivity=1.0e-4_wp)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.2e9_wp)
+    cfg%materials(1) = sand(1, 1.0e7_wp, 0.3_wp, 1.0e-4_wp)
+    cfg%materials(2) = water(2, 2.2e9_wp)
     cfg%materials(3) = material_cfg_t(id=3, model='linear_elastic', density=2400.0_wp, &
         youngs_modulus=1.0e9_wp, poisson_ratio=0.2_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [2.0_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%porosity = 0.4_wp
+    cfg%regions(1) = saturated([2.0_wp, 1.0_wp], 1, 0.4_wp)
     cfg%regions(1)%stress = [-4162.3_wp, -9712.2_wp, -4162.3_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     cfg%regions(1)%stress_gradient(:, 2) = [4162.3_wp, 9712.2_wp, 4162.3_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     cfg%regions(1)%pore_pressure = 9810.0_wp
@@ -80,6 +75,59 @@ contains
     end if
     cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
   end function layer_with_body
+
+  !> Sand of material id: linear elastic, grains of 2650 kg/m^3, Young's modulus e,
+  !> Poisson's ratio nu, hydraulic conductivity k.
+  type(material_cfg_t) function sand(id, e, nu, k) result(m)
+    integer, intent(in) :: id
+    real(wp), intent(in) :: e, nu, k
+    m = material_cfg_t(id=id, model='linear_elastic', density=2650.0_wp, youngs_modulus=e, &
+                       poisson_ratio=nu, conductivity=k)
+  end function sand
+
+  !> Water of material id: 1000 kg/m^3, bulk modulus kf.
+  type(material_cfg_t) function water(id, kf) result(m)
+    integer, intent(in) :: id
+    real(wp), intent(in) :: kf
+    m = material_cfg_t(id=id, model='fluid', density=1000.0_wp, bulk_modulus=kf)
+  end function water
+
+  !> Saturated box from the origin to hi (x, y) of soil material mat, porosity n, with the
+  !> pore water of material 2.
+  type(region_cfg_t) function saturated(hi, mat, n) result(r)
+    real(wp), intent(in) :: hi(2), n
+    integer, intent(in) :: mat
+    r%lo = 0.0_wp
+    r%hi = [hi(1), hi(2), 1.0_wp]
+    r%material = mat
+    r%phase = 'saturated'
+    r%fluid_material = 2
+    r%porosity = n
+  end function saturated
+
+  !> 1D column of ncells over length, held (fixed) at x = 0, implicit drag: saturated sand
+  !> (n = 0.3, nu = 0, E = e) on 0..0.5 m with conductivity k(1) (material 1) and on
+  !> 0.5..1 m with k(2) (material 3), water of bulk modulus kf (material 2); nregions
+  !> regions allocated, the soils the first two.
+  function two_soil_column(name, ncells, length, e, kf, k, nregions) result(cfg)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: ncells, nregions
+    real(wp), intent(in) :: length, e, kf, k(2)
+    type(config_t) :: cfg
+    cfg%name = name
+    cfg%ndim = 1
+    cfg%ncells = [ncells, 1, 1]
+    cfg%length = [length, 1.0_wp, 1.0_wp]
+    cfg%drag = 'implicit'
+    allocate (cfg%materials(3), cfg%regions(nregions), cfg%loads(0))
+    cfg%materials(1) = sand(1, e, 0.0_wp, k(1))
+    cfg%materials(2) = water(2, kf)
+    cfg%materials(3) = sand(3, e, 0.0_wp, k(2))
+    cfg%regions(1) = saturated([0.5_wp, 1.0_wp], 1, 0.3_wp)
+    cfg%regions(2) = saturated([1.0_wp, 1.0_wp], 3, 0.3_wp)
+    cfg%regions(2)%lo(1) = 0.5_wp
+    cfg%bc(1) = bc_fixed
+  end function two_soil_column
 
   !> The undrained step of the layer: cfl h / c_u with c_u^2 = (E_c + K_f/n) / rho_sat,
   !> E_c = E (1 - nu) / ((1 + nu)(1 - 2 nu)) = 13.46 MPa, rho_sat = 1990 kg/m^3:
@@ -170,33 +218,12 @@ contains
     real(wp) :: e(4), x
     integer :: p
     call begin_test('free_water_has_no_drag_and_pore_water_takes_the_soil')
-    cfg%name = 'mixed_column'
-    cfg%ndim = 1
-    cfg%ncells = [20, 1, 1]
-    cfg%length = [2.0_wp, 1.0_wp, 1.0_wp]
-    cfg%drag = 'implicit'
+    cfg = two_soil_column('mixed_column', 20, 2.0_wp, 1.0e7_wp, 3.0e6_wp, [1.0e-4_wp, 1.0e-3_wp], 3)
     cfg%max_steps = 1
-    allocate (cfg%materials(3), cfg%regions(3), cfg%loads(0))
-    cfg%materials(1) = material_cfg_t(id=1, density=2650.0_wp, youngs_modulus=1.0e7_wp, &
-        poisson_ratio=0.0_wp, conductivity=1.0e-4_wp)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=3.0e6_wp)
-    cfg%materials(3) = material_cfg_t(id=3, density=2650.0_wp, youngs_modulus=1.0e7_wp, &
-        poisson_ratio=0.0_wp, conductivity=1.0e-3_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [0.5_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%porosity = 0.3_wp
-    cfg%regions(2) = cfg%regions(1)
-    cfg%regions(2)%lo(1) = 0.5_wp
-    cfg%regions(2)%hi(1) = 1.0_wp
-    cfg%regions(2)%material = 3
     cfg%regions(3)%lo = [1.0_wp, 0.0_wp, 0.0_wp]
     cfg%regions(3)%hi = [2.0_wp, 1.0_wp, 1.0_wp]
     cfg%regions(3)%material = 2
     cfg%regions(3)%phase = 'fluid'
-    cfg%bc(1) = bc_fixed
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     ! Pretend the lower half's pore water came from the upper soil: it must take 1e4.
     associate (f => sim%phase(2)%pts)
@@ -323,16 +350,9 @@ contains
     cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     cfg%porosity_gradient = pgrad
     allocate (cfg%materials(2), cfg%regions(2), cfg%loads(0))
-    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
-                                      youngs_modulus=5.0e7_wp, poisson_ratio=0.3_wp, &
-                                      conductivity=1.0e-4_wp)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.2e9_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [0.4_wp, 1.5_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%porosity = 0.4_wp
+    cfg%materials(1) = sand(1, 5.0e7_wp, 0.3_wp, 1.0e-4_wp)
+    cfg%materials(2) = water(2, 2.2e9_wp)
+    cfg%regions(1) = saturated([0.4_wp, 1.5_wp], 1, 0.4_wp)
     cfg%regions(1)%stress = [-6243.4_wp, -14568.3_wp, -6243.4_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     cfg%regions(1)%stress_gradient(:, 2) = [4162.3_wp, 9712.2_wp, 4162.3_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     cfg%regions(1)%pore_pressure = 19620.0_wp
@@ -414,16 +434,9 @@ contains
     cfg%kernel = 'quadratic'
     cfg%pressure_smoothing = smoothing
     allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
-    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
-                                      youngs_modulus=1.0e7_wp, poisson_ratio=0.3_wp, &
-                                      conductivity=1.0e-4_wp)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.2e9_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [2.0_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%porosity = 0.4_wp
+    cfg%materials(1) = sand(1, 1.0e7_wp, 0.3_wp, 1.0e-4_wp)
+    cfg%materials(2) = water(2, 2.2e9_wp)
+    cfg%regions(1) = saturated([2.0_wp, 1.0_wp], 1, 0.4_wp)
     cfg%regions(1)%placement = 'random'
     cfg%regions(1)%seed = 3
     cfg%loads(1) = load_cfg_t(face=4, traction=[0.0_wp, -1.0e5_wp, 0.0_wp], ramp_time=0.01_wp, &
@@ -481,28 +494,8 @@ contains
     type(simulation_t) :: sim
     real(wp) :: acc(4), x, pe
     integer :: p
-    cfg%name = 'seepage'
-    cfg%ndim = 1
-    cfg%ncells = [40, 1, 1]
-    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
+    cfg = two_soil_column('seepage', 40, 1.0_wp, 1.0e8_wp, 3.0e7_wp, [1.0e-2_wp, 2.5e-3_wp], 2)
     cfg%t_end = t_end
-    cfg%drag = 'implicit'
-    allocate (cfg%materials(3), cfg%regions(2), cfg%loads(0))
-    cfg%materials(1) = material_cfg_t(id=1, density=2650.0_wp, youngs_modulus=1.0e8_wp, &
-                                      poisson_ratio=0.0_wp, conductivity=1.0e-2_wp)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=3.0e7_wp)
-    cfg%materials(3) = material_cfg_t(id=3, density=2650.0_wp, youngs_modulus=1.0e8_wp, &
-                                      poisson_ratio=0.0_wp, conductivity=2.5e-3_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [0.5_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%porosity = 0.3_wp
-    cfg%regions(2) = cfg%regions(1)
-    cfg%regions(2)%lo(1) = 0.5_wp
-    cfg%regions(2)%hi(1) = 1.0_wp
-    cfg%regions(2)%material = 3
     cfg%bc(1:2) = bc_fixed
     cfg%fluid_bc(1:2) = fbc_drained
     cfg%pore_pressure(1) = 9810.0_wp
@@ -550,7 +543,7 @@ contains
     cfg%t_end = 0.012_wp
     cfg%drag = 'implicit'
     allocate (cfg%materials(1), cfg%regions(1), cfg%loads(1))
-    cfg%materials(1) = material_cfg_t(id=1, model='fluid', density=1000.0_wp, bulk_modulus=2.2e9_wp)
+    cfg%materials(1) = water(1, 2.2e9_wp)
     cfg%regions(1)%lo = 0.0_wp
     cfg%regions(1)%hi = [1.0_wp, 1.0_wp, 1.0_wp]
     cfg%regions(1)%material = 1
@@ -603,16 +596,9 @@ contains
     cfg%drag = 'implicit'
     cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))
-    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
-                                      youngs_modulus=1.0e7_wp, poisson_ratio=0.3_wp, &
-                                      conductivity=1.0e-4_wp)
-    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.2e9_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [0.4_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%porosity = 0.4_wp
+    cfg%materials(1) = sand(1, 1.0e7_wp, 0.3_wp, 1.0e-4_wp)
+    cfg%materials(2) = water(2, 2.2e9_wp)
+    cfg%regions(1) = saturated([0.4_wp, 1.0_wp], 1, 0.4_wp)
     cfg%regions(1)%geostatic = .true.
     call resolve_geostatic(cfg)
     cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
@@ -644,7 +630,7 @@ contains
     cfg%drag = 'implicit'
     cfg%cavitation_pressure = pcav
     allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
-    cfg%materials(1) = material_cfg_t(id=1, model='fluid', density=1000.0_wp, bulk_modulus=2.2e9_wp)
+    cfg%materials(1) = water(1, 2.2e9_wp)
     cfg%regions(1)%lo = 0.0_wp
     cfg%regions(1)%hi = [1.0_wp, 1.0_wp, 1.0_wp]
     cfg%regions(1)%material = 1

@@ -10,7 +10,8 @@ module dpmpm_config
   public :: max_poly, max_table, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
-  public :: optional_fields, field_listed, porosity_varies, resolve_geostatic, region_top, level_unset
+  public :: optional_fields, field_listed, porosity_varies, resolve_geostatic, region_levels, &
+            level_unset
 
   integer, parameter :: name_len = 64
   !> Largest number of vertices of a 2D polygon region.
@@ -234,6 +235,18 @@ contains
     end associate
   end function region_top
 
+  !> Ground surface s and water level w of region r: as given, or the region's top and
+  !> the surface when left out.
+  pure subroutine region_levels(cfg, r, s, w)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: r
+    real(wp), intent(out) :: s, w
+    s = cfg%regions(r)%surface
+    if (s == level_unset) s = region_top(cfg, r)
+    w = cfg%regions(r)%water_level
+    if (w == level_unset) w = s
+  end subroutine region_levels
+
   !> The initial state of the geostatic regions of level ground (doc/input.md, "Initial
   !> state"): with g = -gravity(ndim) along the vertical axis ndim, the surface S, water
   !> level W and overburden q of the region, the vertical effective stress
@@ -253,10 +266,7 @@ contains
     do r = 1, size(cfg%regions)
       associate (reg => cfg%regions(r))
         if (.not. reg%geostatic) cycle
-        s = reg%surface
-        if (s == level_unset) s = region_top(cfg, r)
-        w = reg%water_level
-        if (w == level_unset) w = s
+        call region_levels(cfg, r, s, w)
         m = findloc(cfg%materials%id, reg%material, dim=1)
         n = reg%porosity
         reg%stress = 0.0_wp

@@ -6,7 +6,7 @@ module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, optional_fields, field_listed, &
-                          porosity_varies, region_top, level_unset, &
+                          porosity_varies, region_levels, level_unset, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
   use dpmpm_mls, only: basis_from_name
@@ -490,10 +490,7 @@ contains
                        'nu / (1 - nu) of the material')
       if (.not. real_ok(r%overburden, ge=0.0_wp)) call add_value(pb, g_region, k, 'overburden', &
         rtoa(r%overburden), 'must be >= 0 (Pa, the vertical effective stress at the surface)')
-      s = r%surface
-      if (s == level_unset) s = region_top(cfg, k)
-      w = r%water_level
-      if (w == level_unset) w = s
+      call region_levels(cfg, k, s, w)
       if (.not. (real_ok(s) .and. real_ok(w))) then
         call add_value(pb, g_region, k, 'surface', rtoa(s), 'surface and water_level must be '// &
                        'finite (m)')

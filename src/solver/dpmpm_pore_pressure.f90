@@ -9,7 +9,7 @@ module dpmpm_pore_pressure
   use dpmpm_materials, only: material_t
   implicit none
   private
-  public :: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, smooth_pressure_change
+  public :: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, local_cell, smooth_pressure_change
   public :: pressure_update, fluid_density, fluid_state, &
             fluid_pressure_step
 
@@ -113,16 +113,26 @@ contains
     real(wp), intent(in) :: x(:, :), origin(3), h(3)
     integer, intent(in) :: clo(3), chi(3)
     integer, intent(out) :: cell(:)
-    integer :: p, d, c(3), w(3)
+    integer :: p, c(3), w(3)
     w = chi - clo + 1
     do p = 1, n
-      c = 0
-      do d = 1, nd
-        c(d) = min(max(floor((x(d, p) - origin(d))/h(d)), clo(d)), chi(d)) - clo(d)
-      end do
+      c = local_cell(nd, x(:, p), origin, h, clo, chi)
       cell(p) = 1 + c(1) + w(1)*(c(2) + w(2)*c(3))
     end do
   end subroutine point_cells
+
+  !> Cell of this rank's block clo..chi holding x, as offsets from clo (0 on the axes
+  !> beyond nd); a point just outside the block counts to its edge cell.
+  pure function local_cell(nd, x, origin, h, clo, chi) result(c)
+    integer, intent(in) :: nd
+    real(wp), intent(in) :: x(:), origin(3), h(3)
+    integer, intent(in) :: clo(3), chi(3)
+    integer :: c(3), d
+    c = 0
+    do d = 1, nd
+      c(d) = min(max(floor((x(d) - origin(d))/h(d)), clo(d)), chi(d)) - clo(d)
+    end do
+  end function local_cell
 
   !> Strain smoothing of the pore pressure: the step's pressure change of each fluid
   !> point replaced by the volume-weighted mean change of the fluid points in its cell

@@ -24,6 +24,7 @@ module dpmpm_step
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, fluid_density, &
+                                 local_cell, &
                                  fluid_pressure_step, fluid_state
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
   use dpmpm_time_step, only: report_governing
@@ -394,12 +395,8 @@ contains
     !> Local index of the boundary-layer cell of face f holding xp, 0 for another layer.
     integer function boundary_cell(xp) result(ic)
       real(wp), intent(in) :: xp(:)
-      integer :: kk, cc(3)
-      cc = 0
-      do kk = 1, self%nd
-        cc(kk) = min(max(floor((xp(kk) - self%grid%origin(kk))/self%grid%h(kk)), self%dec%clo(kk)), &
-                     self%dec%chi(kk)) - self%dec%clo(kk)
-      end do
+      integer :: cc(3)
+      cc = local_cell(self%nd, xp, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi)
       ic = 0
       if (cc(d) + self%dec%clo(d) == cb) ic = 1 + cc(1) + w(1)*(cc(2) + w(2)*cc(3))
     end function boundary_cell

@@ -273,14 +273,10 @@ contains
     end associate
     if (coupled) then
       associate (f => self%phase(fluid_phase))
-        if (allocated(fcell)) then
-          call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
-                                   self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated, &
-                                   fcell, product(self%dec%chi - self%dec%clo + 1), f%pts%vol)
-        else
-          call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
-                                   self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated)
-        end if
+        ! fcell is allocated only with cell smoothing; unallocated, it is an absent argument.
+        call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
+                                 self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated, &
+                                 fcell, product(self%dec%chi - self%dec%clo + 1), f%pts%vol)
         call fluid_state(nf, self%mats, f%pts%mat, f%pts%mass, f%pts%porosity, f%pts%pressure, &
                          f%pts%vol, f%pts%stress)
       end associate

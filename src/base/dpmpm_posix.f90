@@ -7,6 +7,7 @@ module dpmpm_posix
   implicit none
   private
   public :: posix_mkdir, posix_strerror, posix_fsync, catch_stop_signals, stop_signal, signal_name
+  public :: peak_resident_kib
 
   interface
     function c_mkdir(path) bind(C, name='dpmpm_mkdir') result(err)
@@ -99,5 +100,25 @@ contains
       s(n:n) = chars(n)
     end do
   end function c_string
+
+  !> Peak resident memory of this process in KiB (VmHWM of /proc/self/status), or -1
+  !> where that file is not there (not Linux).
+  integer function peak_resident_kib() result(kib)
+    integer :: u, ios
+    character(len=256) :: line
+    kib = -1
+    open (newunit=u, file='/proc/self/status', status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read (u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (line(1:6) == 'VmHWM:') then
+        read (line(7:), *, iostat=ios) kib
+        if (ios /= 0) kib = -1
+        exit
+      end if
+    end do
+    close (u)
+  end function peak_resident_kib
 
 end module dpmpm_posix

@@ -134,8 +134,10 @@ contains
   !> dissipation (when present) gains the plastic work of the step,
   !> V (sigma_n + sigma_n+1)/2 : d eps^p with d eps^p = dt D - C^-1 (sigma_n+1 - sigma_n)
   !> (sigma_n after the rotation), so that the energy balance can count it.
+  !> plane (2D, plane strain): the velocity gradients and F have no third row and
+  !> column, and the elastic models take the short 2D forms of the same formulas.
   subroutine stress_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, epsp, &
-                           dissipation)
+                           dissipation, plane)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
     real(wp), intent(in) :: dt
@@ -146,9 +148,19 @@ contains
     real(wp), intent(inout), optional :: defgrad(:, :)
     real(wp), intent(inout), optional :: epsp(:)
     real(wp), intent(inout), optional :: dissipation
+    logical, intent(in), optional :: plane
     real(wp) :: lg(3, 3), dmat(3, 3), wmat(3, 3), s(3, 3), f(3, 3), b(3, 3), ident(3, 3), tr, jac
     real(wp) :: sv(6), sv0(6), deps(6), dsig(6), dep(6)
     integer :: p, k
+    if (present(plane)) then
+      if (plane .and. mat%model == model_neo_hookean) then
+        call neo_hookean_plane(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad)
+        return
+      else if (plane .and. mat%model == model_linear_elastic) then
+        call linear_elastic_plane(mat, m, dt, n, pmat, vgrad, stress, vol)
+        return
+      end if
+    end if
     ident = 0.0_wp
     do k = 1, 3
       ident(k, k) = 1.0_wp
@@ -157,7 +169,7 @@ contains
     case (model_linear_elastic)
       do p = 1, n
         if (pmat(p) /= m) cycle
-        lg = reshape(vgrad(:, p), [3, 3])
+        lg = as_3x3(vgrad(:, p))
         dmat = 0.5_wp*(lg + transpose(lg))
         wmat = 0.5_wp*(lg - transpose(lg))
         s = voigt_to_tensor(stress(:, p))
@@ -169,9 +181,9 @@ contains
     case (model_neo_hookean)
       do p = 1, n
         if (pmat(p) /= m) cycle
-        lg = reshape(vgrad(:, p), [3, 3])
-        f = matmul(ident + dt*lg, reshape(defgrad(:, p), [3, 3]))
-        defgrad(:, p) = reshape(f, [9])
+        lg = as_3x3(vgrad(:, p))
+        f = matmul(ident + dt*lg, as_3x3(defgrad(:, p)))
+        defgrad(1:3, p) = f(:, 1); defgrad(4:6, p) = f(:, 2); defgrad(7:9, p) = f(:, 3)
         jac = det3(f)
         b = matmul(f, transpose(f))
         s = (mat%mu*(b - ident) + mat%lambda*log(jac)*ident)/jac
@@ -181,7 +193,7 @@ contains
     case (model_mohr_coulomb, model_drucker_prager)
       do p = 1, n
         if (pmat(p) /= m) cycle
-        lg = reshape(vgrad(:, p), [3, 3])
+        lg = as_3x3(vgrad(:, p))
         dmat = 0.5_wp*(lg + transpose(lg))
         wmat = 0.5_wp*(lg - transpose(lg))
         s = voigt_to_tensor(stress(:, p))
@@ -202,6 +214,70 @@ contains
       end do
     end select
   end subroutine stress_update
+
+  !> The neo-Hookean update of stress_update in plane strain: F33 = 1 and the
+  !> in-plane 2x2 block of F carries the motion.
+  subroutine neo_hookean_plane(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad)
+    type(material_t), intent(in) :: mat
+    integer, intent(in) :: m, n
+    real(wp), intent(in) :: dt
+    integer, intent(in) :: pmat(:)
+    real(wp), intent(in) :: vgrad(:, :)
+    real(wp), intent(inout) :: stress(:, :), vol(:)
+    real(wp), intent(in) :: vol0(:)
+    real(wp), intent(inout) :: defgrad(:, :)
+    real(wp) :: a11, a21, a12, a22, f11, f21, f12, f22, jac, lnj, rj
+    integer :: p
+    do p = 1, n
+      if (pmat(p) /= m) cycle
+      ! A = I + dt L; F <- A F (column-major: 1 = 11, 2 = 21, 4 = 12, 5 = 22).
+      a11 = 1.0_wp + dt*vgrad(1, p); a21 = dt*vgrad(2, p)
+      a12 = dt*vgrad(4, p); a22 = 1.0_wp + dt*vgrad(5, p)
+      f11 = a11*defgrad(1, p) + a12*defgrad(2, p)
+      f21 = a21*defgrad(1, p) + a22*defgrad(2, p)
+      f12 = a11*defgrad(4, p) + a12*defgrad(5, p)
+      f22 = a21*defgrad(4, p) + a22*defgrad(5, p)
+      defgrad(1, p) = f11; defgrad(2, p) = f21; defgrad(4, p) = f12; defgrad(5, p) = f22
+      jac = f11*f22 - f12*f21
+      lnj = log(jac)
+      rj = 1.0_wp/jac
+      ! sigma = (mu (F F^T - I) + lambda ln J I)/J; the third normal stress has F33 = 1.
+      stress(1, p) = (mat%mu*(f11*f11 + f12*f12 - 1.0_wp) + mat%lambda*lnj)*rj
+      stress(2, p) = (mat%mu*(f21*f21 + f22*f22 - 1.0_wp) + mat%lambda*lnj)*rj
+      stress(3, p) = mat%lambda*lnj*rj
+      stress(4, p) = 0.0_wp
+      stress(5, p) = 0.0_wp
+      stress(6, p) = mat%mu*(f11*f21 + f12*f22)*rj
+      vol(p) = vol0(p)*jac
+    end do
+  end subroutine neo_hookean_plane
+
+  !> The hypoelastic (Jaumann) update of stress_update in plane strain: D33 = 0,
+  !> one spin component w = (L12 - L21)/2, and no out-of-plane shear stress.
+  subroutine linear_elastic_plane(mat, m, dt, n, pmat, vgrad, stress, vol)
+    type(material_t), intent(in) :: mat
+    integer, intent(in) :: m, n
+    real(wp), intent(in) :: dt
+    integer, intent(in) :: pmat(:)
+    real(wp), intent(in) :: vgrad(:, :)
+    real(wp), intent(inout) :: stress(:, :), vol(:)
+    real(wp) :: l11, l21, l12, l22, d12, w12, tr, s11, s22, s12
+    integer :: p
+    do p = 1, n
+      if (pmat(p) /= m) cycle
+      l11 = vgrad(1, p); l21 = vgrad(2, p); l12 = vgrad(4, p); l22 = vgrad(5, p)
+      d12 = 0.5_wp*(l12 + l21)
+      w12 = 0.5_wp*(l12 - l21)
+      tr = l11 + l22
+      s11 = stress(1, p); s22 = stress(2, p); s12 = stress(6, p)
+      ! (W s - s W) in the plane: 2 w s12, -2 w s12 and w (s22 - s11).
+      stress(1, p) = s11 + dt*(mat%lambda*tr + 2.0_wp*mat%mu*l11 + 2.0_wp*w12*s12)
+      stress(2, p) = s22 + dt*(mat%lambda*tr + 2.0_wp*mat%mu*l22 - 2.0_wp*w12*s12)
+      stress(3, p) = stress(3, p) + dt*mat%lambda*tr
+      stress(6, p) = s12 + dt*(2.0_wp*mat%mu*d12 + w12*(s22 - s11))
+      vol(p) = vol(p)*((1.0_wp + dt*l11)*(1.0_wp + dt*l22) - dt*dt*l12*l21)
+    end do
+  end subroutine linear_elastic_plane
 
   !> Stored elastic energy of the points of material index m (J, per unit
   !> length/area in 2D/1D). Linear elastic (and the elastic part of the plastic soils):
@@ -227,13 +303,23 @@ contains
             /mat%youngs
         e = e + 0.5_wp*w*vol(p)
       case (model_neo_hookean)
-        f = reshape(defgrad(:, p), [3, 3])
+        f = as_3x3(defgrad(:, p))
         lnj = log(det3(f))
         w = 0.5_wp*mat%mu*(sum(f**2) - 3.0_wp) - mat%mu*lnj + 0.5_wp*mat%lambda*lnj**2
         e = e + w*vol0(p)
       end select
     end do
   end function strain_energy
+
+  !> A 3x3 tensor from its 9 values stored column-major (as reshape would, without
+  !> the library call for a section of run-time shape).
+  pure function as_3x3(a) result(t)
+    real(wp), intent(in) :: a(9)
+    real(wp) :: t(3, 3)
+    t(:, 1) = a(1:3)
+    t(:, 2) = a(4:6)
+    t(:, 3) = a(7:9)
+  end function as_3x3
 
   pure real(wp) function det3(a)
     real(wp), intent(in) :: a(3, 3)

@@ -45,7 +45,8 @@ contains
     integer, allocatable, intent(out), optional :: lost(:)
     integer :: d
     do d = 1, dec%ndim
-      call migrate_axis(dec, origin, h, ps, d)
+      ! An axis held by one rank has no neighbour on it (the same on every rank).
+      if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d)
     end do
     call find_unowned(dec, origin, h, ps, nlost, lost)
   end subroutine migrate

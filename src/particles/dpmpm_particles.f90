@@ -44,6 +44,7 @@ module dpmpm_particles
     procedure :: unpack_points => ps_unpack
     procedure :: remove => ps_remove
     procedure :: free => ps_free
+    procedure :: bytes_per_point => ps_bytes_per_point
   end type particle_set_t
 
 contains
@@ -98,6 +99,26 @@ contains
     self%n = 0
     self%cap = 0
   end subroutine ps_free
+
+  !> Bytes of one point in the arrays the set holds (a column of each allocated field).
+  integer function ps_bytes_per_point(self) result(b)
+    class(particle_set_t), intent(in) :: self
+    b = 0
+    if (allocated(self%id)) b = b + storage_size(self%id)/8
+    if (allocated(self%mat)) b = b + storage_size(self%mat)/8
+    if (allocated(self%x)) b = b + size(self%x, 1)*storage_size(self%x)/8
+    if (allocated(self%x0)) b = b + size(self%x0, 1)*storage_size(self%x0)/8
+    if (allocated(self%v)) b = b + size(self%v, 1)*storage_size(self%v)/8
+    if (allocated(self%mass)) b = b + storage_size(self%mass)/8
+    if (allocated(self%vol)) b = b + storage_size(self%vol)/8
+    if (allocated(self%vol0)) b = b + storage_size(self%vol0)/8
+    if (allocated(self%stress)) b = b + size(self%stress, 1)*storage_size(self%stress)/8
+    if (allocated(self%defgrad)) b = b + size(self%defgrad, 1)*storage_size(self%defgrad)/8
+    if (allocated(self%porosity)) b = b + storage_size(self%porosity)/8
+    if (allocated(self%pressure)) b = b + storage_size(self%pressure)/8
+    if (allocated(self%kinv)) b = b + storage_size(self%kinv)/8
+    if (allocated(self%epsp)) b = b + storage_size(self%epsp)/8
+  end function ps_bytes_per_point
 
   !> Make room for at least m points, keeping the first n.
   subroutine ps_reserve(self, m)

@@ -521,10 +521,10 @@ contains
       end if
       lm = 0.0_wp
       lm(1:nd, 1:nd) = reshape(l(1:nd*nd)/ctot, [nd, nd])
-      vgrad(:, p) = reshape(lm, [9])
+      vgrad(1:3, p) = lm(:, 1); vgrad(4:6, p) = lm(:, 2); vgrad(7:9, p) = lm(:, 3)
       if (.not. two) cycle
       lm(1:nd, 1:nd) = reshape(l2(1:nd*nd)/ctot, [nd, nd])
-      vgrad2(:, p) = reshape(lm, [9])
+      vgrad2(1:3, p) = lm(:, 1); vgrad2(4:6, p) = lm(:, 2); vgrad2(7:9, p) = lm(:, 3)
     end do
   end subroutine gauss_strain
 

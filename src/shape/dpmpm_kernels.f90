@@ -74,20 +74,37 @@ contains
     real(wp), intent(in) :: s
     integer, intent(out) :: i0
     real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
-    integer :: j
+    real(wp) :: f, a, b
     w = 0.0_wp
     dw = 0.0_wp
+    ! The pieces of bspline_1d written out for the nodes of the stencil, with f the
+    ! position from its first node: f in [0, 1) linear, [0.5, 1.5) quadratic, [1, 2) cubic.
     select case (kernel)
     case (kernel_linear)
       i0 = floor(s)
+      f = s - real(i0, wp)
+      w(1) = 1.0_wp - f; dw(1) = -1.0_wp
+      w(2) = f; dw(2) = 1.0_wp
     case (kernel_quadratic)
       i0 = floor(s - 0.5_wp)
+      f = s - real(i0, wp)
+      a = 1.5_wp - f
+      w(1) = 0.5_wp*a*a; dw(1) = -a
+      a = f - 1.0_wp
+      w(2) = 0.75_wp - a*a; dw(2) = -2.0_wp*a
+      a = f - 0.5_wp
+      w(3) = 0.5_wp*a*a; dw(3) = a
     case default
       i0 = floor(s) - 1
+      f = s - real(i0, wp)
+      a = 2.0_wp - f
+      w(1) = a*a*a/6.0_wp; dw(1) = -0.5_wp*a*a
+      a = f - 1.0_wp
+      w(2) = 0.5_wp*a*a*a - a*a + 2.0_wp/3.0_wp; dw(2) = 1.5_wp*a*a - 2.0_wp*a
+      b = 2.0_wp - f
+      w(3) = 0.5_wp*b*b*b - b*b + 2.0_wp/3.0_wp; dw(3) = -(1.5_wp*b*b - 2.0_wp*b)
+      w(4) = a*a*a/6.0_wp; dw(4) = 0.5_wp*a*a
     end select
-    do j = 1, kernel_width(kernel)
-      call bspline_1d(kernel, s - real(i0 + j - 1, wp), w(j), dw(j))
-    end do
   end subroutine kernel_eval_1d
 
   !> 1D B-spline of the given order (linear, quadratic, cubic) centred at 0, at

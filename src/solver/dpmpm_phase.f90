@@ -33,9 +33,26 @@ module dpmpm_phase
     real(wp), allocatable :: xold(:, :), volold(:), vt(:)
   contains
     procedure :: free => phase_free
+    procedure :: bytes_per_point => phase_bytes_per_point
   end type phase_t
 
 contains
+
+  !> Bytes per point of the phase: the point set's fields, its stencil (first node,
+  !> weights and derivatives) and the per-point work arrays of the step.
+  integer function phase_bytes_per_point(self) result(b)
+    class(phase_t), intent(in) :: self
+    b = self%pts%bytes_per_point()
+    if (allocated(self%st%i0)) b = b + size(self%st%i0, 1)*storage_size(self%st%i0)/8
+    if (allocated(self%st%sw)) b = b + size(self%st%sw(:, :, 1))*storage_size(self%st%sw)/8
+    if (allocated(self%st%sdw)) b = b + size(self%st%sdw(:, :, 1))*storage_size(self%st%sdw)/8
+    if (allocated(self%vgrad)) b = b + size(self%vgrad, 1)*storage_size(self%vgrad)/8
+    if (allocated(self%vgrad2)) b = b + size(self%vgrad2, 1)*storage_size(self%vgrad2)/8
+    if (allocated(self%bacc)) b = b + size(self%bacc, 1)*storage_size(self%bacc)/8
+    if (allocated(self%xold)) b = b + size(self%xold, 1)*storage_size(self%xold)/8
+    if (allocated(self%volold)) b = b + storage_size(self%volold)/8
+    if (allocated(self%vt)) b = b + storage_size(self%vt)/8
+  end function phase_bytes_per_point
 
   !> Release the points and every work array.
   subroutine phase_free(self)

@@ -16,7 +16,7 @@ module dpmpm_simulation
   use dpmpm_output, only: output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
   use dpmpm_scene_check, only: check_scene_points
-  use dpmpm_posix, only: stop_signal, signal_name
+  use dpmpm_posix, only: stop_signal, signal_name, peak_resident_kib
   use dpmpm_benchmarks, only: benchmark_setup, nbench_err
   use dpmpm_mirror, only: fluid_mirror_bc
   use dpmpm_gather, only: gather_points
@@ -502,12 +502,49 @@ contains
       write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
       call self%log%info(line)
     end do
+    call report_memory(self)
     if (self%write_output) then
       call self%out%close()
       call self%log%info('dpmpm: output '//trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5')
     end if
     if (self%stopped /= 0) call report_stop(self)
   end subroutine sim_run
+
+  !> What the run holds in memory: bytes per point of each phase (fields, stencil and
+  !> per-point work arrays: what the scene's models need, nothing else), the grid
+  !> fields of rank 0 per stored node, and the peak resident memory of rank 0.
+  subroutine report_memory(self)
+    class(state_t), intent(in) :: self
+    character(len=256) :: line
+    integer :: ip, b(2), kib
+    integer(i8) :: nodes, gbytes
+    b = 0
+    gbytes = 0
+    do ip = 1, self%nph
+      b(ip) = self%phase(ip)%bytes_per_point()
+      gbytes = gbytes + field_bytes(self%phase(ip)%node) + field_bytes(self%phase(ip)%nvel) + &
+               field_bytes(self%phase(ip)%vacc) + field_bytes(self%phase(ip)%gacc) + &
+               field_bytes(self%phase(ip)%gsol) + field_bytes(self%phase(ip)%gsol2) + &
+               field_bytes(self%phase(ip)%glg) + field_bytes(self%phase(ip)%gacc2) + &
+               field_bytes(self%phase(ip)%glg2)
+    end do
+    gbytes = gbytes + field_bytes(self%nporo) + field_bytes(self%ndrag)
+    nodes = product(int(self%dec%ahi - self%dec%alo + 1, i8))
+    kib = peak_resident_kib()
+    write (line, '(a,i0,a)') '  memory: ', b(1), ' bytes per solid point'
+    if (self%nph == 2) write (line, '(a,a,i0,a)') trim(line), ', ', b(2), ' per fluid point'
+    write (line, '(a,a,f0.1,a,i0,a)') trim(line), '; grid fields ', real(gbytes, wp)/2.0_wp**20, &
+      ' MiB on rank 0 (', gbytes/max(nodes, 1_i8), ' bytes per node)'
+    if (kib > 0) write (line, '(a,a,f0.1,a)') trim(line), '; peak resident ', real(kib, wp)/1024.0_wp, &
+      ' MiB on rank 0'
+    call self%log%info(line)
+  contains
+    integer(i8) function field_bytes(f) result(nb)
+      real(wp), allocatable, intent(in) :: f(:, :, :, :)
+      nb = 0
+      if (allocated(f)) nb = size(f, kind=i8)*storage_size(f)/8
+    end function field_bytes
+  end subroutine report_memory
 
   !> The diagnostics record (dpmpm_energy); when the run monitor stops the run for
   !> growth, the last frame is written and the output closed here.

@@ -18,7 +18,7 @@ module dpmpm_step
   use dpmpm_particles, only: particle_set_t
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, &
+  use dpmpm_transfer, only: p2g, g2p, point_gradient, interp_scalar, interp_value, &
                             fluid_p2g, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
@@ -220,8 +220,16 @@ contains
     call self%timers%tic(t_g2p)
     do ip = 1, self%nph
       associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
-        call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, dt, &
-                 ps%v, ps%x, ph%vgrad)
+        if (self%cfg%scheme == 'musl') then
+          ! The remap's momenta go to the grid in the same pass (the momentum slots of
+          ! node are reused; the masses stay those of the step).
+          ph%node(2:1 + 2*nd, :, :, :) = 0.0_wp
+          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
+                   dt, ps%v, ps%x, ph%vgrad, ps%mass, ph%node)
+        else
+          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
+                   dt, ps%v, ps%x, ph%vgrad)
+        end if
       end associate
     end do
     if (self%cfg%scheme == 'musl') then
@@ -265,7 +273,7 @@ contains
       do m = 1, size(self%mats)
         if (coupled .and. self%mats(m)%model == model_fluid) cycle
         call stress_update(self%mats(m), m, dt, ns, s%pts%mat, s%vgrad, s%pts%stress, s%pts%vol, &
-                           s%pts%vol0, s%pts%defgrad, s%pts%epsp, wplastic)
+                           s%pts%vol0, s%pts%defgrad, s%pts%epsp, wplastic, plane=nd == 2)
       end do
       ! The plastic work leaves the energy balance like the drag dissipation.
       self%ext_work = self%ext_work - wplastic
@@ -392,8 +400,10 @@ contains
     integer function boundary_cell(xp) result(ic)
       real(wp), intent(in) :: xp(:)
       integer :: cc(3)
-      cc = local_cell(self%nd, xp, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi)
       ic = 0
+      ! Most points are far from the face: their cell along d decides first.
+      if (abs(floor((xp(d) - self%grid%origin(d))/self%grid%h(d)) - cb) > 1) return
+      cc = local_cell(self%nd, xp, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi)
       if (cc(d) + self%dec%clo(d) == cb) ic = 1 + cc(1) + w(1)*(cc(2) + w(2)*cc(3))
     end function boundary_cell
   end subroutine refill_inflow
@@ -446,16 +456,13 @@ contains
   end subroutine musl_remap
 
   !> Nodal velocities (new slots of ph%nvel, owned nodes) from the point momenta of
-  !> the phase mapped to the grid again; the masses in ph%node are those of the step.
-  !> Components held by the phase's face conditions are zero.
+  !> the phase mapped to the grid again by g2p; the masses in ph%node are those of the
+  !> step. Components held by the phase's face conditions are zero.
   subroutine remap_velocities(self, ph)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: ph
     integer :: nd
     nd = self%nd
-    ! Reuse the momentum slots of node(); the masses are unchanged.
-    ph%node(2:1 + 2*nd, :, :, :) = 0.0_wp
-    call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, ph%node)
     call self%mirror%fold(ph%node, 1, ph%bc)
     call self%dec%halo_sum(ph%node)
     call remap_nodal_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, ph%node, self%grid, ph%bc, &

@@ -22,15 +22,24 @@ contains
   !> come from Gauss points; bacc adds a body acceleration per point as m_p N_I b_p.
   subroutine p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
     integer, intent(in) :: nd, nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
-    real(wp), intent(in) :: mass(:), v(:, :), vol(:), stress(:, :)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    real(wp), contiguous, intent(in) :: mass(:), v(:, :), vol(:), stress(:, :)
     logical, intent(in) :: point_forces
     integer, intent(in) :: lo(3)
-    real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(in), optional :: bacc(:, :)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(in), optional :: bacc(:, :)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), s(3, 3), mv(3), fs(3), mb(3)
+    if (nd == 2) then
+      ! (An absent optional array cannot be passed on to a contiguous dummy.)
+      if (present(bacc)) then
+        call p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+      else
+        call p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+      end if
+      return
+    end if
     do p = 1, n
       s = 0.0_wp
       if (point_forces) s = voigt_to_tensor(stress(:, p))
@@ -60,15 +69,29 @@ contains
 
   !> Grid to particle: FLIP/PIC blend of the velocity, position update with the
   !> new nodal velocity, and the velocity gradient from the new nodal velocity (USL).
-  subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad)
+  !> With mass and node (MUSL), the velocity gradient is left to point_gradient and
+  !> the new point momenta go to the grid in the same pass, node(2:1+nd) += N_I m_p v_p
+  !> on zeroed slots (what momentum_p2g would add, point by point in the same order).
+  subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, mass, node)
     integer, intent(in) :: nd, nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
     integer, intent(in) :: lo(3)
-    real(wp), intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), flip, dt
-    real(wp), intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: flip, dt
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
+    real(wp), contiguous, intent(in), optional :: mass(:)
+    real(wp), contiguous, intent(inout), optional :: node(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3)
+    if (nd == 2) then
+      if (present(node)) then
+        call g2p_2d_remap(nw, n, i0, sw, lo, nvel, flip, dt, v, x, mass, node)
+      else
+        call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad)
+      end if
+      return
+    end if
     do p = 1, n
       dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp
       do c = 1, nw(3)
@@ -91,7 +114,13 @@ contains
       end do
       v(:, p) = flip*(v(:, p) + dv(1:nd)) + (1.0_wp - flip)*vn(1:nd)
       x(:, p) = x(:, p) + dt*vn(1:nd)
-      vgrad(:, p) = reshape(lg, [9])
+      if (present(node)) then
+        call momentum_p2g(nd, nw, 1, i0(:, p:p), sw(:, :, p:p), mass(p:p), v(:, p:p), lo, node)
+      else
+        vgrad(1:3, p) = lg(:, 1)
+        vgrad(4:6, p) = lg(:, 2)
+        vgrad(7:9, p) = lg(:, 3)
+      end if
     end do
   end subroutine g2p
 
@@ -99,13 +128,17 @@ contains
   !> velocities nvel(nd+1:2nd), as 3x3 column-major.
   subroutine point_gradient(nd, nw, n, i0, sw, sdw, lo, nvel, vgrad)
     integer, intent(in) :: nd, nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
     integer, intent(in) :: lo(3)
-    real(wp), intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(inout) :: vgrad(:, :)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: vgrad(:, :)
     integer :: p, a, b, c, i, j, k
     real(wp) :: g(3), lg(3, 3)
+    if (nd == 2) then
+      call point_gradient_2d(nw, n, i0, sw, sdw, lo, nvel, vgrad)
+      return
+    end if
     do p = 1, n
       lg = 0.0_wp
       do c = 1, nw(3)
@@ -123,7 +156,9 @@ contains
           end do
         end do
       end do
-      vgrad(:, p) = reshape(lg, [9])
+      vgrad(1:3, p) = lg(:, 1)
+      vgrad(4:6, p) = lg(:, 2)
+      vgrad(7:9, p) = lg(:, 3)
     end do
   end subroutine point_gradient
 
@@ -131,12 +166,16 @@ contains
   !> on zeroed slots; the masses node(1) stay those of the step.
   subroutine momentum_p2g(nd, nw, n, i0, sw, mass, v, lo, node)
     integer, intent(in) :: nd, nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), mass(:), v(:, :)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :)
     integer, intent(in) :: lo(3)
-    real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn
+    if (nd == 2) then
+      call momentum_p2g_2d(nw, n, i0, sw, mass, v, lo, node)
+      return
+    end if
     do p = 1, n
       do c = 1, nw(3)
         k = i0(3, p) + c - 1
@@ -162,12 +201,12 @@ contains
   !> where n jumps, and their pressures then drift apart.
   subroutine mixture_flux(nd, nw, n, i0, sw, sdw, lo, poro, nporo, nvel_f, nvel_s, gnrel)
     integer, intent(in) :: nd, nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :), poro(:)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :), poro(:)
     integer, intent(in) :: lo(3)
-    real(wp), intent(in) :: nporo(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(in) :: nvel_f(:, lo(1):, lo(2):, lo(3):), nvel_s(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(out) :: gnrel(:)
+    real(wp), contiguous, intent(in) :: nporo(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(in) :: nvel_f(:, lo(1):, lo(2):, lo(3):), nvel_s(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(out) :: gnrel(:)
     integer :: p, a, b, c, i, j, k
     real(wp) :: g(3), np
     do p = 1, n
@@ -193,13 +232,17 @@ contains
   !> Interpolate the nodal scalar f(1, :) to the points: value and gradient.
   subroutine interp_scalar(nd, nw, n, i0, sw, sdw, lo, f, val, grad)
     integer, intent(in) :: nd, nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
     integer, intent(in) :: lo(3)
-    real(wp), intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(out) :: val(:), grad(:, :)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(out) :: val(:), grad(:, :)
     integer :: p, a, b, c, i, j, k
     real(wp) :: g(3)
+    if (nd == 2) then
+      call interp_scalar_2d(nw, n, i0, sw, sdw, lo, f, val, grad)
+      return
+    end if
     do p = 1, n
       val(p) = 0.0_wp
       grad(:, p) = 0.0_wp
@@ -223,12 +266,12 @@ contains
   !> Interpolate component comp of the nodal field f to the points (value only).
   subroutine interp_value(nw, n, i0, sw, lo, f, comp, val)
     integer, intent(in) :: nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
     integer, intent(in) :: lo(3)
-    real(wp), intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
     integer, intent(in) :: comp
-    real(wp), intent(out) :: val(:)
+    real(wp), contiguous, intent(out) :: val(:)
     integer :: p, a, b, c, i, j, k
     do p = 1, n
       val(p) = 0.0_wp
@@ -251,15 +294,19 @@ contains
   subroutine fluid_p2g(nd, nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, &
                        node_s, node_f, drag)
     integer, intent(in) :: nd, nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), sdw(:, :, :)
-    real(wp), intent(in) :: mass(:), vol(:), poro(:), pres(:), kinv(:)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    real(wp), contiguous, intent(in) :: mass(:), vol(:), poro(:), pres(:), kinv(:)
     logical, intent(in) :: point_forces
     integer, intent(in) :: lo(3)
-    real(wp), intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), pv, dp
+    if (nd == 2) then
+      call fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, node_s, node_f, drag)
+      return
+    end if
     do p = 1, n
       pv = 0.0_wp
       if (point_forces) pv = vol(p)*pres(p)
@@ -294,10 +341,10 @@ contains
   !> porosity varies.
   subroutine interphase_p2g(nd, nw, n, i0, sw, vol, pres, ngrad, lo, force)
     integer, intent(in) :: nd, nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), vol(:), pres(:), ngrad(:, :)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), vol(:), pres(:), ngrad(:, :)
     integer, intent(in) :: lo(3)
-    real(wp), intent(inout) :: force(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: force(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: f(3)
     do p = 1, n
@@ -320,10 +367,10 @@ contains
   !> (doc/theory.md 3.5); points of porosity 0 are not porous and take no part.
   subroutine solid_porosity_p2g(nw, n, i0, sw, mass, poro, kinv, lo, sporo)
     integer, intent(in) :: nw(3), n
-    integer, intent(in) :: i0(:, :)
-    real(wp), intent(in) :: sw(:, :, :), mass(:), poro(:), kinv(:)
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), poro(:), kinv(:)
     integer, intent(in) :: lo(3)
-    real(wp), intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn
     do p = 1, n
@@ -343,5 +390,255 @@ contains
       end do
     end do
   end subroutine solid_porosity_p2g
+
+  ! Two-dimensional forms of the kernels above (nd = 2: the third axis has one node
+  ! of weight 1 and derivative 0, so its factors and the third components drop out).
+
+  subroutine p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    real(wp), contiguous, intent(in) :: mass(:), v(:, :), vol(:), stress(:, :)
+    logical, intent(in) :: point_forces
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(in), optional :: bacc(:, :)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, g1, g2, wb, gb, mp, vp
+    ! A point adds nn c0 + g1 c1 + g2 c2 to the five slots (mass, momentum, force) of
+    ! each node of its stencil: c0 = (m, m v, m b), c1 = -V (0, 0, 0, s11, s12),
+    ! c2 = -V (0, 0, 0, s12, s22).
+    real(wp) :: c0(5), c1(5), c2(5)
+    logical :: body
+    body = present(bacc)
+    c0 = 0.0_wp; c1 = 0.0_wp; c2 = 0.0_wp
+    do p = 1, n
+      mp = mass(p)
+      c0(1) = mp
+      c0(2) = mp*v(1, p); c0(3) = mp*v(2, p)
+      if (body) then
+        c0(4) = mp*bacc(1, p); c0(5) = mp*bacc(2, p)
+      end if
+      if (point_forces) then
+        vp = vol(p)
+        c1(4) = -vp*stress(1, p); c1(5) = -vp*stress(6, p)
+        c2(4) = -vp*stress(6, p); c2(5) = -vp*stress(2, p)
+      end if
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p); gb = sdw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = sw(a, 1, p)*wb
+          g1 = sdw(a, 1, p)*wb
+          g2 = sw(a, 1, p)*gb
+          node(1:5, i, j, k) = node(1:5, i, j, k) + (nn*c0 + g1*c1 + g2*c2)
+        end do
+      end do
+    end do
+  end subroutine p2g_2d
+
+  subroutine g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: flip, dt
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, g1, g2, wb, gb, v1, v2, dv1, dv2, vn1, vn2, l11, l21, l12, l22
+    do p = 1, n
+      dv1 = 0.0_wp; dv2 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp
+      l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p); gb = sdw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = sw(a, 1, p)*wb
+          g1 = sdw(a, 1, p)*wb
+          g2 = sw(a, 1, p)*gb
+          v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
+          vn1 = vn1 + nn*v1; vn2 = vn2 + nn*v2
+          dv1 = dv1 + nn*(v1 - nvel(1, i, j, k)); dv2 = dv2 + nn*(v2 - nvel(2, i, j, k))
+          l11 = l11 + v1*g1; l21 = l21 + v2*g1
+          l12 = l12 + v1*g2; l22 = l22 + v2*g2
+        end do
+      end do
+      v(1, p) = flip*(v(1, p) + dv1) + (1.0_wp - flip)*vn1
+      v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
+      x(1, p) = x(1, p) + dt*vn1
+      x(2, p) = x(2, p) + dt*vn2
+      vgrad(:, p) = 0.0_wp
+      vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
+    end do
+  end subroutine g2p_2d
+
+  !> g2p without the velocity gradient, with the MUSL momentum scatter of the new velocity.
+  subroutine g2p_2d_remap(nw, n, i0, sw, lo, nvel, flip, dt, v, x, mass, node)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: flip, dt
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :)
+    real(wp), contiguous, intent(in) :: mass(:)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, wb, v1, v2, dv1, dv2, vn1, vn2
+    do p = 1, n
+      dv1 = 0.0_wp; dv2 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = sw(a, 1, p)*wb
+          v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
+          vn1 = vn1 + nn*v1; vn2 = vn2 + nn*v2
+          dv1 = dv1 + nn*(v1 - nvel(1, i, j, k)); dv2 = dv2 + nn*(v2 - nvel(2, i, j, k))
+        end do
+      end do
+      v(1, p) = flip*(v(1, p) + dv1) + (1.0_wp - flip)*vn1
+      v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
+      x(1, p) = x(1, p) + dt*vn1
+      x(2, p) = x(2, p) + dt*vn2
+      v1 = v(1, p); v2 = v(2, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = sw(a, 1, p)*wb*mass(p)
+          node(2, i, j, k) = node(2, i, j, k) + nn*v1
+          node(3, i, j, k) = node(3, i, j, k) + nn*v2
+        end do
+      end do
+    end do
+  end subroutine g2p_2d_remap
+
+  subroutine point_gradient_2d(nw, n, i0, sw, sdw, lo, nvel, vgrad)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: vgrad(:, :)
+    integer :: p, a, b, i, j, k
+    real(wp) :: g1, g2, wb, gb, v1, v2, l11, l21, l12, l22
+    do p = 1, n
+      l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p); gb = sdw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          g1 = sdw(a, 1, p)*wb
+          g2 = sw(a, 1, p)*gb
+          v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
+          l11 = l11 + v1*g1; l21 = l21 + v2*g1
+          l12 = l12 + v1*g2; l22 = l22 + v2*g2
+        end do
+      end do
+      vgrad(:, p) = 0.0_wp
+      vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
+    end do
+  end subroutine point_gradient_2d
+
+  subroutine momentum_p2g_2d(nw, n, i0, sw, mass, v, lo, node)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, wb, v1, v2
+    do p = 1, n
+      v1 = v(1, p); v2 = v(2, p)
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = sw(a, 1, p)*wb*mass(p)
+          node(2, i, j, k) = node(2, i, j, k) + nn*v1
+          node(3, i, j, k) = node(3, i, j, k) + nn*v2
+        end do
+      end do
+    end do
+  end subroutine momentum_p2g_2d
+
+  subroutine interp_scalar_2d(nw, n, i0, sw, sdw, lo, f, val, grad)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(out) :: val(:), grad(:, :)
+    integer :: p, a, b, i, j, k
+    real(wp) :: wb, gb, fn, s0, s1, s2
+    do p = 1, n
+      s0 = 0.0_wp; s1 = 0.0_wp; s2 = 0.0_wp
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p); gb = sdw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          fn = f(1, i, j, k)
+          s0 = s0 + sw(a, 1, p)*wb*fn
+          s1 = s1 + sdw(a, 1, p)*wb*fn
+          s2 = s2 + sw(a, 1, p)*gb*fn
+        end do
+      end do
+      val(p) = s0
+      grad(:, p) = 0.0_wp
+      grad(1, p) = s1; grad(2, p) = s2
+    end do
+  end subroutine interp_scalar_2d
+
+  subroutine fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, &
+                          node_s, node_f, drag)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    real(wp), contiguous, intent(in) :: mass(:), vol(:), poro(:), pres(:), kinv(:)
+    logical, intent(in) :: point_forces
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, i, j, k
+    real(wp) :: wb, gb, g1, g2, pv, dp, pf, ps
+    do p = 1, n
+      pv = 0.0_wp
+      if (point_forces) pv = vol(p)*pres(p)
+      pf = pv*poro(p)
+      ps = pv*(1.0_wp - poro(p))
+      dp = mass(p)*poro(p)*gravity_drag*kinv(p)
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p); gb = sdw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          drag(1, i, j, k) = drag(1, i, j, k) + sw(a, 1, p)*wb*dp
+          if (.not. point_forces) cycle
+          g1 = sdw(a, 1, p)*wb
+          g2 = sw(a, 1, p)*gb
+          node_f(4, i, j, k) = node_f(4, i, j, k) + pf*g1
+          node_f(5, i, j, k) = node_f(5, i, j, k) + pf*g2
+          node_s(4, i, j, k) = node_s(4, i, j, k) + ps*g1
+          node_s(5, i, j, k) = node_s(5, i, j, k) + ps*g2
+        end do
+      end do
+    end do
+  end subroutine fluid_p2g_2d
 
 end module dpmpm_transfer

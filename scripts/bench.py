@@ -1,0 +1,304 @@
+#!/usr/bin/env python3
+"""Speed of dpmpm, measured and written into doc/performance.md (release build).
+
+Every case runs dpmpm twice with the same scene cut at two step counts (max_steps); the
+difference of the wall times over the difference of the steps is the time of a step,
+set-up, first and last frame cancel. Each case runs --rounds times, one run at a time;
+the tables give the median and the range. Cases:
+
+- one phase, a neo-Hookean block falling onto a fixed floor (2D: 82 944 points on a
+  360 x 360 grid; 3D: 110 592 points on 64^3), linear and quadratic kernels, USL and
+  MUSL, one rank; with the share of each stage of the step (timers of the longer run)
+  and the memory per point;
+- the speed peer: the same block with an MLS-MPM step written with Taichi
+  (scripts/peer_taichi.py: CPU, one thread, double precision), when taichi imports;
+- two phases: a saturated block against the dry one with the same solid points
+  (2D and 3D, linear, implicit drag);
+- the MLS pair of doc/theory.md 3.6 against Standard MPM on inputs/w1_2d.nml: wall
+  time per simulated second;
+- scaling: a balanced block filling the grid (2D, quadratic, MUSL): strong, 518 400
+  points on 1 and 2 ranks; weak, 259 200 points on 1 rank against 518 400 on 2.
+
+Usage: scripts/bench.py [--rounds 3] [--quick] [--no-doc] [--cases one,peer,...]
+"""
+import argparse
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+BIN = os.path.join(ROOT, "build", "release", "dpmpm")
+DOC = os.path.join(ROOT, "doc", "performance.md")
+BEGIN, END = "<!-- bench:begin -->", "<!-- bench:end -->"
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1")
+
+# Neo-Hookean block: E, nu, rho as the peer; its P-wave speed sets the time step.
+E, NU, RHO = 1.0e6, 0.3, 1000.0
+
+
+def block_scene(nd, cells, kernel, scheme, steps, workdir, lo=0.3, base=0.1, size=0.4,
+                name="bench_block", walls=""):
+    """A neo-Hookean block of edge `size` (unit box, `cells` per axis), ppc 2 per axis."""
+    vec = lambda v: ", ".join(f"{x}" for x in v)  # noqa: E731
+    lo_v = [lo] * nd
+    lo_v[1] = base
+    hi_v = [x + size for x in lo_v]
+    return f"""&run name = '{name}' t_end = 100.0 max_steps = {steps} cfl = 0.5 flip = 0.99
+  scheme = '{scheme}' gravity = {vec([0.0, -10.0] + [0.0] * (nd - 2))} /
+&grid ndim = {nd} ncells = {vec([cells] * nd)} origin = {vec([0.0] * nd)} length = {vec([1.0] * nd)} /
+&shape kernel = '{kernel}' /
+&material id = 1 model = 'neo_hookean' density = {RHO} youngs_modulus = {E} poisson_ratio = {NU} /
+&region shape = 'box' lo = {vec(lo_v)} hi = {vec(hi_v)} material = 1 ppc = 2 placement = 'regular' /
+&boundary face = 'y-' condition = 'fixed' /
+{walls}&output dir = '{workdir}' frame_interval = 0.0 diag_every = 100 /
+"""
+
+
+def two_phase_scene(nd, cells, phase, steps, workdir):
+    """The block of scripts/bench_two_phase.sh: a column loaded on top, dry or saturated."""
+    vec = lambda v: ", ".join(f"{x}" for x in v)  # noqa: E731
+    fluid = "fluid_material = 2 porosity = 0.3" if phase == "saturated" else ""
+    sides = "".join(f"&boundary face = '{f}' condition = 'roller' /\n"
+                     for f in (["x-", "x+"] + (["z-", "z+"] if nd == 3 else [])))
+    return f"""&run name = 'bench_{phase}' t_end = 1.0 max_steps = {steps} cfl = 0.3 drag = 'implicit' /
+&grid ndim = {nd} ncells = {vec([cells] * nd)} origin = {vec([0.0] * nd)} length = {vec([1.0] * nd)} /
+&shape kernel = 'linear' /
+&material id = 1 model = 'linear_elastic' density = 2650.0 youngs_modulus = 1.0e7
+  poisson_ratio = 0.2 conductivity = 1.0e-5 /
+&material id = 2 model = 'fluid' density = 1000.0 bulk_modulus = 2.2e9 /
+&region shape = 'box' lo = {vec([0.0] * nd)} hi = {vec([1.0] * nd)} material = 1 phase = '{phase}' {fluid}
+  ppc = 2 placement = 'random' /
+&boundary face = 'y-' condition = 'fixed' /
+{sides}&load face = 'y+' traction = {vec([0.0, -1000.0] + [0.0] * (nd - 2))} /
+&output dir = '{workdir}' frame_interval = 0.0 diag_every = 100 /
+"""
+
+
+def run_dpmpm(text, workdir, ranks=1):
+    path = os.path.join(workdir, "scene.nml")
+    with open(path, "w") as f:
+        f.write(text)
+    cmd = ["mpirun", "--oversubscribe", "-n", str(ranks), BIN, path]
+    out = subprocess.run(cmd, env=ENV, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"bench: dpmpm failed ({out.returncode}):\n{out.stdout[-2000:]}\n{out.stderr[-2000:]}")
+    log = out.stdout
+    m = re.search(r"done, (\d+) steps to t = +(\S+) in ([0-9.]+) s", log)
+    timers = {k: float(v) for k, v in re.findall(r"time in (\w+) +([0-9.]+) s", log)}
+    pts = re.search(r"; (\d+) solid points", log)
+    mem = re.search(r"memory: (\d+) bytes per solid point(?:, (\d+) per fluid point)?; grid fields "
+                    r"([0-9.]+) MiB on rank 0 \((\d+) bytes per node\)(?:; peak resident ([0-9.]+) MiB)?", log)
+    return {"steps": int(m.group(1)), "t": float(m.group(2)), "wall": float(m.group(3)),
+            "timers": timers, "points": int(pts.group(1)) if pts else 0,
+            "mem": mem.groups() if mem else None}
+
+
+def step_time(make, n1, n2, workdir, ranks=1):
+    """Seconds per step from the runs cut at n1 and n2 steps, and the longer run."""
+    a = run_dpmpm(make(n1), workdir, ranks)
+    b = run_dpmpm(make(n2), workdir, ranks)
+    return (b["wall"] - a["wall"]) / (b["steps"] - a["steps"]), b
+
+
+def rounds(fn, k):
+    vals, last = [], None
+    for _ in range(k):
+        v, last = fn()
+        vals.append(v)
+    return vals, last
+
+
+def med(v):
+    return statistics.median(v)
+
+
+def rng(v, fmt):
+    return (fmt % min(v)) + (" - " + fmt % max(v) if len(v) > 1 else "")
+
+
+def block_points(nd, cells, size=0.4):
+    return (round(size * cells) * 2) ** nd
+
+
+def block_dt(cells):
+    """The time step of the dpmpm block at rest (cfl 0.5, P-wave speed)."""
+    pwave = E * (1 - NU) / ((1 + NU) * (1 - 2 * NU))
+    return 0.5 * (1.0 / cells) / (pwave / RHO) ** 0.5
+
+
+def peer(nd, cells, size, steps, k):
+    try:
+        import taichi  # noqa: F401
+    except ImportError:
+        return None
+    rates = []
+    for _ in range(k):
+        out = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "peer_taichi.py"),
+                              "--ndim", str(nd), "--cells", str(cells), "--size", str(size),
+                              "--steps", str(steps),
+                              "--dt", f"{block_dt(cells):.6e}", "--json"],
+                             capture_output=True, text=True)
+        if out.returncode != 0:
+            print(out.stderr[-2000:], file=sys.stderr)
+            return None
+        rates.append(json.loads(out.stdout.strip().splitlines()[-1])["updates_per_s"])
+    return rates
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--quick", action="store_true", help="fewer steps (a smoke run of the driver)")
+    ap.add_argument("--no-doc", action="store_true", help="print only; leave doc/performance.md")
+    ap.add_argument("--cases", default="one,peer,two,mls,scaling")
+    a = ap.parse_args()
+    cases = set(a.cases.split(","))
+    k = a.rounds
+    q = 0.25 if a.quick else 1.0
+    n = lambda x: max(4, int(x * q))  # noqa: E731
+    if not os.path.exists(BIN):
+        sys.exit("bench: no release build; run scripts/bench.sh (it builds first)")
+    work = tempfile.mkdtemp(prefix="dpmpm_bench_")
+    md = []
+    res = {}
+    t_start = time.time()
+    cpu = subprocess.run(["sh", "-c", "grep -m1 'model name' /proc/cpuinfo | cut -d: -f2"],
+                         capture_output=True, text=True).stdout.strip()
+    md.append(f"Measured by `scripts/bench.sh` on {os.cpu_count()} cores ({cpu}), release build, "
+              f"{k} rounds (median, range in brackets).\n")
+
+    if "one" in cases or "peer" in cases:
+        md.append("### One phase: a neo-Hookean block, one core\n")
+        md.append("| dim | kernel | scheme | points | ms / step | M point-updates / s | against the peer |"
+                  " bytes / point | stages (share of the step) |")
+        md.append("|---|---|---|---|---|---|---|---|---|")
+        for nd, cells, size, s1, s2 in ((2, 360, 0.4, 20, 120), (3, 64, 0.375, 4, 24)):
+            npts = block_points(nd, cells, size)
+            peer_rate = None
+            if "peer" in cases:
+                peer_rate = peer(nd, cells, size, n(200 if nd == 2 else 30), k)
+                res[f"peer_{nd}d"] = peer_rate
+            for kernel in ("linear", "quadratic"):
+                for scheme in ("usl", "musl"):
+                    if "one" not in cases:
+                        continue
+                    make = lambda steps: block_scene(nd, cells, kernel, scheme, steps, work, size=size)  # noqa: E731
+                    v, last = rounds(lambda: step_time(make, n(s1), n(s2), work), k)
+                    if last["points"] != npts:
+                        sys.exit(f"bench: dpmpm made {last['points']} points, the peer {npts}")
+                    rate = [npts / x / 1e6 for x in v]
+                    tm = last["timers"]
+                    tot = sum(tm.get(x, 0) for x in ("stencil", "p2g", "halo", "nodal", "g2p", "stress", "migrate"))
+                    stages = ", ".join(f"{x} {100 * tm.get(x, 0) / tot:.0f} %" for x in
+                                       ("p2g", "g2p", "stress", "stencil", "nodal", "migrate")) if tot else ""
+                    ratio = ""
+                    if peer_rate and kernel == "quadratic":
+                        ratio = f"{med(rate) * 1e6 / med(peer_rate):.2f}x"
+                    mem = last["mem"][0] if last["mem"] else ""
+                    md.append(f"| {nd}D | {kernel} | {scheme.upper()} | {npts} | {1e3 * med(v):.1f} "
+                              f"({rng([1e3 * x for x in v], '%.1f')}) | {med(rate):.2f} ({rng(rate, '%.2f')}) | "
+                              f"{ratio} | {mem} | {stages} |")
+                    res[f"one_{nd}d_{kernel}_{scheme}"] = {"s_per_step": v, "mupdates": rate, "timers": tm,
+                                                          "mem": last["mem"]}
+            if peer_rate:
+                pr = [x / 1e6 for x in peer_rate]
+                md.append(f"| {nd}D | quadratic | peer: Taichi MLS-MPM (APIC), one thread, f64 | {npts} | "
+                          f"{1e3 * npts / med(peer_rate):.1f} | {med(pr):.2f} ({rng(pr, '%.2f')}) | 1 | | |")
+        md.append("")
+
+    if "two" in cases:
+        md.append("### Two phases against one (the same solid points, linear kernel, implicit drag)\n")
+        md.append("| dim | solid points | dry ms / step | saturated ms / step | ratio |")
+        md.append("|---|---|---|---|---|")
+        for nd, cells, s1, s2 in ((2, 96, 10, 60), (3, 20, 4, 16)):
+            vals = {}
+            for phase in ("solid", "saturated"):
+                make = lambda steps: two_phase_scene(nd, cells, phase, steps, work)  # noqa: E731
+                vals[phase], last = rounds(lambda: step_time(make, n(s1), n(s2), work), k)
+            ratio = [s / d for s, d in zip(vals["saturated"], vals["solid"])]
+            npts = (2 * cells) ** nd
+            md.append(f"| {nd}D | {npts} | {1e3 * med(vals['solid']):.1f} | {1e3 * med(vals['saturated']):.1f} | "
+                      f"{med(ratio):.2f} ({rng(ratio, '%.2f')}) |")
+            res[f"two_{nd}d"] = vals
+        md.append("")
+
+    if "mls" in cases:
+        md.append("### The MLS pair against Standard MPM (inputs/w1_2d.nml)\n")
+        with open(os.path.join(ROOT, "inputs", "w1_2d.nml")) as f:
+            w1 = f.read()
+        pair = ("&shape kernel = 'cubic', quadrature = 'gauss', field_kernel = 'wendland_c2',\n"
+                "       field_radius = 2.0 /")
+        variants = {"Standard MPM": w1,
+                    "MLS pair": re.sub(r"&shape\s+kernel = 'linear'\s*/", pair, w1)}
+        md.append("| shape | ms / step | steps per simulated second | wall s per simulated second | against Standard MPM |")
+        md.append("|---|---|---|---|---|")
+        base = None
+        for name, text in variants.items():
+            text = re.sub(r"&benchmark[^/]*/", "", text)
+            text = text.replace("dir = 'out'", f"dir = '{work}'")
+            make = lambda steps: re.sub(r"t_end = [0-9.e-]+", f"t_end = 10.0\n  max_steps = {steps}", text)  # noqa: E731
+            # (A step of this 800-point column takes a fraction of a millisecond.)
+            v, last = rounds(lambda: step_time(make, n(200), n(2200), work), k)
+            per_s = last["steps"] / last["t"]
+            wall = med(v) * per_s
+            base = base or wall
+            md.append(f"| {name} | {1e3 * med(v):.2f} | {per_s:.0f} | {wall:.2f} | {wall / base:.1f}x |")
+            res[f"w1_2d_{name}"] = {"s_per_step": v, "steps_per_s": per_s}
+        md.append("")
+
+    if "scaling" in cases:
+        md.append("### Scaling: a block filling the grid (2D, quadratic, MUSL)\n")
+        md.append("| scene | points | ranks | ms / step | M point-updates / s / core | speed-up or efficiency |")
+        md.append("|---|---|---|---|---|---|")
+
+        def full(cy):
+            def make(steps):
+                t = block_scene(2, 360, "quadratic", "musl", steps, work, lo=0.0, base=0.0, size=1.0,
+                                walls="&boundary face = 'x-' condition = 'roller' /\n"
+                                      "&boundary face = 'x+' condition = 'roller' /\n")
+                return (t.replace("ncells = 360, 360", f"ncells = 360, {cy}")
+                        .replace("length = 1.0, 1.0", f"length = 1.0, {cy / 360}")
+                        .replace("hi = 1.0, 1.0", f"hi = 1.0, {cy / 360}"))
+            return make
+        one, _ = rounds(lambda: step_time(full(360), n(4), n(16), work, 1), k)
+        two, _ = rounds(lambda: step_time(full(360), n(4), n(16), work, 2), k)
+        half, _ = rounds(lambda: step_time(full(180), n(4), n(16), work, 1), k)
+        big, small = 720 * 720, 720 * 360
+        sp = [a_ / b_ for a_, b_ in zip(one, two)]
+        eff = [h_ / b_ for h_, b_ in zip(half, two)]
+        md.append(f"| strong | {big} | 1 | {1e3 * med(one):.1f} | {big / med(one) / 1e6:.2f} | |")
+        md.append(f"| strong | {big} | 2 | {1e3 * med(two):.1f} | {big / med(two) / 2e6:.2f} | "
+                  f"speed-up {med(sp):.2f} ({rng(sp, '%.2f')}) |")
+        md.append(f"| weak | {small} | 1 | {1e3 * med(half):.1f} | {small / med(half) / 1e6:.2f} | |")
+        md.append(f"| weak | {big} | 2 | {1e3 * med(two):.1f} | {big / med(two) / 2e6:.2f} | "
+                  f"efficiency {med(eff):.2f} ({rng(eff, '%.2f')}) |")
+        res["scaling"] = {"one": one, "two": two, "half": half}
+        md.append("")
+
+    md.append(f"(The measurement took {time.time() - t_start:.0f} s.)")
+    text = "\n".join(md)
+    print(text)
+    os.makedirs(os.path.join(ROOT, "build", "bench"), exist_ok=True)
+    with open(os.path.join(ROOT, "build", "bench", "latest.json"), "w") as f:
+        json.dump(res, f, indent=1)
+    if not a.no_doc:
+        with open(DOC) as f:
+            doc = f.read()
+        if BEGIN in doc and END in doc:
+            doc = doc[:doc.index(BEGIN) + len(BEGIN)] + "\n" + text + "\n" + doc[doc.index(END):]
+            with open(DOC, "w") as f:
+                f.write(doc)
+            print(f"bench: {DOC} updated", file=sys.stderr)
+        else:
+            print(f"bench: no {BEGIN} ... {END} markers in {DOC}; not written", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -84,6 +84,7 @@ contains
     real(wp), contiguous, intent(inout), optional :: node(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3)
+    logical :: remap
     if (nd == 2) then
       if (present(node)) then
         call g2p_2d_remap(nw, n, i0, sw, lo, nvel, flip, dt, v, x, mass, node)
@@ -92,6 +93,7 @@ contains
       end if
       return
     end if
+    remap = present(node)
     do p = 1, n
       dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp
       do c = 1, nw(3)
@@ -106,6 +108,7 @@ contains
             g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
             vn(1:nd) = vn(1:nd) + nn*nvel(nd + 1:2*nd, i, j, k)
             dv(1:nd) = dv(1:nd) + nn*(nvel(nd + 1:2*nd, i, j, k) - nvel(1:nd, i, j, k))
+            if (remap) cycle
             lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
             lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
             lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
@@ -114,8 +117,19 @@ contains
       end do
       v(:, p) = flip*(v(:, p) + dv(1:nd)) + (1.0_wp - flip)*vn(1:nd)
       x(:, p) = x(:, p) + dt*vn(1:nd)
-      if (present(node)) then
-        call momentum_p2g(nd, nw, 1, i0(:, p:p), sw(:, :, p:p), mass(p:p), v(:, p:p), lo, node)
+      if (remap) then
+        ! The MUSL scatter of the new momentum, as momentum_p2g adds it.
+        do c = 1, nw(3)
+          k = i0(3, p) + c - 1
+          do b = 1, nw(2)
+            j = i0(2, p) + b - 1
+            do a = 1, nw(1)
+              i = i0(1, p) + a - 1
+              nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+              node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
+            end do
+          end do
+        end do
       else
         vgrad(1:3, p) = lg(:, 1)
         vgrad(4:6, p) = lg(:, 2)

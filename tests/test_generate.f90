@@ -4,7 +4,8 @@
 !> box; and on every rank layout each set is exactly the set one rank alone generates
 !> (same ids, positions and values, every point once, on the rank owning its cell). The
 !> generation itself needs only a range of cells: blocks of cells that tile the grid give
-!> the whole set between them.
+!> the whole set between them. A set holds only the fields its scene needs: its bytes
+!> per point are those of the fields asked for.
 program test_generate
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, &
@@ -35,6 +36,7 @@ program test_generate
   call test_default_phase_is_solid()
   call test_sets_do_not_depend_on_ranks()
   call test_cell_blocks_tile_the_set()
+  call test_point_memory_follows_the_fields()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -372,5 +374,23 @@ contains
       call check(ok, phases(ip)//': each point in its block, with an id of the whole set')
     end do
   end subroutine test_cell_blocks_tile_the_set
+
+  !> Bytes per point of a 2D set: id (8), material index (4), x, x0, v (3 x 2 x 8), mass,
+  !> vol, vol0 (3 x 8) and stress (6 x 8) always, 132 in all; F adds 72 (neo-Hookean),
+  !> porosity 8 (two-phase scenes), pore pressure and 1/k 16 (fluid points), the plastic
+  !> strain 8 (plastic soils).
+  subroutine test_point_memory_follows_the_fields()
+    type(particle_set_t) :: ps
+    call begin_test('point_memory_follows_the_fields')
+    call ps%init('solid', 2, .false.)
+    call check_equal_int(ps%bytes_per_point(), 132, 'elastic, one phase')
+    call ps%init('solid', 2, .true.)
+    call check_equal_int(ps%bytes_per_point(), 132 + 72, 'neo-Hookean')
+    call ps%init('solid', 2, .false., has_porosity=.true., has_plastic=.true.)
+    call check_equal_int(ps%bytes_per_point(), 132 + 8 + 8, 'plastic soil skeleton')
+    call ps%init('fluid', 2, .false., has_porosity=.true., has_pressure=.true.)
+    call check_equal_int(ps%bytes_per_point(), 132 + 8 + 16, 'pore fluid')
+    call ps%free()
+  end subroutine test_point_memory_follows_the_fields
 
 end program test_generate

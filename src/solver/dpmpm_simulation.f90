@@ -503,6 +503,7 @@ contains
       call self%log%info(line)
     end do
     call report_memory(self)
+    call report_step_cost(self, self%step - step0)
     if (self%write_output) then
       call self%out%close()
       call self%log%info('dpmpm: output '//trim(self%cfg%output_dir)//'/'//trim(self%cfg%name)//'.h5')
@@ -533,9 +534,9 @@ contains
     kib = peak_resident_kib()
     write (line, '(a,i0,a)') '  memory: ', b(1), ' bytes per solid point'
     if (self%nph == 2) write (line, '(a,a,i0,a)') trim(line), ', ', b(2), ' per fluid point'
-    write (line, '(a,a,f0.1,a,i0,a)') trim(line), '; grid fields ', real(gbytes, wp)/2.0_wp**20, &
+    write (line, '(a,a,a,a,i0,a)') trim(line), '; grid fields ', fixed(real(gbytes, wp)/2.0_wp**20, 1), &
       ' MiB on rank 0 (', gbytes/max(nodes, 1_i8), ' bytes per node)'
-    if (kib > 0) write (line, '(a,a,f0.1,a)') trim(line), '; peak resident ', real(kib, wp)/1024.0_wp, &
+    if (kib > 0) write (line, '(a,a,a,a)') trim(line), '; peak resident ', fixed(real(kib, wp)/1024.0_wp, 1), &
       ' MiB on rank 0'
     call self%log%info(line)
   contains
@@ -545,6 +546,40 @@ contains
       if (allocated(f)) nb = size(f, kind=i8)*storage_size(f)/8
     end function field_bytes
   end subroutine report_memory
+
+  !> Time per step of the run's step loop (rank 0) and its point-updates per second:
+  !> the points of rank 0 (every phase) over the time of a step.
+  subroutine report_step_cost(self, nsteps)
+    class(state_t), intent(in) :: self
+    integer(i8), intent(in) :: nsteps
+    character(len=256) :: line
+    integer :: ip
+    real(wp) :: per_step, npts
+    if (nsteps <= 0) return
+    per_step = self%timers%acc(t_total)/real(nsteps, wp)
+    npts = 0.0_wp
+    do ip = 1, self%nph
+      npts = npts + real(self%phase(ip)%pts%n, wp)
+    end do
+    write (line, '(a,a,a,i0,a,es10.3,a)') '  time per step ', fixed(1.0e3_wp*per_step, 3), ' ms over ', nsteps, &
+      ' steps; ', npts/max(per_step, tiny(1.0_wp)), ' point-updates/s on rank 0'
+    call self%log%info(line)
+  end subroutine report_step_cost
+
+  !> x in fixed notation with d decimals and its leading zero ("0.5", not ".5").
+  function fixed(x, d) result(str)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: d
+    character(len=:), allocatable :: str
+    character(len=32) :: buf, fmt
+    write (fmt, '(a,i0,a)') '(f0.', d, ')'
+    write (buf, fmt) x
+    str = trim(adjustl(buf))
+    if (str(1:1) == '.') str = '0'//str
+    if (len(str) > 1) then
+      if (str(1:2) == '-.') str = '-0'//str(2:)
+    end if
+  end function fixed
 
   !> The diagnostics record (dpmpm_energy); when the run monitor stops the run for
   !> growth, the last frame is written and the output closed here.

@@ -118,9 +118,12 @@ contains
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)
           if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
-          sfix = faces%grid%constrained([i, j, k])
-          ffix = faces%grid%constrained([i, j, k], mbc)
-          tie = faces%fluid_ties([i, j, k])
+          sfix = .false.; ffix = .false.; tie = .false.
+          if (faces%near_face([i, j, k])) then
+            sfix = faces%grid%constrained([i, j, k])
+            ffix = faces%grid%constrained([i, j, k], mbc)
+            tie = faces%fluid_ties([i, j, k])
+          end if
           do c = 1, nd
             if (sfix(c) .or. ffix(c) .or. tie(c)) cycle
             call drag_relax(node_s(1, i, j, k), node_f(1, i, j, k), &

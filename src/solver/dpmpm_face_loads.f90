@@ -37,6 +37,7 @@ module dpmpm_face_loads
     procedure :: fluid_ties
     procedure :: dashpot
     procedure :: absorbing_static
+    procedure :: near_face
   end type face_loads_t
 
 contains
@@ -400,6 +401,20 @@ contains
       call bspline_1d(self%kernel, real(r, wp), w, dw)
     end if
   end function face_weight
+
+  !> False for a node that no face condition reaches: two or more nodes inside every
+  !> face, beyond the support of every grid function's face weight (|r| < 2 cells for
+  !> the cubic B-spline) and away from the face nodes that conditions hold. There the
+  !> traction, pore-pressure, dashpot and static loads are zero and nothing is held.
+  pure logical function near_face(self, idx)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    integer :: d
+    near_face = .false.
+    do d = 1, self%nd
+      if (idx(d) < 2 .or. idx(d) > self%grid%ncells(d) - 2) near_face = .true.
+    end do
+  end function near_face
 
   !> Factor of a load ramped linearly from 0 over t_ramp (1 at once when t_ramp = 0).
   pure real(wp) function ramp_factor(t, t_ramp) result(r)

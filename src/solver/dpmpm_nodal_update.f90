@@ -30,17 +30,23 @@ contains
     real(wp), intent(inout) :: dissipated     !< energy taken by the local damping
     integer :: i, j, k
     real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3)
-    logical :: fix(3)
+    logical :: fix(3), near
     nvel = 0.0_wp
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)
           m = node(1, i, j, k)
           if (m <= 0.0_wp) cycle
-          fix = faces%grid%constrained([i, j, k])
+          near = faces%near_face([i, j, k])
+          fix = .false.
+          if (near) fix = faces%grid%constrained([i, j, k])
           vold = 0.0_wp
           vold(1:nd) = node(2:1 + nd, i, j, k)/m
-          fext = m*gravity + faces%traction(time, [i, j, k]) + faces%absorbing_static([i, j, k], .false.)
+          if (near) then
+            fext = m*gravity + faces%traction(time, [i, j, k]) + faces%absorbing_static([i, j, k], .false.)
+          else
+            fext = m*gravity
+          end if
           vnew = 0.0_wp
           if (damping > 0.0_wp) then
             ! Local damping: a force against the motion of each component, a fraction of
@@ -51,7 +57,8 @@ contains
           end if
           vnew(1:nd) = vold(1:nd) + dt*(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
           ! Dashpots of absorbing faces, at the new velocity (stable at any step).
-          cd = faces%dashpot([i, j, k], .false.)
+          cd = 0.0_wp
+          if (near) cd = faces%dashpot([i, j, k], .false.)
           if (any(cd(1:nd) > 0.0_wp)) vnew(1:nd) = vnew(1:nd)*m/(m + dt*cd(1:nd))
           where (fix) vold = 0.0_wp
           where (fix) vnew = 0.0_wp
@@ -92,7 +99,7 @@ contains
     integer :: i, j, k, c
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
     real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd, ts(3), tf(3), fds(3), fdf(3)
-    logical :: sfix(3), ffix(3), tie(3)
+    logical :: sfix(3), ffix(3), tie(3), near
     nvel_s = 0.0_wp
     nvel_f = 0.0_wp
     do k = olo(3), ohi(3)
@@ -104,12 +111,16 @@ contains
           if (ms <= 0.0_wp .and. mf <= 0.0_wp) cycle
           if (ms <= 0.0_wp .or. mf <= 0.0_wp) dn = 0.0_wp
           vs = 0.0_wp; vf = 0.0_wp; fs = 0.0_wp; ff = 0.0_wp
-          tr = faces%traction(time, [i, j, k])
-          ! The static load of absorbing faces on each phase.
-          ts = faces%absorbing_static([i, j, k], .false.)
-          tf = faces%absorbing_static([i, j, k], .true.)
-          fps = faces%pore_pressure_force(time, [i, j, k], faces%grid%bc)
-          fpf = faces%pore_pressure_force(time, [i, j, k], mbc)
+          near = faces%near_face([i, j, k])
+          tr = 0.0_wp; ts = 0.0_wp; tf = 0.0_wp; fps = 0.0_wp; fpf = 0.0_wp
+          if (near) then
+            tr = faces%traction(time, [i, j, k])
+            ! The static load of absorbing faces on each phase.
+            ts = faces%absorbing_static([i, j, k], .false.)
+            tf = faces%absorbing_static([i, j, k], .true.)
+            fps = faces%pore_pressure_force(time, [i, j, k], faces%grid%bc)
+            fpf = faces%pore_pressure_force(time, [i, j, k], mbc)
+          end if
           if (ms > 0.0_wp) then
             vs(1:nd) = node_s(2:1 + nd, i, j, k)/ms
             fs(1:nd) = node_s(2 + nd:1 + 2*nd, i, j, k)
@@ -124,11 +135,14 @@ contains
             ! same load, -p.
             if (ms <= 0.0_wp .and. all(fpf == 0.0_wp)) ff = ff + tr
           end if
-          sfix = faces%grid%constrained([i, j, k])
-          ffix = faces%grid%constrained([i, j, k], mbc)
-          tie = faces%fluid_ties([i, j, k])
-          cs = faces%dashpot([i, j, k], .false.)
-          cf = faces%dashpot([i, j, k], .true.)
+          sfix = .false.; ffix = .false.; tie = .false.; cs = 0.0_wp; cf = 0.0_wp
+          if (near) then
+            sfix = faces%grid%constrained([i, j, k])
+            ffix = faces%grid%constrained([i, j, k], mbc)
+            tie = faces%fluid_ties([i, j, k])
+            cs = faces%dashpot([i, j, k], .false.)
+            cf = faces%dashpot([i, j, k], .true.)
+          end if
           vsn = 0.0_wp; vfn = 0.0_wp
           fds = 0.0_wp; fdf = 0.0_wp
           if (damping > 0.0_wp) then

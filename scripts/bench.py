@@ -216,7 +216,7 @@ def main():
         md.append("### Two phases against one (the same solid points, linear kernel, implicit drag)\n")
         md.append("| dim | solid points | dry ms / step | saturated ms / step | ratio |")
         md.append("|---|---|---|---|---|")
-        for nd, cells, s1, s2 in ((2, 96, 10, 60), (3, 20, 4, 16)):
+        for nd, cells, s1, s2 in ((2, 96, 20, 220), (3, 20, 4, 24)):
             vals = {}
             for phase in ("solid", "saturated"):
                 make = lambda steps: two_phase_scene(nd, cells, phase, steps, work)  # noqa: E731

@@ -18,7 +18,7 @@ module dpmpm_step
   use dpmpm_particles, only: particle_set_t
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_transfer, only: p2g, g2p, point_gradient, interp_scalar, interp_value, &
+  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, &
                             fluid_p2g, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
@@ -220,16 +220,9 @@ contains
     call self%timers%tic(t_g2p)
     do ip = 1, self%nph
       associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
-        if (self%cfg%scheme == 'musl') then
-          ! The remap's momenta go to the grid in the same pass (the momentum slots of
-          ! node are reused; the masses stay those of the step).
-          ph%node(2:1 + 2*nd, :, :, :) = 0.0_wp
-          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
-                   dt, ps%v, ps%x, ph%vgrad, ps%mass, ph%node)
-        else
-          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
-                   dt, ps%v, ps%x, ph%vgrad)
-        end if
+        ! (MUSL takes the gradients from the remapped velocities.)
+        call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
+                 dt, ps%v, ps%x, ph%vgrad, gradient=self%cfg%scheme /= 'musl')
       end associate
     end do
     if (self%cfg%scheme == 'musl') then
@@ -456,13 +449,16 @@ contains
   end subroutine musl_remap
 
   !> Nodal velocities (new slots of ph%nvel, owned nodes) from the point momenta of
-  !> the phase mapped to the grid again by g2p; the masses in ph%node are those of the
-  !> step. Components held by the phase's face conditions are zero.
+  !> the phase mapped to the grid again; the masses in ph%node are those of the step.
+  !> Components held by the phase's face conditions are zero.
   subroutine remap_velocities(self, ph)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: ph
     integer :: nd
     nd = self%nd
+    ! Reuse the momentum slots of node(); the masses are unchanged.
+    ph%node(2:1 + 2*nd, :, :, :) = 0.0_wp
+    call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, ph%node)
     call self%mirror%fold(ph%node, 1, ph%bc)
     call self%dec%halo_sum(ph%node)
     call remap_nodal_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, ph%node, self%grid, ph%bc, &

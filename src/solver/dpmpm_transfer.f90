@@ -69,10 +69,8 @@ contains
 
   !> Grid to particle: FLIP/PIC blend of the velocity, position update with the
   !> new nodal velocity, and the velocity gradient from the new nodal velocity (USL).
-  !> With mass and node (MUSL), the velocity gradient is left to point_gradient and
-  !> the new point momenta go to the grid in the same pass, node(2:1+nd) += N_I m_p v_p
-  !> on zeroed slots (what momentum_p2g would add, point by point in the same order).
-  subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, mass, node)
+  !> gradient = .false. (MUSL, whose remap replaces the gradient) leaves vgrad as it is.
+  subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
@@ -80,20 +78,16 @@ contains
     real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: flip, dt
     real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
-    real(wp), contiguous, intent(in), optional :: mass(:)
-    real(wp), contiguous, intent(inout), optional :: node(:, lo(1):, lo(2):, lo(3):)
+    logical, intent(in), optional :: gradient
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3)
-    logical :: remap
+    logical :: grad
+    grad = .true.
+    if (present(gradient)) grad = gradient
     if (nd == 2) then
-      if (present(node)) then
-        call g2p_2d_remap(nw, n, i0, sw, lo, nvel, flip, dt, v, x, mass, node)
-      else
-        call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad)
-      end if
+      call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad)
       return
     end if
-    remap = present(node)
     do p = 1, n
       dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp
       do c = 1, nw(3)
@@ -108,7 +102,7 @@ contains
             g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
             vn(1:nd) = vn(1:nd) + nn*nvel(nd + 1:2*nd, i, j, k)
             dv(1:nd) = dv(1:nd) + nn*(nvel(nd + 1:2*nd, i, j, k) - nvel(1:nd, i, j, k))
-            if (remap) cycle
+            if (.not. grad) cycle
             lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
             lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
             lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
@@ -117,24 +111,10 @@ contains
       end do
       v(:, p) = flip*(v(:, p) + dv(1:nd)) + (1.0_wp - flip)*vn(1:nd)
       x(:, p) = x(:, p) + dt*vn(1:nd)
-      if (remap) then
-        ! The MUSL scatter of the new momentum, as momentum_p2g adds it.
-        do c = 1, nw(3)
-          k = i0(3, p) + c - 1
-          do b = 1, nw(2)
-            j = i0(2, p) + b - 1
-            do a = 1, nw(1)
-              i = i0(1, p) + a - 1
-              nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-              node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
-            end do
-          end do
-        end do
-      else
-        vgrad(1:3, p) = lg(:, 1)
-        vgrad(4:6, p) = lg(:, 2)
-        vgrad(7:9, p) = lg(:, 3)
-      end if
+      if (.not. grad) cycle
+      vgrad(1:3, p) = lg(:, 1)
+      vgrad(4:6, p) = lg(:, 2)
+      vgrad(7:9, p) = lg(:, 3)
     end do
   end subroutine g2p
 
@@ -453,7 +433,7 @@ contains
     end do
   end subroutine p2g_2d
 
-  subroutine g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad)
+  subroutine g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient)
     integer, intent(in) :: nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
@@ -461,6 +441,7 @@ contains
     real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: flip, dt
     real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
+    logical, intent(in) :: gradient
     integer :: p, a, b, i, j, k
     real(wp) :: nn, g1, g2, wb, gb, v1, v2, dv1, dv2, vn1, vn2, l11, l21, l12, l22
     do p = 1, n
@@ -478,6 +459,7 @@ contains
           v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
           vn1 = vn1 + nn*v1; vn2 = vn2 + nn*v2
           dv1 = dv1 + nn*(v1 - nvel(1, i, j, k)); dv2 = dv2 + nn*(v2 - nvel(2, i, j, k))
+          if (.not. gradient) cycle
           l11 = l11 + v1*g1; l21 = l21 + v2*g1
           l12 = l12 + v1*g2; l22 = l22 + v2*g2
         end do
@@ -486,55 +468,11 @@ contains
       v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
       x(1, p) = x(1, p) + dt*vn1
       x(2, p) = x(2, p) + dt*vn2
+      if (.not. gradient) cycle
       vgrad(:, p) = 0.0_wp
       vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
     end do
   end subroutine g2p_2d
-
-  !> g2p without the velocity gradient, with the MUSL momentum scatter of the new velocity.
-  subroutine g2p_2d_remap(nw, n, i0, sw, lo, nvel, flip, dt, v, x, mass, node)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(in) :: flip, dt
-    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :)
-    real(wp), contiguous, intent(in) :: mass(:)
-    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb, v1, v2, dv1, dv2, vn1, vn2
-    do p = 1, n
-      dv1 = 0.0_wp; dv2 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp
-      k = i0(3, p)
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          nn = sw(a, 1, p)*wb
-          v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
-          vn1 = vn1 + nn*v1; vn2 = vn2 + nn*v2
-          dv1 = dv1 + nn*(v1 - nvel(1, i, j, k)); dv2 = dv2 + nn*(v2 - nvel(2, i, j, k))
-        end do
-      end do
-      v(1, p) = flip*(v(1, p) + dv1) + (1.0_wp - flip)*vn1
-      v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
-      x(1, p) = x(1, p) + dt*vn1
-      x(2, p) = x(2, p) + dt*vn2
-      v1 = v(1, p); v2 = v(2, p)
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          nn = sw(a, 1, p)*wb*mass(p)
-          node(2, i, j, k) = node(2, i, j, k) + nn*v1
-          node(3, i, j, k) = node(3, i, j, k) + nn*v2
-        end do
-      end do
-    end do
-  end subroutine g2p_2d_remap
 
   subroutine point_gradient_2d(nw, n, i0, sw, sdw, lo, nvel, vgrad)
     integer, intent(in) :: nw(3), n

@@ -5,7 +5,7 @@ module dpmpm_strings
   use dpmpm_kinds, only: wp, i8
   implicit none
   private
-  public :: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, lower, next_word
+  public :: itoa, i8toa, rtoa, ftoa, itoa_list, rtoa_list, quote, lower, next_word
 
 contains
 
@@ -108,6 +108,23 @@ contains
     end if
     s = sgn//s
   end function rtoa
+
+  !> x in fixed notation with d decimals, with its leading zero ("0.5", where the f0.d
+  !> edit descriptor writes ".5").
+  pure function ftoa(x, d) result(str)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: d
+    character(len=:), allocatable :: str
+    character(len=40) :: buf, fmt
+    write (fmt, '(a,i0,a)') '(f0.', d, ')'
+    write (buf, fmt) x
+    str = trim(adjustl(buf))
+    if (str(1:1) == '.') then
+      str = '0'//str
+    else if (len(str) > 1) then
+      if (str(1:2) == '-.') str = '-0'//str(2:)
+    end if
+  end function ftoa
 
   !> A string in single quotes, trailing blanks removed, inner quotes doubled.
   pure function quote(s) result(q)

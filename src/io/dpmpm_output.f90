@@ -20,7 +20,7 @@ module dpmpm_output
                   H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, h5oopen_f, h5oclose_f, h5ocopy_f
   use dpmpm_kinds, only: wp, i8, i4, mpi_i8
   use dpmpm_error, only: fatal
-  use dpmpm_strings, only: itoa
+  use dpmpm_strings, only: itoa, ftoa
   use dpmpm_config, only: config_t, optional_fields, field_listed
   use dpmpm_particles, only: particle_set_t
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
@@ -655,8 +655,8 @@ contains
     call self%flush_diag()
     call verify_written(self, where)
     if (self%nchecks > 0) then
-      write (line, '(a,i0,a,f0.2,a,i0,a)') 'output: ', self%nchecks, &
-        ' read-back checks of the written blocks, ', 1.0e3_wp*self%check_seconds/self%nchecks, &
+      write (line, '(a,i0,a,i0,a)') 'output: ', self%nchecks, &
+        ' read-back checks of the written blocks, '//ftoa(1.0e3_wp*self%check_seconds/self%nchecks, 2)// &
         ' ms each; ', self%nrewritten, ' blocks rewritten'
       call self%log%info(trim(line))
     end if

@@ -5,7 +5,7 @@
 !> leaves an exit status (run_scene's result) for the program to end with.
 module dpmpm_simulation
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_strings, only: i8toa, rtoa
+  use dpmpm_strings, only: i8toa, rtoa, ftoa
   use dpmpm_timer, only: t_total, t_output, ntimers, timer_names
   use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable, fbc_names, face_names
   use dpmpm_kernels, only: kernel_reach
@@ -393,7 +393,6 @@ contains
     class(simulation_t), intent(inout) :: self
     integer(i8) :: diag_every, nwall, step0
     logical :: checkpoint_due
-    character(len=16) :: eta_text
     real(wp) :: last_progress, now, eta, dt, loop_start, time0, done, mout
     character(len=256) :: line
     integer :: k
@@ -435,12 +434,10 @@ contains
         done = max((self%time - time0)/(self%cfg%t_end - time0), &
                    real(self%step - step0, wp)/real(self%cfg%max_steps - step0, wp))
         eta = (now - loop_start)*(1.0_wp - done)/max(done, tiny(1.0_wp))
-        ! A fixed width keeps the leading zero of an ETA below 1 s (f0.1 drops it).
-        write (eta_text, '(f16.1)') eta
         write (line, '(a,i0,a,es12.5,a,es10.3,a,f6.1,a)') 'step ', self%step, '  t = ', &
           self%time, '  dt = ', self%dt, '  ', 100.0_wp*max(self%time/self%cfg%t_end, &
           real(self%step, wp)/real(self%cfg%max_steps, wp)), &
-          '%  ETA '//trim(adjustl(eta_text))//' s'
+          '%  ETA '//ftoa(eta, 1)//' s'
         call self%log%info(line)
       end if
       ! A run at its end finishes normally, whatever stop is asked (its last frame must stay:
@@ -472,8 +469,8 @@ contains
     end if
     call write_verification(self)
     call report_mls(self)
-    write (line, '(a,i0,a,es12.5,a,f0.2,a)') 'dpmpm: done, ', self%step, ' steps to t = ', &
-      self%time, ' in ', MPI_Wtime() - self%wall_start, ' s'
+    write (line, '(a,i0,a,es12.5,a)') 'dpmpm: done, ', self%step, ' steps to t = ', &
+      self%time, ' in '//ftoa(MPI_Wtime() - self%wall_start, 2)//' s'
     if (self%stopped /= 0) line = 'dpmpm: ended early, '//line(len('dpmpm: done, ') + 1:)
     call self%log%info(line)
     write (line, '(a,es10.3)') '  energy balance: largest change / largest kinetic + stored energy ', &
@@ -534,9 +531,9 @@ contains
     kib = peak_resident_kib()
     write (line, '(a,i0,a)') '  memory: ', b(1), ' bytes per solid point'
     if (self%nph == 2) write (line, '(a,a,i0,a)') trim(line), ', ', b(2), ' per fluid point'
-    write (line, '(a,a,a,a,i0,a)') trim(line), '; grid fields ', fixed(real(gbytes, wp)/2.0_wp**20, 1), &
+    write (line, '(a,a,a,a,i0,a)') trim(line), '; grid fields ', ftoa(real(gbytes, wp)/2.0_wp**20, 1), &
       ' MiB on rank 0 (', gbytes/max(nodes, 1_i8), ' bytes per node)'
-    if (kib > 0) write (line, '(a,a,a,a)') trim(line), '; peak resident ', fixed(real(kib, wp)/1024.0_wp, 1), &
+    if (kib > 0) write (line, '(a,a,a,a)') trim(line), '; peak resident ', ftoa(real(kib, wp)/1024.0_wp, 1), &
       ' MiB on rank 0'
     call self%log%info(line)
   contains
@@ -561,25 +558,10 @@ contains
     do ip = 1, self%nph
       npts = npts + real(self%phase(ip)%pts%n, wp)
     end do
-    write (line, '(a,a,a,i0,a,es10.3,a)') '  time per step ', fixed(1.0e3_wp*per_step, 3), ' ms over ', nsteps, &
+    write (line, '(a,a,a,i0,a,es10.3,a)') '  time per step ', ftoa(1.0e3_wp*per_step, 3), ' ms over ', nsteps, &
       ' steps; ', npts/max(per_step, tiny(1.0_wp)), ' point-updates/s on rank 0'
     call self%log%info(line)
   end subroutine report_step_cost
-
-  !> x in fixed notation with d decimals and its leading zero ("0.5", not ".5").
-  function fixed(x, d) result(str)
-    real(wp), intent(in) :: x
-    integer, intent(in) :: d
-    character(len=:), allocatable :: str
-    character(len=32) :: buf, fmt
-    write (fmt, '(a,i0,a)') '(f0.', d, ')'
-    write (buf, fmt) x
-    str = trim(adjustl(buf))
-    if (str(1:1) == '.') str = '0'//str
-    if (len(str) > 1) then
-      if (str(1:2) == '-.') str = '-0'//str(2:)
-    end if
-  end function fixed
 
   !> The diagnostics record (dpmpm_energy); when the run monitor stops the run for
   !> growth, the last frame is written and the output closed here.

@@ -89,16 +89,17 @@ def tag_of(label, dims):
     return f"fig6_{dims}d_{slug(label)}"
 
 
-def make_scene(dims, label, outdir):
-    """Scene text of one variant: W1 with its &shape, the common CFL, own name and dir."""
+def make_scene(dims, label, outdir, shape=None, tag=None):
+    """Scene text of one variant: W1 with its &shape (VARIANTS[label] unless given), the
+    common CFL, own name (tag_of unless given) and dir."""
     text = open(scene_file(dims)).read()
-    tag = tag_of(label, dims)
+    tag = tag or tag_of(label, dims)
+    shape = shape or VARIANTS[label]
     # Anchored at the start of a line, so that the comments of the scene stay as they are;
     # the first name is the one of &run (the scene lists &run first).
     text = re.sub(r"^(\s*)name = '[^']*'", rf"\g<1>name = '{tag}'", text, count=1, flags=re.M)
     text = re.sub(r"^(\s*)cfl = [0-9.eE+-]+", rf"\g<1>cfl = {CFL}", text, count=1, flags=re.M)
-    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {VARIANTS[label]}\n/", text,
-                  flags=re.S | re.M)
+    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {shape}\n/", text, flags=re.S | re.M)
     text = re.sub(r"^(\s*)dir = '[^']*'", rf"\g<1>dir = '{outdir}'", text, count=1, flags=re.M)
     for key, value in (("name", f"'{tag}'"), ("cfl", str(CFL)), ("dir", f"'{outdir}'")):
         if not re.search(rf"^\s*{key} = {re.escape(value)}\s*$", text, flags=re.M):

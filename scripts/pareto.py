@@ -63,21 +63,14 @@ def run(build, outdir, tag, text):
 
 
 def m1_text(label, cells, amp, outdir, tag):
-    text = open(os.path.join(ROOT, "inputs", "mms.nml")).read()
-    text = text.replace("name = 'mms'", f"name = '{tag}'", 1)
-    text = re.sub(r"ncells = \d+, \d+", f"ncells = {cells}, {cells}", text)
-    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {verify_mls.COMBOS[label]}\n/", text, flags=re.S | re.M)
-    text = re.sub(r"amplitude = [0-9.eE+-]+", f"amplitude = {amp}", text)
-    text = re.sub(r"diag_every = \d+", "diag_every = 0", text)
-    return text.replace("dir = 'out'", f"dir = '{outdir}'")
+    """The M1 scene of scripts/verify_mls.py, with diagnostics at the automatic interval."""
+    text = verify_mls.scene_text(label, cells, amp, outdir, tag)
+    return re.sub(r"diag_every = \d+", "diag_every = 0", text)
 
 
 def w1_text(dims, label, cells, outdir, tag):
-    text = open(figure6.scene_file(dims)).read()
-    text = re.sub(r"^(\s*)name = '[^']*'", rf"\g<1>name = '{tag}'", text, count=1, flags=re.M)
-    text = re.sub(r"^(\s*)cfl = [0-9.eE+-]+", rf"\g<1>cfl = {figure6.CFL}", text, count=1, flags=re.M)
-    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {W1_VARIANTS[label]}\n/", text, flags=re.S | re.M)
-    text = re.sub(r"^(\s*)dir = '[^']*'", rf"\g<1>dir = '{outdir}'", text, count=1, flags=re.M)
+    """The W1 scene of scripts/figure6.py with `cells` along the column."""
+    _, text = figure6.make_scene(dims, label, outdir, shape=W1_VARIANTS[label], tag=tag)
     if dims == 1:
         text = re.sub(r"ncells = 100\b", f"ncells = {cells}", text, count=1)
     else:

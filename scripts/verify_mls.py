@@ -51,14 +51,19 @@ def tag_of(label, ncells, amp):
     return f"m1_{slug}_{ncells}_{'small' if amp < 1e-2 else 'large'}"
 
 
-def run_case(build, outdir, label, ncells, amp):
-    tag = tag_of(label, ncells, amp)
+def scene_text(label, ncells, amp, outdir, tag):
+    """inputs/mms.nml with the shape choice, cells, amplitude, name and output folder."""
     text = open(os.path.join(ROOT, "inputs", "mms.nml")).read()
     text = text.replace("name = 'mms'", f"name = '{tag}'", 1)
     text = re.sub(r"ncells = \d+, \d+", f"ncells = {ncells}, {ncells}", text)
     text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {COMBOS[label]}\n/", text, flags=re.S | re.M)
     text = re.sub(r"amplitude = [0-9.eE+-]+", f"amplitude = {amp}", text)
-    text = text.replace("dir = 'out'", f"dir = '{outdir}'")
+    return text.replace("dir = 'out'", f"dir = '{outdir}'")
+
+
+def run_case(build, outdir, label, ncells, amp):
+    tag = tag_of(label, ncells, amp)
+    text = scene_text(label, ncells, amp, outdir, tag)
     nml = os.path.join(outdir, tag + ".nml")
     with open(nml, "w") as f:
         f.write(text)

@@ -16,7 +16,8 @@ than not. A run without a break is the reference; its wall time T sets the kill 
   the record of the state it continued from), and
   scripts/check_output.py passes on it; no temporary checkpoint is left.
 At least one kill must have torn a frame (check_output.py rejected the killed file):
-otherwise the test did not test what it says. A kill can also damage the file itself (a
+otherwise the test did not test what it says. On a busy machine fewer kills land in a
+frame write, so when none of the first `trials` kills did, up to `trials` more are made. A kill can also damage the file itself (a
 frame's header, the name heap of /frames): the continued run then rebuilds it from what
 can be read, and a frame it cannot read must be named in the log (the others equal to
 the last bit). Such damage came with 6 of 125 kills measured, so it is also made on
@@ -115,7 +116,13 @@ with h5py.File(ref, "r") as f:
 
 rng = random.Random(int(sys.argv[5]) if len(sys.argv) > 5 else 2026)
 torn = damaged = nlost = 0
-for t in range(trials):
+# Whether a kill tears a frame depends on the machine's load at that moment; when none of
+# the first kills did, up to as many more are made (the check below needs one).
+t = -1
+while True:
+    t += 1
+    if t >= 2 * trials or (t >= trials and torn > 0):
+        break
     name = f"kill{t}"
     nml = scene(name)
     after = rng.uniform(0.3, 0.9) * wall
@@ -206,7 +213,7 @@ expect(sorted(got) == [k for k in sorted(want) if k != 10 and k <= 60],
 same = all(np.array_equal(got[k][d], want[k][d]) for k in got for d in got[k] if k in want)
 expect(same, "damaged file: every kept frame equal to the reference's to the last bit")
 
-print(f"{damaged} of {trials} kills damaged the file; {nlost} of the rebuilt files lost frames")
-expect(torn > 0, f"{torn} of {trials} kills left a file that check_output.py rejects (a torn frame or the sidecar behind)")
+print(f"{damaged} of {t} kills damaged the file; {nlost} of the rebuilt files lost frames")
+expect(torn > 0, f"{torn} of {t} kills left a file that check_output.py rejects (a torn frame or the sidecar behind)")
 print("PASS" if not failures else f"{len(failures)} check(s) failed")
 sys.exit(1 if failures else 0)

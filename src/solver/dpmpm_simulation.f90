@@ -24,6 +24,7 @@ module dpmpm_simulation
   use dpmpm_state, only: state_t, exit_bad_input, exit_stopped
   use dpmpm_step, only: advance
   use dpmpm_time_step, only: stable_dt
+  use dpmpm_load_path, only: check_load_path
   use dpmpm_energy, only: diagnostics, monitor_stopped, check_state, monitor_state, set_monitor_state, &
                           end_equilibrium
   use dpmpm_verification_log, only: two_phase_benchmark, record_two_phase_errors, write_verification, &
@@ -86,6 +87,7 @@ contains
     self%mon_ke_max = 0.0_wp
     self%mon_balance = 0.0_wp
     self%mon_warned = .false.
+    self%cut_time = -1.0_wp
     self%mon_prev = 0.0_wp
     self%energy0 = 0.0_wp
     self%energy_scale = 0.0_wp
@@ -226,6 +228,7 @@ contains
       end if
     end if
     call diagnostics(self)
+    call check_load_path(self)
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
@@ -568,6 +571,7 @@ contains
   subroutine record_diagnostics(self)
     class(simulation_t), intent(inout) :: self
     call diagnostics(self)
+    call check_load_path(self)
     if (.not. self%growth_stop) return
     call self%write_frame()
     call monitor_stopped(self)

@@ -105,6 +105,8 @@ module dpmpm_state
     logical :: mon_warned = .false.           !< the growth warning was given
     real(wp) :: mon_prev(4) = 0.0_wp          !< field maxima at the previous record
     real(wp) :: mon_prev_time = 0.0_wp        !< time of the previous record
+    !> time at which the body loaded on each face was found cut (dpmpm_load_path), -1 never
+    real(wp) :: cut_time(6) = -1.0_wp
   end type state_t
 
 end module dpmpm_state

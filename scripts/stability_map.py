@@ -9,7 +9,7 @@ the largest point speed against v_u, the monitor's ratio (kinetic + stored) /
 
 usage: scripts/stability_map.py [--bin build/release/dpmpm] [--np 2] [--out DIR]
        [--scenes w1,w2,w3] [--dims 1,2] [--shapes standard,quadratic,cubic,pair]
-       [--cfl 0.5,0.7,0.9,1.0]
+       [--cfl 0.5,0.7,0.9,1.0] [--transits 20]
 """
 import argparse
 import os
@@ -44,7 +44,7 @@ def number(txt, key):
     return float(re.search(r'(?m)^\s*%s\s*=\s*([-+\d.eE]+)' % key, txt).group(1))
 
 
-def make_scene(scene, dim, shape, cfl, outdir):
+def make_scene(scene, dim, shape, cfl, outdir, transits=20):
     base = 'w1.nml' if dim == 1 else 'w1_2d.nml'
     txt = open(os.path.join(ROOT, 'inputs', base)).read()
     txt = re.sub(r'(?s)&benchmark.*?/', '', txt)
@@ -59,7 +59,7 @@ def make_scene(scene, dim, shape, cfl, outdir):
     rsat = (1 - n) * rs + n * rf
     cu = np.sqrt((E + kf / n) / rsat)
     length = 10.0
-    t_end = float('%.6g' % (20 * length / cu))
+    t_end = float('%.6g' % (transits * length / cu))
     name = '%s_%dd_%s_%g' % (scene, dim, shape, cfl)
     txt = set_var(txt, 'name', "'%s'" % name)
     txt = set_var(txt, 't_end', '%.6g' % t_end)
@@ -71,7 +71,7 @@ def make_scene(scene, dim, shape, cfl, outdir):
 
 
 def run(args, scene, dim, shape, cfl):
-    name, path, vu, t_end = make_scene(scene, dim, shape, cfl, args.out)
+    name, path, vu, t_end = make_scene(scene, dim, shape, cfl, args.out, args.transits)
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1',
                OMPI_MCA_rmaps_base_oversubscribe='1')
     t0 = time.time()
@@ -117,6 +117,7 @@ def main():
     ap.add_argument('--dims', default='1,2')
     ap.add_argument('--shapes', default='standard,quadratic,cubic,pair')
     ap.add_argument('--cfl', default='0.5,0.7,0.9,1.0')
+    ap.add_argument('--transits', type=float, default=20.0, help='run length in transits L / c_u')
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     print('| scene | shape | Courant number | dt [s] | verdict | largest KE / (0.5 M v_u^2) | at the end '

@@ -9,6 +9,7 @@ module dpmpm_drag
   implicit none
   private
   public :: gravity_drag, drag_solve, drag_relax, drag_limit, nodal_drag_limit, relax_remapped
+  public :: locked_velocity, remove_split
 
   !> Gravity in the drag coefficient n_f^2 rho_f g / k (k is a hydraulic conductivity,
   !> defined with the standard gravity whatever the scene's body force).
@@ -113,19 +114,14 @@ contains
     real(wp), intent(in) :: wstep(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
     integer :: i, j, k, c
-    logical :: sfix(3), ffix(3), tie(3)
+    logical :: free(3)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)
           if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
-          sfix = .false.; ffix = .false.; tie = .false.
-          if (faces%near_face([i, j, k])) then
-            sfix = faces%grid%constrained([i, j, k])
-            ffix = faces%grid%constrained([i, j, k], mbc)
-            tie = faces%fluid_ties([i, j, k])
-          end if
+          free = free_components(faces, mbc, [i, j, k])
           do c = 1, nd
-            if (sfix(c) .or. ffix(c) .or. tie(c)) cycle
+            if (.not. free(c)) cycle
             call drag_relax(node_s(1, i, j, k), node_f(1, i, j, k), &
                             ndrag(1, i, j, k), dt, wstep(c, i, j, k), nvel_s(nd + c, i, j, k), &
                             nvel_f(nd + c, i, j, k))
@@ -134,5 +130,82 @@ contains
       end do
     end do
   end subroutine relax_remapped
+
+  !> True for the components of node (i, j, k) that both phases move freely (not held
+  !> by a face condition of either, not tied).
+  function free_components(faces, mbc, idx) result(free)
+    type(face_loads_t), intent(in) :: faces
+    integer, intent(in) :: mbc(6), idx(3)
+    logical :: free(3)
+    free = .true.
+    if (.not. faces%near_face(idx)) return
+    free = .not. (faces%grid%constrained(idx) .or. faces%grid%constrained(idx, mbc) .or. &
+                  faces%fluid_ties(idx))
+  end function free_components
+
+  !> The velocity increment that the step's implicit drag makes common to the two
+  !> phases, at the owned nodes (0 elsewhere): (1 - f) times the increment of the
+  !> mixture velocity in the nodal update (new minus start-of-step slots of nvel),
+  !> f = ms mf / (ms mf + dt d (ms + mf)) the factor by which the drag shrinks a
+  !> relative velocity in one step (1 where it is absent, so c = 0 there), on the
+  !> components both phases move freely.
+  subroutine locked_velocity(nd, lo, olo, ohi, faces, mbc, node_s, node_f, ndrag, dt, nvel_s, nvel_f, c)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    type(face_loads_t), intent(in) :: faces
+    integer, intent(in) :: mbc(6)            !< the fluid's mirror conditions
+    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: ndrag(:, lo(1):, lo(2):, lo(3):), dt
+    real(wp), intent(in) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(out) :: c(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k
+    real(wp) :: ms, mf, f
+    logical :: free(3)
+    c = 0.0_wp
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          ms = node_s(1, i, j, k); mf = node_f(1, i, j, k)
+          if (ms <= 0.0_wp .or. mf <= 0.0_wp .or. ndrag(1, i, j, k) <= 0.0_wp) cycle
+          free = free_components(faces, mbc, [i, j, k])
+          f = ms*mf/(ms*mf + dt*ndrag(1, i, j, k)*(ms + mf))
+          c(:, i, j, k) = (1.0_wp - f)*(ms*(nvel_s(nd + 1:2*nd, i, j, k) - nvel_s(1:nd, i, j, k)) + &
+                                        mf*(nvel_f(nd + 1:2*nd, i, j, k) - nvel_f(1:nd, i, j, k)))/(ms + mf)
+          where (.not. free(1:nd)) c(:, i, j, k) = 0.0_wp
+        end do
+      end do
+    end do
+  end subroutine locked_velocity
+
+  !> Take from the MUSL-remapped pair (new slots of nvel_s, nvel_f, owned nodes) the
+  !> relative velocity that the two point sets' projections make of one common
+  !> velocity c: ps and pf hold the momenta sum_p N_I m_p (sum_J N_J c_J) of each set
+  !> (project_p2g), so that P_s c = ps / m_s and P_f c = pf / m_f, and the split P_f c - P_s c is
+  !> removed from v_f - v_s with the momentum of the pair kept, on the components
+  !> both phases move freely. On points at the same places P_s = P_f and nothing
+  !> changes.
+  subroutine remove_split(nd, lo, olo, ohi, faces, mbc, node_s, node_f, ps, pf, nvel_s, nvel_f)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    type(face_loads_t), intent(in) :: faces
+    integer, intent(in) :: mbc(6)
+    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: ps(:, lo(1):, lo(2):, lo(3):), pf(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k
+    real(wp) :: ms, mf, split(3)
+    logical :: free(3)
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          ms = node_s(1, i, j, k); mf = node_f(1, i, j, k)
+          if (ms <= 0.0_wp .or. mf <= 0.0_wp) cycle
+          free = free_components(faces, mbc, [i, j, k])
+          split(1:nd) = pf(1:nd, i, j, k)/mf - ps(1:nd, i, j, k)/ms
+          where (.not. free(1:nd)) split(1:nd) = 0.0_wp
+          nvel_s(nd + 1:2*nd, i, j, k) = nvel_s(nd + 1:2*nd, i, j, k) + mf/(ms + mf)*split(1:nd)
+          nvel_f(nd + 1:2*nd, i, j, k) = nvel_f(nd + 1:2*nd, i, j, k) - ms/(ms + mf)*split(1:nd)
+        end do
+      end do
+    end do
+  end subroutine remove_split
 
 end module dpmpm_drag

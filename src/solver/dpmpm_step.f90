@@ -18,11 +18,11 @@ module dpmpm_step
   use dpmpm_particles, only: particle_set_t
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, &
+  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, project_p2g, &
                             fluid_p2g, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
-  use dpmpm_drag, only: nodal_drag_limit, relax_remapped
+  use dpmpm_drag, only: nodal_drag_limit, relax_remapped, locked_velocity, remove_split
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, fluid_density, &
                                  local_cell, &
                                  fluid_pressure_step, fluid_state
@@ -411,14 +411,25 @@ contains
   subroutine musl_remap(self, dt)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
-    real(wp), allocatable :: wstep(:, :, :, :)
+    real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :)
     integer :: ip, nd
     logical :: coupled
+    logical :: locked
     nd = self%nd
     coupled = self%nph == 2
-    ! Relative velocity of the nodal update, before the remap overwrites it.
+    locked = coupled .and. self%cfg%remap_drag .and. self%cfg%drag == 'implicit'
+    ! Relative velocity of the nodal update, and the velocity the drag makes common to
+    ! both phases, before the remap overwrites them.
     if (coupled) wstep = self%phase(fluid_phase)%nvel(nd + 1:2*nd, :, :, :) - &
                          self%phase(solid_phase)%nvel(nd + 1:2*nd, :, :, :)
+    if (locked) then
+      associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+        allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                         self%dec%alo(3):self%dec%ahi(3)))
+        call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
+                             f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
+      end associate
+    end if
     do ip = 1, self%nph
       call remap_velocities(self, self%phase(ip))
     end do
@@ -426,7 +437,8 @@ contains
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, s%node, f%node, &
                        s%nvel, f%nvel)
-        if (self%cfg%remap_drag .and. self%cfg%drag == 'implicit') &
+        if (locked) call remove_common_split(self, lockv)
+        if (locked) &
           call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
                               f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
       end associate
@@ -447,6 +459,37 @@ contains
       end associate
     end if
   end subroutine musl_remap
+
+  !> Where the implicit drag locks the phases, their nodal increments are nearly
+  !> equal; each point set projects them with its own masses, and the difference
+  !> of the two projections would reach the pore-pressure update as a relative
+  !> velocity no drag acted on. The locked velocity c (locked_velocity) is carried
+  !> to the points of each set and back (P c), and P_f c - P_s c is taken from the
+  !> remapped relative velocity (remove_split; doc/verification.md, "Long runs").
+  subroutine remove_common_split(self, lockv)
+    class(state_t), intent(inout) :: self
+    real(wp), contiguous, intent(inout) :: lockv(:, :, :, :)
+    real(wp), allocatable :: proj(:, :, :, :, :)
+    integer :: ip, nd
+    nd = self%nd
+    call self%dec%halo_copy(lockv)
+    allocate (proj(nd, size(lockv, 2), size(lockv, 3), size(lockv, 4), 2))
+    proj = 0.0_wp
+    do ip = 1, 2
+      associate (ph => self%phase(ip))
+        ! the exterior nodes as this phase's walls mirror them
+        call self%mirror%unfold(lockv, 0, ph%bc)
+        call project_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, self%dec%alo, lockv, &
+                         proj(:, :, :, :, ip))
+        call self%mirror%fold(proj(:, :, :, :, ip), 0, ph%bc)
+        call self%dec%halo_sum(proj(:, :, :, :, ip))
+      end associate
+    end do
+    associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+      call remove_split(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, f%node, &
+                        proj(:, :, :, :, solid_phase), proj(:, :, :, :, fluid_phase), s%nvel, f%nvel)
+    end associate
+  end subroutine remove_common_split
 
   !> Nodal velocities (new slots of ph%nvel, owned nodes) from the point momenta of
   !> the phase mapped to the grid again; the masses in ph%node are those of the step.

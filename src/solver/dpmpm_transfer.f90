@@ -12,7 +12,7 @@ module dpmpm_transfer
   use dpmpm_drag, only: gravity_drag
   implicit none
   private
-  public :: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value
+  public :: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, project_p2g
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux
 
 contains
@@ -281,6 +281,85 @@ contains
       end do
     end do
   end subroutine interp_value
+
+  !> A nodal vector field f(1:nd) carried to the points and back with their masses in
+  !> one pass: node(1:nd, I) += sum_p N_I(x_p) m_p sum_J N_J(x_p) f_J (the momentum of the
+  !> field's projection through this point set; divided by the nodal mass it is P f).
+  subroutine project_p2g(nd, nw, n, i0, sw, mass, lo, f, node)
+    integer, intent(in) :: nd, nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, v(3)
+    if (nd == 2) then
+      call project_p2g_2d(nw, n, i0, sw, mass, lo, f, node)
+      return
+    end if
+    do p = 1, n
+      v(1:nd) = 0.0_wp
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            v(1:nd) = v(1:nd) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(1:nd, i, j, k)
+          end do
+        end do
+      end do
+      v(1:nd) = mass(p)*v(1:nd)
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            node(1:nd, i, j, k) = node(1:nd, i, j, k) + nn*v(1:nd)
+          end do
+        end do
+      end do
+    end do
+  end subroutine project_p2g
+
+  subroutine project_p2g_2d(nw, n, i0, sw, mass, lo, f, node)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, wb, v1, v2
+    do p = 1, n
+      k = i0(3, p)
+      v1 = 0.0_wp; v2 = 0.0_wp
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = sw(a, 1, p)*wb
+          v1 = v1 + nn*f(1, i, j, k)
+          v2 = v2 + nn*f(2, i, j, k)
+        end do
+      end do
+      v1 = mass(p)*v1; v2 = mass(p)*v2
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        wb = sw(b, 2, p)
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = sw(a, 1, p)*wb
+          node(1, i, j, k) = node(1, i, j, k) + nn*v1
+          node(2, i, j, k) = node(2, i, j, k) + nn*v2
+        end do
+      end do
+    end do
+  end subroutine project_p2g_2d
 
   !> Fluid points to the grid: the pore-pressure forces of the weak form (paper eq. 5),
   !> f_f,I += V n_f p grad N_I and f_s,I += V (1 - n_f) p grad N_I (point quadrature,

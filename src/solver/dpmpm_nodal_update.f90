@@ -14,9 +14,10 @@ module dpmpm_nodal_update
 
 contains
 
-  !> One phase: nodal velocities before and after the update (nvel, cleared first),
-  !> with gravity, tractions and boundary conditions, on the nodes olo..ohi; the
-  !> work of the external forces is added to ext_work.
+  !> One phase: nodal velocities before and after the update (nvel, cleared first on
+  !> olo..ohi; the caller's node fields are zero beyond), with gravity, tractions and
+  !> boundary conditions, on the nodes olo..ohi; the work of the external forces is
+  !> added to ext_work.
   subroutine nodal_update(nd, lo, olo, ohi, node, gravity, faces, time, dt, nvel, ext_work, &
                           damping, dissipated)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
@@ -31,7 +32,7 @@ contains
     integer :: i, j, k
     real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3)
     logical :: fix(3), near
-    nvel = 0.0_wp
+    nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)
@@ -100,8 +101,8 @@ contains
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
     real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd, ts(3), tf(3), fds(3), fdf(3)
     logical :: sfix(3), ffix(3), tie(3), near
-    nvel_s = 0.0_wp
-    nvel_f = 0.0_wp
+    nvel_s(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
+    nvel_f(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)
@@ -232,7 +233,7 @@ contains
     integer :: i, j, k
     real(wp) :: m
     logical :: fix(3)
-    nvel = 0.0_wp
+    nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)

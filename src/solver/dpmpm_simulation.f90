@@ -87,6 +87,7 @@ contains
     self%mon_ke_max = 0.0_wp
     self%mon_balance = 0.0_wp
     self%mon_warned = .false.
+    self%box_known = .false.
     self%cut_time = -1.0_wp
     self%mon_prev = 0.0_wp
     self%energy0 = 0.0_wp

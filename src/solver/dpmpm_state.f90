@@ -65,6 +65,12 @@ module dpmpm_state
     integer(i8) :: inflow_id0 = 0             !< largest fluid point id of the run's start
     integer(i8) :: ninflow = 0                !< fluid points this rank added at inflow faces
     integer :: nd = 1
+    !> Node box of this step (local node indices, step_box): the nodes that point
+    !> stencils, mirror walls and halo sums can write this step; and the box of the
+    !> step before merged with it, outside of which every node field is zero. Unknown
+    !> (box_known false) before the first step: the whole block.
+    integer :: wlo(3) = 0, whi(3) = -1, zlo(3) = 0, zhi(3) = -1
+    logical :: box_known = .false.
     real(wp) :: time = 0.0_wp
     real(wp) :: dt = 0.0_wp
     !> work of gravity and tractions on this rank, minus the energy dissipated by drag

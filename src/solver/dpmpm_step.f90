@@ -28,7 +28,7 @@ module dpmpm_step
                                  fluid_pressure_step, fluid_state
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
   use dpmpm_time_step, only: report_governing
-  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN
+  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_PROC_NULL, operator(/=)
   implicit none
   private
   public :: advance
@@ -41,7 +41,7 @@ contains
   subroutine advance(self, dt)
     class(state_t), intent(inout) :: self
     real(wp), intent(inout) :: dt
-    integer :: m, ip, nlost, ns, nf, nd
+    integer :: m, ip, nlost, ns, nf, nd, blo(3), bhi(3)
     integer, allocatable :: fcell(:)
     logical :: coupled
     real(wp) :: wplastic
@@ -57,6 +57,10 @@ contains
     do ip = 1, self%nph
       call compute_stencils(self, self%phase(ip))
     end do
+    call step_box(self)
+    ! the owned nodes where node fields may be nonzero (loops of the nodal updates)
+    blo = max(self%dec%olo, self%zlo)
+    bhi = min(self%dec%ohi, self%zhi)
     ! The cell of each fluid point at the start of the step (points are in this rank's
     ! cells then), for the cell smoothing of the pore pressure.
     if (coupled .and. self%cfg%pressure_smoothing == 'cell') then
@@ -71,7 +75,7 @@ contains
     call self%timers%tic(t_p2g)
     do ip = 1, self%nph
       associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
-        ph%node = 0.0_wp
+        ph%node(:, self%zlo(1):self%zhi(1), self%zlo(2):self%zhi(2), self%zlo(3):self%zhi(3)) = 0.0_wp
         if (allocated(ph%bacc)) then
           call benchmark_body_force(self%cfg, self%mats, ps, self%time, ph%bacc)
           call p2g(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
@@ -160,7 +164,7 @@ contains
       end do
     end if
     if (.not. coupled) then
-      call nodal_update(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
+      call nodal_update(nd, self%dec%alo, blo, bhi, self%phase(solid_phase)%node, &
                         gravity_now(self), self%faces, self%time, dt, self%phase(solid_phase)%nvel, &
                         self%ext_work, damping_now(self), self%drag_loss)
       call self%timers%toc(t_nodal)
@@ -199,7 +203,7 @@ contains
       end if
       call report_governing(self, dt)
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        call nodal_update_coupled(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, f%node, &
+        call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
                                   self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
                                   self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
                                   self%ext_work, self%drag_loss, damping_now(self))
@@ -499,14 +503,81 @@ contains
     type(phase_t), intent(inout) :: ph
     integer :: nd
     nd = self%nd
-    ! Reuse the momentum slots of node(); the masses are unchanged.
-    ph%node(2:1 + 2*nd, :, :, :) = 0.0_wp
+    ! Reuse the momentum slots of node(); the masses are unchanged (zero beyond the box).
+    ph%node(2:1 + 2*nd, self%zlo(1):self%zhi(1), self%zlo(2):self%zhi(2), self%zlo(3):self%zhi(3)) = 0.0_wp
     call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, ph%node)
     call self%mirror%fold(ph%node, 1, ph%bc)
     call self%dec%halo_sum(ph%node)
-    call remap_nodal_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, ph%node, self%grid, ph%bc, &
-                              ph%nvel)
+    call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
+                              ph%node, self%grid, ph%bc, ph%nvel)
   end subroutine remap_velocities
+
+  !> The node box of this step (wlo..whi): the stencils of every phase's points (a
+  !> fluid point writes into the solid's fields too), widened by the ghost width for
+  !> the images of mirror walls, to the block's end where that lies within a ghost
+  !> width of a grid face (exterior nodes), and over the slabs next to a neighbour
+  !> rank (halo sums add its points there); zlo..zhi merges it with the box of the
+  !> step before, whose fields are cleared now. Node fields outside zlo..zhi stay zero,
+  !> and loops over nodes may skip them. Gauss quadrature and MLS nodal velocities
+  !> write beyond the point stencils and keep the whole block.
+  subroutine step_box(self)
+    class(state_t), intent(inout) :: self
+    integer :: lo(3), hi(3), d, e, ip, n, p, gw(3)
+    associate (alo => self%dec%alo, ahi => self%dec%ahi)
+      if (self%plan%gauss .or. self%plan%velocity_mls) then
+        self%wlo = alo; self%whi = ahi
+        self%zlo = alo; self%zhi = ahi
+        self%box_known = .false.
+        return
+      end if
+      gw = self%dec%gw
+      lo = huge(1); hi = -huge(1)
+      do ip = 1, self%nph
+        associate (st => self%phase(ip)%st)
+          n = self%phase(ip)%pts%n
+          do p = 1, n
+            lo = min(lo, st%i0(:, p))
+            hi = max(hi, st%i0(:, p) + st%nw - 1)
+          end do
+        end associate
+      end do
+      do d = 1, 3
+        if (d > self%nd) then
+          lo(d) = alo(d); hi(d) = ahi(d)
+          cycle
+        end if
+        lo(d) = lo(d) - gw(d); hi(d) = hi(d) + gw(d)
+        if (lo(d) <= gw(d)) lo(d) = alo(d)
+        if (hi(d) >= self%grid%ncells(d) - gw(d)) hi(d) = ahi(d)
+      end do
+      do d = 1, self%nd
+        if (self%dec%nbr_lo(d) /= MPI_PROC_NULL) then
+          lo(d) = alo(d); hi(d) = max(hi(d), self%dec%olo(d) + gw(d))
+          do e = 1, self%nd
+            if (e /= d) then
+              lo(e) = alo(e); hi(e) = ahi(e)
+            end if
+          end do
+        end if
+        if (self%dec%nbr_hi(d) /= MPI_PROC_NULL) then
+          hi(d) = ahi(d); lo(d) = min(lo(d), self%dec%ohi(d) - gw(d))
+          do e = 1, self%nd
+            if (e /= d) then
+              lo(e) = alo(e); hi(e) = ahi(e)
+            end if
+          end do
+        end if
+      end do
+      lo = max(lo, alo); hi = min(hi, ahi)
+      if (self%box_known) then
+        self%zlo = min(lo, self%wlo); self%zhi = max(hi, self%whi)
+      else
+        self%zlo = alo; self%zhi = ahi
+      end if
+      self%wlo = lo; self%whi = hi
+      self%box_known = .true.
+    end associate
+  end subroutine step_box
 
   !> Kernel weights and gradients of every point of phase tr, evaluated once per
   !> step, with its per-point work arrays sized to the set's capacity (and the body

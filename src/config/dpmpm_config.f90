@@ -169,6 +169,8 @@ module dpmpm_config
     real(wp) :: pore_pressure_gradient(3, 6) = 0.0_wp
     !> condition 'absorbing': the material id whose impedance the face's dashpots match; 0 = none
     integer :: absorbing(6) = 0
+    !> Coulomb friction coefficient of a roller face (a rough wall); 0 = smooth
+    real(wp) :: wall_friction(6) = 0.0_wp
     ! &output
     character(len=1024) :: output_dir = '.'
     real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only

@@ -22,9 +22,12 @@ module dpmpm_grid
     real(wp) :: h(3) = 1.0_wp
     real(wp) :: cell_volume = 1.0_wp   !< product of h over the used axes
     integer :: bc(6) = bc_free         !< per face: x-, x+, y-, y+, z-, z+
+    real(wp) :: friction(6) = 0.0_wp   !< Coulomb friction coefficient of roller faces
+    logical :: rough = .false.         !< some face has friction
   contains
     procedure :: init => grid_init
     procedure :: constrained => grid_constrained
+    procedure :: wall_friction
     procedure :: inside => grid_inside
   end type grid_t
 
@@ -47,7 +50,47 @@ contains
     self%cell_volume = product(self%h(1:self%ndim))
     self%bc = bc_free
     self%bc(1:2*cfg%ndim) = cfg%bc(1:2*cfg%ndim)
+    self%friction = 0.0_wp
+    where (self%bc == bc_roller) self%friction = cfg%wall_friction
+    self%rough = any(self%friction > 0.0_wp)
   end subroutine grid_init
+
+  !> Coulomb friction of the rough roller faces on which node idx lies (doc/theory.md
+  !> 6.7). v(1:nd) is the node's velocity at the end of the update, dv(1:nd) its change
+  !> in the update, both before the wall conditions. Where the normal component of dv
+  !> runs into such a wall, the wall takes it (vn, the normal impulse per unit mass of
+  !> the step: the normal velocity itself is held at zero, so the change is the whole
+  !> impulse) and its friction takes mu vn from the speed along the wall, down to rest at
+  !> most (sticking). Components held by other conditions (fix) do not slide. Where the
+  !> wall pulls the node no friction acts. Only the tangential components of v change;
+  !> the caller zeroes the normal one with the roller's constraint.
+  pure subroutine wall_friction(self, idx, nd, fix, dv, v)
+    class(grid_t), intent(in) :: self
+    integer, intent(in) :: idx(3), nd
+    logical, intent(in) :: fix(3)
+    real(wp), intent(in) :: dv(3)
+    real(wp), intent(inout) :: v(3)
+    real(wp) :: vt(3), vn, s
+    integer :: f, d
+    do f = 1, 2*nd
+      if (self%friction(f) <= 0.0_wp) cycle
+      d = (f + 1)/2
+      if (mod(f, 2) == 1) then
+        if (idx(d) /= 0) cycle
+        vn = -dv(d)
+      else
+        if (idx(d) /= self%ncells(d)) cycle
+        vn = dv(d)
+      end if
+      if (vn <= 0.0_wp) cycle
+      vt = 0.0_wp
+      vt(1:nd) = v(1:nd)
+      where (fix) vt = 0.0_wp
+      s = norm2(vt)
+      if (s <= 0.0_wp) cycle
+      v = v - vt*min(1.0_wp, self%friction(f)*vn/s)
+    end do
+  end subroutine wall_friction
 
   !> Which velocity components are held at zero at node (i, j, k): a fixed face
   !> holds all components, a roller the normal one. Exterior nodes beyond a face

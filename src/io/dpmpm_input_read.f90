@@ -485,20 +485,20 @@ contains
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
     character(len=name_len) :: face, condition, fluid
-    real(wp) :: pore_pressure, pore_pressure_ramp, pore_pressure_gradient(3)
+    real(wp) :: pore_pressure, pore_pressure_ramp, pore_pressure_gradient(3), friction
     logical :: seen(6), impermeable
     integer :: k, f, c, fc, ios, material, absorbing, j
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     character(len=:), allocatable :: why
     namelist /boundary/ face, condition, fluid, pore_pressure, pore_pressure_ramp, material, &
-      pore_pressure_gradient
+      pore_pressure_gradient, friction
     seen = .false.
     ok = .true.
     do k = 1, pb%count(g_boundary)
       face = ''; condition = bc_names(bc_free); fluid = ''; pore_pressure = 0.0_wp
       pore_pressure_ramp = 0.0_wp; material = 0; pore_pressure_gradient = 0.0_wp
-      absorbing = 0
+      absorbing = 0; friction = 0.0_wp
       read (records(first_record(pb, g_boundary, k):), nml=boundary, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=boundary)
@@ -524,6 +524,24 @@ contains
         call add_value(pb, g_boundary, k, 'condition', quote(condition), &
                        'the conditions are free, fixed, roller, absorbing')
       end select
+      if (.not. real_ok(friction) .or. friction < 0.0_wp) then
+        call add_value(pb, g_boundary, k, 'friction', rtoa(friction), &
+                       'must be a finite Coulomb friction coefficient >= 0 (0: a smooth wall)')
+      else if (friction > 0.0_wp .and. c /= bc_roller) then
+        call add_value(pb, g_boundary, k, 'friction', rtoa(friction), &
+                       "only a roller face takes a friction coefficient (condition = 'roller': "// &
+                       'the wall holds the normal velocity, friction resists sliding along it)')
+      else if (friction > 0.0_wp .and. trim(cfg%kernel) /= 'linear') then
+        call add_value(pb, g_boundary, k, 'friction', rtoa(friction), "a rough wall needs "// &
+                       "kernel = 'linear': with the mirror walls of B-splines part of the wall's "// &
+                       'normal force acts through nodes inside the grid, and the friction taken '// &
+                       'from the face nodes would be too low (doc/input.md, &boundary)')
+      else if (friction > 0.0_wp .and. allocated(cfg%regions)) then
+        if (any(cfg%regions%phase == 'fluid' .or. cfg%regions%phase == 'saturated')) &
+          call add_value(pb, g_boundary, k, 'friction', rtoa(friction), 'rough walls act in '// &
+                         'scenes of one phase (dry soil, solids); with fluid or saturated regions '// &
+                         'the walls are smooth (friction = 0)')
+      end if
       if (material /= 0 .and. trim(adjustl(condition)) /= 'absorbing') &
         call add_value(pb, g_boundary, k, 'material', itoa(material), &
                        "only an absorbing face takes a material (condition = 'absorbing')")
@@ -585,6 +603,7 @@ contains
         cfg%pore_pressure_ramp(f) = pore_pressure_ramp
         cfg%pore_pressure_gradient(:, f) = pore_pressure_gradient
         cfg%absorbing(f) = absorbing
+        cfg%wall_friction(f) = friction
       end if
     end do
   end subroutine read_boundaries

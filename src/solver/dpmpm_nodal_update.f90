@@ -28,9 +28,9 @@ contains
     real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: ext_work
     real(wp), intent(in) :: damping           !< local damping coefficient (0 = none)
-    real(wp), intent(inout) :: dissipated     !< energy taken by the local damping
+    real(wp), intent(inout) :: dissipated     !< energy taken by the local damping and wall friction
     integer :: i, j, k
-    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3)
+    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3), ffr(3), wf
     logical :: fix(3), near
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
@@ -61,12 +61,23 @@ contains
           cd = 0.0_wp
           if (near) cd = faces%dashpot([i, j, k], .false.)
           if (any(cd(1:nd) > 0.0_wp)) vnew(1:nd) = vnew(1:nd)*m/(m + dt*cd(1:nd))
+          ffr = vnew
+          ! Friction of rough walls.
+          if (near .and. faces%grid%rough) call faces%grid%wall_friction([i, j, k], nd, fix, vnew - vold, vnew)
           where (fix) vold = 0.0_wp
           where (fix) vnew = 0.0_wp
           nvel(1:nd, i, j, k) = vold(1:nd)
           nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
           ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd) - cd(1:nd)*vnew(1:nd), &
                                                       vold(1:nd) + vnew(1:nd))
+          if (near .and. faces%grid%rough) then
+            ! The work of a rough wall's friction (m dv/dt; the normal force does none): in
+            ! ext_work and counted as dissipated, as the damping's.
+            ffr = m*(vnew - ffr)/dt
+            wf = 0.5_wp*dt*dot_product(ffr(1:nd), vold(1:nd) + vnew(1:nd))
+            ext_work = ext_work + wf
+            dissipated = dissipated - wf
+          end if
           if (damping > 0.0_wp) then
             ! The damping force is no load: its work (in ext_work above, like the drag's)
             ! is the energy it takes.

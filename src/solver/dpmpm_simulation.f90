@@ -230,6 +230,10 @@ contains
     end if
     call diagnostics(self)
     call check_load_path(self)
+    if (self%grid%rough .and. cfg%flip > 0.5_wp) call self%log%warning('rough walls (&boundary '// &
+      'friction) with flip > 0.5: FLIP noise at the wall raises the friction; an elastic block on '// &
+      'an incline slides at a tenth of the Coulomb rate with flip 0.9 and 1 (doc/verification.md, '// &
+      '"Rough walls"); flip = 0.5 reproduces it')
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init

@@ -1,0 +1,173 @@
+#!/usr/bin/env python3
+"""Granular column collapse (C1) at several aspect ratios a = H0/L0 (doc/theory.md 9.6).
+
+Builds one scene per aspect ratio from inputs/c1_a2.nml (same material, grid spacing,
+points per cell, base and wall; the column height H0 = a L0, the grid long and high
+enough for the deposit, the initial state geostatic with K0 = 1 - sin(phi), the end time
+grown with sqrt(H0)), runs each with BIN on --ranks ranks in --workdir (unless its output
+is there already and --rerun is not given), and reports for the last frame of each run the
+runout (L - L0)/L0 and the height H/L0 (farthest and highest point plus half the point
+spacing) beside the scaling laws of Lube et al. (2005) and Lajeunesse et al. (2005), and
+the kinetic energy left against its peak. --plot draws runout and height against a with
+the laws, and the deposits.
+
+    python3 scripts/c1_study.py --bin build/release/dpmpm --ratios 0.5 1 2 4 8 \\
+        --workdir out/c1 --plot c1_study.png [--base fixed|rough] [--shape standard|pair]
+        [--ranks 2]
+"""
+import argparse
+import math
+import os
+import re
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+TEMPLATE = os.path.join(ROOT, "inputs", "c1_a2.nml")
+L0 = 0.2          #: column length (m)
+H_CELL = 0.01     #: grid spacing of the template (m)
+SPACING = 0.005   #: initial point spacing (2 x 2 points per cell)
+
+
+def lube(a):
+    return 1.2 * a if a < 1.8 else 1.9 * a ** (2.0 / 3.0)
+
+
+def lajeunesse(a):
+    return 1.8 * a if a < 3.0 else 2.3 * a ** (2.0 / 3.0)
+
+
+#: the MLS pair of doc/theory.md 3.6 (doc/input.md, &shape)
+PAIR = """&shape
+  kernel = 'cubic'
+  quadrature = 'gauss'
+  field_kernel = 'wendland_c2'
+  field_radius = 2.0
+/"""
+
+
+def scene_text(a, base, workdir, shape="standard"):
+    """The template with column height a L0, a grid that holds the deposit and a geostatic start."""
+    text = open(TEMPLATE).read()
+    h0 = a * L0
+    # room for 1.5 times the larger scaling law's runout, and 5 cells above the column
+    length = L0 * (1.0 + 1.5 * max(lube(a), lajeunesse(a))) + 0.1
+    nx = int(math.ceil(length / H_CELL))
+    ny = int(math.ceil((h0 + 0.05) / H_CELL))
+    t_end = round(1.0 * math.sqrt(a / 2.0) + 0.5, 2)
+    name = (f"c1_a{a:g}".replace(".", "p") + ("_rough" if base == "rough" else "")
+            + ("_pair" if shape == "pair" else ""))
+    subs = [
+        (r"name = '[^']*'", f"name = '{name}'"),
+        (r"t_end = [0-9.]+", f"t_end = {t_end}"),
+        (r"ncells = [0-9]+, [0-9]+", f"ncells = {nx}, {ny}"),
+        (r"length = [0-9.]+, [0-9.]+", f"length = {nx * H_CELL:.2f}, {ny * H_CELL:.2f}"),
+        (r"hi = 0\.2, 0\.4", f"hi = {L0}, {h0:.4f}"),
+        (r"  stress = [^\n]*\n", ""),
+        (r"  stress_gradient[^\n]*\n", "  geostatic = .true.\n  k0 = 0.5\n"),
+        (r"dir = '[^']*'", f"dir = '{workdir}'"),
+        (r"frame_interval = [0-9.]+", "frame_interval = 0.1"),
+    ]
+    for pat, rep in subs:
+        text, n = re.subn(pat, rep, text)
+        if n != 1:
+            raise SystemExit(f"c1_study: the template {TEMPLATE} does not match {pat!r}")
+    if shape == "pair":
+        text, n = re.subn(r"&shape\n  kernel = 'linear'\n/", PAIR, text)
+        if n != 1:
+            raise SystemExit("c1_study: the template's &shape is not the linear kernel")
+    if base == "rough":
+        text, n = re.subn(r"face = 'y-', condition = 'fixed'",
+                          "face = 'y-', condition = 'roller', friction = 0.577", text)
+        if n != 1:
+            raise SystemExit("c1_study: the template has no fixed base to make rough")
+    return name, text
+
+
+def measure(path, a):
+    with h5py.File(path, "r") as f:
+        names = sorted(f["frames"])
+        fr = f["frames"][names[-1]]
+        t = float(fr.attrs["time"])
+        x = fr["solid"]["x"][:]
+        x0 = f["frames"][names[0]]["solid"]["x"][:]
+        ke = f["diagnostics"]["kinetic_energy"][:]
+    half = 0.5 * SPACING
+    runout = (x[:, 0].max() + half - L0) / L0
+    height = (x[:, 1].max() + half) / L0
+    return dict(a=a, t=t, runout=runout, height=height, ke=ke[-1] / ke.max(), x=x, x0=x0)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--bin", default=os.path.join(ROOT, "build", "release", "dpmpm"))
+    ap.add_argument("--ratios", type=float, nargs="+", default=[0.5, 1.0, 2.0, 4.0, 8.0])
+    ap.add_argument("--base", choices=["fixed", "rough"], default="fixed")
+    ap.add_argument("--shape", choices=["standard", "pair"], default="standard",
+                    help="Standard MPM (the template's linear grid functions) or the MLS pair")
+    ap.add_argument("--ranks", type=int, default=1)
+    ap.add_argument("--workdir", default="out/c1")
+    ap.add_argument("--rerun", action="store_true", help="run again when the output exists")
+    ap.add_argument("--plot", help="figure of runout and height against a, and the deposits")
+    args = ap.parse_args()
+    os.makedirs(args.workdir, exist_ok=True)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    rows = []
+    for a in args.ratios:
+        name, text = scene_text(a, args.base, args.workdir, args.shape)
+        nml = os.path.join(args.workdir, name + ".nml")
+        h5 = os.path.join(args.workdir, name + ".h5")
+        open(nml, "w").write(text)
+        if args.rerun or not os.path.exists(h5):
+            t0 = time.time()
+            log = open(os.path.join(args.workdir, name + ".log"), "w")
+            rc = subprocess.run(["mpirun", "--oversubscribe", "-n", str(args.ranks), args.bin, nml],
+                                env=env, stdout=log, stderr=subprocess.STDOUT).returncode
+            print(f"{name}: exit code {rc}, {time.time() - t0:.0f} s", flush=True)
+        rows.append(measure(h5, a))
+    print("| a | t end (s) | (L−L0)/L0 | Lube 2005 | Lajeunesse 2005 | H/L0 | a^0.4 (or a) | "
+          "kinetic energy left |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        a = r["a"]
+        hl = a if a < 1.0 else a ** 0.4
+        print(f"| {a:g} | {r['t']:.2f} | {r['runout']:.2f} | {lube(a):.2f} | {lajeunesse(a):.2f} | "
+              f"{r['height']:.2f} | {hl:.2f} | {r['ke']:.1e} |")
+    if args.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig = plt.figure(figsize=(10, 6))
+        ax1 = fig.add_subplot(2, 2, 1)
+        ax2 = fig.add_subplot(2, 2, 2)
+        aa = np.geomspace(0.4, 10, 100)
+        ax1.loglog(aa, [lube(v) for v in aa], "k-", lw=0.8, label="Lube et al. 2005")
+        ax1.loglog(aa, [lajeunesse(v) for v in aa], "k--", lw=0.8, label="Lajeunesse et al. 2005")
+        ax1.loglog([r["a"] for r in rows], [r["runout"] for r in rows], "o", label="dpmpm")
+        ax1.set_xlabel("a = H0/L0")
+        ax1.set_ylabel("(L∞ − L0)/L0")
+        ax1.legend(fontsize=7)
+        ax2.loglog(aa, np.where(aa < 1.0, aa, aa ** 0.4), "k-", lw=0.8, label="a, a^0.4")
+        ax2.loglog([r["a"] for r in rows], [r["height"] for r in rows], "o", label="dpmpm")
+        ax2.set_xlabel("a = H0/L0")
+        ax2.set_ylabel("H∞/L0")
+        ax2.legend(fontsize=7)
+        ax3 = fig.add_subplot(2, 1, 2)
+        for r in sorted(rows, key=lambda r: -r["a"]):   # the largest first, the rest on top
+            ax3.scatter(r["x"][:, 0], r["x"][:, 1], s=0.3, label=f"a = {r['a']:g}")
+        ax3.set_aspect("equal")
+        ax3.set_xlabel("x (m)")
+        ax3.set_ylabel("y (m)")
+        ax3.legend(fontsize=7, markerscale=10)
+        fig.suptitle(f"Column collapse, {args.base} base, {args.shape}: runout, height, final deposits")
+        fig.tight_layout()
+        fig.savefig(args.plot, dpi=120)
+        print(f"figure: {args.plot}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

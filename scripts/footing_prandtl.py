@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Bearing capacity of a rigid strip footing against Prandtl (inputs/footing_prandtl_2d.nml).
+
+Runs the scene with the binary BIN at the grid spacings of --cells-per-metre (the points
+per cell, the footing and the soil kept; the footing's nodes span half a cell more than
+the footing on each refinement), reads the drive force /verification/drive_force_y and
+reports the bearing pressure q = -F/(B/2) over c against the settlement, the mean of q/c
+over settlements from 5 % to 15 % of B (the plateau) beside Prandtl's 2 + pi, and draws
+the curves with --plot.
+
+    python3 scripts/footing_prandtl.py --bin build/release/dpmpm --cells-per-metre 10 20 \\
+        --workdir out/prandtl --plot prandtl.png
+"""
+import argparse
+import math
+import os
+import re
+import subprocess
+import time
+
+import h5py
+import numpy as np
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+SCENE = os.path.join(ROOT, "inputs", "footing_prandtl_2d.nml")
+B = 1.0          #: footing width (m); the scene holds half of it
+C = 1.0e4        #: cohesion (Pa)
+V = 0.05         #: footing speed (m/s)
+PRANDTL = 2.0 + math.pi
+
+
+def scene(cpm, workdir):
+    text = open(SCENE).read()
+    name = f"prandtl_{cpm}"
+    for pat, rep in [(r"name = '[^']*'", f"name = '{name}'"),
+                     (r"ncells = 50, 34", f"ncells = {5 * cpm}, {round(3.4 * cpm)}"),
+                     (r"length = 5\.0, 3\.4", f"length = 5.0, {round(3.4 * cpm) / cpm:.4f}"),
+                     (r"dir = '[^']*'", f"dir = '{workdir}'")]:
+        text, n = re.subn(pat, rep, text)
+        if n != 1:
+            raise SystemExit(f"footing_prandtl: {SCENE} does not match {pat!r}")
+    return name, text
+
+
+def curve(h5):
+    with h5py.File(h5, "r") as f:
+        t = f["verification/drive_time"][:]
+        fy = f["verification/drive_force_y"][:]
+    return V * t / B, -fy / (0.5 * B) / C
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--bin", default=os.path.join(ROOT, "build", "release", "dpmpm"))
+    ap.add_argument("--cells-per-metre", type=int, nargs="+", default=[10, 20])
+    ap.add_argument("--ranks", type=int, default=1)
+    ap.add_argument("--workdir", default="out/prandtl")
+    ap.add_argument("--rerun", action="store_true")
+    ap.add_argument("--plot")
+    args = ap.parse_args()
+    os.makedirs(args.workdir, exist_ok=True)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    rows = []
+    for cpm in args.cells_per_metre:
+        name, text = scene(cpm, args.workdir)
+        nml = os.path.join(args.workdir, name + ".nml")
+        h5 = os.path.join(args.workdir, name + ".h5")
+        open(nml, "w").write(text)
+        if args.rerun or not os.path.exists(h5):
+            t0 = time.time()
+            with open(os.path.join(args.workdir, name + ".log"), "w") as log:
+                rc = subprocess.run(["mpirun", "--oversubscribe", "-n", str(args.ranks), args.bin, nml],
+                                    env=env, stdout=log, stderr=subprocess.STDOUT).returncode
+            print(f"{name}: exit code {rc}, {time.time() - t0:.0f} s", flush=True)
+        s, q = curve(h5)
+        band = (s >= 0.05) & (s <= 0.15)
+        rows.append((cpm, s, q, q[band].mean(), q[band].min(), q[band].max()))
+    print(f"| h (m) | q/c, mean over settlement 5-15 % of B | range | against 2 + pi = {PRANDTL:.3f} |")
+    print("|---|---|---|---|")
+    for cpm, s, q, mean, lo, hi in rows:
+        print(f"| {1.0 / cpm:.3f} | {mean:.3f} | {lo:.2f} - {hi:.2f} | {mean / PRANDTL - 1.0:+.1%} |")
+    if args.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6.4, 4.2))
+        for cpm, s, q, *_ in rows:
+            ax.plot(s, q, label=f"h = {1.0 / cpm:.3f} m")
+        ax.axhline(PRANDTL, color="k", ls="--", lw=0.8, label="Prandtl 2 + π")
+        ax.set_xlabel("settlement / B")
+        ax.set_ylabel("q / c")
+        ax.set_title("Rigid strip footing on Tresca soil")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(args.plot, dpi=120)
+        print(f"figure: {args.plot}")
+
+
+if __name__ == "__main__":
+    main()

@@ -44,6 +44,7 @@ SCENES = {
     "default": 0.1,
     "dry_block_2d": 0.05,
     "footing_dry_2d": 0.05,
+    "footing_prandtl_2d": 0.2,
     "incline_slide_2d": 0.1,
     "loaded_block_2d": 0.05,
     "mms": 0.02,

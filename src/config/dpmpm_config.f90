@@ -35,7 +35,7 @@ module dpmpm_config
   !> One &material group.
   type :: material_cfg_t
     integer :: id = 1
-    !> linear_elastic | neo_hookean | fluid | mohr_coulomb | drucker_prager
+    !> linear_elastic | neo_hookean | fluid | mohr_coulomb | drucker_prager | rigid
     character(len=name_len) :: model = 'linear_elastic'
     real(wp) :: density = 1000.0_wp          !< kg/m^3 (grain density of a soil, intrinsic)
     real(wp) :: youngs_modulus = 1.0e6_wp    !< Pa (of the skeleton)
@@ -52,6 +52,7 @@ module dpmpm_config
     real(wp) :: cohesion_softening = 0.0_wp  !< Pa, h in c = max(c_res, c0 - h epsp)
     real(wp) :: residual_cohesion = 0.0_wp   !< Pa, c_res
     character(len=name_len) :: dp_match = 'plane_strain' !< plane_strain | outer | inner
+    real(wp) :: velocity(3) = 0.0_wp         !< m/s, model rigid: the body's prescribed velocity
   end type material_cfg_t
 
   !> One &region group: a box or a 2D polygon filled with points of one material.

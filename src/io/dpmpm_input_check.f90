@@ -131,13 +131,20 @@ contains
     do k = 1, size(cfg%materials)
       associate (m => cfg%materials(k))
         if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean', &
-                                  'fluid', 'mohr_coulomb', 'drucker_prager'])) &
+                                  'fluid', 'mohr_coulomb', 'drucker_prager', 'rigid'])) &
           call add_value(pb, g_material, k, 'model', quote(m%model), &
                          'the models are linear_elastic, neo_hookean, fluid, mohr_coulomb, '// &
-                         'drucker_prager')
+                         'drucker_prager, rigid')
         if (.not. real_ok(m%density, gt=0.0_wp)) call add_value(pb, g_material, k, 'density', &
           rtoa(m%density), 'must be > 0 (kg/m^3)')
-        if (m%model == 'fluid') then
+        call check_finite(pb, g_material, k, 'velocity', m%velocity)
+        if (any(m%velocity /= 0.0_wp) .and. m%model /= 'rigid') call add_value(pb, g_material, &
+          k, 'velocity', rtoa_list(m%velocity), "only a rigid body (model = 'rigid') has a "// &
+          'prescribed velocity; give a moving body its initial velocity in &region velocity')
+        if (m%model == 'rigid') then
+          ! A rigid body: only density and velocity matter.
+          call check_rigid(pb, cfg, k)
+        else if (m%model == 'fluid') then
           ! A linear compressible fluid: only density and bulk_modulus matter.
           if (.not. real_ok(m%bulk_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
             'bulk_modulus', rtoa(m%bulk_modulus), 'must be > 0 (Pa) for a fluid')
@@ -500,6 +507,29 @@ contains
       end if
     end associate
   end subroutine check_geostatic
+
+  !> A rigid body (material k, model rigid; doc/theory.md 6.8): in scenes of one phase,
+  !> with Standard MPM or B-spline grid functions at the points (not Gauss quadrature),
+  !> in solid regions without porosity.
+  subroutine check_rigid(pb, cfg, k)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    integer :: r
+    if (cfg%quadrature == 'gauss') call add_value(pb, g_material, k, 'model', "'rigid'", &
+      "a rigid body needs quadrature = 'points' (the Gauss points of cells it shares with "// &
+      'the soil would mix its stress, zero, into the soil''s)')
+    if (.not. allocated(cfg%regions)) return
+    if (any(cfg%regions%phase == 'fluid' .or. cfg%regions%phase == 'saturated')) &
+      call add_value(pb, g_material, k, 'model', "'rigid'", 'rigid bodies act in scenes of '// &
+                     'one phase (dry soil, solids); this scene has fluid or saturated regions')
+    do r = 1, size(cfg%regions)
+      if (cfg%regions(r)%material /= cfg%materials(k)%id) cycle
+      if (trim(cfg%regions(r)%phase) /= 'solid' .or. cfg%regions(r)%porosity /= 0.0_wp) &
+        call add_value(pb, g_region, r, 'material', itoa(cfg%regions(r)%material), &
+                       'a rigid material fills solid regions without porosity')
+    end do
+  end subroutine check_rigid
 
   !> Check the porosity of solid region k: 0 for a body that is not porous (a footing, a
   !> wall), in (0, 1) for dry soil; dry soil in a scene with a fluid needs a conductivity

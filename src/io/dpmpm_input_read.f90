@@ -380,12 +380,12 @@ contains
     character(len=name_len) :: model, dp_match, conductivity_law
     real(wp) :: density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity
     real(wp) :: friction_angle, dilatancy_angle, cohesion, tensile_strength, cohesion_softening, &
-                residual_cohesion
+                residual_cohesion, velocity(3)
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     namelist /material/ id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, &
       conductivity, conductivity_law, friction_angle, dilatancy_angle, cohesion, &
-      tensile_strength, cohesion_softening, residual_cohesion, dp_match
+      tensile_strength, cohesion_softening, residual_cohesion, dp_match, velocity
     allocate (list(pb%count(g_material)))
     n = 0
     ok = .true.
@@ -397,7 +397,7 @@ contains
       friction_angle = def%friction_angle; dilatancy_angle = def%dilatancy_angle
       cohesion = def%cohesion; tensile_strength = def%tensile_strength
       cohesion_softening = def%cohesion_softening; residual_cohesion = def%residual_cohesion
-      dp_match = def%dp_match
+      dp_match = def%dp_match; velocity = def%velocity
       read (records(first_record(pb, g_material, k):), nml=material, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=material)
@@ -415,7 +415,8 @@ contains
                                friction_angle=friction_angle, dilatancy_angle=dilatancy_angle, &
                                cohesion=cohesion, tensile_strength=tensile_strength, &
                                cohesion_softening=cohesion_softening, &
-                               residual_cohesion=residual_cohesion, dp_match=dp_match)
+                               residual_cohesion=residual_cohesion, dp_match=dp_match, &
+                               velocity=velocity)
     end do
     cfg%materials = list(1:n)
   end subroutine read_materials

@@ -9,7 +9,7 @@ module dpmpm_materials
   implicit none
   private
   public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
-  public :: model_mohr_coulomb, model_drucker_prager, is_plastic
+  public :: model_mohr_coulomb, model_drucker_prager, model_rigid, is_plastic
   public :: materials_from_config, stress_update, strain_energy, wave_speed
   public :: voigt_to_tensor, tensor_to_voigt
 
@@ -17,6 +17,8 @@ module dpmpm_materials
   !> Elasto-plastic soils (dpmpm_plasticity): linear elastic with the Jaumann rate, then a
   !> return to the Mohr-Coulomb or Drucker-Prager surface.
   integer, parameter :: model_mohr_coulomb = 4, model_drucker_prager = 5
+  !> A rigid body moving at a prescribed velocity (dpmpm_rigid): no stress, no wave.
+  integer, parameter :: model_rigid = 6
 
   !> Parameters of one material, with the derived elastic constants.
   type :: material_t
@@ -30,6 +32,7 @@ module dpmpm_materials
     real(wp) :: conductivity = 0.0_wp   !< hydraulic conductivity of a soil (m/s), 0 = none
     logical :: kozeny_carman = .false.  !< k follows the porosity (Kozeny-Carman)
     type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
+    real(wp) :: velocity(3) = 0.0_wp    !< rigid: the prescribed velocity of the body (m/s)
   end type material_t
 
 contains
@@ -48,6 +51,8 @@ contains
       m = model_mohr_coulomb
     case ('drucker_prager')
       m = model_drucker_prager
+    case ('rigid')
+      m = model_rigid
     case default
       m = 0
     end select
@@ -88,6 +93,11 @@ contains
       if (mats(k)%model == model_fluid) then
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
         mats(k)%bulk = cfgs(k)%bulk_modulus
+      end if
+      if (mats(k)%model == model_rigid) then
+        ! no stress (stress_update and strain_energy leave it out) and no wave to resolve
+        mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
+        mats(k)%velocity = cfgs(k)%velocity
       end if
     end do
   end subroutine materials_from_config

@@ -8,7 +8,7 @@ module dpmpm_energy
   use dpmpm_diagnostics, only: diag_record_t
   use dpmpm_particles, only: particle_set_t
   use dpmpm_materials, only: strain_energy, model_fluid
-  use dpmpm_verification_log, only: record_benchmark_errors
+  use dpmpm_verification_log, only: record_benchmark_errors, record_drive
   use dpmpm_state, only: state_t, exit_monitor
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM, MPI_MAX, MPI_Wtime, &
                      MPI_MAXLOC, MPI_2DOUBLE_PRECISION, MPI_Bcast
@@ -75,6 +75,7 @@ contains
     if (self%energy_scale > 0.0_wp) self%energy_drift = self%energy_error/self%energy_scale
     call monitor_energy(self, s(1), s(2), s(3) + s(9), s(9), fm)
     if (self%cfg%benchmark /= 'none') call record_benchmark_errors(self)
+    if (self%has_rigid) call record_drive(self)
   end subroutine diagnostics
 
   !> Largest value over this rank's points of monitored field m: 1 speed of the

@@ -12,7 +12,8 @@ module dpmpm_simulation
   use dpmpm_mls, only: mls_stats_t, basis_size, packed_size
   use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components
   use dpmpm_generate, only: generate_points
-  use dpmpm_materials, only: materials_from_config, model_neo_hookean, model_fluid, is_plastic
+  use dpmpm_materials, only: materials_from_config, model_neo_hookean, model_fluid, model_rigid, is_plastic
+  use dpmpm_rigid, only: hold_rigid_points
   use dpmpm_output, only: output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
   use dpmpm_scene_check, only: check_scene_points
@@ -88,6 +89,9 @@ contains
     self%mon_balance = 0.0_wp
     self%mon_warned = .false.
     self%box_known = .false.
+    self%drive_impulse = 0.0_wp
+    self%drive_t0 = 0.0_wp
+    self%ndrive = 0
     self%cut_time = -1.0_wp
     self%mon_prev = 0.0_wp
     self%energy0 = 0.0_wp
@@ -147,6 +151,16 @@ contains
     call self%mirror%init(self%nd, self%grid%ncells, self%dec%gw, self%dec%alo, self%dec%ahi)
     self%phase(1)%bc = self%grid%bc
     if (self%two_phase) self%phase(2)%bc = fluid_mirror_bc(self%nd, self%fbc, self%grid%bc)
+    self%has_rigid = any(self%mats%model == model_rigid)
+    if (self%has_rigid) then
+      allocate (self%rnode(1 + self%nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                           self%dec%alo(3):self%dec%ahi(3)), self%drive_hist(4, 64))
+      self%rnode = 0.0_wp
+      ! Rigid bodies move at their velocity from the start (a restart keeps the stored one).
+      if (len_trim(cfg%restart) == 0) call hold_rigid_points(self%nd, self%phase(1)%pts%n, &
+                                                             self%phase(1)%pts%mat, self%mats, &
+                                                             self%phase(1)%pts%v)
+    end if
 
     ntot = self%phase(1)%pts%n
     call MPI_Allreduce(MPI_IN_PLACE, ntot, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
@@ -488,6 +502,12 @@ contains
       'largest (kinetic + stored) / (work + initial) ', self%mon_ratio, ', largest balance error ', &
       self%mon_balance, ' (doc/verification.md, "Long runs")'
     call self%log%info(line)
+    if (self%has_rigid .and. self%ndrive > 0) then
+      write (line, '(a,es11.4,a,3es12.4,a)') '  rigid drive: mean force over the last record (t = ', &
+        self%drive_hist(1, self%ndrive), ' s) ', self%drive_hist(2:4, self%ndrive), &
+        ' N (per metre of depth in 2D); history in /verification/drive_*'
+      call self%log%info(line)
+    end if
     nwall = self%nwall
     call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
     if (nwall > 0) call self%log%info('  points put back inside a wall they had crossed: '// &
@@ -671,6 +691,9 @@ contains
     self%nph = 1
     call self%dec%free()
     if (allocated(self%nporo)) deallocate (self%nporo)
+    if (allocated(self%rnode)) deallocate (self%rnode)
+    if (allocated(self%drive_hist)) deallocate (self%drive_hist)
+    self%has_rigid = .false.
     if (allocated(self%ndrag)) deallocate (self%ndrag)
     if (allocated(self%occ)) deallocate (self%occ)
     if (allocated(self%occ2)) deallocate (self%occ2)

@@ -71,6 +71,14 @@ module dpmpm_state
     !> (box_known false) before the first step: the whole block.
     integer :: wlo(3) = 0, whi(3) = -1, zlo(3) = 0, zhi(3) = -1
     logical :: box_known = .false.
+    !> Rigid bodies (dpmpm_rigid): their share of the node fields (mass, momentum), the
+    !> drive's impulse on this rank since the last diagnostics record and the time of that
+    !> record, and the mean drive force over each interval (time, force(3)) for the output.
+    logical :: has_rigid = .false.
+    real(wp), allocatable :: rnode(:, :, :, :)
+    real(wp) :: drive_impulse(3) = 0.0_wp, drive_t0 = 0.0_wp
+    real(wp), allocatable :: drive_hist(:, :)
+    integer :: ndrive = 0
     real(wp) :: time = 0.0_wp
     real(wp) :: dt = 0.0_wp
     !> work of gravity and tractions on this rank, minus the energy dissipated by drag

@@ -28,6 +28,7 @@ module dpmpm_step
                                  fluid_pressure_step, fluid_state
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
   use dpmpm_time_step, only: report_governing
+  use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_PROC_NULL, operator(/=)
   implicit none
   private
@@ -167,6 +168,7 @@ contains
       call nodal_update(nd, self%dec%alo, blo, bhi, self%phase(solid_phase)%node, &
                         gravity_now(self), self%faces, self%time, dt, self%phase(solid_phase)%nvel, &
                         self%ext_work, damping_now(self), self%drag_loss)
+      if (self%has_rigid) call drive_rigid(self, dt)
       call self%timers%toc(t_nodal)
     else
       ! Porosity and 1/k of the porous skeleton at the nodes, then at the fluid points
@@ -229,6 +231,8 @@ contains
                  dt, ps%v, ps%x, ph%vgrad, gradient=self%cfg%scheme /= 'musl')
       end associate
     end do
+    if (self%has_rigid) call hold_rigid_points(nd, ns, self%phase(solid_phase)%pts%mat, self%mats, &
+                                               self%phase(solid_phase)%pts%v)
     if (self%cfg%scheme == 'musl') then
       call musl_remap(self, dt)
     else if (coupled) then
@@ -416,6 +420,7 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :)
+    real(wp) :: fdummy(3), wdummy
     integer :: ip, nd
     logical :: coupled
     logical :: locked
@@ -437,6 +442,12 @@ contains
     do ip = 1, self%nph
       call remap_velocities(self, self%phase(ip))
     end do
+    if (self%has_rigid) then
+      ! the nodes of rigid bodies move with them in the remapped field too
+      fdummy = 0.0_wp; wdummy = 0.0_wp
+      call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
+                             self%rnode, self%grid, dt, self%phase(solid_phase)%nvel, .false., fdummy, wdummy)
+    end if
     if (coupled) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, s%node, f%node, &
@@ -511,6 +522,27 @@ contains
     call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
                               ph%node, self%grid, ph%bc, ph%nvel)
   end subroutine remap_velocities
+
+  !> Rigid bodies (dpmpm_rigid, doc/theory.md 6.8): their share of the node fields,
+  !> folded at mirror walls and summed over the ranks, then every owned node they
+  !> reach moves with them; the force and work that takes go to the drive's impulse and
+  !> the external work.
+  subroutine drive_rigid(self, dt)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    real(wp) :: force(3)
+    associate (s => self%phase(solid_phase))
+      self%rnode = 0.0_wp
+      call rigid_p2g(self%nd, s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%pts%mass, s%pts%mat, self%mats, &
+                     self%dec%alo, self%rnode)
+      call self%mirror%fold(self%rnode, 1, self%grid%bc)
+      call self%dec%halo_sum(self%rnode)
+      force = 0.0_wp
+      call drive_rigid_nodes(self%nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, self%rnode, &
+                             self%grid, dt, s%nvel, .true., force, self%ext_work)
+      self%drive_impulse = self%drive_impulse + dt*force
+    end associate
+  end subroutine drive_rigid
 
   !> The node box of this step (wlo..whi): the stencils of every phase's points (a
   !> fluid point writes into the solid's fields too), widened by the ghost width for

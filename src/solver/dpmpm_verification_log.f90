@@ -7,11 +7,11 @@ module dpmpm_verification_log
   use dpmpm_benchmarks, only: benchmark_errors, benchmark_error_names, benchmark_nerr, nbench_err
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_state, only: state_t
-  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_SUM
+  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_DOUBLE_PRECISION, MPI_SUM
   implicit none
   private
   public :: two_phase_benchmark, record_two_phase_errors, record_benchmark_errors, write_verification, &
-            report_mls
+            report_mls, record_drive
 
 contains
 
@@ -95,7 +95,31 @@ contains
       call self%out%write_verification_attr('wall_time_step_loop', self%timers%acc(t_total))
     end if
     if (self%write_output .and. two_phase_benchmark(self)) call write_two_phase_verification(self)
+    if (self%write_output .and. self%has_rigid .and. self%ndrive > 0) then
+      call self%out%write_verification('drive_time', self%drive_hist(1, 1:self%ndrive))
+      call self%out%write_verification('drive_force_x', self%drive_hist(2, 1:self%ndrive))
+      if (self%nd > 1) call self%out%write_verification('drive_force_y', self%drive_hist(3, 1:self%ndrive))
+      if (self%nd > 2) call self%out%write_verification('drive_force_z', self%drive_hist(4, 1:self%ndrive))
+    end if
   end subroutine write_verification
+
+  !> The mean force of the rigid bodies' drive since the last record (collective): the
+  !> impulse summed over the ranks over the time since then, kept with the record's time
+  !> for /verification (drive_time, drive_force_x|y|z) and logged at the end of the run.
+  subroutine record_drive(self)
+    class(state_t), intent(inout) :: self
+    real(wp) :: f(3)
+    f = self%drive_impulse
+    call MPI_Allreduce(MPI_IN_PLACE, f, 3, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    if (self%time > self%drive_t0) then
+      f = f/(self%time - self%drive_t0)
+    else
+      f = 0.0_wp
+    end if
+    call append_record(self%drive_hist, self%ndrive, [self%time, f])
+    self%drive_impulse = 0.0_wp
+    self%drive_t0 = self%time
+  end subroutine record_drive
 
   !> Log how often each MLS path was taken (summed over ranks) and store the
   !> counts as attributes of /verification when the run writes one.

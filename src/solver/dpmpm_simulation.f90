@@ -156,6 +156,8 @@ contains
       allocate (self%rnode(1 + self%nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                            self%dec%alo(3):self%dec%ahi(3)), self%drive_hist(4, 64))
       self%rnode = 0.0_wp
+      ! the drive's first interval begins at the start (a restart: at its time)
+      self%drive_t0 = merge(self%time, 0.0_wp, len_trim(cfg%restart) > 0)
       ! Rigid bodies move at their velocity from the start (a restart keeps the stored one).
       if (len_trim(cfg%restart) == 0) call hold_rigid_points(self%nd, self%phase(1)%pts%n, &
                                                              self%phase(1)%pts%mat, self%mats, &

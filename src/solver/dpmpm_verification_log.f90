@@ -109,6 +109,8 @@ contains
   subroutine record_drive(self)
     class(state_t), intent(inout) :: self
     real(wp) :: f(3)
+    ! No interval yet: the record at a restart's start would read 0 (at t = 0 it is 0).
+    if (self%time <= self%drive_t0 .and. self%time > 0.0_wp) return
     f = self%drive_impulse
     call MPI_Allreduce(MPI_IN_PLACE, f, 3, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
     if (self%time > self%drive_t0) then

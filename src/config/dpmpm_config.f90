@@ -99,6 +99,8 @@ module dpmpm_config
     real(wp) :: duration = 0.0_wp                    !< s the sine lasts; 0 = for ever
     real(wp) :: times(max_table) = -1.0_wp           !< s (table; the entries >= 0, increasing)
     real(wp) :: factors(max_table) = 0.0_wp          !< the factor at each time (table)
+    !> on the body's surface seen from face (its outermost nodes), not on the grid face
+    logical :: surface = .false.
   end type load_cfg_t
 
   !> All parameters of a run.

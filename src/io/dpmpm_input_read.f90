@@ -653,18 +653,19 @@ contains
     character(len=name_len) :: face, time_function
     real(wp) :: traction(3), ramp_time, lo(3), hi(3), frequency, duration
     real(wp) :: times(max_table), factors(max_table)
+    logical :: surface
     integer :: k, n, f, ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     namelist /load/ face, traction, ramp_time, lo, hi, time_function, frequency, duration, times, &
-      factors
+      factors, surface
     allocate (list(pb%count(g_load)))
     n = 0
     ok = .true.
     do k = 1, size(list)
       face = ''; traction = def%traction; ramp_time = def%ramp_time; lo = def%lo; hi = def%hi
       time_function = def%time_function; frequency = def%frequency; duration = def%duration
-      times = def%times; factors = def%factors
+      times = def%times; factors = def%factors; surface = def%surface
       read (records(first_record(pb, g_load, k):), nml=load, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=load)
@@ -684,7 +685,7 @@ contains
       n = k
       list(k) = load_cfg_t(face=f, traction=traction, ramp_time=ramp_time, lo=lo, hi=hi, &
                            time_function=lower(time_function), frequency=frequency, &
-                           duration=duration, times=times, factors=factors)
+                           duration=duration, times=times, factors=factors, surface=surface)
     end do
     cfg%loads = list(1:n)
   end subroutine read_loads

@@ -37,6 +37,12 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, nreg, size(nreg), MPI_INTEGER8, MPI_SUM, comm)
     allocate (nload(size(cfg%loads)))
     do l = 1, size(cfg%loads)
+      if (cfg%loads(l)%surface) then
+        ! on the body's surface: any solid point under lo..hi
+        nload(l) = points_next_to_face(grid, cfg%loads(l)%face, solid, cfg%loads(l)%lo, cfg%loads(l)%hi, &
+                                       anywhere=.true.)
+        cycle
+      end if
       nload(l) = points_next_to_face(grid, cfg%loads(l)%face, solid, cfg%loads(l)%lo, cfg%loads(l)%hi)
       if (present(fluid)) nload(l) = nload(l) + points_next_to_face(grid, cfg%loads(l)%face, fluid, &
                                                                     cfg%loads(l)%lo, cfg%loads(l)%hi)
@@ -64,6 +70,12 @@ contains
       do l = 1, size(nload)
         if (nload(l) > 0) cycle
         f = cfg%loads(l)%face
+        if (cfg%loads(l)%surface) then
+          call report(cfg, '&load'//which(l, size(nload))//' face = '''//face_names(f)// &
+                      ''', surface = .true.: no point of the body lies within lo..hi along the '// &
+                      'face, so the traction would act on nothing; move lo..hi over the body')
+          cycle
+        end if
         call report(cfg, '&load'//which(l, size(nload))//' face = '''//face_names(f)// &
                     ''': the body does not touch face '//face_names(f)//' (no point in the '// &
                     'layer of cells next to it, or next to lo..hi on it), so the traction '// &
@@ -98,14 +110,15 @@ contains
       trim(text)
   end subroutine report
 
-  !> Points of ps in the layer of cells next to grid face f (on this rank); with lo, hi,
-  !> only those within a cell of lo..hi along each axis of the face where hi > lo (the
-  !> part of the face a &load acts on).
-  integer(i8) function points_next_to_face(grid, f, ps, lo, hi) result(n)
+  !> Points of ps in the layer of cells next to grid face f (on this rank), or at any
+  !> distance from it with anywhere; with lo, hi, only those within a cell of lo..hi along
+  !> each axis of the face where hi > lo (the part of the face a &load acts on).
+  integer(i8) function points_next_to_face(grid, f, ps, lo, hi, anywhere) result(n)
     type(grid_t), intent(in) :: grid
     integer, intent(in) :: f
     type(particle_set_t), intent(in) :: ps
     real(wp), intent(in), optional :: lo(3), hi(3)
+    logical, intent(in), optional :: anywhere
     integer :: p, d, t, c(3), layer
     logical :: near
     d = (f + 1)/2
@@ -113,7 +126,7 @@ contains
     n = 0
     do p = 1, ps%n
       c = cell_of(grid%origin, grid%h, ps%x(:, p), grid%ndim)
-      if (c(d) /= layer) cycle
+      if (c(d) /= layer .and. .not. present(anywhere)) cycle
       near = .true.
       if (present(lo)) then
         do t = 1, grid%ndim

@@ -12,7 +12,7 @@ module dpmpm_face_loads
   use dpmpm_kernels, only: bspline_1d
   implicit none
   private
-  public :: face_loads_t, ramp_factor
+  public :: face_loads_t, ramp_factor, load_factor, load_area
 
   !> The loaded faces of a scene: tractions, pore-fluid conditions and pressures.
   type :: face_loads_t
@@ -171,6 +171,7 @@ contains
     real(wp) :: w
     fext = 0.0_wp
     do l = 1, size(self%loads)
+      if (self%loads(l)%surface) cycle     ! on the body's surface: surface_forces
       f = self%loads(l)%face
       w = face_weight(self, idx, f, self%grid%bc)
       if (w == 0.0_wp) cycle

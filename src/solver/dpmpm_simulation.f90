@@ -151,6 +151,13 @@ contains
     call self%mirror%init(self%nd, self%grid%ncells, self%dec%gw, self%dec%alo, self%dec%ahi)
     self%phase(1)%bc = self%grid%bc
     if (self%two_phase) self%phase(2)%bc = fluid_mirror_bc(self%nd, self%fbc, self%grid%bc)
+    self%has_surface_loads = .false.
+    if (allocated(cfg%loads)) self%has_surface_loads = any(cfg%loads%surface)
+    if (self%has_surface_loads) then
+      allocate (self%sforce(self%nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                            self%dec%alo(3):self%dec%ahi(3)))
+      self%sforce = 0.0_wp
+    end if
     self%has_rigid = any(self%mats%model == model_rigid)
     if (self%has_rigid) then
       allocate (self%rnode(1 + self%nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
@@ -694,6 +701,8 @@ contains
     call self%dec%free()
     if (allocated(self%nporo)) deallocate (self%nporo)
     if (allocated(self%rnode)) deallocate (self%rnode)
+    if (allocated(self%sforce)) deallocate (self%sforce)
+    self%has_surface_loads = .false.
     if (allocated(self%drive_hist)) deallocate (self%drive_hist)
     self%has_rigid = .false.
     if (allocated(self%ndrag)) deallocate (self%ndrag)

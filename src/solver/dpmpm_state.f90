@@ -75,6 +75,9 @@ module dpmpm_state
     !> drive's impulse on this rank since the last diagnostics record and the time of that
     !> record, and the mean drive force over each interval (time, force(3)) for the output.
     logical :: has_rigid = .false.
+    !> &load surface = .true. (dpmpm_surface_loads): their nodal forces this step
+    logical :: has_surface_loads = .false.
+    real(wp), allocatable :: sforce(:, :, :, :)
     real(wp), allocatable :: rnode(:, :, :, :)
     real(wp) :: drive_impulse(3) = 0.0_wp, drive_t0 = 0.0_wp
     real(wp), allocatable :: drive_hist(:, :)

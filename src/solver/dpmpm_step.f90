@@ -29,6 +29,7 @@ module dpmpm_step
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
   use dpmpm_time_step, only: report_governing
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points
+  use dpmpm_surface_loads, only: surface_forces
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_PROC_NULL, operator(/=)
   implicit none
   private
@@ -158,6 +159,15 @@ contains
 
     ! 4. Nodal update: MLS nodal velocities, then each phase alone or both with drag.
     call self%timers%tic(t_nodal)
+    if (self%has_surface_loads) then
+      ! Tractions on the body's surface inside the grid join the nodal forces of the solid.
+      associate (s => self%phase(solid_phase)%node, olo => self%dec%olo, ohi => self%dec%ohi)
+        call surface_forces(self%faces, self%time, nd, self%dec%alo, olo, ohi, s, self%dec%comm, self%sforce)
+        s(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = &
+          s(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) + &
+          self%sforce(1:nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3))
+      end associate
+    end if
     if (self%plan%velocity_mls) then
       do ip = 1, self%nph
         call velocity_solve(nd, self%plan%velocity_basis, self%dec%alo, self%dec%olo, self%dec%ohi, &
@@ -212,6 +222,9 @@ contains
       end associate
       call self%timers%toc(t_nodal)
     end if
+
+    ! The work of the surface loads over the step (their nodes' mean velocity).
+    if (self%has_surface_loads) call surface_work(self, dt)
 
     ! 5. Forward halo exchange, and the exterior nodes from their mirror images.
     call self%timers%tic(t_halo)
@@ -522,6 +535,26 @@ contains
     call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
                               ph%node, self%grid, ph%bc, ph%nvel)
   end subroutine remap_velocities
+
+  !> The work of the surface loads in this step, f . (v_old + v_new) dt / 2 at their
+  !> nodes, added to the external work.
+  subroutine surface_work(self, dt)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
+    integer :: i, j, k, nd
+    nd = self%nd
+    associate (v => self%phase(solid_phase)%nvel, olo => self%dec%olo, ohi => self%dec%ohi)
+      do k = olo(3), ohi(3)
+        do j = olo(2), ohi(2)
+          do i = olo(1), ohi(1)
+            if (all(self%sforce(1:nd, i, j, k) == 0.0_wp)) cycle
+            self%ext_work = self%ext_work + 0.5_wp*dt*dot_product(self%sforce(1:nd, i, j, k), &
+                                                                  v(1:nd, i, j, k) + v(nd + 1:2*nd, i, j, k))
+          end do
+        end do
+      end do
+    end associate
+  end subroutine surface_work
 
   !> Rigid bodies (dpmpm_rigid, doc/theory.md 6.8): their share of the node fields,
   !> folded at mirror walls and summed over the ranks, then every owned node they

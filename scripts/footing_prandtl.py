@@ -1,6 +1,11 @@
 #!/usr/bin/env python3
 """Bearing capacity of a rigid strip footing against Prandtl (inputs/footing_prandtl_2d.nml).
 
+With --phi the soil is Mohr-Coulomb with that friction angle (and, with associated flow
+as Prandtl's solution has it, the same dilatancy angle unless --psi says otherwise); the
+limit of a weightless soil is then q = c N_c with N_c = (N_q - 1) cot phi,
+N_q = exp(pi tan phi) tan^2(45 deg + phi/2); 2 + pi at phi = 0.
+
 Runs the scene with the binary BIN at the grid spacings of --cells-per-metre (the points
 per cell, the footing and the soil kept; the footing's nodes span half a cell more than
 the footing on each refinement), reads the drive force /verification/drive_force_y and
@@ -26,13 +31,23 @@ SCENE = os.path.join(ROOT, "inputs", "footing_prandtl_2d.nml")
 B = 1.0          #: footing width (m); the scene holds half of it
 C = 1.0e4        #: cohesion (Pa)
 V = 0.05         #: footing speed (m/s)
-PRANDTL = 2.0 + math.pi
 
 
-def scene(cpm, workdir):
+def prandtl_nc(phi_deg):
+    """Prandtl's bearing factor N_c of a weightless soil (2 + pi at phi = 0)."""
+    if phi_deg == 0.0:
+        return 2.0 + math.pi
+    phi = math.radians(phi_deg)
+    nq = math.exp(math.pi * math.tan(phi)) * math.tan(math.pi / 4 + phi / 2) ** 2
+    return (nq - 1.0) / math.tan(phi)
+
+
+def scene(cpm, workdir, phi, psi):
     text = open(SCENE).read()
-    name = f"prandtl_{cpm}"
+    name = f"prandtl_{cpm}" + (f"_phi{phi:g}_psi{psi:g}" if phi > 0 else "")
     for pat, rep in [(r"name = '[^']*'", f"name = '{name}'"),
+                     (r"friction_angle = 0\.0", f"friction_angle = {phi}"),
+                     (r"dilatancy_angle = 0\.0", f"dilatancy_angle = {psi}"),
                      (r"ncells = 50, 36", f"ncells = {5 * cpm}, {round(3.6 * cpm)}"),
                      (r"length = 5\.0, 3\.6", f"length = 5.0, {round(3.6 * cpm) / cpm:.4f}"),
                      (r"dir = '[^']*'", f"dir = '{workdir}'")]:
@@ -56,13 +71,17 @@ def main():
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--workdir", default="out/prandtl")
     ap.add_argument("--rerun", action="store_true")
+    ap.add_argument("--phi", type=float, default=0.0, help="friction angle (degrees)")
+    ap.add_argument("--psi", type=float, default=None, help="dilatancy angle (default: phi)")
     ap.add_argument("--plot")
     args = ap.parse_args()
     os.makedirs(args.workdir, exist_ok=True)
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    psi = args.phi if args.psi is None else args.psi
+    nc = prandtl_nc(args.phi)
     rows = []
     for cpm in args.cells_per_metre:
-        name, text = scene(cpm, args.workdir)
+        name, text = scene(cpm, args.workdir, args.phi, psi)
         nml = os.path.join(args.workdir, name + ".nml")
         h5 = os.path.join(args.workdir, name + ".h5")
         open(nml, "w").write(text)
@@ -75,10 +94,11 @@ def main():
         s, q = curve(h5)
         band = (s >= 0.05) & (s <= 0.10)
         rows.append((cpm, s, q, q[band].mean(), q[band].min(), q[band].max()))
-    print(f"| h (m) | q/c, mean over settlement 5-10 % of B | range | against 2 + pi = {PRANDTL:.3f} |")
+    print(f"phi = {args.phi} deg, psi = {psi} deg: Prandtl N_c = {nc:.3f}")
+    print(f"| h (m) | q/c, mean over settlement 5-10 % of B | range | against N_c = {nc:.3f} |")
     print("|---|---|---|---|")
     for cpm, s, q, mean, lo, hi in rows:
-        print(f"| {1.0 / cpm:.3f} | {mean:.3f} | {lo:.2f} - {hi:.2f} | {mean / PRANDTL - 1.0:+.1%} |")
+        print(f"| {1.0 / cpm:.3f} | {mean:.3f} | {lo:.2f} - {hi:.2f} | {mean / nc - 1.0:+.1%} |")
     if args.plot:
         import matplotlib
         matplotlib.use("Agg")
@@ -86,10 +106,10 @@ def main():
         fig, ax = plt.subplots(figsize=(6.4, 4.2))
         for cpm, s, q, *_ in rows:
             ax.plot(s, q, label=f"h = {1.0 / cpm:.3f} m")
-        ax.axhline(PRANDTL, color="k", ls="--", lw=0.8, label="Prandtl 2 + π")
+        ax.axhline(nc, color="k", ls="--", lw=0.8, label=f"Prandtl N_c = {nc:.2f}")
         ax.set_xlabel("settlement / B")
         ax.set_ylabel("q / c")
-        ax.set_title("Rigid strip footing on Tresca soil")
+        ax.set_title(f"Rigid strip footing, φ = {args.phi:g}°, ψ = {psi:g}°")
         ax.legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(args.plot, dpi=120)

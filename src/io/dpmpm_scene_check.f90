@@ -35,8 +35,13 @@ contains
     call MPI_Comm_rank(comm, rank)
     nreg = counts
     call MPI_Allreduce(MPI_IN_PLACE, nreg, size(nreg), MPI_INTEGER8, MPI_SUM, comm)
-    allocate (nload(size(cfg%loads)))
-    do l = 1, size(cfg%loads)
+    ! (a config_t built by hand may have no load list at all)
+    if (allocated(cfg%loads)) then
+      allocate (nload(size(cfg%loads)))
+    else
+      allocate (nload(0))
+    end if
+    do l = 1, size(nload)
       if (cfg%loads(l)%surface) then
         ! on the body's surface: any solid point under lo..hi
         nload(l) = points_next_to_face(grid, cfg%loads(l)%face, solid, cfg%loads(l)%lo, cfg%loads(l)%hi, &

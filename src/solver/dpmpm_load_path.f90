@@ -84,6 +84,9 @@ contains
       f = self%cfg%loads(k)%face
       if (f < 1 .or. f > 2*self%nd) cycle
       if (all(self%cfg%loads(k)%traction == 0.0_wp) .or. self%cut_time(f) >= 0.0_wp) cycle
+      ! A load on the body's surface follows the surface: points that left it (above the
+      ! load) are no part of its path.
+      if (self%cfg%loads(k)%surface) cycle
       d = (f + 1)/2
       nc = self%grid%ncells(d)
       x0 = self%grid%origin(d)

@@ -6,15 +6,13 @@ program test_loads
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, &
                      MPI_DOUBLE_PRECISION, MPI_SUM, MPI_Comm_rank
-  use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_roller, bc_fixed
   use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
   use dpmpm_kernels, only: kernel_from_name
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests, am_root
-  use dpmpm_kinds, only: i8
-  use dpmpm_config, only: bc_roller, bc_fixed
   implicit none
   integer :: status, rank
   call start_mpi()

@@ -31,7 +31,7 @@ contains
     real(wp), intent(inout) :: dissipated     !< energy taken by the local damping and wall friction
     integer :: i, j, k
     real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3), ffr(3), wf
-    logical :: fix(3), near
+    logical :: fix(3), near, rough
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
@@ -61,19 +61,22 @@ contains
           cd = 0.0_wp
           if (near) cd = faces%dashpot([i, j, k], .false.)
           if (any(cd(1:nd) > 0.0_wp)) vnew(1:nd) = vnew(1:nd)*m/(m + dt*cd(1:nd))
-          ffr = vnew
-          ! Friction of rough walls.
-          if (near .and. faces%grid%rough) call faces%grid%wall_friction([i, j, k], nd, fix, vnew - vold, vnew)
+          rough = near .and. faces%grid%rough
+          if (rough) then
+            ! Friction of rough walls: the force along the wall, m dv/dt.
+            ffr = vnew
+            call faces%grid%wall_friction([i, j, k], nd, fix, vnew - vold, vnew)
+            ffr = m*(vnew - ffr)/dt
+          end if
           where (fix) vold = 0.0_wp
           where (fix) vnew = 0.0_wp
           nvel(1:nd, i, j, k) = vold(1:nd)
           nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
           ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd) - cd(1:nd)*vnew(1:nd), &
                                                       vold(1:nd) + vnew(1:nd))
-          if (near .and. faces%grid%rough) then
-            ! The work of a rough wall's friction (m dv/dt; the normal force does none): in
-            ! ext_work and counted as dissipated, as the damping's.
-            ffr = m*(vnew - ffr)/dt
+          if (rough) then
+            ! The friction's work (the wall's normal force does none): in ext_work and
+            ! counted as dissipated, as the damping's.
             wf = 0.5_wp*dt*dot_product(ffr(1:nd), vold(1:nd) + vnew(1:nd))
             ext_work = ext_work + wf
             dissipated = dissipated - wf

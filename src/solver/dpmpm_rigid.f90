@@ -46,17 +46,16 @@ contains
 
   !> At the owned nodes olo..ohi that rigid points reach (rnode(1) > 0): the new
   !> velocity (nvel(nd+1:2nd)) becomes the bodies' (their mass-weighted mean where two
-  !> meet), except the components the grid's face conditions hold. With account, the
-  !> force that takes, m (v_r - v)/dt with m the node's whole mass (node(1)), is added
-  !> to force and its work, over the step's mean velocity, to work.
-  subroutine drive_rigid_nodes(nd, lo, olo, ohi, node, rnode, grid, dt, nvel, account, force, work)
+  !> meet), except the components the grid's face conditions hold. With force and work,
+  !> the force that takes, m (v_r - v)/dt with m the node's whole mass (node(1)), is
+  !> added to force and its work, over the step's mean velocity, to work.
+  subroutine drive_rigid_nodes(nd, lo, olo, ohi, node, rnode, grid, dt, nvel, force, work)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):), rnode(:, lo(1):, lo(2):, lo(3):)
     type(grid_t), intent(in) :: grid
     real(wp), intent(in) :: dt
     real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
-    logical, intent(in) :: account
-    real(wp), intent(inout) :: force(3), work
+    real(wp), intent(inout), optional :: force(3), work
     integer :: i, j, k
     real(wp) :: vr(3), f(3)
     logical :: fix(3)
@@ -68,7 +67,7 @@ contains
           vr(1:nd) = rnode(2:1 + nd, i, j, k)/rnode(1, i, j, k)
           fix = grid%constrained([i, j, k])
           where (fix) vr = 0.0_wp
-          if (account) then
+          if (present(force)) then
             f = 0.0_wp
             f(1:nd) = node(1, i, j, k)*(vr(1:nd) - nvel(nd + 1:2*nd, i, j, k))/dt
             force = force + f

@@ -433,7 +433,6 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :)
-    real(wp) :: fdummy(3), wdummy
     integer :: ip, nd
     logical :: coupled
     logical :: locked
@@ -455,12 +454,10 @@ contains
     do ip = 1, self%nph
       call remap_velocities(self, self%phase(ip))
     end do
-    if (self%has_rigid) then
-      ! the nodes of rigid bodies move with them in the remapped field too
-      fdummy = 0.0_wp; wdummy = 0.0_wp
-      call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
-                             self%rnode, self%grid, dt, self%phase(solid_phase)%nvel, .false., fdummy, wdummy)
-    end if
+    ! the nodes of rigid bodies move with them in the remapped field too
+    if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
+                                               self%phase(solid_phase)%node, self%rnode, self%grid, dt, &
+                                               self%phase(solid_phase)%nvel)
     if (coupled) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, s%node, f%node, &
@@ -572,7 +569,7 @@ contains
       call self%dec%halo_sum(self%rnode)
       force = 0.0_wp
       call drive_rigid_nodes(self%nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, self%rnode, &
-                             self%grid, dt, s%nvel, .true., force, self%ext_work)
+                             self%grid, dt, s%nvel, force, self%ext_work)
       self%drive_impulse = self%drive_impulse + dt*force
     end associate
   end subroutine drive_rigid
@@ -618,14 +615,12 @@ contains
       do d = 1, self%nd
         if (self%dec%nbr_lo(d) /= MPI_PROC_NULL) then
           lo(d) = alo(d); hi(d) = max(hi(d), self%dec%olo(d) + gw(d))
-          do e = 1, self%nd
-            if (e /= d) then
-              lo(e) = alo(e); hi(e) = ahi(e)
-            end if
-          end do
         end if
         if (self%dec%nbr_hi(d) /= MPI_PROC_NULL) then
           hi(d) = ahi(d); lo(d) = min(lo(d), self%dec%ohi(d) - gw(d))
+        end if
+        if (self%dec%nbr_lo(d) /= MPI_PROC_NULL .or. self%dec%nbr_hi(d) /= MPI_PROC_NULL) then
+          ! a neighbour's slab spans the block along the other axes
           do e = 1, self%nd
             if (e /= d) then
               lo(e) = alo(e); hi(e) = ahi(e)

@@ -47,23 +47,13 @@ contains
       mv(1:nd) = mass(p)*v(:, p)
       mb = 0.0_wp
       if (present(bacc)) mb(1:nd) = mass(p)*bacc(:, p)
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
-            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
-            fs = nn*mb - vol(p)*matmul(s, g)
-            node(1, i, j, k) = node(1, i, j, k) + nn*mass(p)
-            node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mv(1:nd)
-            node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + fs(1:nd)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      fs = nn*mb - vol(p)*matmul(s, g)
+      node(1, i, j, k) = node(1, i, j, k) + nn*mass(p)
+      node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mv(1:nd)
+      node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + fs(1:nd)
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine p2g
 
@@ -90,25 +80,15 @@ contains
     end if
     do p = 1, n
       dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
-            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
-            vn(1:nd) = vn(1:nd) + nn*nvel(nd + 1:2*nd, i, j, k)
-            dv(1:nd) = dv(1:nd) + nn*(nvel(nd + 1:2*nd, i, j, k) - nvel(1:nd, i, j, k))
-            if (.not. grad) cycle
-            lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
-            lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
-            lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      vn(1:nd) = vn(1:nd) + nn*nvel(nd + 1:2*nd, i, j, k)
+      dv(1:nd) = dv(1:nd) + nn*(nvel(nd + 1:2*nd, i, j, k) - nvel(1:nd, i, j, k))
+      if (.not. grad) cycle
+      lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
+      lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
+      lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+#include "dpmpm_stencil_end_3d.inc"
       v(:, p) = flip*(v(:, p) + dv(1:nd)) + (1.0_wp - flip)*vn(1:nd)
       x(:, p) = x(:, p) + dt*vn(1:nd)
       if (.not. grad) cycle
@@ -128,28 +108,19 @@ contains
     real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: vgrad(:, :)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: g(3), lg(3, 3)
+    real(wp) :: nn, g(3), lg(3, 3)
     if (nd == 2) then
       call point_gradient_2d(nw, n, i0, sw, sdw, lo, nvel, vgrad)
       return
     end if
     do p = 1, n
       lg = 0.0_wp
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
-            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
-            lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
-            lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
-            lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
+      lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
+      lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+#include "dpmpm_stencil_end_3d.inc"
       vgrad(1:3, p) = lg(:, 1)
       vgrad(4:6, p) = lg(:, 2)
       vgrad(7:9, p) = lg(:, 3)
@@ -171,17 +142,9 @@ contains
       return
     end if
     do p = 1, n
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+      node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine momentum_p2g
 
@@ -202,24 +165,15 @@ contains
     real(wp), contiguous, intent(in) :: nvel_f(:, lo(1):, lo(2):, lo(3):), nvel_s(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(out) :: gnrel(:)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: g(3), np
+    real(wp) :: nn, g(3), np
     do p = 1, n
       np = poro(p)
       gnrel(p) = 0.0_wp
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
-            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
-            gnrel(p) = gnrel(p) + (nporo(1, i, j, k) - np)* &
-                       dot_product(g(1:nd), nvel_f(nd + 1:2*nd, i, j, k) - nvel_s(nd + 1:2*nd, i, j, k))
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      gnrel(p) = gnrel(p) + (nporo(1, i, j, k) - np)* &
+                 dot_product(g(1:nd), nvel_f(nd + 1:2*nd, i, j, k) - nvel_s(nd + 1:2*nd, i, j, k))
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine mixture_flux
 
@@ -232,7 +186,7 @@ contains
     real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(out) :: val(:), grad(:, :)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: g(3)
+    real(wp) :: nn, g(3)
     if (nd == 2) then
       call interp_scalar_2d(nw, n, i0, sw, sdw, lo, f, val, grad)
       return
@@ -240,20 +194,11 @@ contains
     do p = 1, n
       val(p) = 0.0_wp
       grad(:, p) = 0.0_wp
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
-            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
-            val(p) = val(p) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(1, i, j, k)
-            grad(1:nd, p) = grad(1:nd, p) + g(1:nd)*f(1, i, j, k)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      val(p) = val(p) + nn*f(1, i, j, k)
+      grad(1:nd, p) = grad(1:nd, p) + g(1:nd)*f(1, i, j, k)
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine interp_scalar
 
@@ -267,18 +212,12 @@ contains
     integer, intent(in) :: comp
     real(wp), contiguous, intent(out) :: val(:)
     integer :: p, a, b, c, i, j, k
+    real(wp) :: nn
     do p = 1, n
       val(p) = 0.0_wp
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            val(p) = val(p) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(comp, i, j, k)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+      val(p) = val(p) + nn*f(comp, i, j, k)
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine interp_value
 
@@ -300,28 +239,13 @@ contains
     end if
     do p = 1, n
       v(1:nd) = 0.0_wp
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            v(1:nd) = v(1:nd) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(1:nd, i, j, k)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+      v(1:nd) = v(1:nd) + nn*f(1:nd, i, j, k)
+#include "dpmpm_stencil_end_3d.inc"
       v(1:nd) = mass(p)*v(1:nd)
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            node(1:nd, i, j, k) = node(1:nd, i, j, k) + nn*v(1:nd)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+      node(1:nd, i, j, k) = node(1:nd, i, j, k) + nn*v(1:nd)
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine project_p2g
 
@@ -335,29 +259,16 @@ contains
     integer :: p, a, b, i, j, k
     real(wp) :: nn, wb, v1, v2
     do p = 1, n
-      k = i0(3, p)
       v1 = 0.0_wp; v2 = 0.0_wp
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          nn = sw(a, 1, p)*wb
-          v1 = v1 + nn*f(1, i, j, k)
-          v2 = v2 + nn*f(2, i, j, k)
-        end do
-      end do
+#include "dpmpm_stencil_do_2d.inc"
+      v1 = v1 + nn*f(1, i, j, k)
+      v2 = v2 + nn*f(2, i, j, k)
+#include "dpmpm_stencil_end_2d.inc"
       v1 = mass(p)*v1; v2 = mass(p)*v2
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          nn = sw(a, 1, p)*wb
-          node(1, i, j, k) = node(1, i, j, k) + nn*v1
-          node(2, i, j, k) = node(2, i, j, k) + nn*v2
-        end do
-      end do
+#include "dpmpm_stencil_do_2d.inc"
+      node(1, i, j, k) = node(1, i, j, k) + nn*v1
+      node(2, i, j, k) = node(2, i, j, k) + nn*v2
+#include "dpmpm_stencil_end_2d.inc"
     end do
   end subroutine project_p2g_2d
 
@@ -384,25 +295,15 @@ contains
       pv = 0.0_wp
       if (point_forces) pv = vol(p)*pres(p)
       dp = mass(p)*poro(p)*gravity_drag*kinv(p)
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
-            if (.not. point_forces) cycle
-            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
-            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
-            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
-            node_f(2 + nd:1 + 2*nd, i, j, k) = node_f(2 + nd:1 + 2*nd, i, j, k) + &
-                                               pv*poro(p)*g(1:nd)
-            node_s(2 + nd:1 + 2*nd, i, j, k) = node_s(2 + nd:1 + 2*nd, i, j, k) + &
-                                               pv*(1.0_wp - poro(p))*g(1:nd)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+      drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
+      if (.not. point_forces) cycle
+#include "dpmpm_stencil_grad_3d.inc"
+      node_f(2 + nd:1 + 2*nd, i, j, k) = node_f(2 + nd:1 + 2*nd, i, j, k) + &
+                                         pv*poro(p)*g(1:nd)
+      node_s(2 + nd:1 + 2*nd, i, j, k) = node_s(2 + nd:1 + 2*nd, i, j, k) + &
+                                         pv*(1.0_wp - poro(p))*g(1:nd)
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine fluid_p2g
 
@@ -419,19 +320,12 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: force(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: f(3)
+    real(wp) :: nn, f(3)
     do p = 1, n
       f(1:nd) = vol(p)*pres(p)*ngrad(1:nd, p)
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            force(1:nd, i, j, k) = force(1:nd, i, j, k) + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*f(1:nd)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+      force(1:nd, i, j, k) = force(1:nd, i, j, k) + nn*f(1:nd)
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine interphase_p2g
 
@@ -445,22 +339,15 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: nn
+    real(wp) :: nn, nm
     do p = 1, n
       if (.not. poro(p) > 0.0_wp) cycle
-      do c = 1, nw(3)
-        k = i0(3, p) + c - 1
-        do b = 1, nw(2)
-          j = i0(2, p) + b - 1
-          do a = 1, nw(1)
-            i = i0(1, p) + a - 1
-            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*mass(p)
-            sporo(1, i, j, k) = sporo(1, i, j, k) + nn*poro(p)
-            sporo(2, i, j, k) = sporo(2, i, j, k) + nn
-            sporo(3, i, j, k) = sporo(3, i, j, k) + nn*kinv(p)
-          end do
-        end do
-      end do
+#include "dpmpm_stencil_do_3d.inc"
+      nm = nn*mass(p)
+      sporo(1, i, j, k) = sporo(1, i, j, k) + nm*poro(p)
+      sporo(2, i, j, k) = sporo(2, i, j, k) + nm
+      sporo(3, i, j, k) = sporo(3, i, j, k) + nm*kinv(p)
+#include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine solid_porosity_p2g
 
@@ -497,18 +384,11 @@ contains
         c1(4) = -vp*stress(1, p); c1(5) = -vp*stress(6, p)
         c2(4) = -vp*stress(6, p); c2(5) = -vp*stress(2, p)
       end if
-      k = i0(3, p)
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p); gb = sdw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          nn = sw(a, 1, p)*wb
-          g1 = sdw(a, 1, p)*wb
-          g2 = sw(a, 1, p)*gb
-          node(1:5, i, j, k) = node(1:5, i, j, k) + (nn*c0 + g1*c1 + g2*c2)
-        end do
-      end do
+#include "dpmpm_stencil_do_2d_grad.inc"
+      g1 = sdw(a, 1, p)*wb
+      g2 = sw(a, 1, p)*gb
+      node(1:5, i, j, k) = node(1:5, i, j, k) + (nn*c0 + g1*c1 + g2*c2)
+#include "dpmpm_stencil_end_2d.inc"
     end do
   end subroutine p2g_2d
 
@@ -526,23 +406,16 @@ contains
     do p = 1, n
       dv1 = 0.0_wp; dv2 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp
       l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
-      k = i0(3, p)
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p); gb = sdw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          nn = sw(a, 1, p)*wb
-          g1 = sdw(a, 1, p)*wb
-          g2 = sw(a, 1, p)*gb
-          v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
-          vn1 = vn1 + nn*v1; vn2 = vn2 + nn*v2
-          dv1 = dv1 + nn*(v1 - nvel(1, i, j, k)); dv2 = dv2 + nn*(v2 - nvel(2, i, j, k))
-          if (.not. gradient) cycle
-          l11 = l11 + v1*g1; l21 = l21 + v2*g1
-          l12 = l12 + v1*g2; l22 = l22 + v2*g2
-        end do
-      end do
+#include "dpmpm_stencil_do_2d_grad.inc"
+      g1 = sdw(a, 1, p)*wb
+      g2 = sw(a, 1, p)*gb
+      v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
+      vn1 = vn1 + nn*v1; vn2 = vn2 + nn*v2
+      dv1 = dv1 + nn*(v1 - nvel(1, i, j, k)); dv2 = dv2 + nn*(v2 - nvel(2, i, j, k))
+      if (.not. gradient) cycle
+      l11 = l11 + v1*g1; l21 = l21 + v2*g1
+      l12 = l12 + v1*g2; l22 = l22 + v2*g2
+#include "dpmpm_stencil_end_2d.inc"
       v(1, p) = flip*(v(1, p) + dv1) + (1.0_wp - flip)*vn1
       v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
       x(1, p) = x(1, p) + dt*vn1
@@ -561,22 +434,16 @@ contains
     real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: vgrad(:, :)
     integer :: p, a, b, i, j, k
-    real(wp) :: g1, g2, wb, gb, v1, v2, l11, l21, l12, l22
+    real(wp) :: nn, g1, g2, wb, gb, v1, v2, l11, l21, l12, l22
     do p = 1, n
       l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
-      k = i0(3, p)
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p); gb = sdw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          g1 = sdw(a, 1, p)*wb
-          g2 = sw(a, 1, p)*gb
-          v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
-          l11 = l11 + v1*g1; l21 = l21 + v2*g1
-          l12 = l12 + v1*g2; l22 = l22 + v2*g2
-        end do
-      end do
+#include "dpmpm_stencil_do_2d_grad.inc"
+      g1 = sdw(a, 1, p)*wb
+      g2 = sw(a, 1, p)*gb
+      v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
+      l11 = l11 + v1*g1; l21 = l21 + v2*g1
+      l12 = l12 + v1*g2; l22 = l22 + v2*g2
+#include "dpmpm_stencil_end_2d.inc"
       vgrad(:, p) = 0.0_wp
       vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
     end do
@@ -589,20 +456,14 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb, v1, v2
+    real(wp) :: nn, nm, wb, v1, v2
     do p = 1, n
       v1 = v(1, p); v2 = v(2, p)
-      k = i0(3, p)
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          nn = sw(a, 1, p)*wb*mass(p)
-          node(2, i, j, k) = node(2, i, j, k) + nn*v1
-          node(3, i, j, k) = node(3, i, j, k) + nn*v2
-        end do
-      end do
+#include "dpmpm_stencil_do_2d.inc"
+      nm = nn*mass(p)
+      node(2, i, j, k) = node(2, i, j, k) + nm*v1
+      node(3, i, j, k) = node(3, i, j, k) + nm*v2
+#include "dpmpm_stencil_end_2d.inc"
     end do
   end subroutine momentum_p2g_2d
 
@@ -614,21 +475,15 @@ contains
     real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(out) :: val(:), grad(:, :)
     integer :: p, a, b, i, j, k
-    real(wp) :: wb, gb, fn, s0, s1, s2
+    real(wp) :: nn, wb, gb, fn, s0, s1, s2
     do p = 1, n
       s0 = 0.0_wp; s1 = 0.0_wp; s2 = 0.0_wp
-      k = i0(3, p)
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p); gb = sdw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          fn = f(1, i, j, k)
-          s0 = s0 + sw(a, 1, p)*wb*fn
-          s1 = s1 + sdw(a, 1, p)*wb*fn
-          s2 = s2 + sw(a, 1, p)*gb*fn
-        end do
-      end do
+#include "dpmpm_stencil_do_2d_grad.inc"
+      fn = f(1, i, j, k)
+      s0 = s0 + nn*fn
+      s1 = s1 + sdw(a, 1, p)*wb*fn
+      s2 = s2 + sw(a, 1, p)*gb*fn
+#include "dpmpm_stencil_end_2d.inc"
       val(p) = s0
       grad(:, p) = 0.0_wp
       grad(1, p) = s1; grad(2, p) = s2
@@ -646,29 +501,23 @@ contains
     real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, i, j, k
-    real(wp) :: wb, gb, g1, g2, pv, dp, pf, ps
+    real(wp) :: nn, wb, gb, g1, g2, pv, dp, pf, ps
     do p = 1, n
       pv = 0.0_wp
       if (point_forces) pv = vol(p)*pres(p)
       pf = pv*poro(p)
       ps = pv*(1.0_wp - poro(p))
       dp = mass(p)*poro(p)*gravity_drag*kinv(p)
-      k = i0(3, p)
-      do b = 1, nw(2)
-        j = i0(2, p) + b - 1
-        wb = sw(b, 2, p); gb = sdw(b, 2, p)
-        do a = 1, nw(1)
-          i = i0(1, p) + a - 1
-          drag(1, i, j, k) = drag(1, i, j, k) + sw(a, 1, p)*wb*dp
-          if (.not. point_forces) cycle
-          g1 = sdw(a, 1, p)*wb
-          g2 = sw(a, 1, p)*gb
-          node_f(4, i, j, k) = node_f(4, i, j, k) + pf*g1
-          node_f(5, i, j, k) = node_f(5, i, j, k) + pf*g2
-          node_s(4, i, j, k) = node_s(4, i, j, k) + ps*g1
-          node_s(5, i, j, k) = node_s(5, i, j, k) + ps*g2
-        end do
-      end do
+#include "dpmpm_stencil_do_2d_grad.inc"
+      drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
+      if (.not. point_forces) cycle
+      g1 = sdw(a, 1, p)*wb
+      g2 = sw(a, 1, p)*gb
+      node_f(4, i, j, k) = node_f(4, i, j, k) + pf*g1
+      node_f(5, i, j, k) = node_f(5, i, j, k) + pf*g2
+      node_s(4, i, j, k) = node_s(4, i, j, k) + ps*g1
+      node_s(5, i, j, k) = node_s(5, i, j, k) + ps*g2
+#include "dpmpm_stencil_end_2d.inc"
     end do
   end subroutine fluid_p2g_2d
 

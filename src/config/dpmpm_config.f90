@@ -32,75 +32,23 @@ module dpmpm_config
   integer, parameter :: fbc_default = 0, fbc_drained = 1, fbc_impermeable = 2
   character(len=11), parameter :: fbc_names(0:2) = ['default    ', 'drained    ', 'impermeable']
 
-  !> One &material group.
+  !> One &material group (its variables: dpmpm_vars_material.inc).
   type :: material_cfg_t
-    integer :: id = 1
-    !> linear_elastic | neo_hookean | fluid | mohr_coulomb | drucker_prager | rigid
-    character(len=name_len) :: model = 'linear_elastic'
-    real(wp) :: density = 1000.0_wp          !< kg/m^3 (grain density of a soil, intrinsic)
-    real(wp) :: youngs_modulus = 1.0e6_wp    !< Pa (of the skeleton)
-    real(wp) :: poisson_ratio = 0.3_wp
-    real(wp) :: bulk_modulus = 2.2e9_wp      !< Pa, fluid K_f (model fluid)
-    real(wp) :: conductivity = 0.0_wp        !< m/s, hydraulic conductivity k of a soil; 0 = none
-    !> constant | kozeny_carman (k scaled by n^3/(1-n)^2 against its value at the initial porosity)
-    character(len=name_len) :: conductivity_law = 'constant'
-    ! mohr_coulomb and drucker_prager (effective stress of the skeleton)
-    real(wp) :: friction_angle = 30.0_wp     !< degrees, phi
-    real(wp) :: dilatancy_angle = 0.0_wp     !< degrees, psi, 0 <= psi <= phi
-    real(wp) :: cohesion = 0.0_wp            !< Pa, c0
-    real(wp) :: tensile_strength = 0.0_wp    !< Pa, tension cut-off sigma_t
-    real(wp) :: cohesion_softening = 0.0_wp  !< Pa, h in c = max(c_res, c0 - h epsp)
-    real(wp) :: residual_cohesion = 0.0_wp   !< Pa, c_res
-    character(len=name_len) :: dp_match = 'plane_strain' !< plane_strain | outer | inner
-    real(wp) :: velocity(3) = 0.0_wp         !< m/s, model rigid: the body's prescribed velocity
+#include "dpmpm_vars_as_component.h"
+#include "dpmpm_vars_material.inc"
   end type material_cfg_t
 
   !> One &region group: a box or a 2D polygon filled with points of one material.
   type :: region_cfg_t
-    character(len=name_len) :: shape = 'box'       !< box | polygon
-    real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp       !< box corners (m)
-    integer :: npoly = 0                             !< polygon vertex count
-    real(wp) :: poly(2, max_poly) = 0.0_wp           !< polygon vertices (x, y)
-    integer :: material = 1                          !< material id
-    character(len=name_len) :: phase = 'solid'      !< solid | fluid | saturated
-    integer :: fluid_material = 0                    !< material id of the pore fluid (saturated)
-    !> initial porosity n_f: saturated soil, or dry porous soil in a solid region (0 = not porous)
-    real(wp) :: porosity = 0.0_wp
-    integer :: ppc = 2                               !< points per cell per direction
-    !> regular | random (scattered in each cell) | uniform (scattered over the whole region)
-    character(len=name_len) :: placement = 'regular'
-    integer :: seed = 1                              !< seed of the random placement
-    integer :: fluid_seed = -1                       !< seed of the fluid points; -1 = seed + 1
-    real(wp) :: velocity(3) = 0.0_wp                 !< initial velocity (m/s)
-    real(wp) :: stress(6) = 0.0_wp                   !< initial stress (Pa, Voigt, tension positive)
-    !> d stress / d x_d (Pa/m): the initial stress at x is stress + sum_d stress_gradient(:, d) x_d
-    real(wp) :: stress_gradient(6, 3) = 0.0_wp
-    real(wp) :: pore_pressure = 0.0_wp               !< initial pore pressure at x = 0 (Pa)
-    real(wp) :: pore_pressure_gradient(3) = 0.0_wp   !< its gradient (Pa/m)
-    !> level ground at rest under gravity (along -axis ndim): the stress and pore pressure
-    !> above come from the weight of the region (resolve_geostatic)
-    logical :: geostatic = .false.
-    real(wp) :: k0 = -1.0_wp                         !< sigma'_h / sigma'_v; < 0: nu / (1 - nu)
-    real(wp) :: surface = level_unset                !< m, ground surface; default the region's top
-    real(wp) :: water_level = level_unset            !< m, free water surface; default the surface
-    real(wp) :: overburden = 0.0_wp                  !< Pa, vertical effective stress at the surface
+#include "dpmpm_vars_region.inc"
+    real(wp) :: poly(2, max_poly) = 0.0_wp           !< polygon vertices (x, y): poly_x, poly_y
   end type region_cfg_t
 
   !> One &load group: a traction on a grid face (or on the part lo..hi of it), times a
   !> function of time.
   type :: load_cfg_t
     integer :: face = 0                              !< index into face_names
-    real(wp) :: traction(3) = 0.0_wp                 !< Pa, force per area on the body
-    real(wp) :: ramp_time = 0.0_wp                   !< s; 0 = step load
-    !> m; the load acts on lo(t) <= x(t) <= hi(t) along each axis t of the face with hi(t) > lo(t)
-    real(wp) :: lo(3) = 0.0_wp, hi(3) = 0.0_wp
-    character(len=name_len) :: time_function = 'ramp' !< ramp | sine | table
-    real(wp) :: frequency = 0.0_wp                   !< Hz (sine)
-    real(wp) :: duration = 0.0_wp                    !< s the sine lasts; 0 = for ever
-    real(wp) :: times(max_table) = -1.0_wp           !< s (table; the entries >= 0, increasing)
-    real(wp) :: factors(max_table) = 0.0_wp          !< the factor at each time (table)
-    !> on the body's surface seen from face (its outermost nodes), not on the grid face
-    logical :: surface = .false.
+#include "dpmpm_vars_load.inc"
   end type load_cfg_t
 
   !> All parameters of a run.
@@ -109,55 +57,13 @@ module dpmpm_config
     character(len=:), allocatable :: input_text      !< the input file, echoed into the output
     !> Every group as read, defaults included, in the input's syntax (dpmpm --check prints it)
     character(len=:), allocatable :: echo
-    ! &run
-    character(len=name_len) :: name = 'dpmpm'        !< output file base name
-    real(wp) :: t_end = 1.0_wp                       !< s
-    real(wp) :: dt = 0.0_wp                          !< fixed step (s); 0 = from CFL every step
-    real(wp) :: cfl = 0.5_wp                         !< Courant number
-    integer(i8) :: max_steps = huge(1_i8)
-    character(len=name_len) :: scheme = 'musl'       !< musl | usl
-    real(wp) :: flip = 1.0_wp                        !< FLIP fraction of the FLIP/PIC blend
-    real(wp) :: gravity(3) = 0.0_wp                  !< m/s^2
-    real(wp) :: progress_seconds = 10.0_wp           !< wall seconds between progress lines
-    !> wall seconds after which the run writes a checkpoint and stops; 0 = no limit
-    real(wp) :: max_wall_time = 0.0_wp
-    character(len=1024) :: restart = ''              !< checkpoint file to continue from
-    ! two-phase coupling (&run)
-    character(len=name_len) :: drag = 'explicit'     !< explicit | implicit (per-node 2x2 solve)
-    real(wp) :: drag_safety = 0.8_wp                 !< fraction of the nodal drag limit (explicit)
-    !> grad n_f term of the pressure equation; must be given where the porosity varies
-    logical :: porosity_gradient = .false.
+    ! &run, &grid, &shape, &output and &benchmark: dpmpm_vars_<group>.inc
+#include "dpmpm_vars_run.inc"
     logical :: porosity_gradient_given = .false.     !< porosity_gradient was set in &run
-    !> Pa (gauge, compression positive): the pore pressure does not fall below it (the
-    !> water cavitates); about minus the atmospheric pressure
-    real(wp) :: cavitation_pressure = -1.0e5_wp
-    !> none | cell: the pore-pressure change of a step smoothed over the fluid points of
-    !> each cell
-    character(len=name_len) :: pressure_smoothing = 'none'
-    logical :: remap_drag = .true.                   !< MUSL: the step's implicit drag on the remapped pair
-    ! run monitor (&run)
-    real(wp) :: growth_limit = 10.0_wp               !< stop when energy exceeds this x (input + initial); 0 = off
-    !> s of the equilibrium phase: gravity ramped over its first half, local damping
-    !> (equilibrium_damping) throughout, the velocities set to zero at its end; 0 = none
-    real(wp) :: equilibrium_time = 0.0_wp
-    real(wp) :: equilibrium_damping = 0.8_wp         !< local damping coefficient alpha, in [0, 1)
-    ! &grid
-    integer :: ndim = 2
-    integer :: ncells(3) = [1, 1, 1]
-    real(wp) :: origin(3) = 0.0_wp
-    real(wp) :: length(3) = [1.0_wp, 1.0_wp, 1.0_wp]
-    integer :: dims(3) = [0, 0, 0]                   !< ranks per axis; 0 = MPI_Dims_create
-    ! &shape: grid functions, and how velocities and the force-integral fields are
-    ! reconstructed from the points (doc/input.md, doc/theory.md 3.3)
-    character(len=name_len) :: kernel = 'linear'     !< grid functions: linear | quadratic | cubic
-    character(len=name_len) :: velocity_kernel = ''  !< MLS weight of nodal velocities; '' = projection
-    character(len=name_len) :: velocity_basis = 'constant'
-    real(wp) :: velocity_radius = 0.0_wp             !< cells; 0 = tensor B-spline of natural support
-    character(len=name_len) :: quadrature = 'points' !< points | gauss (force integrals)
-    integer :: gauss_points = 2                      !< Gauss points per cell per axis
-    character(len=name_len) :: field_kernel = 'wendland_c2' !< MLS weight of stress at Gauss points
-    character(len=name_len) :: field_basis = 'constant'
-    real(wp) :: field_radius = 2.0_wp                !< cells; 0 = tensor B-spline of natural support
+#include "dpmpm_vars_grid.inc"
+#include "dpmpm_vars_shape.inc"
+#include "dpmpm_vars_output.inc"
+#include "dpmpm_vars_benchmark.inc"
     ! &material, &region, &load (repeatable)
     type(material_cfg_t), allocatable :: materials(:)
     type(region_cfg_t), allocatable :: regions(:)
@@ -174,18 +80,6 @@ module dpmpm_config
     integer :: absorbing(6) = 0
     !> Coulomb friction coefficient of a roller face (a rough wall); 0 = smooth
     real(wp) :: wall_friction(6) = 0.0_wp
-    ! &output
-    character(len=1024) :: output_dir = '.'
-    real(wp) :: frame_interval = 0.0_wp              !< s between frames; 0 = first and last only
-    integer :: diag_every = 0                        !< steps between diagnostics; 0 = automatic
-    integer :: checkpoint_every = 0                  !< steps between checkpoints; 0 = none
-    real(wp) :: checkpoint_seconds = 0.0_wp          !< wall-clock s between checkpoints; 0 = none
-    integer :: compression = 1                       !< gzip level (with shuffle) of frames; 0 = off
-    character(len=256) :: solid_fields = 'all'       !< optional datasets of solid sets, or 'all'
-    character(len=256) :: fluid_fields = 'all'       !< optional datasets of fluid sets, or 'all'
-    ! &benchmark
-    character(len=name_len) :: benchmark = 'none'   !< none | axial_bar | mms | biot_column | terzaghi
-    real(wp) :: amplitude = 0.0_wp                   !< benchmark amplitude (m/s bar, m mms)
   end type config_t
 
   !> Datasets of a point set that &output solid_fields / fluid_fields may leave out (id, x, v,

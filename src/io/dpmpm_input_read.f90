@@ -11,7 +11,7 @@ module dpmpm_input_read
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
                           name_len, max_table, face_names, face_index, bc_free, bc_fixed, bc_roller, &
-                          bc_names, fbc_default, fbc_drained, fbc_impermeable
+                          bc_names, fbc_default, fbc_drained, fbc_impermeable, level_unset
   use dpmpm_input_problems, only: input_problems_t, ngroups, group_names, &
                                   repeatable, g_run, g_grid, g_shape, g_material, g_region, &
                                   g_boundary, g_load, g_output, g_benchmark, add_value, add_raw, &
@@ -209,6 +209,23 @@ contains
     end do
   end subroutine scan_groups
 
+  !> After the read of occurrence k of group g (status ios, message msg) and the write of
+  !> its namelist into echo: ok tells whether it was read; if so, its echo is added to
+  !> cfg_echo, else the error is a problem.
+  subroutine took_group(pb, g, k, ios, msg, echo, cfg_echo, ok)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: g, k, ios
+    character(len=*), intent(in) :: msg, echo(:)
+    character(len=:), allocatable, intent(inout) :: cfg_echo
+    logical, intent(out) :: ok
+    ok = ios == 0
+    if (ok) then
+      cfg_echo = cfg_echo//nml_echo(echo)
+    else
+      call read_error(pb, g, k, ios, msg, nml_names(echo))
+    end if
+  end subroutine took_group
+
   !> Record a namelist read error of occurrence k of group g, whose variables are names.
   subroutine read_error(pb, g, k, ios, msg, names)
     type(input_problems_t), intent(inout) :: pb
@@ -243,239 +260,169 @@ contains
                  place(pb, g, k))
   end subroutine read_error
 
-  !> Read &run.
+  !> Read &run (its variables: dpmpm_vars_run.inc).
   subroutine read_run(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: scheme, drag, pressure_smoothing
-    character(len=long_len) :: name, restart
-    real(wp) :: t_end, dt, cfl, flip, gravity(3), progress_seconds, drag_safety, max_wall_time
-    real(wp) :: growth_limit, equilibrium_time, equilibrium_damping, cavitation_pressure
-    logical :: porosity_gradient, remap_drag, given
-    integer(i8) :: max_steps
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_run.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_run.inc"
+    logical :: given
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /run/ name, t_end, dt, cfl, max_steps, scheme, flip, gravity, progress_seconds, &
-      drag, drag_safety, porosity_gradient, restart, max_wall_time, remap_drag, growth_limit, &
-      equilibrium_time, equilibrium_damping, cavitation_pressure, pressure_smoothing
-    restart = cfg%restart
-    cavitation_pressure = cfg%cavitation_pressure; pressure_smoothing = cfg%pressure_smoothing
-    equilibrium_time = cfg%equilibrium_time; equilibrium_damping = cfg%equilibrium_damping
-    max_wall_time = cfg%max_wall_time
-    remap_drag = cfg%remap_drag; growth_limit = cfg%growth_limit
-    name = cfg%name; t_end = cfg%t_end; dt = cfg%dt; cfl = cfg%cfl; max_steps = cfg%max_steps
-    scheme = cfg%scheme; flip = cfg%flip; gravity = cfg%gravity
-    progress_seconds = cfg%progress_seconds
-    drag = cfg%drag; drag_safety = cfg%drag_safety; porosity_gradient = cfg%porosity_gradient
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_run.inc"
     ios = 0
     if (pb%count(g_run) > 0) read (records, nml=run, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=run)
-    ok = ios == 0
-    if (.not. ok) then
-      call read_error(pb, g_run, 1, ios, msg, nml_names(echo))
-      return
-    end if
-    cfg%echo = cfg%echo//nml_echo(echo)
+    call took_group(pb, g_run, 1, ios, msg, echo, cfg%echo, ok)
+    if (.not. ok) return
     ! Whether porosity_gradient was given: a second read from the other default keeps it
     ! only if the group sets it.
     cfg%porosity_gradient_given = .false.
     if (pb%count(g_run) > 0) then
       given = porosity_gradient
-      porosity_gradient = .not. cfg%porosity_gradient
+      porosity_gradient = .not. porosity_gradient
       read (records, nml=run, iostat=ios)
       cfg%porosity_gradient_given = porosity_gradient .eqv. given
       porosity_gradient = given
     end if
-    call check_length(pb, g_run, 'name', name, len(cfg%name))
-    call check_length(pb, g_run, 'restart', restart, len(cfg%restart))
-    cfg%name = name; cfg%t_end = t_end; cfg%dt = dt; cfg%cfl = cfl; cfg%max_steps = max_steps
-    cfg%scheme = scheme; cfg%flip = flip; cfg%gravity = gravity
-    cfg%progress_seconds = progress_seconds
-    cfg%drag = drag; cfg%drag_safety = drag_safety; cfg%porosity_gradient = porosity_gradient
-    cfg%restart = restart
-    cfg%max_wall_time = max_wall_time
-    cfg%remap_drag = remap_drag; cfg%growth_limit = growth_limit
-    cfg%equilibrium_time = equilibrium_time; cfg%equilibrium_damping = equilibrium_damping
-    cfg%cavitation_pressure = cavitation_pressure; cfg%pressure_smoothing = pressure_smoothing
+    associate (dest => cfg)
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_run.inc"
+    end associate
   end subroutine read_run
 
-  !> Read &grid.
+  !> Read &grid (its variables: dpmpm_vars_grid.inc).
   subroutine read_grid(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    integer :: ndim, ncells(3), dims(3)
-    real(wp) :: origin(3), length(3)
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_grid.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_grid.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /grid/ ndim, ncells, origin, length, dims
-    ndim = cfg%ndim; ncells = cfg%ncells; origin = cfg%origin; length = cfg%length
-    dims = cfg%dims
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_grid.inc"
     ios = 0
     if (pb%count(g_grid) > 0) read (records, nml=grid, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=grid)
-    ok = ios == 0
-    if (.not. ok) then
-      call read_error(pb, g_grid, 1, ios, msg, nml_names(echo))
-      return
-    end if
-    cfg%echo = cfg%echo//nml_echo(echo)
-    cfg%ndim = ndim; cfg%ncells = ncells; cfg%origin = origin; cfg%length = length
-    cfg%dims = dims
+    call took_group(pb, g_grid, 1, ios, msg, echo, cfg%echo, ok)
+    if (.not. ok) return
+    associate (dest => cfg)
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_grid.inc"
+    end associate
   end subroutine read_grid
 
-  !> Read &shape.
+  !> Read &shape (its variables: dpmpm_vars_shape.inc).
   subroutine read_shape(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: kernel, velocity_kernel, velocity_basis, quadrature, field_kernel, &
-                               field_basis
-    real(wp) :: velocity_radius, field_radius
-    integer :: gauss_points
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_shape.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_shape.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /shape/ kernel, velocity_kernel, velocity_basis, velocity_radius, quadrature, &
-      gauss_points, field_kernel, field_basis, field_radius
-    kernel = cfg%kernel
-    velocity_kernel = cfg%velocity_kernel; velocity_basis = cfg%velocity_basis
-    velocity_radius = cfg%velocity_radius; quadrature = cfg%quadrature
-    gauss_points = cfg%gauss_points; field_kernel = cfg%field_kernel
-    field_basis = cfg%field_basis; field_radius = cfg%field_radius
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_shape.inc"
     ios = 0
     if (pb%count(g_shape) > 0) read (records, nml=shape, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=shape)
-    ok = ios == 0
-    if (.not. ok) then
-      call read_error(pb, g_shape, 1, ios, msg, nml_names(echo))
-      return
-    end if
-    cfg%echo = cfg%echo//nml_echo(echo)
-    cfg%kernel = kernel
-    cfg%velocity_kernel = velocity_kernel; cfg%velocity_basis = velocity_basis
-    cfg%velocity_radius = velocity_radius; cfg%quadrature = quadrature
-    cfg%gauss_points = gauss_points; cfg%field_kernel = field_kernel
-    cfg%field_basis = field_basis; cfg%field_radius = field_radius
+    call took_group(pb, g_shape, 1, ios, msg, echo, cfg%echo, ok)
+    if (.not. ok) return
+    associate (dest => cfg)
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_shape.inc"
+    end associate
   end subroutine read_shape
 
-  !> Read every &material.
+  !> Read every &material (its variables: dpmpm_vars_material.inc).
   subroutine read_materials(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    type(material_cfg_t) :: def
     type(material_cfg_t), allocatable :: list(:)
-    integer :: id, k, n, ios
-    character(len=name_len) :: model, dp_match, conductivity_law
-    real(wp) :: density, youngs_modulus, poisson_ratio, bulk_modulus, conductivity
-    real(wp) :: friction_angle, dilatancy_angle, cohesion, tensile_strength, cohesion_softening, &
-                residual_cohesion, velocity(3)
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_material.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_material.inc"
+    integer :: k, n, ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /material/ id, model, density, youngs_modulus, poisson_ratio, bulk_modulus, &
-      conductivity, conductivity_law, friction_angle, dilatancy_angle, cohesion, &
-      tensile_strength, cohesion_softening, residual_cohesion, dp_match, velocity
     allocate (list(pb%count(g_material)))
     n = 0
     ok = .true.
     do k = 1, size(list)
-      id = def%id; model = def%model; density = def%density
-      youngs_modulus = def%youngs_modulus; poisson_ratio = def%poisson_ratio
-      bulk_modulus = def%bulk_modulus; conductivity = def%conductivity
-      conductivity_law = def%conductivity_law
-      friction_angle = def%friction_angle; dilatancy_angle = def%dilatancy_angle
-      cohesion = def%cohesion; tensile_strength = def%tensile_strength
-      cohesion_softening = def%cohesion_softening; residual_cohesion = def%residual_cohesion
-      dp_match = def%dp_match; velocity = def%velocity
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_material.inc"
       read (records(first_record(pb, g_material, k):), nml=material, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=material)
-      if (ios /= 0) then
-        call read_error(pb, g_material, k, ios, msg, nml_names(echo))
-        ok = .false.
-        exit
-      end if
-      cfg%echo = cfg%echo//nml_echo(echo)
+      call took_group(pb, g_material, k, ios, msg, echo, cfg%echo, ok)
+      if (.not. ok) exit
       n = k
-      list(k) = material_cfg_t(id=id, model=model, density=density, &
-                               youngs_modulus=youngs_modulus, poisson_ratio=poisson_ratio, &
-                               bulk_modulus=bulk_modulus, conductivity=conductivity, &
-                               conductivity_law=conductivity_law, &
-                               friction_angle=friction_angle, dilatancy_angle=dilatancy_angle, &
-                               cohesion=cohesion, tensile_strength=tensile_strength, &
-                               cohesion_softening=cohesion_softening, &
-                               residual_cohesion=residual_cohesion, dp_match=dp_match, &
-                               velocity=velocity)
+      associate (dest => list(k))
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_material.inc"
+      end associate
     end do
     cfg%materials = list(1:n)
   end subroutine read_materials
 
-  !> Read every &region.
+  !> Read every &region (its variables: dpmpm_vars_region.inc).
   subroutine read_regions(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    type(region_cfg_t) :: def
     type(region_cfg_t), allocatable :: list(:)
-    character(len=name_len) :: shape, phase, placement
-    real(wp) :: lo(3), hi(3), poly_x(max_poly), poly_y(max_poly), velocity(3), stress(6), &
-                porosity, stress_gradient(6, 3), pore_pressure, pore_pressure_gradient(3), k0, &
-                surface, water_level, overburden
-    logical :: geostatic
-    integer :: npoly, material, fluid_material, ppc, seed, fluid_seed, k, n, ios
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_region.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_region.inc"
+    integer :: k, n, ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /region/ shape, lo, hi, npoly, poly_x, poly_y, material, phase, fluid_material, &
-      porosity, ppc, placement, seed, fluid_seed, velocity, stress, stress_gradient, pore_pressure, &
-      pore_pressure_gradient, geostatic, k0, surface, water_level, overburden
     allocate (list(pb%count(g_region)))
     n = 0
     ok = .true.
     do k = 1, size(list)
-      shape = def%shape; lo = def%lo; hi = def%hi; npoly = def%npoly
-      poly_x = def%poly(1, :); poly_y = def%poly(2, :); material = def%material
-      phase = def%phase; ppc = def%ppc; placement = def%placement; seed = def%seed
-      velocity = def%velocity; stress = def%stress; stress_gradient = def%stress_gradient
-      pore_pressure = def%pore_pressure; pore_pressure_gradient = def%pore_pressure_gradient
-      fluid_material = def%fluid_material; porosity = def%porosity; fluid_seed = def%fluid_seed
-      geostatic = def%geostatic; k0 = def%k0; surface = def%surface
-      water_level = def%water_level; overburden = def%overburden
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_region.inc"
       read (records(first_record(pb, g_region, k):), nml=region, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=region)
-      if (ios /= 0) then
-        call read_error(pb, g_region, k, ios, msg, nml_names(echo))
-        ok = .false.
-        exit
-      end if
-      cfg%echo = cfg%echo//nml_echo(echo)
+      call took_group(pb, g_region, k, ios, msg, echo, cfg%echo, ok)
+      if (.not. ok) exit
       n = k
-      list(k)%shape = shape; list(k)%lo = lo; list(k)%hi = hi; list(k)%npoly = npoly
-      list(k)%poly(1, :) = poly_x; list(k)%poly(2, :) = poly_y; list(k)%material = material
-      list(k)%phase = phase; list(k)%ppc = ppc; list(k)%placement = placement
-      list(k)%seed = seed; list(k)%velocity = velocity; list(k)%stress = stress
-      list(k)%fluid_material = fluid_material; list(k)%porosity = porosity
-      list(k)%fluid_seed = fluid_seed; list(k)%stress_gradient = stress_gradient
-      list(k)%pore_pressure = pore_pressure; list(k)%pore_pressure_gradient = pore_pressure_gradient
-      list(k)%geostatic = geostatic; list(k)%k0 = k0; list(k)%surface = surface
-      list(k)%water_level = water_level; list(k)%overburden = overburden
+      associate (dest => list(k))
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_region.inc"
+        dest%poly(1, :) = poly_x
+        dest%poly(2, :) = poly_y
+      end associate
     end do
     cfg%regions = list(1:n)
   end subroutine read_regions
 
-  !> Read every &boundary and set cfg%bc, cfg%fluid_bc, cfg%pore_pressure and
+  !> Read every &boundary (its variables: dpmpm_vars_boundary.inc) and set cfg%bc, cfg%fluid_bc, cfg%pore_pressure and
   !> cfg%pore_pressure_ramp; the names are
   !> checked here as they are not kept. A fluid condition left out (or 'default') stays
   !> fbc_default: the solver makes it drained at free faces and impermeable at fixed and
@@ -485,30 +432,26 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: face, condition, fluid
-    real(wp) :: pore_pressure, pore_pressure_ramp, pore_pressure_gradient(3), friction
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_boundary.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_boundary.inc"
     logical :: seen(6), impermeable
-    integer :: k, f, c, fc, ios, material, absorbing, j
+    integer :: k, f, c, fc, ios, absorbing, j
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     character(len=:), allocatable :: why
-    namelist /boundary/ face, condition, fluid, pore_pressure, pore_pressure_ramp, material, &
-      pore_pressure_gradient, friction
     seen = .false.
     ok = .true.
     do k = 1, pb%count(g_boundary)
-      face = ''; condition = bc_names(bc_free); fluid = ''; pore_pressure = 0.0_wp
-      pore_pressure_ramp = 0.0_wp; material = 0; pore_pressure_gradient = 0.0_wp
-      absorbing = 0; friction = 0.0_wp
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_boundary.inc"
+      absorbing = 0
       read (records(first_record(pb, g_boundary, k):), nml=boundary, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=boundary)
-      if (ios /= 0) then
-        call read_error(pb, g_boundary, k, ios, msg, nml_names(echo))
-        ok = .false.
-        exit
-      end if
-      cfg%echo = cfg%echo//nml_echo(echo)
+      call took_group(pb, g_boundary, k, ios, msg, echo, cfg%echo, ok)
+      if (.not. ok) exit
       f = face_index(face)
       select case (trim(adjustl(condition)))
       case ('free')
@@ -642,127 +585,115 @@ contains
     end do
   end function absorbing_material
 
-  !> Read every &load.
+  !> Read every &load (its variables: dpmpm_vars_load.inc).
   subroutine read_loads(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    type(load_cfg_t) :: def
     type(load_cfg_t), allocatable :: list(:)
-    character(len=name_len) :: face, time_function
-    real(wp) :: traction(3), ramp_time, lo(3), hi(3), frequency, duration
-    real(wp) :: times(max_table), factors(max_table)
-    logical :: surface
-    integer :: k, n, f, ios
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_load.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_load.inc"
+    integer :: k, n, ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /load/ face, traction, ramp_time, lo, hi, time_function, frequency, duration, times, &
-      factors, surface
     allocate (list(pb%count(g_load)))
     n = 0
     ok = .true.
     do k = 1, size(list)
-      face = ''; traction = def%traction; ramp_time = def%ramp_time; lo = def%lo; hi = def%hi
-      time_function = def%time_function; frequency = def%frequency; duration = def%duration
-      times = def%times; factors = def%factors; surface = def%surface
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_load.inc"
       read (records(first_record(pb, g_load, k):), nml=load, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=load)
-      if (ios /= 0) then
-        call read_error(pb, g_load, k, ios, msg, nml_names(echo))
-        ok = .false.
-        exit
-      end if
-      cfg%echo = cfg%echo//nml_echo(echo)
-      f = face_index(face)
-      if (f == 0) then
-        call add_value(pb, g_load, k, 'face', quote(face), 'the faces are '//all_faces())
-      else if (.not. face_in_grid(f, cfg%ndim)) then
-        call add_value(pb, g_load, k, 'face', quote(face), &
-                       'the grid has no such face with ndim = '//itoa(cfg%ndim))
-      end if
+      call took_group(pb, g_load, k, ios, msg, echo, cfg%echo, ok)
+      if (.not. ok) exit
       n = k
-      list(k) = load_cfg_t(face=f, traction=traction, ramp_time=ramp_time, lo=lo, hi=hi, &
-                           time_function=lower(time_function), frequency=frequency, &
-                           duration=duration, times=times, factors=factors, surface=surface)
+      associate (dest => list(k))
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_load.inc"
+        dest%time_function = lower(time_function)
+        dest%face = face_index(face)
+        if (dest%face == 0) then
+          call add_value(pb, g_load, k, 'face', quote(face), 'the faces are '//all_faces())
+        else if (.not. face_in_grid(dest%face, cfg%ndim)) then
+          call add_value(pb, g_load, k, 'face', quote(face), &
+                         'the grid has no such face with ndim = '//itoa(cfg%ndim))
+        end if
+      end associate
     end do
     cfg%loads = list(1:n)
   end subroutine read_loads
 
-  !> Read &output.
+  !> Read &output (its variables: dpmpm_vars_output.inc).
   subroutine read_output(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=long_len) :: dir
-    character(len=len(cfg%solid_fields)) :: solid_fields, fluid_fields
-    real(wp) :: frame_interval, checkpoint_seconds
-    integer :: diag_every, checkpoint_every, compression, ios
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_output.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_output.inc"
+    integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /output/ dir, frame_interval, diag_every, checkpoint_every, checkpoint_seconds, &
-      compression, solid_fields, fluid_fields
-    dir = cfg%output_dir; frame_interval = cfg%frame_interval; diag_every = cfg%diag_every
-    checkpoint_every = cfg%checkpoint_every; compression = cfg%compression
-    checkpoint_seconds = cfg%checkpoint_seconds
-    solid_fields = cfg%solid_fields; fluid_fields = cfg%fluid_fields
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_output.inc"
     ios = 0
     if (pb%count(g_output) > 0) read (records, nml=output, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=output)
-    ok = ios == 0
-    if (.not. ok) then
-      call read_error(pb, g_output, 1, ios, msg, nml_names(echo))
-      return
-    end if
-    cfg%echo = cfg%echo//nml_echo(echo)
-    call check_length(pb, g_output, 'dir', dir, len(cfg%output_dir))
-    cfg%output_dir = dir; cfg%frame_interval = frame_interval; cfg%diag_every = diag_every
-    cfg%checkpoint_every = checkpoint_every; cfg%compression = compression
-    cfg%checkpoint_seconds = checkpoint_seconds
-    cfg%solid_fields = solid_fields; cfg%fluid_fields = fluid_fields
+    call took_group(pb, g_output, 1, ios, msg, echo, cfg%echo, ok)
+    if (.not. ok) return
+    associate (dest => cfg)
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_output.inc"
+    end associate
   end subroutine read_output
 
-  !> Read &benchmark.
+  !> Read &benchmark (its variables: dpmpm_vars_benchmark.inc).
   subroutine read_benchmark(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-    character(len=name_len) :: name
-    real(wp) :: amplitude
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_benchmark.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_benchmark.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-    namelist /benchmark/ name, amplitude
-    name = cfg%benchmark; amplitude = cfg%amplitude
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_benchmark.inc"
     ios = 0
     if (pb%count(g_benchmark) > 0) read (records, nml=benchmark, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=benchmark)
-    ok = ios == 0
-    if (.not. ok) then
-      call read_error(pb, g_benchmark, 1, ios, msg, nml_names(echo))
-      return
-    end if
-    cfg%echo = cfg%echo//nml_echo(echo)
-    cfg%benchmark = name; cfg%amplitude = amplitude
+    call took_group(pb, g_benchmark, 1, ios, msg, echo, cfg%echo, ok)
+    if (.not. ok) return
+    associate (dest => cfg)
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_benchmark.inc"
+    end associate
   end subroutine read_benchmark
 
-  !> A string read into a long buffer must fit the limit of its variable in config_t.
-  subroutine check_length(pb, g, var, value, limit)
+  !> A string read into a long buffer (a TEXT variable of &group) must fit the limit of its
+  !> component in config_t.
+  subroutine check_length(pb, group, var, value, limit)
     type(input_problems_t), intent(inout) :: pb
-    integer, intent(in) :: g, limit
-    character(len=*), intent(in) :: var, value
+    character(len=*), intent(in) :: group, var, value
+    integer, intent(in) :: limit
     character(len=:), allocatable :: count
     integer :: n
     n = len_trim(value)
     if (n <= limit) return
     count = itoa(n)
     if (n == len(value)) count = 'more than '//itoa(n - 1)
-    call add_value(pb, g, 1, var, quote(value(1:40))//'...', 'is '//count// &
+    call add_value(pb, group_index(group), 1, var, quote(value(1:40))//'...', 'is '//count// &
                    ' characters long: at most '//itoa(limit)//' are allowed')
   end subroutine check_length
 

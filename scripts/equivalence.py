@@ -47,6 +47,7 @@ SCENES = {
     "footing_dry_2d": 0.05,
     "footing_prandtl_2d": 0.2,
     "footing_saturated_2d": 0.01,
+    "footing_consolidation_2d": 0.05,
     "incline_slide_2d": 0.1,
     "loaded_block_2d": 0.05,
     "mms": 0.02,

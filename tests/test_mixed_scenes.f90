@@ -431,20 +431,7 @@ contains
     real(wp) :: acc(2, 5), z, zc(5), ratio
     integer :: p, k
     call begin_test('strip_load_is_carried_undrained_by_the_pore_water')
-    cfg%name = 'strip_undrained'
-    cfg%ndim = 2
-    cfg%ncells = [30, 20, 1]
-    cfg%length = [6.0_wp, 4.0_wp, 1.0_wp]
-    cfg%t_end = 0.06_wp
-    cfg%drag = 'implicit'
-    cfg%pressure_smoothing = 'cell'
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
-    cfg%materials(1) = sand(1, 1.0e7_wp, 0.3_wp, 1.0e-5_wp)
-    cfg%materials(2) = water(2, 2.2e9_wp)
-    cfg%regions(1) = saturated([6.0_wp, 4.0_wp], 1, 0.4_wp)
-    cfg%loads(1) = load_cfg_t(face=4, traction=[0.0_wp, -1.0e5_wp, 0.0_wp], ramp_time=0.02_wp, &
-                              lo=[0.0_wp, 0.0_wp, 0.0_wp], hi=[0.5_wp, 0.0_wp, 0.0_wp])
-    cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
+    cfg = strip_layer('strip_undrained', 30, 20, 1.0e-5_wp, 2.2e9_wp, 0.02_wp, 0.06_wp)
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
     zc = [0.3_wp, 0.5_wp, 0.7_wp, 0.9_wp, 1.1_wp]
@@ -500,17 +487,7 @@ contains
     type(simulation_t) :: sim
     real(wp) :: acc(2), pmax
     integer :: p, n
-    cfg%name = 'strip_consolidation'
-    cfg%ndim = 2
-    cfg%ncells = [15, 10, 1]
-    cfg%length = [6.0_wp, 4.0_wp, 1.0_wp]
-    cfg%t_end = 2.0_wp
-    cfg%drag = 'implicit'
-    cfg%pressure_smoothing = 'cell'
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
-    cfg%materials(1) = sand(1, 1.0e7_wp, 0.3_wp, 1.0e-2_wp)
-    cfg%materials(2) = water(2, 2.2e8_wp)
-    cfg%regions(1) = saturated([6.0_wp, 4.0_wp], 1, 0.4_wp)
+    cfg = strip_layer('strip_consolidation', 15, 10, 1.0e-2_wp, 2.2e8_wp, 0.1_wp, 2.0_wp)
     if (.not. saturated_soil) then
       cfg%regions(1)%phase = 'solid'
       cfg%regions(1)%fluid_material = 0
@@ -518,9 +495,6 @@ contains
       cfg%equilibrium_time = 3.0_wp
       cfg%equilibrium_damping = 0.3_wp
     end if
-    cfg%loads(1) = load_cfg_t(face=4, traction=[0.0_wp, -1.0e5_wp, 0.0_wp], ramp_time=0.1_wp, &
-                              lo=[0.0_wp, 0.0_wp, 0.0_wp], hi=[0.5_wp, 0.0_wp, 0.0_wp])
-    cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
     ! then 1 s in pieces of 0.05 s: the settlement is the mean over the pieces' ends of the
@@ -544,6 +518,31 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, pmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
     res = [acc(1)/acc(2), pmax]
   end subroutine consolidation_run
+
+  !> The layer of inputs/footing_saturated_2d.nml (6 m x 4 m, n = 0.4, E = 10 MPa, nu = 0.3,
+  !> no gravity) on nx x ny cells, soil conductivity k and water bulk modulus kf, under
+  !> 100 kPa on the half-strip 0 <= x <= 0.5 m of the drained top, ramped over ramp; fixed
+  !> impermeable base, roller sides, implicit drag, cell smoothing of the pore pressure.
+  function strip_layer(name, nx, ny, k, kf, ramp, t_end) result(cfg)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: nx, ny
+    real(wp), intent(in) :: k, kf, ramp, t_end
+    type(config_t) :: cfg
+    cfg%name = name
+    cfg%ndim = 2
+    cfg%ncells = [nx, ny, 1]
+    cfg%length = [6.0_wp, 4.0_wp, 1.0_wp]
+    cfg%t_end = t_end
+    cfg%drag = 'implicit'
+    cfg%pressure_smoothing = 'cell'
+    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
+    cfg%materials(1) = sand(1, 1.0e7_wp, 0.3_wp, k)
+    cfg%materials(2) = water(2, kf)
+    cfg%regions(1) = saturated([6.0_wp, 4.0_wp], 1, 0.4_wp)
+    cfg%loads(1) = load_cfg_t(face=4, traction=[0.0_wp, -1.0e5_wp, 0.0_wp], ramp_time=ramp, &
+                              lo=[0.0_wp, 0.0_wp, 0.0_wp], hi=[0.5_wp, 0.0_wp, 0.0_wp])
+    cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
+  end function strip_layer
 
   !> RMS of the pore pressure of the fluid points about their cell's mean after 0.05 s of
   !> the strip load, with the given pressure_smoothing.

@@ -125,13 +125,15 @@ contains
     real(wp), intent(in), optional :: lo(3), hi(3)
     logical, intent(in), optional :: anywhere
     integer :: p, d, t, c(3), layer
-    logical :: near
+    logical :: near, everywhere
+    everywhere = .false.
+    if (present(anywhere)) everywhere = anywhere
     d = (f + 1)/2
     layer = merge(0, grid%ncells(d) - 1, mod(f, 2) == 1)
     n = 0
     do p = 1, ps%n
       c = cell_of(grid%origin, grid%h, ps%x(:, p), grid%ndim)
-      if (c(d) /= layer .and. .not. present(anywhere)) cycle
+      if (c(d) /= layer .and. .not. everywhere) cycle
       near = .true.
       if (present(lo)) then
         do t = 1, grid%ndim

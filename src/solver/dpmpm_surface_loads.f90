@@ -51,15 +51,15 @@ contains
         end do
         call MPI_Allreduce(MPI_IN_PLACE, outer, size(outer), MPI_INTEGER, MPI_MAX, comm)
         f = load_factor(ld, time)
-        do k = olo(3), ohi(3)
-          do j = olo(2), ohi(2)
-            do i = olo(1), ohi(1)
-              if (node(1, i, j, k) <= 0.0_wp) cycle
-              idx = [i, j, k]
-              c = idx(t)
-              if (s*idx(d) /= outer(c(1), c(2))) cycle
-              sforce(1:nd, i, j, k) = sforce(1:nd, i, j, k) + f*load_area(faces, idx, ld)*ld%traction(1:nd)
-            end do
+        ! each line's outermost node, loaded by the rank that owns it (the one that found it)
+        do j = 0, n(2)
+          do i = 0, n(1)
+            if (outer(i, j) == -huge(1)) cycle
+            idx(t) = [i, j]
+            idx(d) = s*outer(i, j)
+            if (any(idx < olo .or. idx > ohi)) cycle
+            sforce(1:nd, idx(1), idx(2), idx(3)) = sforce(1:nd, idx(1), idx(2), idx(3)) + &
+                                                   f*load_area(faces, idx, ld)*ld%traction(1:nd)
           end do
         end do
         deallocate (outer)

@@ -508,9 +508,10 @@ contains
     end associate
   end subroutine check_geostatic
 
-  !> A rigid body (material k, model rigid; doc/theory.md 6.8): in scenes of one phase,
-  !> with Standard MPM or B-spline grid functions at the points (not Gauss quadrature),
-  !> in solid regions without porosity.
+  !> A rigid body (material k, model rigid; doc/theory.md 6.8): with Standard MPM or
+  !> B-spline grid functions at the points (not Gauss quadrature), in solid regions
+  !> without porosity; in a scene with pore water it drives the skeleton and the water
+  !> moves against it.
   subroutine check_rigid(pb, cfg, k)
     type(input_problems_t), intent(inout) :: pb
     type(config_t), intent(in) :: cfg
@@ -520,9 +521,6 @@ contains
       "a rigid body needs quadrature = 'points' (the Gauss points of cells it shares with "// &
       'the soil would mix its stress, zero, into the soil''s)')
     if (.not. allocated(cfg%regions)) return
-    if (any(cfg%regions%phase == 'fluid' .or. cfg%regions%phase == 'saturated')) &
-      call add_value(pb, g_material, k, 'model', "'rigid'", 'rigid bodies act in scenes of '// &
-                     'one phase (dry soil, solids); this scene has fluid or saturated regions')
     do r = 1, size(cfg%regions)
       if (cfg%regions(r)%material /= cfg%materials(k)%id) cycle
       if (trim(cfg%regions(r)%phase) /= 'solid' .or. cfg%regions(r)%porosity /= 0.0_wp) &

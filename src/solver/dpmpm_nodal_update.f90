@@ -98,8 +98,14 @@ contains
   !> and the per-phase conditions: solid fixed/roller components are zero; at
   !> impermeable faces the normal fluid velocity is zero (solid held) or the
   !> solid's (solid free: the mixture moves together in that component).
+  !> With rnode (rigid_p2g: the rigid points' mass and momentum sums), the solid at
+  !> every node a rigid body reaches moves at the body's velocity v_r, and the fluid
+  !> there is solved against that moving skeleton; the force this takes (the drive's
+  !> reaction: what the solid's own forces and the drag leave to reach v_r) is added to
+  !> rforce and its work, over the step's mean solid velocity, to ext_work.
   subroutine nodal_update_coupled(nd, lo, olo, ohi, node_s, node_f, nporo, ndrag, gravity, faces, &
-                                  mbc, implicit, time, dt, nvel_s, nvel_f, ext_work, drag_loss, damping)
+                                  mbc, implicit, time, dt, nvel_s, nvel_f, ext_work, drag_loss, damping, &
+                                  rnode, rforce)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: nporo(:, lo(1):, lo(2):, lo(3):), ndrag(:, lo(1):, lo(2):, lo(3):)
@@ -111,10 +117,12 @@ contains
     real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: ext_work, drag_loss
     real(wp), intent(in) :: damping          !< local damping coefficient (0 = none)
+    real(wp), intent(in), optional :: rnode(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout), optional :: rforce(3)
     integer :: i, j, k, c
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
-    real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd, ts(3), tf(3), fds(3), fdf(3)
-    logical :: sfix(3), ffix(3), tie(3), near
+    real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd, ts(3), tf(3), fds(3), fdf(3), vr(3), r
+    logical :: sfix(3), ffix(3), tie(3), near, rigid(3)
     nvel_s(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     nvel_f(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
@@ -160,6 +168,14 @@ contains
           end if
           vsn = 0.0_wp; vfn = 0.0_wp
           fds = 0.0_wp; fdf = 0.0_wp
+          rigid = .false.
+          if (present(rnode)) then
+            if (rnode(1, i, j, k) > 0.0_wp) then
+              vr = 0.0_wp
+              vr(1:nd) = rnode(2:1 + nd, i, j, k)/rnode(1, i, j, k)
+              rigid(1:nd) = .not. sfix(1:nd)
+            end if
+          end if
           if (damping > 0.0_wp) then
             ! Local damping of each phase, against its motion (doc/theory.md 6.5).
             if (ms > 0.0_wp) fds(1:nd) = -damping*abs(fs(1:nd))*sign(1.0_wp, vs(1:nd))
@@ -175,7 +191,31 @@ contains
             ! the solve (nothing where cs = cf = 0).
             msd = ms + dt*cs(c); mfd = mf + dt*cf(c)
             fsd = fs(c) - cs(c)*vs(c); ffd = ff(c) - cf(c)*vf(c)
-            if (ms > 0.0_wp .and. mf > 0.0_wp .and. tie(c)) then
+            if (rigid(c)) then
+              ! Driven by a rigid body: the solid moves at v_r, the fluid against it
+              ! (or with it, normal to an impermeable face); r is the drive's reaction.
+              vsn(c) = vr(c)
+              if (mf > 0.0_wp .and. tie(c)) then
+                v = (ms*vs(c) + mf*vf(c))/(ms + mf)
+                vs(c) = v; vf(c) = v
+                vfn(c) = vr(c)
+                r = (msd + mfd)*(vr(c) - v)/dt - fs(c) - ff(c) + (cs(c) + cf(c))*v
+              else if (mf > 0.0_wp) then
+                if (implicit) then
+                  af = (ffd - dn*(vf(c) - vr(c)))/(mfd + dt*dn)
+                  vfn(c) = vf(c) + dt*af
+                  r = msd*(vr(c) - vs(c))/dt - fsd - dn*(vfn(c) - vr(c))
+                else
+                  af = (ffd - dn*(vf(c) - vs(c)))/mfd
+                  vfn(c) = vf(c) + dt*af
+                  r = msd*(vr(c) - vs(c))/dt - fsd - dn*(vf(c) - vs(c))
+                end if
+              else
+                r = msd*(vr(c) - vs(c))/dt - fsd
+              end if
+              rforce(c) = rforce(c) + r
+              ext_work = ext_work + 0.5_wp*dt*r*(vs(c) + vsn(c))
+            else if (ms > 0.0_wp .and. mf > 0.0_wp .and. tie(c)) then
               ! The mixture moves together normal to an impermeable face.
               v = (ms*vs(c) + mf*vf(c))/(ms + mf)
               vs(c) = v; vf(c) = v

@@ -601,13 +601,15 @@ contains
   end subroutine report_step_cost
 
   !> The diagnostics record (dpmpm_energy); when the run monitor stops the run for
-  !> growth, the last frame is written and the output closed here.
+  !> growth, the last frame and the verification records so far (benchmark errors, the
+  !> drive force of rigid bodies) are written and the output closed here.
   subroutine record_diagnostics(self)
     class(simulation_t), intent(inout) :: self
     call diagnostics(self)
     call check_load_path(self)
     if (.not. self%growth_stop) return
     call self%write_frame()
+    call write_verification(self)
     call monitor_stopped(self)
   end subroutine record_diagnostics
 

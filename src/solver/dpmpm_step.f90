@@ -46,7 +46,7 @@ contains
     integer :: m, ip, nlost, ns, nf, nd, blo(3), bhi(3)
     integer, allocatable :: fcell(:)
     logical :: coupled
-    real(wp) :: wplastic
+    real(wp) :: wplastic, rforce(3)
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:), skinv(:)
     coupled = self%nph == 2
     nd = self%nd
@@ -156,7 +156,6 @@ contains
       end do
     end if
     call self%timers%toc(t_halo)
-
     ! 4. Nodal update: MLS nodal velocities, then each phase alone or both with drag.
     call self%timers%tic(t_nodal)
     if (self%has_surface_loads) then
@@ -215,10 +214,22 @@ contains
       end if
       call report_governing(self, dt)
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
-                                  self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
-                                  self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
-                                  self%ext_work, self%drag_loss, damping_now(self))
+        if (self%has_rigid) then
+          ! Rigid bodies drive the skeleton at their nodes; the fluid there is solved
+          ! against it.
+          call rigid_node_sums(self)
+          rforce = 0.0_wp
+          call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
+                                    self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
+                                    self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
+                                    self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce)
+          self%drive_impulse = self%drive_impulse + dt*rforce
+        else
+          call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
+                                    self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
+                                    self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
+                                    self%ext_work, self%drag_loss, damping_now(self))
+        end if
       end associate
       call self%timers%toc(t_nodal)
     end if
@@ -466,6 +477,9 @@ contains
         if (locked) &
           call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
                               f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
+        ! the corrections keep the pair's momentum; the skeleton at rigid nodes keeps v_r
+        if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, &
+                                                   self%rnode, self%grid, dt, s%nvel)
       end associate
     end if
     do ip = 1, self%nph
@@ -561,18 +575,27 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     real(wp) :: force(3)
+    call rigid_node_sums(self)
     associate (s => self%phase(solid_phase))
-      self%rnode = 0.0_wp
-      call rigid_p2g(self%nd, s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%pts%mass, s%pts%mat, self%mats, &
-                     self%dec%alo, self%rnode)
-      call self%mirror%fold(self%rnode, 1, self%grid%bc)
-      call self%dec%halo_sum(self%rnode)
       force = 0.0_wp
       call drive_rigid_nodes(self%nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, self%rnode, &
                              self%grid, dt, s%nvel, force, self%ext_work)
       self%drive_impulse = self%drive_impulse + dt*force
     end associate
   end subroutine drive_rigid
+
+  !> The rigid bodies' share of the node fields (rigid_p2g) in self%rnode, folded at
+  !> mirror walls and summed over the ranks.
+  subroutine rigid_node_sums(self)
+    class(state_t), intent(inout) :: self
+    associate (s => self%phase(solid_phase))
+      self%rnode = 0.0_wp
+      call rigid_p2g(self%nd, s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%pts%mass, s%pts%mat, self%mats, &
+                     self%dec%alo, self%rnode)
+      call self%mirror%fold(self%rnode, 1, self%grid%bc)
+      call self%dec%halo_sum(self%rnode)
+    end associate
+  end subroutine rigid_node_sums
 
   !> The node box of this step (wlo..whi): the stencils of every phase's points (a
   !> fluid point writes into the solid's fields too), widened by the ghost width for

@@ -46,6 +46,7 @@ SCENES = {
     "dry_block_2d": 0.05,
     "footing_dry_2d": 0.05,
     "footing_prandtl_2d": 0.2,
+    "footing_prandtl_saturated_2d": 0.01,
     "footing_saturated_2d": 0.01,
     "footing_consolidation_2d": 0.05,
     "incline_slide_2d": 0.1,

@@ -6,11 +6,14 @@ as Prandtl's solution has it, the same dilatancy angle unless --psi says otherwi
 limit of a weightless soil is then q = c N_c with N_c = (N_q - 1) cot phi,
 N_q = exp(pi tan phi) tan^2(45 deg + phi/2); 2 + pi at phi = 0.
 
+--scene inputs/footing_prandtl_saturated_2d.nml runs the same footing on saturated soil
+(undrained: the limit of a soil with phi = 0 does not change).
+
 Runs the scene with the binary BIN at the grid spacings of --cells-per-metre (the points
 per cell, the footing and the soil kept; the footing's nodes span half a cell more than
 the footing on each refinement), reads the drive force /verification/drive_force_y and
 reports the bearing pressure q = -F/(B/2) over c against the settlement, the mean of q/c
-over settlements from 5 % to 10 % of B (the plateau) beside Prandtl's 2 + pi, and draws
+over settlements from 5 % to 10 % of B (the plateau; --band sets another range) beside Prandtl's 2 + pi, and draws
 the curves with --plot.
 
     python3 scripts/footing_prandtl.py --bin build/release/dpmpm --cells-per-metre 10 20 \\
@@ -42,9 +45,16 @@ def prandtl_nc(phi_deg):
     return (nq - 1.0) / math.tan(phi)
 
 
-def scene(cpm, workdir, phi, psi):
-    text = open(SCENE).read()
-    name = f"prandtl_{cpm}" + (f"_phi{phi:g}_psi{psi:g}" if phi > 0 else "")
+def scene(path, cpm, workdir, phi, psi, tensile):
+    text = open(path).read()
+    tag = "prandtl_saturated" if "phase = 'saturated'" in text else "prandtl"
+    name = f"{tag}_{cpm}" + (f"_phi{phi:g}_psi{psi:g}" if phi > 0 else "")
+    if tensile is not None:
+        name += f"_t{tensile:g}"
+        text = re.sub(r"\n  tensile_strength = [^\n]*", "", text)
+        text, n = re.subn(r"(\n  cohesion = [^\n]*)", rf"\1\n  tensile_strength = {tensile}", text)
+        if n != 1:
+            raise SystemExit(f"footing_prandtl: no cohesion line in {path}")
     for pat, rep in [(r"name = '[^']*'", f"name = '{name}'"),
                      (r"friction_angle = 0\.0", f"friction_angle = {phi}"),
                      (r"dilatancy_angle = 0\.0", f"dilatancy_angle = {psi}"),
@@ -53,7 +63,7 @@ def scene(cpm, workdir, phi, psi):
                      (r"dir = '[^']*'", f"dir = '{workdir}'")]:
         text, n = re.subn(pat, rep, text)
         if n != 1:
-            raise SystemExit(f"footing_prandtl: {SCENE} does not match {pat!r}")
+            raise SystemExit(f"footing_prandtl: {path} does not match {pat!r}")
     return name, text
 
 
@@ -62,6 +72,40 @@ def curve(h5):
         t = f["verification/drive_time"][:]
         fy = f["verification/drive_force_y"][:]
     return V * t / B, -fy / (0.5 * B) / C
+
+
+def plot_fields(h5, path):
+    """The last frame of a saturated run: the soil points coloured by their plastic strain
+    (the mechanism) and the water points by their pore pressure over c."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    with h5py.File(h5, "r") as f:
+        key = sorted(f["frames"].keys())[-1]
+        fr = f["frames"][key]
+        t = fr.attrs["time"] if "time" in fr.attrs else float("nan")
+        xs, mat, ep = fr["solid/x"][:], fr["solid/material"][:], fr["solid/plastic_strain"][:]
+        xf, pf = fr["fluid/x"][:], fr["fluid/pore_pressure"][:]
+    soil = mat == 1
+    fig, axs = plt.subplots(1, 2, figsize=(10, 3.8), sharey=True)
+    a = axs[0].scatter(xs[soil, 0], xs[soil, 1], c=ep[soil], s=2, cmap="viridis",
+                       vmax=max(np.percentile(ep[soil], 99.5), 1e-9))
+    axs[0].scatter(xs[~soil, 0], xs[~soil, 1], c="0.3", s=2)
+    fig.colorbar(a, ax=axs[0], label="plastic strain")
+    lim = np.percentile(np.abs(pf), 99.5) / C   # a few points at the footing's corner go further
+    b = axs[1].scatter(xf[:, 0], xf[:, 1], c=pf / C, s=2, cmap="RdBu_r", vmin=-lim, vmax=lim)
+    axs[1].scatter(xs[~soil, 0], xs[~soil, 1], c="0.3", s=2)
+    fig.colorbar(b, ax=axs[1], label="pore pressure / c")
+    for ax in axs:
+        ax.set_xlim(0.0, 3.0)
+        ax.set_ylim(1.0, 3.3)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+    axs[0].set_ylabel("y (m)")
+    fig.suptitle(f"Footing on saturated Tresca soil, t = {t:.2f} s (settlement {V * t / B:.1%} of B)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"figure: {path}")
 
 
 def main():
@@ -73,7 +117,15 @@ def main():
     ap.add_argument("--rerun", action="store_true")
     ap.add_argument("--phi", type=float, default=0.0, help="friction angle (degrees)")
     ap.add_argument("--psi", type=float, default=None, help="dilatancy angle (default: phi)")
+    ap.add_argument("--scene", default=SCENE,
+                    help="the footing scene (inputs/footing_prandtl_saturated_2d.nml: saturated soil)")
+    ap.add_argument("--tensile", type=float, default=None,
+                    help="tensile_strength of the soil (Pa), replacing the scene's")
+    ap.add_argument("--band", type=float, nargs=2, default=[0.05, 0.10],
+                    help="settlements / B over which the plateau is averaged")
     ap.add_argument("--plot")
+    ap.add_argument("--fields", help="figure of the last frame of the finest run: plastic strain and "
+                    "pore pressure (saturated scenes)")
     args = ap.parse_args()
     os.makedirs(args.workdir, exist_ok=True)
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
@@ -81,7 +133,7 @@ def main():
     nc = prandtl_nc(args.phi)
     rows = []
     for cpm in args.cells_per_metre:
-        name, text = scene(cpm, args.workdir, args.phi, psi)
+        name, text = scene(args.scene, cpm, args.workdir, args.phi, psi, args.tensile)
         nml = os.path.join(args.workdir, name + ".nml")
         h5 = os.path.join(args.workdir, name + ".h5")
         open(nml, "w").write(text)
@@ -92,10 +144,11 @@ def main():
                                     env=env, stdout=log, stderr=subprocess.STDOUT).returncode
             print(f"{name}: exit code {rc}, {time.time() - t0:.0f} s", flush=True)
         s, q = curve(h5)
-        band = (s >= 0.05) & (s <= 0.10)
+        band = (s >= args.band[0]) & (s <= args.band[1])
         rows.append((cpm, s, q, q[band].mean(), q[band].min(), q[band].max()))
     print(f"phi = {args.phi} deg, psi = {psi} deg: Prandtl N_c = {nc:.3f}")
-    print(f"| h (m) | q/c, mean over settlement 5-10 % of B | range | against N_c = {nc:.3f} |")
+    print(f"| h (m) | q/c, mean over settlement {args.band[0]:.1%}-{args.band[1]:.1%} of B | range | "
+          f"against N_c = {nc:.3f} |")
     print("|---|---|---|---|")
     for cpm, s, q, mean, lo, hi in rows:
         print(f"| {1.0 / cpm:.3f} | {mean:.3f} | {lo:.2f} - {hi:.2f} | {mean / nc - 1.0:+.1%} |")
@@ -114,6 +167,10 @@ def main():
         fig.tight_layout()
         fig.savefig(args.plot, dpi=120)
         print(f"figure: {args.plot}")
+    if args.fields:
+        cpm = max(args.cells_per_metre)
+        name, _ = scene(args.scene, cpm, args.workdir, args.phi, psi, args.tensile)
+        plot_fields(os.path.join(args.workdir, name + ".h5"), args.fields)
 
 
 if __name__ == "__main__":

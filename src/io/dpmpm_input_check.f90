@@ -60,6 +60,10 @@ contains
       'drag_safety), implicit (solid and fluid velocities solved together at each node)')
     if (.not. real_ok(cfg%drag_safety, gt=0.0_wp, le=1.0_wp)) call add_value(pb, g_run, 1, &
       'drag_safety', rtoa(cfg%drag_safety), 'must be in (0, 1] (fraction of the nodal drag limit)')
+    if (.not. real_ok(cfg%free_surface_fraction, ge=0.0_wp, lt=0.5_wp)) call add_value(pb, g_run, 1, &
+      'free_surface_fraction', rtoa(cfg%free_surface_fraction), 'must be in [0, 0.5): the fraction '// &
+      'of a cell below which the fluid at a node marks a free surface (0 = off; a node on the '// &
+      'surface of a full body holds half a cell)')
     if (.not. real_ok(cfg%cavitation_pressure, le=0.0_wp)) call add_value(pb, g_run, 1, &
       'cavitation_pressure', rtoa(cfg%cavitation_pressure), 'must be a finite pressure <= 0 '// &
       '(Pa, gauge; -1e5 is about a vacuum, a large negative value switches the cut off)')

@@ -112,6 +112,7 @@ contains
     self%nkept = 0
     self%nwall = 0
     self%ncavitated = 0
+    self%nfree_surface = 0
     self%noutflow = 0
     self%outflow_mass = 0.0_wp
     call self%grid%init(cfg)
@@ -532,6 +533,11 @@ contains
     if (nwall > 0) call self%log%info('  pore pressure cut at the cavitation pressure '// &
                                       trim(rtoa(self%cfg%cavitation_pressure))//' Pa: '// &
                                       i8toa(nwall)//' point-steps')
+    nwall = self%nfree_surface
+    call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+    if (nwall > 0) call self%log%info('  pore pressure 0 at the free surface of the pore fluid: '// &
+                                      i8toa(nwall)//' point-steps (free_surface_fraction '// &
+                                      trim(rtoa(self%cfg%free_surface_fraction))//')')
     do k = 2, ntimers
       write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
       call self%log%info(line)

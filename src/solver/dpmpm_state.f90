@@ -60,6 +60,7 @@ module dpmpm_state
     integer(i8) :: nkept = 0                  !< point gradients left point-wise (no quadrature weight)
     integer(i8) :: nwall = 0                  !< points put back inside a wall they had crossed
     integer(i8) :: ncavitated = 0             !< fluid point-steps cut at the cavitation pressure
+    integer(i8) :: nfree_surface = 0          !< fluid point-steps at the free surface (p = 0)
     integer(i8) :: noutflow = 0               !< fluid points that left through drained faces
     real(wp) :: outflow_mass = 0.0_wp         !< and their mass (kg, or kg/m^(3-ndim))
     integer(i8) :: inflow_id0 = 0             !< largest fluid point id of the run's start

@@ -19,7 +19,7 @@ module dpmpm_step
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, project_p2g, &
-                            fluid_p2g, &
+                            fluid_p2g, volume_p2g, reaches_thin_node, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped, locked_velocity, remove_split
@@ -45,6 +45,7 @@ contains
     real(wp), intent(inout) :: dt
     integer :: m, ip, nlost, ns, nf, nd, blo(3), bhi(3)
     integer, allocatable :: fcell(:)
+    logical, allocatable :: fsurf(:)
     logical :: coupled
     real(wp) :: wplastic, rforce(3)
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:), skinv(:)
@@ -156,6 +157,13 @@ contains
       end do
     end if
     call self%timers%toc(t_halo)
+    ! The fluid points at the free surface of the pore fluid (their pressure is 0 after
+    ! the pressure update).
+    ! (Not with Gauss quadrature: the forces come from the fields reconstructed over whole
+    ! cells, and a thin node inside a scattered set is no surface.)
+    if (coupled .and. self%cfg%free_surface_fraction > 0.0_wp .and. .not. self%plan%gauss) &
+      call free_surface_points(self, fsurf)
+
     ! 4. Nodal update: MLS nodal velocities, then each phase alone or both with drag.
     call self%timers%tic(t_nodal)
     if (self%has_surface_loads) then
@@ -310,6 +318,10 @@ contains
         call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
                                  self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated, &
                                  fcell, product(self%dec%chi - self%dec%clo + 1), f%pts%vol)
+        if (allocated(fsurf)) then
+          self%nfree_surface = self%nfree_surface + count(fsurf(1:nf))
+          where (fsurf(1:nf)) f%pts%pressure(1:nf) = 0.0_wp
+        end if
         call fluid_state(nf, self%mats, f%pts%mat, f%pts%mass, f%pts%porosity, f%pts%pressure, &
                          f%pts%vol, f%pts%stress)
       end associate
@@ -583,6 +595,29 @@ contains
       self%drive_impulse = self%drive_impulse + dt*force
     end associate
   end subroutine drive_rigid
+
+  !> Fluid points at the free surface of the pore fluid (doc/theory.md 4.6): those whose
+  !> grid functions reach a node inside the grid that the fluid fills to less than
+  !> free_surface_fraction of a cell, sum_p N_Ip V_p < f h^d. There a node carries a sliver
+  !> of a point's mass but the full gradient of its grid function, which the stiff pore
+  !> fluid can accelerate hard; the surface is drained to the air (p = 0). A node
+  !> on the surface of a full body holds half a cell and is not thin; nodes on the grid's
+  !> faces follow the face conditions.
+  subroutine free_surface_points(self, fsurf)
+    class(state_t), intent(inout) :: self
+    logical, allocatable, intent(out) :: fsurf(:)
+    real(wp), allocatable :: fvol(:, :, :, :)
+    associate (f => self%phase(fluid_phase), alo => self%dec%alo, ahi => self%dec%ahi)
+      allocate (fvol(1, alo(1):ahi(1), alo(2):ahi(2), alo(3):ahi(3)), fsurf(f%pts%n))
+      fvol = 0.0_wp
+      call volume_p2g(f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%pts%vol, alo, fvol)
+      call self%mirror%fold(fvol, 1, f%bc)
+      call self%dec%halo_sum(fvol)
+      call self%dec%halo_copy(fvol)
+      call reaches_thin_node(self%nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, alo, fvol, self%grid%ncells, &
+                             self%cfg%free_surface_fraction*product(self%grid%h(1:self%nd)), fsurf)
+    end associate
+  end subroutine free_surface_points
 
   !> The rigid bodies' share of the node fields (rigid_p2g) in self%rnode, folded at
   !> mirror walls and summed over the ranks.

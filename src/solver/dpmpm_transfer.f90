@@ -13,7 +13,7 @@ module dpmpm_transfer
   implicit none
   private
   public :: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, project_p2g
-  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux
+  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, volume_p2g, reaches_thin_node
 
 contains
 
@@ -350,6 +350,48 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine solid_porosity_p2g
+
+  !> The volume the points represent at the nodes: f(1, I) += sum_p N_I(x_p) V_p.
+  subroutine volume_p2g(nw, n, i0, sw, vol, lo, f)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), vol(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: f(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn
+    do p = 1, n
+#include "dpmpm_stencil_do_3d.inc"
+      f(1, i, j, k) = f(1, i, j, k) + nn*vol(p)
+#include "dpmpm_stencil_end_3d.inc"
+    end do
+  end subroutine volume_p2g
+
+  !> Whether each point's grid functions reach (N > 0) a node inside the grid (not on a
+  !> face: 0 < index < ncells on the axes 1..nd) whose nodal volume f(1) is below vmin.
+  subroutine reaches_thin_node(nd, nw, n, i0, sw, lo, f, ncells, vmin, flag)
+    integer, intent(in) :: nd, nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    integer, intent(in) :: ncells(3)
+    real(wp), intent(in) :: vmin
+    logical, intent(out) :: flag(:)
+    integer :: p, a, b, c, i, j, k, hi(3)
+    real(wp) :: nn
+    hi = huge(1)
+    hi(1:nd) = ncells(1:nd)
+    do p = 1, n
+      flag(p) = .false.
+#include "dpmpm_stencil_do_3d.inc"
+      if (nn > 0.0_wp .and. f(1, i, j, k) < vmin) then
+        if (i > 0 .and. i < hi(1) .and. (nd < 2 .or. (j > 0 .and. j < hi(2))) .and. &
+            (nd < 3 .or. (k > 0 .and. k < hi(3)))) flag(p) = .true.
+      end if
+#include "dpmpm_stencil_end_3d.inc"
+    end do
+  end subroutine reaches_thin_node
 
   ! Two-dimensional forms of the kernels above (nd = 2: the third axis has one node
   ! of weight 1 and derivative 0, so its factors and the third components drop out).

@@ -222,22 +222,16 @@ contains
       end if
       call report_governing(self, dt)
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        if (self%has_rigid) then
-          ! Rigid bodies drive the skeleton at their nodes; the fluid there is solved
-          ! against it.
-          call rigid_node_sums(self)
-          rforce = 0.0_wp
-          call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
-                                    self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
-                                    self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
-                                    self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce)
-          self%drive_impulse = self%drive_impulse + dt*rforce
-        else
-          call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
-                                    self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
-                                    self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
-                                    self%ext_work, self%drag_loss, damping_now(self))
-        end if
+        ! Rigid bodies drive the skeleton at their nodes and the fluid there is solved
+        ! against it; rnode is allocated only with rigid bodies (unallocated, it is an
+        ! absent argument).
+        if (self%has_rigid) call rigid_node_sums(self)
+        rforce = 0.0_wp
+        call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
+                                  self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
+                                  self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
+                                  self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce)
+        if (self%has_rigid) self%drive_impulse = self%drive_impulse + dt*rforce
       end associate
       call self%timers%toc(t_nodal)
     end if

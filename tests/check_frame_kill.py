@@ -142,8 +142,13 @@ while True:
     if not h5.exists():
         print(f"{name}: killed after {after:.1f} s before the file was made")
         continue
-    with h5py.File(h5, "r") as f:
-        nframes = len(f["frames"])
+    # (The count is for the log line only; a kill can tear the file's group index, which
+    # h5py then cannot list. What the code makes of such a file is checked below.)
+    try:
+        with h5py.File(h5, "r") as f:
+            nframes = len(f["frames"])
+    except (OSError, RuntimeError, KeyError) as err:
+        nframes = f"an unreadable frame index ({err})"
     rc, out = check_output(h5)
     last = out.strip().splitlines()[-1] if out.strip() else ""
     print(f"{name}: killed after {after:.1f} s with {nframes} frames; check_output.py: "

@@ -25,6 +25,8 @@ program test_wall_friction
   call test_smooth_roller_has_no_friction()
   call test_block_slides_at_coulomb_rate()
   call test_block_stays_when_friction_holds_it()
+  call test_saturated_block_slides_on_effective_normal_force()
+  call test_saturated_block_slides_where_dry_one_sticks()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -132,37 +134,79 @@ contains
   !> -y, starting at rest in its geostatic state (sigma_yy = -rho g cos(theta) (0.1 - y),
   !> K0 = nu/(1 - nu)); flip 0.5 (doc/verification.md, "Rough walls"). Returns the
   !> mean displacement along x of the block at t_end.
-  real(wp) function block_slide(mu, t_end) result(ux)
+  !> With porosity n the block is saturated instead: sand of grain density 2650 kg/m^3
+  !> (k = 1e-8 m/s, implicit drag) with water of 1000 kg/m^3 (K_f = 22 MPa) in its pores,
+  !> the face impermeable, the pore pressure hydrostatic, p = rho_f g cos(theta) (0.1 - y),
+  !> and the effective stress geostatic with the buoyant weight. With length the block is
+  !> that long (the grid 0.8 m longer) and the mean is taken over the points that start
+  !> within 0.2 m of its middle.
+  real(wp) function block_slide(mu, t_end, n, length) result(ux)
     real(wp), intent(in) :: mu, t_end
+    real(wp), intent(in), optional :: n, length
     type(config_t) :: cfg
     type(simulation_t) :: sim
-    real(wp) :: gn, s(2)
-    integer(i8), allocatable :: ids(:)
-    real(wp), allocatable :: x(:, :), v(:, :), st(:, :)
+    real(wp) :: gn, s(2), rho, len, xm
+    integer(i8), allocatable :: ids(:), ids0(:)
+    real(wp), allocatable :: x(:, :), v(:, :), st(:, :), x0(:, :), xs(:)
+    integer :: q
     gn = g*cos(theta)
+    len = 0.2_wp
+    if (present(length)) len = length
     cfg%name = 'wall_friction'
     cfg%ndim = 2
-    cfg%ncells = [50, 10, 1]
-    cfg%length = [1.0_wp, 0.2_wp, 1.0_wp]
+    cfg%ncells = [nint((len + 0.8_wp)/0.02_wp), 10, 1]
+    cfg%length = [len + 0.8_wp, 0.2_wp, 1.0_wp]
     cfg%t_end = t_end
     cfg%cfl = 0.5_wp
     cfg%flip = 0.5_wp
     cfg%gravity = [g*sin(theta), -gn, 0.0_wp]
     cfg%bc(3) = bc_roller
     cfg%wall_friction(3) = mu
-    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
+    allocate (cfg%materials(merge(2, 1, present(n))), cfg%regions(1), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=1000.0_wp, &
                                       youngs_modulus=1.0e7_wp, poisson_ratio=0.3_wp)
+    ! the weight that the skeleton carries, per unit volume and g
+    rho = 1000.0_wp
     cfg%regions(1)%lo = [0.1_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [0.3_wp, 0.1_wp, 1.0_wp]
+    cfg%regions(1)%hi = [0.1_wp + len, 0.1_wp, 1.0_wp]
     cfg%regions(1)%ppc = 2
-    cfg%regions(1)%stress = -1000.0_wp*gn*0.1_wp*[3.0_wp/7.0_wp, 1.0_wp, 3.0_wp/7.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%stress_gradient(:, 2) = 1000.0_wp*gn*[3.0_wp/7.0_wp, 1.0_wp, 3.0_wp/7.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
+    if (present(n)) then
+      cfg%drag = 'implicit'
+      cfg%materials(1)%density = 2650.0_wp
+      cfg%materials(1)%conductivity = 1.0e-8_wp
+      cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.2e7_wp)
+      cfg%regions(1)%phase = 'saturated'
+      cfg%regions(1)%fluid_material = 2
+      cfg%regions(1)%porosity = n
+      cfg%regions(1)%pore_pressure = 1000.0_wp*gn*0.1_wp
+      cfg%regions(1)%pore_pressure_gradient(2) = -1000.0_wp*gn
+      rho = (1.0_wp - n)*(2650.0_wp - 1000.0_wp)
+    end if
+    cfg%regions(1)%stress = -rho*gn*0.1_wp*[3.0_wp/7.0_wp, 1.0_wp, 3.0_wp/7.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
+    cfg%regions(1)%stress_gradient(:, 2) = rho*gn*[3.0_wp/7.0_wp, 1.0_wp, 3.0_wp/7.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
+    if (present(n)) then
+      ! No total stress across the free ends: sigma'_xx = p, so that the saturated
+      ! block is at rest where it starts (K0 would let it spread undrained and its pore
+      ! pressure drop by a third).
+      cfg%regions(1)%stress(1) = 1000.0_wp*gn*0.1_wp
+      cfg%regions(1)%stress_gradient(1, 2) = -1000.0_wp*gn
+    end if
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    call sim%gather_points(ids0, x0, v, st)
     call sim%run()
     call sim%gather_points(ids, x, v, st)
     s = 0.0_wp
-    if (rank == 0) s = [sum(x(1, :)), real(size(ids), wp)]
+    if (rank == 0 .and. .not. present(length)) then
+      s = [sum(x(1, :)), real(size(ids), wp)]
+    else if (rank == 0) then
+      ! the start of each point by its id
+      allocate (xs(minval(ids0):maxval(ids0)))
+      xs(ids0) = x0(1, :)
+      xm = 0.1_wp + 0.5_wp*len
+      do q = 1, size(ids)
+        if (abs(xs(ids(q)) - xm) < 0.2_wp) s = s + [x(1, q) - xs(ids(q)) + 0.2_wp, 1.0_wp]
+      end do
+    end if
     call MPI_Allreduce(MPI_IN_PLACE, s, 2, MPI_DOUBLE_PRECISION, MPI_SUM, MPI_COMM_WORLD)
     ! initial mean x: the block's centre, 0.2 m (equal point masses)
     ux = s(1)/s(2) - 0.2_wp
@@ -179,6 +223,36 @@ contains
     ux = block_slide(0.3_wp, 0.2_wp)
     call check_close(ux, 0.5_wp*a*0.2_wp**2, 1.0e-2_wp, 0.0_wp, 'distance slid against a t^2/2')
   end subroutine test_block_slides_at_coulomb_rate
+
+  !> A saturated block (n = 0.4, mixture density 1990 kg/m^3) 1.6 m long on an
+  !> impermeable rough face: the pore pressure carries the water's weight, the friction
+  !> takes mu times the effective normal force only, the buoyant weight (990 kg/m^3), so
+  !> that the mixture slides with a = g (sin theta - mu cos theta 990/1990) = 3.637 m/s^2
+  !> (with the total normal force it would be 2.356). Measured at t = 0.2 s over the
+  !> middle 0.4 m: 0.072962 m against 0.072741 m (+0.30 %, 1 and 2 ranks). Tolerance 1 %.
+  subroutine test_saturated_block_slides_on_effective_normal_force()
+    real(wp) :: ux, a
+    call begin_test('saturated_block_slides_on_effective_normal_force')
+    a = g*(sin(theta) - 0.3_wp*cos(theta)*990.0_wp/1990.0_wp)
+    ux = block_slide(0.3_wp, 0.2_wp, 0.4_wp, 1.6_wp)
+    if (am_root) print '(a, es12.5, a, es12.5)', 'saturated block: slid ', ux, ' m against ', 0.5_wp*a*0.2_wp**2
+    call check_close(ux, 0.5_wp*a*0.2_wp**2, 1.0e-2_wp, 0.0_wp, 'distance slid against a t^2/2')
+  end subroutine test_saturated_block_slides_on_effective_normal_force
+
+  !> mu = 0.7 holds a dry block at 30 degrees (the test below), but not a saturated one:
+  !> mu 990/1990 = 0.348 < tan(theta), a = 1.946 m/s^2, 0.038929 m at 0.2 s. Measured:
+  !> 0.042624 m (+9.5 %, 1 and 2 ranks: less friction than mu times the buoyant weight,
+  !> cause not pinned down; doc/verification.md, "Rough walls"). Tolerance 12 %: the
+  !> measured error with a margin.
+  subroutine test_saturated_block_slides_where_dry_one_sticks()
+    real(wp) :: ux, a
+    call begin_test('saturated_block_slides_where_dry_one_sticks')
+    a = g*(sin(theta) - 0.7_wp*cos(theta)*990.0_wp/1990.0_wp)
+    ux = block_slide(0.7_wp, 0.2_wp, 0.4_wp, 1.6_wp)
+    if (am_root) print '(a, es12.5, a, es12.5)', 'saturated block, mu 0.7: slid ', ux, ' m against ', &
+      0.5_wp*a*0.2_wp**2
+    call check_close(ux, 0.5_wp*a*0.2_wp**2, 0.12_wp, 0.0_wp, 'distance slid against a t^2/2')
+  end subroutine test_saturated_block_slides_where_dry_one_sticks
 
   !> mu = 0.7 > tan(theta): the block stays; measured 2.6e-5 m after 0.1 s (1 and 2
   !> ranks; the block shears under the tangential gravity and the start from rest sets it

@@ -480,11 +480,6 @@ contains
                        "kernel = 'linear': with the mirror walls of B-splines part of the wall's "// &
                        'normal force acts through nodes inside the grid, and the friction taken '// &
                        'from the face nodes would be too low (doc/input.md, &boundary)')
-      else if (friction > 0.0_wp .and. allocated(cfg%regions)) then
-        if (any(cfg%regions%phase == 'fluid' .or. cfg%regions%phase == 'saturated')) &
-          call add_value(pb, g_boundary, k, 'friction', rtoa(friction), 'rough walls act in '// &
-                         'scenes of one phase (dry soil, solids); with fluid or saturated regions '// &
-                         'the walls are smooth (friction = 0)')
       end if
       if (material /= 0 .and. trim(adjustl(condition)) /= 'absorbing') &
         call add_value(pb, g_boundary, k, 'material', itoa(material), &

@@ -120,8 +120,9 @@ contains
     real(wp), intent(in), optional :: rnode(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout), optional :: rforce(3)
     integer :: i, j, k, c
-    real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), as, af, vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
-    real(wp) :: cs(3), cf(3), msd, mfd, fsd, ffd, ts(3), tf(3), fds(3), fdf(3), vr(3), r
+    real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
+    real(wp) :: cs(3), cf(3), ts(3), tf(3), fds(3), fdf(3), vr(3)
+    real(wp) :: pushs(3), pushf(3), dve(3), vt(3), rp, meff, ffr(3), vs0(3), vf0(3)
     logical :: sfix(3), ffix(3), tie(3), near, rigid(3)
     nvel_s(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     nvel_f(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
@@ -185,63 +186,45 @@ contains
             fs = fs + fds
             ff = ff + fdf
           end if
+          vs0 = vs; vf0 = vf
           do c = 1, nd
-            ! Dashpots of absorbing faces act at the new velocities (-cs vsn, -cf vfn):
-            ! they add dt cs, dt cf to the masses and -cs vs, -cf vf to the forces of
-            ! the solve (nothing where cs = cf = 0).
-            msd = ms + dt*cs(c); mfd = mf + dt*cf(c)
-            fsd = fs(c) - cs(c)*vs(c); ffd = ff(c) - cf(c)*vf(c)
-            if (rigid(c)) then
-              ! Driven by a rigid body: the solid moves at v_r, the fluid against it
-              ! (or with it, normal to an impermeable face); r is the drive's reaction.
-              vsn(c) = vr(c)
-              if (mf > 0.0_wp .and. tie(c)) then
-                v = (ms*vs(c) + mf*vf(c))/(ms + mf)
-                vs(c) = v; vf(c) = v
-                vfn(c) = vr(c)
-                r = (msd + mfd)*(vr(c) - v)/dt - fs(c) - ff(c) + (cs(c) + cf(c))*v
+            call solve_component(c, 0.0_wp)
+          end do
+          ffr = 0.0_wp
+          if (near .and. faces%grid%rough .and. ms > 0.0_wp .and. .not. any(rigid)) then
+            ! Coulomb friction of rough walls on the skeleton (doc/theory.md 6.7), from the
+            ! effective normal force: what the skeleton pushes against the wall less the
+            ! pore pressure's share of it. Where the wall holds the water, that share is
+            ! (1 - n)/n of the water's push (both carry the same p); at a drained face it is
+            ! the face's pore-pressure load (the skeleton carries the total stress there).
+            ! The friction force joins the skeleton's forces and the drag solve is repeated,
+            ! so that the water takes its share of the friction as the drag gives it; meff
+            ! is the mass that a force on the skeleton moves in that solve, so that a
+            ! sticking node comes to rest.
+            meff = ms
+            if (mf > 0.0_wp .and. implicit) meff = (ms*mf + dt*dn*(ms + mf))/(mf + dt*dn)
+            dve = 0.0_wp
+            do c = 1, nd
+              if (.not. sfix(c)) cycle
+              if (mf > 0.0_wp .and. ffix(c)) then
+                rp = (1.0_wp - nporo(1, i, j, k))/nporo(1, i, j, k)*pushf(c)
               else if (mf > 0.0_wp) then
-                if (implicit) then
-                  af = (ffd - dn*(vf(c) - vr(c)))/(mfd + dt*dn)
-                  vfn(c) = vf(c) + dt*af
-                  r = msd*(vr(c) - vs(c))/dt - fsd - dn*(vfn(c) - vr(c))
-                else
-                  af = (ffd - dn*(vf(c) - vs(c)))/mfd
-                  vfn(c) = vf(c) + dt*af
-                  r = msd*(vr(c) - vs(c))/dt - fsd - dn*(vf(c) - vs(c))
-                end if
+                rp = fps(c)
               else
-                r = msd*(vr(c) - vs(c))/dt - fsd
+                rp = nporo(1, i, j, k)*fps(c)
               end if
-              rforce(c) = rforce(c) + r
-              ext_work = ext_work + 0.5_wp*dt*r*(vs(c) + vsn(c))
-            else if (ms > 0.0_wp .and. mf > 0.0_wp .and. tie(c)) then
-              ! The mixture moves together normal to an impermeable face.
-              v = (ms*vs(c) + mf*vf(c))/(ms + mf)
-              vs(c) = v; vf(c) = v
-              v = v + dt*(fs(c) + ff(c) - (cs(c) + cf(c))*v)/(msd + mfd)
-              vsn(c) = v; vfn(c) = v
-            else if (ms > 0.0_wp .and. mf > 0.0_wp) then
-              if (sfix(c)) then
-                ! Solid held: the fluid moves against a resting skeleton.
-                vs(c) = 0.0_wp
-                af = (ffd - dn*vf(c))/merge(mfd + dt*dn, mfd, implicit)
-              else
-                call drag_solve(msd, mfd, dn, fsd, ffd, vs(c), vf(c), dt, implicit, as, af)
-                vsn(c) = vs(c) + dt*as
-              end if
-              vfn(c) = vf(c) + dt*af
-            else if (ms > 0.0_wp) then
-              vsn(c) = vs(c) + dt*fsd/msd
-            else
-              vfn(c) = vf(c) + dt*ffd/mfd
-            end if
-            if (sfix(c)) then
-              vs(c) = 0.0_wp; vsn(c) = 0.0_wp
-            end if
-            if (ffix(c)) then
-              vf(c) = 0.0_wp; vfn(c) = 0.0_wp
-            end if
+              dve(c) = dt*(pushs(c) - rp)/meff
+            end do
+            vt = vsn
+            call faces%grid%wall_friction([i, j, k], nd, sfix, dve, vt)
+            ffr(1:nd) = meff*(vt(1:nd) - vsn(1:nd))/dt
+            do c = 1, nd
+              if (ffr(c) == 0.0_wp) cycle
+              vs(c) = vs0(c); vf(c) = vf0(c)
+              call solve_component(c, ffr(c))
+            end do
+          end if
+          do c = 1, nd
             ! Energy dissipated by the drag: the drag force (at the old relative
             ! velocity w, or the new one when implicit) times the mid-step w, with
             ! the constrained velocities (a held phase does no work; a tied pair and
@@ -252,13 +235,11 @@ contains
             ! Work of the dashpots (energy leaving through absorbing faces).
             ext_work = ext_work - 0.5_wp*dt*(merge(cs(c)*vsn(c)*(vs(c) + vsn(c)), 0.0_wp, ms > 0.0_wp) + &
                                              merge(cf(c)*vfn(c)*(vf(c) + vfn(c)), 0.0_wp, mf > 0.0_wp))
-            if (damping > 0.0_wp) then
-              ! The damping forces' work: taken from ext_work and counted as dissipated,
-              ! as the drag's.
-              v = 0.5_wp*dt*(fds(c)*(vs(c) + vsn(c)) + fdf(c)*(vf(c) + vfn(c)))
-              ext_work = ext_work + v
-              drag_loss = drag_loss - v
-            end if
+            ! The damping forces' and the wall friction's work: taken from ext_work and
+            ! counted as dissipated, as the drag's.
+            v = 0.5_wp*dt*((fds(c) + ffr(c))*(vs(c) + vsn(c)) + fdf(c)*(vf(c) + vfn(c)))
+            ext_work = ext_work + v
+            drag_loss = drag_loss - v
           end do
           nvel_s(1:nd, i, j, k) = vs(1:nd)
           nvel_s(nd + 1:2*nd, i, j, k) = vsn(1:nd)
@@ -273,6 +254,79 @@ contains
         end do
       end do
     end do
+  contains
+
+    !> The update of component c at the node (i, j, k) of the loop, with the extra force
+    !> fadd on the skeleton: the new velocities vsn(c), vfn(c) (vs(c), vf(c) constrained
+    !> as the conditions ask), the rigid drive's reaction, and what each phase pushes
+    !> against a wall in this component (pushs, pushf: its forces and the drag with the
+    !> constrained velocities).
+    subroutine solve_component(c, fadd)
+      integer, intent(in) :: c
+      real(wp), intent(in) :: fadd
+      real(wp) :: msd, mfd, fsd, ffd, as, af, v, r
+      ! Dashpots of absorbing faces act at the new velocities (-cs vsn, -cf vfn):
+      ! they add dt cs, dt cf to the masses and -cs vs, -cf vf to the forces of
+      ! the solve (nothing where cs = cf = 0).
+      msd = ms + dt*cs(c); mfd = mf + dt*cf(c)
+      fsd = fs(c) - cs(c)*vs(c) + fadd; ffd = ff(c) - cf(c)*vf(c)
+      vsn(c) = 0.0_wp; vfn(c) = 0.0_wp
+      if (rigid(c)) then
+        ! Driven by a rigid body: the solid moves at v_r, the fluid against it
+        ! (or with it, normal to an impermeable face); r is the drive's reaction.
+        vsn(c) = vr(c)
+        if (mf > 0.0_wp .and. tie(c)) then
+          v = (ms*vs(c) + mf*vf(c))/(ms + mf)
+          vs(c) = v; vf(c) = v
+          vfn(c) = vr(c)
+          r = (msd + mfd)*(vr(c) - v)/dt - fs(c) - ff(c) + (cs(c) + cf(c))*v
+        else if (mf > 0.0_wp) then
+          if (implicit) then
+            af = (ffd - dn*(vf(c) - vr(c)))/(mfd + dt*dn)
+            vfn(c) = vf(c) + dt*af
+            r = msd*(vr(c) - vs(c))/dt - fsd - dn*(vfn(c) - vr(c))
+          else
+            af = (ffd - dn*(vf(c) - vs(c)))/mfd
+            vfn(c) = vf(c) + dt*af
+            r = msd*(vr(c) - vs(c))/dt - fsd - dn*(vf(c) - vs(c))
+          end if
+        else
+          r = msd*(vr(c) - vs(c))/dt - fsd
+        end if
+        rforce(c) = rforce(c) + r
+        ext_work = ext_work + 0.5_wp*dt*r*(vs(c) + vsn(c))
+      else if (ms > 0.0_wp .and. mf > 0.0_wp .and. tie(c)) then
+        ! The mixture moves together normal to an impermeable face.
+        v = (ms*vs(c) + mf*vf(c))/(ms + mf)
+        vs(c) = v; vf(c) = v
+        v = v + dt*(fs(c) + ff(c) + fadd - (cs(c) + cf(c))*v)/(msd + mfd)
+        vsn(c) = v; vfn(c) = v
+      else if (ms > 0.0_wp .and. mf > 0.0_wp) then
+        if (sfix(c)) then
+          ! Solid held: the fluid moves against a resting skeleton.
+          vs(c) = 0.0_wp
+          af = (ffd - dn*vf(c))/merge(mfd + dt*dn, mfd, implicit)
+        else
+          call drag_solve(msd, mfd, dn, fsd, ffd, vs(c), vf(c), dt, implicit, as, af)
+          vsn(c) = vs(c) + dt*as
+        end if
+        vfn(c) = vf(c) + dt*af
+      else if (ms > 0.0_wp) then
+        vsn(c) = vs(c) + dt*fsd/msd
+      else
+        vfn(c) = vf(c) + dt*ffd/mfd
+      end if
+      if (sfix(c)) then
+        vs(c) = 0.0_wp; vsn(c) = 0.0_wp
+      end if
+      if (ffix(c)) then
+        vf(c) = 0.0_wp; vfn(c) = 0.0_wp
+      end if
+      v = dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)
+      pushs(c) = fsd + v
+      pushf(c) = ffd - v
+    end subroutine solve_component
+
   end subroutine nodal_update_coupled
 
   !> MUSL remap, at the nodes olo..ohi: the new-velocity slots of nvel (cleared first)

@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""A footing pushed into the crest of a saturated slope (inputs/slope_saturated_2d.nml).
+
+Runs the scene (or reads an earlier run in the work directory), prints the footing's
+pressure q = -F_y / B against its settlement from the drive force
+/verification/drive_force_y, the largest plastic strain, the excess pore pressure
+(p minus each water point's initial p) and the largest speed of the last frame, and
+draws the q-settlement curve, the plastic strain of the soil and the excess pore
+pressure of the water (doc/verification.md, "Saturated slope").
+"""
+
+import argparse
+import os
+import re
+import subprocess
+
+import h5py
+import numpy as np
+
+B = 2.0      # footing width (m)
+V = 0.1      # footing speed (m/s)
+SCENE = "inputs/slope_saturated_2d.nml"
+
+
+def run(args):
+    """Writes the scene into the work directory (output there, kernel and end time as
+    asked) and runs it unless its output exists."""
+    os.makedirs(args.workdir, exist_ok=True)
+    text = open(SCENE).read()
+    name = f"slope_saturated_2d_{args.kernel}_np{args.ranks}"
+    text = re.sub(r"name = '[^']*'", f"name = '{name}'", text, count=1)
+    text = re.sub(r"dir = '[^']*'", f"dir = '{os.path.abspath(args.workdir)}'", text, count=1)
+    text = re.sub(r"kernel = '[^']*'", f"kernel = '{args.kernel}'", text, count=1)
+    if args.t_end:
+        text = re.sub(r"t_end = [0-9.eE+-]+", f"t_end = {args.t_end}", text, count=1)
+    nml = os.path.join(args.workdir, name + ".nml")
+    h5 = os.path.join(args.workdir, name + ".h5")
+    with open(nml, "w") as f:
+        f.write(text)
+    if args.rerun or not os.path.exists(h5):
+        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        cmd = ["mpirun", "--oversubscribe", "-n", str(args.ranks), args.bin, nml]
+        with open(os.path.join(args.workdir, name + ".log"), "w") as log:
+            subprocess.run(cmd, check=True, stdout=log, stderr=subprocess.STDOUT, env=env)
+    return h5
+
+
+def measure(h5):
+    with h5py.File(h5, "r") as f:
+        t = f["verification/drive_time"][:]
+        q = -f["verification/drive_force_y"][:] / B
+        keys = sorted(f["frames"].keys())
+        first, last = f["frames"][keys[0]], f["frames"][keys[-1]]
+        p0 = dict(zip(first["fluid/id"][:], first["fluid/pore_pressure"][:]))
+        fr = {k: last[k][:] for k in ("solid/x", "solid/material", "solid/plastic_strain",
+                                      "solid/v", "fluid/x", "fluid/id", "fluid/pore_pressure")}
+        fr["time"] = last.attrs["time"] if "time" in last.attrs else float("nan")
+    fr["dp"] = fr["fluid/pore_pressure"] - np.array([p0[i] for i in fr["fluid/id"]])
+    return t, q, fr
+
+
+def plot(t, q, fr, path, title):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    soil = fr["solid/material"] == 1
+    xs, xf = fr["solid/x"], fr["fluid/x"]
+    fig = plt.figure(figsize=(10, 9))
+    ax0 = fig.add_subplot(3, 1, 1)
+    ax0.plot(V * t, q / 1e3)
+    ax0.set_xlabel("settlement (m)")
+    ax0.set_ylabel("q = F / B (kPa)")
+    ax0.grid(True, alpha=0.3)
+    ax1 = fig.add_subplot(3, 1, 2)
+    ep = fr["solid/plastic_strain"][soil]
+    a = ax1.scatter(xs[soil, 0], xs[soil, 1], c=ep, s=2, vmax=max(np.percentile(ep, 99.5), 1e-9))
+    fig.colorbar(a, ax=ax1, label="plastic strain")
+    ax2 = fig.add_subplot(3, 1, 3)
+    lim = np.percentile(np.abs(fr["dp"]), 99) / 1e3
+    b = ax2.scatter(xf[:, 0], xf[:, 1], c=fr["dp"] / 1e3, s=2, cmap="RdBu_r", vmin=-lim, vmax=lim)
+    fig.colorbar(b, ax=ax2, label="excess pore pressure (kPa)")
+    for ax in (ax1, ax2):
+        ax.scatter(xs[~soil, 0], xs[~soil, 1], c="0.3", s=2)
+        ax.set_aspect("equal")
+        ax.set_xlim(0.0, 16.0)
+        ax.set_ylim(0.0, 5.5)
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"figure: {path}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--bin", default="build/release/dpmpm")
+    ap.add_argument("--ranks", type=int, default=1)
+    ap.add_argument("--kernel", default="linear", help="grid functions (linear, quadratic, cubic)")
+    ap.add_argument("--t-end", type=float, help="end time (s), replacing the scene's 4 s")
+    ap.add_argument("--workdir", default="out/slope")
+    ap.add_argument("--rerun", action="store_true")
+    ap.add_argument("--plot", help="figure: q-settlement, plastic strain, excess pore pressure")
+    args = ap.parse_args()
+    h5 = run(args)
+    t, q, fr = measure(h5)
+    print("settlement (m)  q (kPa)")
+    for s in np.arange(0.05, V * t[-1] + 1e-9, 0.05):
+        i = np.argmin(abs(V * t - s))
+        print(f"  {V * t[i]:.3f}  {q[i] / 1e3:8.1f}")
+    soil = fr["solid/material"] == 1
+    print(f"last frame t = {fr['time']:.3f} s: largest plastic strain "
+          f"{fr['solid/plastic_strain'][soil].max():.3f}, excess pore pressure "
+          f"{fr['dp'].min() / 1e3:.1f} ... {fr['dp'].max() / 1e3:.1f} kPa (1st/99th percentile "
+          f"{np.percentile(fr['dp'], 1) / 1e3:.1f} / {np.percentile(fr['dp'], 99) / 1e3:.1f}), "
+          f"largest speed {np.abs(fr['solid/v']).max():.3f} m/s")
+    if args.plot:
+        plot(t, q, fr, args.plot, f"Footing at the crest of a saturated slope ({args.kernel}, "
+             f"{args.ranks} rank{'s' if args.ranks > 1 else ''}), t = {fr['time']:.2f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -8,12 +8,17 @@ module dpmpm_drag
   use dpmpm_face_loads, only: face_loads_t
   implicit none
   private
-  public :: gravity_drag, drag_solve, drag_relax, drag_limit, nodal_drag_limit, relax_remapped
+  public :: gravity_drag, drag_solve, drag_relax, drag_limit, nodal_drag_limit, relax_remapped, sliver_node
   public :: locked_velocity, remove_split
 
   !> Gravity in the drag coefficient n_f^2 rho_f g / k (k is a hydraulic conductivity,
   !> defined with the standard gravity whatever the scene's body force).
   real(wp), parameter :: gravity_drag = 9.81_wp
+
+  !> A node where one phase's mass is below this fraction of the other's is a sliver
+  !> node: explicit drag there would need a step of about 2 m_small / D, far below the
+  !> step of the rest of the grid (doc/theory.md 4.2).
+  real(wp), parameter :: sliver_fraction = 1.0e-2_wp
 
 contains
 
@@ -73,6 +78,15 @@ contains
   !> Largest stable step of forward Euler on the relative motion of the two
   !> phases at a node, 2 / (d (1/ms + 1/mf)) (doc/theory.md 7.2, the binding limit of
   !> explicit drag); huge where a phase or the drag is absent.
+  !> True at a node with both phases where one has less than sliver_fraction of the
+  !> other's mass. With explicit drag such a node takes the drag implicitly and does not
+  !> limit the step: the drag locks the sliver to the other phase within one step, as the
+  !> physics does, instead of forcing the step of every node down to its tiny mass.
+  pure logical function sliver_node(ms, mf)
+    real(wp), intent(in) :: ms, mf
+    sliver_node = ms > 0.0_wp .and. mf > 0.0_wp .and. min(ms, mf) < sliver_fraction*max(ms, mf)
+  end function sliver_node
+
   pure real(wp) function drag_limit(ms, mf, d) result(dt)
     real(wp), intent(in) :: ms, mf, d
     dt = huge(1.0_wp)
@@ -80,7 +94,8 @@ contains
   end function drag_limit
 
   !> Largest stable step of explicit drag over the nodes olo..ohi (this rank's owned
-  !> nodes) from the summed solid and fluid node fields and the drag coefficient.
+  !> nodes) from the summed solid and fluid node fields and the drag coefficient;
+  !> sliver nodes, which take the drag implicitly, are left out.
   pure real(wp) function nodal_drag_limit(lo, olo, ohi, node_s, node_f, ndrag) result(dtmin)
     integer, intent(in) :: lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
@@ -90,6 +105,7 @@ contains
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)
+          if (sliver_node(node_s(1, i, j, k), node_f(1, i, j, k))) cycle
           dtmin = min(dtmin, drag_limit(node_s(1, i, j, k), node_f(1, i, j, k), ndrag(1, i, j, k)))
         end do
       end do

@@ -7,7 +7,7 @@ module dpmpm_nodal_update
   use dpmpm_kinds, only: wp
   use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
-  use dpmpm_drag, only: drag_solve
+  use dpmpm_drag, only: drag_solve, sliver_node
   implicit none
   private
   public :: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
@@ -123,7 +123,7 @@ contains
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
     real(wp) :: cs(3), cf(3), ts(3), tf(3), fds(3), fdf(3), vr(3)
     real(wp) :: pushs(3), pushf(3), dve(3), vt(3), rp, meff, ffr(3), vs0(3), vf0(3)
-    logical :: sfix(3), ffix(3), tie(3), near, rigid(3)
+    logical :: sfix(3), ffix(3), tie(3), near, rigid(3), imp
     nvel_s(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     nvel_f(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
@@ -134,6 +134,9 @@ contains
           dn = ndrag(1, i, j, k)
           if (ms <= 0.0_wp .and. mf <= 0.0_wp) cycle
           if (ms <= 0.0_wp .or. mf <= 0.0_wp) dn = 0.0_wp
+          ! Explicit drag except at a node that one phase barely reaches (sliver_node):
+          ! there it is implicit, which is stable at any step.
+          imp = implicit .or. sliver_node(ms, mf)
           vs = 0.0_wp; vf = 0.0_wp; fs = 0.0_wp; ff = 0.0_wp
           near = faces%near_face([i, j, k])
           tr = 0.0_wp; ts = 0.0_wp; tf = 0.0_wp; fps = 0.0_wp; fpf = 0.0_wp
@@ -202,7 +205,7 @@ contains
             ! is the mass that a force on the skeleton moves in that solve, so that a
             ! sticking node comes to rest.
             meff = ms
-            if (mf > 0.0_wp .and. implicit) meff = (ms*mf + dt*dn*(ms + mf))/(mf + dt*dn)
+            if (mf > 0.0_wp .and. imp) meff = (ms*mf + dt*dn*(ms + mf))/(mf + dt*dn)
             dve = 0.0_wp
             do c = 1, nd
               if (.not. sfix(c)) cycle
@@ -229,7 +232,7 @@ contains
             ! velocity w, or the new one when implicit) times the mid-step w, with
             ! the constrained velocities (a held phase does no work; a tied pair and
             ! a node with one phase, dn = 0, give none).
-            v = dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)*0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
+            v = dt*dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), imp)*0.5_wp*(vf(c) + vfn(c) - vs(c) - vsn(c))
             ext_work = ext_work - v
             drag_loss = drag_loss + v
             ! Work of the dashpots (energy leaving through absorbing faces).
@@ -281,7 +284,7 @@ contains
           vfn(c) = vr(c)
           r = (msd + mfd)*(vr(c) - v)/dt - fs(c) - ff(c) + (cs(c) + cf(c))*v
         else if (mf > 0.0_wp) then
-          if (implicit) then
+          if (imp) then
             af = (ffd - dn*(vf(c) - vr(c)))/(mfd + dt*dn)
             vfn(c) = vf(c) + dt*af
             r = msd*(vr(c) - vs(c))/dt - fsd - dn*(vfn(c) - vr(c))
@@ -305,9 +308,9 @@ contains
         if (sfix(c)) then
           ! Solid held: the fluid moves against a resting skeleton.
           vs(c) = 0.0_wp
-          af = (ffd - dn*vf(c))/merge(mfd + dt*dn, mfd, implicit)
+          af = (ffd - dn*vf(c))/merge(mfd + dt*dn, mfd, imp)
         else
-          call drag_solve(msd, mfd, dn, fsd, ffd, vs(c), vf(c), dt, implicit, as, af)
+          call drag_solve(msd, mfd, dn, fsd, ffd, vs(c), vf(c), dt, imp, as, af)
           vsn(c) = vs(c) + dt*as
         end if
         vfn(c) = vf(c) + dt*af
@@ -322,7 +325,7 @@ contains
       if (ffix(c)) then
         vf(c) = 0.0_wp; vfn(c) = 0.0_wp
       end if
-      v = dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), implicit)
+      v = dn*merge(vfn(c) - vsn(c), vf(c) - vs(c), imp)
       pushs(c) = fsd + v
       pushf(c) = ffd - v
     end subroutine solve_component

@@ -17,7 +17,7 @@ module dpmpm_drag
 
   !> A node where one phase's mass is below this fraction of the other's is a sliver
   !> node: explicit drag there would need a step of about 2 m_small / D, far below the
-  !> step of the rest of the grid (doc/theory.md 4.2).
+  !> step of the rest of the grid (doc/theory.md 7.2).
   real(wp), parameter :: sliver_fraction = 1.0e-2_wp
 
 contains
@@ -75,9 +75,6 @@ contains
     vf = mix + ms/(ms + mf)*w
   end subroutine drag_relax
 
-  !> Largest stable step of forward Euler on the relative motion of the two
-  !> phases at a node, 2 / (d (1/ms + 1/mf)) (doc/theory.md 7.2, the binding limit of
-  !> explicit drag); huge where a phase or the drag is absent.
   !> True at a node with both phases where one has less than sliver_fraction of the
   !> other's mass. With explicit drag such a node takes the drag implicitly and does not
   !> limit the step: the drag locks the sliver to the other phase within one step, as the
@@ -87,6 +84,9 @@ contains
     sliver_node = ms > 0.0_wp .and. mf > 0.0_wp .and. min(ms, mf) < sliver_fraction*max(ms, mf)
   end function sliver_node
 
+  !> Largest stable step of forward Euler on the relative motion of the two
+  !> phases at a node, 2 / (d (1/ms + 1/mf)) (doc/theory.md 7.2, the binding limit of
+  !> explicit drag); huge where a phase or the drag is absent.
   pure real(wp) function drag_limit(ms, mf, d) result(dt)
     real(wp), intent(in) :: ms, mf, d
     dt = huge(1.0_wp)

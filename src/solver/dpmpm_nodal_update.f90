@@ -123,7 +123,7 @@ contains
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
     real(wp) :: cs(3), cf(3), ts(3), tf(3), fds(3), fdf(3), vr(3)
     real(wp) :: pushs(3), pushf(3), dve(3), vt(3), rp, meff, ffr(3), vs0(3), vf0(3)
-    logical :: sfix(3), ffix(3), tie(3), near, rigid(3), imp
+    logical :: sfix(3), ffix(3), tie(3), near, rigid(3), imp, rough
     nvel_s(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     nvel_f(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
@@ -189,12 +189,17 @@ contains
             fs = fs + fds
             ff = ff + fdf
           end if
-          vs0 = vs; vf0 = vf
+          ! A skeleton node on a rough wall (not driven by a rigid body) takes friction, and
+          ! its tangential components are solved again from the velocities kept here.
+          rough = near .and. faces%grid%rough .and. ms > 0.0_wp .and. .not. any(rigid)
+          if (rough) then
+            vs0 = vs; vf0 = vf
+          end if
           do c = 1, nd
             call solve_component(c, 0.0_wp)
           end do
           ffr = 0.0_wp
-          if (near .and. faces%grid%rough .and. ms > 0.0_wp .and. .not. any(rigid)) then
+          if (rough) then
             ! Coulomb friction of rough walls on the skeleton (doc/theory.md 6.7), from the
             ! effective normal force: what the skeleton pushes against the wall less the
             ! pore pressure's share of it. Where the wall holds the water, that share is

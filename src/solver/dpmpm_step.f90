@@ -19,7 +19,7 @@ module dpmpm_step
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, project_p2g, &
-                            fluid_p2g, volume_p2g, reaches_thin_node, &
+                            fluid_p2g, volume_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped, locked_velocity, remove_split
@@ -246,6 +246,15 @@ contains
       call self%mirror%unfold(self%phase(ip)%nvel, 0, self%phase(ip)%bc)
     end do
     call self%timers%toc(t_halo)
+
+    ! The work of the benchmark's body forces (manufactured solution) over the step.
+    do ip = 1, self%nph
+      associate (ph => self%phase(ip))
+        if (allocated(ph%bacc)) self%ext_work = self%ext_work + &
+          body_force_work(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, self%dec%alo, ph%nvel, ph%pts%mass, &
+                          ph%bacc, dt)
+      end associate
+    end do
 
     ! 6. g2p: velocities, positions, velocity gradients (MUSL: from the remapped
     ! nodal velocities; Gauss quadrature: by the transposed force operator).

@@ -14,6 +14,7 @@ module dpmpm_transfer
   private
   public :: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, project_p2g
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, volume_p2g, reaches_thin_node
+  public :: body_force_work
 
 contains
 
@@ -97,6 +98,29 @@ contains
       vgrad(7:9, p) = lg(:, 3)
     end do
   end subroutine g2p
+
+  !> Work over a step of the body accelerations bacc that p2g gave the points:
+  !> sum_p m_p b_p . sum_I N_I(x_p) (v_I,old + v_I,new) dt / 2, which is the work of their
+  !> nodal forces sum_p N_I m_p b_p over the nodes' mean velocity, as gravity's is booked.
+  real(wp) function body_force_work(nd, nw, n, i0, sw, lo, nvel, mass, bacc, dt) result(w)
+    integer, intent(in) :: nd, nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(in) :: mass(:), bacc(:, :)
+    real(wp), intent(in) :: dt
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, vm(3)
+    w = 0.0_wp
+    do p = 1, n
+      vm(1:nd) = 0.0_wp
+#include "dpmpm_stencil_do_3d.inc"
+      vm(1:nd) = vm(1:nd) + nn*(nvel(1:nd, i, j, k) + nvel(nd + 1:2*nd, i, j, k))
+#include "dpmpm_stencil_end_3d.inc"
+      w = w + 0.5_wp*dt*mass(p)*dot_product(bacc(:, p), vm(1:nd))
+    end do
+  end function body_force_work
 
   !> Velocity gradients of the points, sum_I v_I (x) grad N_I from the new nodal
   !> velocities nvel(nd+1:2nd), as 3x3 column-major.

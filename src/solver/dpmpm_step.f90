@@ -18,8 +18,8 @@ module dpmpm_step
   use dpmpm_particles, only: particle_set_t
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, project_p2g, &
-                            fluid_p2g, volume_p2g, reaches_thin_node, body_force_work, &
+  use dpmpm_transfer, only: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g, &
+                            interp_scalar_value, fluid_p2g, volume_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped, locked_velocity, remove_split
@@ -48,7 +48,7 @@ contains
     logical, allocatable :: fsurf(:)
     logical :: coupled
     real(wp) :: wplastic, rforce(3)
-    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), ngrad(:, :), gnrel(:), skinv(:)
+    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), ngrad(:, :), gnrel(:), skinv(:)
     coupled = self%nph == 2
     nd = self%nd
     ns = self%phase(solid_phase)%pts%n
@@ -199,14 +199,14 @@ contains
       call self%mirror%unfold(self%nporo, 3, self%grid%bc)
       call self%timers%toc(t_halo)
       call self%timers%tic(t_g2p)
-      allocate (nval(nf), ngrad(3, nf), gnrel(nf))
+      allocate (nval(nf), ngrad(3, nf), gnrel(nf), nkinv(nf))
       associate (f => self%phase(fluid_phase))
-        call interp_scalar(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, self%nporo, nval, ngrad)
+        call interp_scalar_value(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, self%nporo, 3, &
+                                 nval, ngrad, nkinv)
         ! The floor only guards against negative interpolation weights; porous points
         ! have n > 0 and water away from them n = 1.
         f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-3_wp))
-        call interp_value(f%st%nw, nf, f%st%i0, f%st%sw, self%dec%alo, self%nporo, 3, nval)
-        f%pts%kinv(1:nf) = max(0.0_wp, nval)
+        f%pts%kinv(1:nf) = max(0.0_wp, nkinv)
       end associate
       call self%timers%toc(t_g2p)
       if (self%cfg%porosity_gradient) call add_interphase_force(self, ngrad)
@@ -458,7 +458,7 @@ contains
   subroutine musl_remap(self, dt)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
-    real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :)
+    real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :), proj(:, :, :, :, :)
     integer :: ip, nd
     logical :: coupled
     logical :: locked
@@ -477,9 +477,22 @@ contains
                              f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
       end associate
     end if
-    do ip = 1, self%nph
-      call remap_velocities(self, self%phase(ip))
-    end do
+    if (locked) then
+      ! The locked velocity goes to the points of each set and back in the remap's own
+      ! pass (remove_common_split uses the projections).
+      call self%dec%halo_copy(lockv)
+      allocate (proj(nd, size(lockv, 2), size(lockv, 3), size(lockv, 4), 2))
+      proj = 0.0_wp
+      do ip = 1, self%nph
+        ! the exterior nodes as this phase's walls mirror them
+        call self%mirror%unfold(lockv, 0, self%phase(ip)%bc)
+        call remap_velocities(self, self%phase(ip), lockv, proj(:, :, :, :, ip))
+      end do
+    else
+      do ip = 1, self%nph
+        call remap_velocities(self, self%phase(ip))
+      end do
+    end if
     ! the nodes of rigid bodies move with them in the remapped field too
     if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
                                                self%phase(solid_phase)%node, self%rnode, self%grid, dt, &
@@ -488,7 +501,7 @@ contains
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, s%node, f%node, &
                        s%nvel, f%nvel)
-        if (locked) call remove_common_split(self, lockv)
+        if (locked) call remove_common_split(self, proj)
         if (locked) &
           call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
                               f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
@@ -501,15 +514,14 @@ contains
       call self%dec%halo_copy(self%phase(ip)%nvel)
       call self%mirror%unfold(self%phase(ip)%nvel, 0, self%phase(ip)%bc)
     end do
-    do ip = 1, self%nph
-      associate (ph => self%phase(ip))
-        call point_gradient(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, ph%vgrad)
-      end associate
-    end do
+    associate (s => self%phase(solid_phase))
+      call point_gradient(nd, s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%st%sdw, self%dec%alo, s%nvel, s%vgrad)
+    end associate
     if (coupled) then
+      ! the fluid points' gradients of both phases' velocities in one pass
       associate (f => self%phase(fluid_phase))
-        call point_gradient(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, &
-                            self%phase(solid_phase)%nvel, f%vgrad2)
+        call point_gradients(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, f%nvel, &
+                             self%phase(solid_phase)%nvel, f%vgrad, f%vgrad2)
       end associate
     end if
   end subroutine musl_remap
@@ -518,23 +530,16 @@ contains
   !> equal; each point set projects them with its own masses, and the difference
   !> of the two projections would reach the pore-pressure update as a relative
   !> velocity no drag acted on. The locked velocity c (locked_velocity) is carried
-  !> to the points of each set and back (P c), and P_f c - P_s c is taken from the
-  !> remapped relative velocity (remove_split; doc/verification.md, "Long runs").
-  subroutine remove_common_split(self, lockv)
+  !> to the points of each set and back (P c, summed in proj by remap_velocities), and
+  !> P_f c - P_s c is taken from the remapped relative velocity (remove_split;
+  !> doc/verification.md, "Long runs").
+  subroutine remove_common_split(self, proj)
     class(state_t), intent(inout) :: self
-    real(wp), contiguous, intent(inout) :: lockv(:, :, :, :)
-    real(wp), allocatable :: proj(:, :, :, :, :)
+    real(wp), contiguous, intent(inout) :: proj(:, :, :, :, :)
     integer :: ip, nd
     nd = self%nd
-    call self%dec%halo_copy(lockv)
-    allocate (proj(nd, size(lockv, 2), size(lockv, 3), size(lockv, 4), 2))
-    proj = 0.0_wp
     do ip = 1, 2
       associate (ph => self%phase(ip))
-        ! the exterior nodes as this phase's walls mirror them
-        call self%mirror%unfold(lockv, 0, ph%bc)
-        call project_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, self%dec%alo, lockv, &
-                         proj(:, :, :, :, ip))
         call self%mirror%fold(proj(:, :, :, :, ip), 0, ph%bc)
         call self%dec%halo_sum(proj(:, :, :, :, ip))
       end associate
@@ -547,15 +552,25 @@ contains
 
   !> Nodal velocities (new slots of ph%nvel, owned nodes) from the point momenta of
   !> the phase mapped to the grid again; the masses in ph%node are those of the step.
-  !> Components held by the phase's face conditions are zero.
-  subroutine remap_velocities(self, ph)
+  !> Components held by the phase's face conditions are zero. With lockv, the same pass
+  !> adds the momentum of its projection through the phase's points to proj
+  !> (project_p2g; neither folded nor summed over the ranks).
+  subroutine remap_velocities(self, ph, lockv, proj)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: ph
+    real(wp), contiguous, intent(in), optional :: lockv(:, :, :, :)
+    real(wp), contiguous, intent(inout), optional :: proj(:, :, :, :)
     integer :: nd
     nd = self%nd
     ! Reuse the momentum slots of node(); the masses are unchanged (zero beyond the box).
     ph%node(2:1 + 2*nd, self%zlo(1):self%zhi(1), self%zlo(2):self%zhi(2), self%zlo(3):self%zhi(3)) = 0.0_wp
-    call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, ph%node)
+    if (present(lockv)) then
+      call momentum_project_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, &
+                                self%dec%alo, lockv, ph%node, proj)
+    else
+      call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, &
+                        ph%node)
+    end if
     call self%mirror%fold(ph%node, 1, ph%bc)
     call self%dec%halo_sum(ph%node)
     call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &

@@ -12,7 +12,8 @@ module dpmpm_transfer
   use dpmpm_drag, only: gravity_drag
   implicit none
   private
-  public :: p2g, g2p, point_gradient, momentum_p2g, interp_scalar, interp_value, project_p2g
+  public :: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g
+  public :: interp_scalar, interp_value, interp_scalar_value, project_p2g
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, volume_p2g, reaches_thin_node
   public :: body_force_work
 
@@ -151,6 +152,72 @@ contains
     end do
   end subroutine point_gradient
 
+  !> point_gradient of two nodal velocity fields in one pass over the points:
+  !> vgrad from nvel, vgrad2 from nvel2 (the fluid points' gradients of the fluid's and
+  !> the skeleton's velocity), each summed as point_gradient sums it.
+  subroutine point_gradients(nd, nw, n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+    integer, intent(in) :: nd, nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), nvel2(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: vgrad(:, :), vgrad2(:, :)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, g(3), lg(3, 3), lg2(3, 3)
+    if (nd == 2) then
+      call point_gradients_2d(nw, n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+      return
+    end if
+    do p = 1, n
+      lg = 0.0_wp
+      lg2 = 0.0_wp
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
+      lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
+      lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
+      lg2(1:nd, 1) = lg2(1:nd, 1) + nvel2(nd + 1:2*nd, i, j, k)*g(1)
+      lg2(1:nd, 2) = lg2(1:nd, 2) + nvel2(nd + 1:2*nd, i, j, k)*g(2)
+      lg2(1:nd, 3) = lg2(1:nd, 3) + nvel2(nd + 1:2*nd, i, j, k)*g(3)
+#include "dpmpm_stencil_end_3d.inc"
+      vgrad(1:3, p) = lg(:, 1)
+      vgrad(4:6, p) = lg(:, 2)
+      vgrad(7:9, p) = lg(:, 3)
+      vgrad2(1:3, p) = lg2(:, 1)
+      vgrad2(4:6, p) = lg2(:, 2)
+      vgrad2(7:9, p) = lg2(:, 3)
+    end do
+  end subroutine point_gradients
+
+  !> momentum_p2g and project_p2g in one pass over the points of a phase (the MUSL
+  !> remap with the locked velocity f): node(2:1+nd) += sum N_I m_p v_p and
+  !> proj(1:nd) += sum N_I m_p sum_J N_J f_J, each summed as the two kernels sum it.
+  subroutine momentum_project_p2g(nd, nw, n, i0, sw, mass, v, lo, f, node, proj)
+    integer, intent(in) :: nd, nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):), proj(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, vc(3)
+    if (nd == 2) then
+      call momentum_project_p2g_2d(nw, n, i0, sw, mass, v, lo, f, node, proj)
+      return
+    end if
+    do p = 1, n
+      vc(1:nd) = 0.0_wp
+#include "dpmpm_stencil_do_3d.inc"
+      vc(1:nd) = vc(1:nd) + nn*f(1:nd, i, j, k)
+#include "dpmpm_stencil_end_3d.inc"
+      vc(1:nd) = mass(p)*vc(1:nd)
+#include "dpmpm_stencil_do_3d.inc"
+      node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
+      proj(1:nd, i, j, k) = proj(1:nd, i, j, k) + nn*vc(1:nd)
+#include "dpmpm_stencil_end_3d.inc"
+    end do
+  end subroutine momentum_project_p2g
+
   !> Momentum of the points to the grid again (MUSL remap): node(2:1+nd) = sum N_I m_p v_p,
   !> on zeroed slots; the masses node(1) stay those of the step.
   subroutine momentum_p2g(nd, nw, n, i0, sw, mass, v, lo, node)
@@ -244,6 +311,34 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine interp_value
+
+  !> interp_scalar of f(1, :) and interp_value of f(comp, :) in one pass over the points.
+  subroutine interp_scalar_value(nd, nw, n, i0, sw, sdw, lo, f, comp, val, grad, val2)
+    integer, intent(in) :: nd, nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    integer, intent(in) :: comp
+    real(wp), contiguous, intent(out) :: val(:), grad(:, :), val2(:)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, g(3)
+    if (nd == 2) then
+      call interp_scalar_value_2d(nw, n, i0, sw, sdw, lo, f, comp, val, grad, val2)
+      return
+    end if
+    do p = 1, n
+      val(p) = 0.0_wp
+      grad(:, p) = 0.0_wp
+      val2(p) = 0.0_wp
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      val(p) = val(p) + nn*f(1, i, j, k)
+      grad(1:nd, p) = grad(1:nd, p) + g(1:nd)*f(1, i, j, k)
+      val2(p) = val2(p) + nn*f(comp, i, j, k)
+#include "dpmpm_stencil_end_3d.inc"
+    end do
+  end subroutine interp_scalar_value
 
   !> A nodal vector field f(1:nd) carried to the points and back with their masses in
   !> one pass: node(1:nd, I) += sum_p N_I(x_p) m_p sum_J N_J(x_p) f_J (the momentum of the
@@ -515,6 +610,62 @@ contains
     end do
   end subroutine point_gradient_2d
 
+  subroutine point_gradients_2d(nw, n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), nvel2(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: vgrad(:, :), vgrad2(:, :)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, g1, g2, wb, gb, v1, v2, l11, l21, l12, l22, u1, u2, m11, m21, m12, m22
+    do p = 1, n
+      l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
+      m11 = 0.0_wp; m21 = 0.0_wp; m12 = 0.0_wp; m22 = 0.0_wp
+#include "dpmpm_stencil_do_2d_grad.inc"
+      g1 = sdw(a, 1, p)*wb
+      g2 = sw(a, 1, p)*gb
+      v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
+      l11 = l11 + v1*g1; l21 = l21 + v2*g1
+      l12 = l12 + v1*g2; l22 = l22 + v2*g2
+      u1 = nvel2(3, i, j, k); u2 = nvel2(4, i, j, k)
+      m11 = m11 + u1*g1; m21 = m21 + u2*g1
+      m12 = m12 + u1*g2; m22 = m22 + u2*g2
+#include "dpmpm_stencil_end_2d.inc"
+      vgrad(:, p) = 0.0_wp
+      vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
+      vgrad2(:, p) = 0.0_wp
+      vgrad2(1, p) = m11; vgrad2(2, p) = m21; vgrad2(4, p) = m12; vgrad2(5, p) = m22
+    end do
+  end subroutine point_gradients_2d
+
+  subroutine momentum_project_p2g_2d(nw, n, i0, sw, mass, v, lo, f, node, proj)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):), proj(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, nm, wb, v1, v2, c1, c2
+    do p = 1, n
+      v1 = v(1, p); v2 = v(2, p)
+      c1 = 0.0_wp; c2 = 0.0_wp
+#include "dpmpm_stencil_do_2d.inc"
+      c1 = c1 + nn*f(1, i, j, k)
+      c2 = c2 + nn*f(2, i, j, k)
+#include "dpmpm_stencil_end_2d.inc"
+      c1 = mass(p)*c1; c2 = mass(p)*c2
+#include "dpmpm_stencil_do_2d.inc"
+      nm = nn*mass(p)
+      node(2, i, j, k) = node(2, i, j, k) + nm*v1
+      node(3, i, j, k) = node(3, i, j, k) + nm*v2
+      proj(1, i, j, k) = proj(1, i, j, k) + nn*c1
+      proj(2, i, j, k) = proj(2, i, j, k) + nn*c2
+#include "dpmpm_stencil_end_2d.inc"
+    end do
+  end subroutine momentum_project_p2g_2d
+
   subroutine momentum_p2g_2d(nw, n, i0, sw, mass, v, lo, node)
     integer, intent(in) :: nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
@@ -555,6 +706,32 @@ contains
       grad(1, p) = s1; grad(2, p) = s2
     end do
   end subroutine interp_scalar_2d
+
+  subroutine interp_scalar_value_2d(nw, n, i0, sw, sdw, lo, f, comp, val, grad, val2)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    integer, intent(in) :: comp
+    real(wp), contiguous, intent(out) :: val(:), grad(:, :), val2(:)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, wb, gb, fn, s0, s1, s2, t0
+    do p = 1, n
+      s0 = 0.0_wp; s1 = 0.0_wp; s2 = 0.0_wp; t0 = 0.0_wp
+#include "dpmpm_stencil_do_2d_grad.inc"
+      fn = f(1, i, j, k)
+      s0 = s0 + nn*fn
+      s1 = s1 + sdw(a, 1, p)*wb*fn
+      s2 = s2 + sw(a, 1, p)*gb*fn
+      t0 = t0 + nn*f(comp, i, j, k)
+#include "dpmpm_stencil_end_2d.inc"
+      val(p) = s0
+      grad(:, p) = 0.0_wp
+      grad(1, p) = s1; grad(2, p) = s2
+      val2(p) = t0
+    end do
+  end subroutine interp_scalar_value_2d
 
   subroutine fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, &
                           node_s, node_f, drag)

@@ -22,14 +22,9 @@ import re
 import subprocess
 import time
 
+from stability_map import SHAPES  # the same four shape choices as the stability map
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SHAPES = {
-    'standard': "kernel = 'linear'",
-    'quadratic': "kernel = 'quadratic'",
-    'cubic': "kernel = 'cubic'",
-    'pair': "kernel = 'cubic', quadrature = 'gauss', gauss_points = 3, field_kernel = 'wendland_c2', "
-            "field_radius = 2.0",
-}
 # the columns of the stability map (scripts/stability_map.py) are left to it
 MAPPED = ('w1', 'w2', 'w3', 'w1_2d', 'w1_3d')
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1',

@@ -195,7 +195,7 @@ contains
   !> Take from the MUSL-remapped pair (new slots of nvel_s, nvel_f, owned nodes) the
   !> relative velocity that the two point sets' projections make of one common
   !> velocity c: ps and pf hold the momenta sum_p N_I m_p (sum_J N_J c_J) of each set
-  !> (project_p2g), so that P_s c = ps / m_s and P_f c = pf / m_f, and the split P_f c - P_s c is
+  !> (momentum_project_p2g), so that P_s c = ps / m_s and P_f c = pf / m_f, and the split P_f c - P_s c is
   !> removed from v_f - v_s with the momentum of the pair kept, on the components
   !> both phases move freely. On points at the same places P_s = P_f and nothing
   !> changes.

@@ -554,7 +554,7 @@ contains
   !> the phase mapped to the grid again; the masses in ph%node are those of the step.
   !> Components held by the phase's face conditions are zero. With lockv, the same pass
   !> adds the momentum of its projection through the phase's points to proj
-  !> (project_p2g; neither folded nor summed over the ranks).
+  !> (momentum_project_p2g; neither folded nor summed over the ranks).
   subroutine remap_velocities(self, ph, lockv, proj)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: ph

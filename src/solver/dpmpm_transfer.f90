@@ -13,7 +13,7 @@ module dpmpm_transfer
   implicit none
   private
   public :: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g
-  public :: interp_scalar, interp_value, interp_scalar_value, project_p2g
+  public :: interp_scalar_value
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, volume_p2g, reaches_thin_node
   public :: body_force_work
 
@@ -189,9 +189,10 @@ contains
     end do
   end subroutine point_gradients
 
-  !> momentum_p2g and project_p2g in one pass over the points of a phase (the MUSL
-  !> remap with the locked velocity f): node(2:1+nd) += sum N_I m_p v_p and
-  !> proj(1:nd) += sum N_I m_p sum_J N_J f_J, each summed as the two kernels sum it.
+  !> The MUSL remap with the locked velocity f in one pass over the points of a phase:
+  !> the momenta node(2:1+nd) += sum N_I m_p v_p (as momentum_p2g) and the momentum of
+  !> f's projection through this point set, proj(1:nd) += sum_p N_I m_p sum_J N_J f_J
+  !> (divided by the nodal mass it is P f).
   subroutine momentum_project_p2g(nd, nw, n, i0, sw, mass, v, lo, f, node, proj)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
@@ -268,51 +269,8 @@ contains
     end do
   end subroutine mixture_flux
 
-  !> Interpolate the nodal scalar f(1, :) to the points: value and gradient.
-  subroutine interp_scalar(nd, nw, n, i0, sw, sdw, lo, f, val, grad)
-    integer, intent(in) :: nd, nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(out) :: val(:), grad(:, :)
-    integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, g(3)
-    if (nd == 2) then
-      call interp_scalar_2d(nw, n, i0, sw, sdw, lo, f, val, grad)
-      return
-    end if
-    do p = 1, n
-      val(p) = 0.0_wp
-      grad(:, p) = 0.0_wp
-#include "dpmpm_stencil_do_3d.inc"
-#include "dpmpm_stencil_grad_3d.inc"
-      val(p) = val(p) + nn*f(1, i, j, k)
-      grad(1:nd, p) = grad(1:nd, p) + g(1:nd)*f(1, i, j, k)
-#include "dpmpm_stencil_end_3d.inc"
-    end do
-  end subroutine interp_scalar
-
-  !> Interpolate component comp of the nodal field f to the points (value only).
-  subroutine interp_value(nw, n, i0, sw, lo, f, comp, val)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
-    integer, intent(in) :: comp
-    real(wp), contiguous, intent(out) :: val(:)
-    integer :: p, a, b, c, i, j, k
-    real(wp) :: nn
-    do p = 1, n
-      val(p) = 0.0_wp
-#include "dpmpm_stencil_do_3d.inc"
-      val(p) = val(p) + nn*f(comp, i, j, k)
-#include "dpmpm_stencil_end_3d.inc"
-    end do
-  end subroutine interp_value
-
-  !> interp_scalar of f(1, :) and interp_value of f(comp, :) in one pass over the points.
+  !> Nodal fields to the points in one pass: the scalar f(1, :) with its gradient
+  !> (val, grad) and the component comp of f (val2).
   subroutine interp_scalar_value(nd, nw, n, i0, sw, sdw, lo, f, comp, val, grad, val2)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
@@ -339,57 +297,6 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine interp_scalar_value
-
-  !> A nodal vector field f(1:nd) carried to the points and back with their masses in
-  !> one pass: node(1:nd, I) += sum_p N_I(x_p) m_p sum_J N_J(x_p) f_J (the momentum of the
-  !> field's projection through this point set; divided by the nodal mass it is P f).
-  subroutine project_p2g(nd, nw, n, i0, sw, mass, lo, f, node)
-    integer, intent(in) :: nd, nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, v(3)
-    if (nd == 2) then
-      call project_p2g_2d(nw, n, i0, sw, mass, lo, f, node)
-      return
-    end if
-    do p = 1, n
-      v(1:nd) = 0.0_wp
-#include "dpmpm_stencil_do_3d.inc"
-      v(1:nd) = v(1:nd) + nn*f(1:nd, i, j, k)
-#include "dpmpm_stencil_end_3d.inc"
-      v(1:nd) = mass(p)*v(1:nd)
-#include "dpmpm_stencil_do_3d.inc"
-      node(1:nd, i, j, k) = node(1:nd, i, j, k) + nn*v(1:nd)
-#include "dpmpm_stencil_end_3d.inc"
-    end do
-  end subroutine project_p2g
-
-  subroutine project_p2g_2d(nw, n, i0, sw, mass, lo, f, node)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb, v1, v2
-    do p = 1, n
-      v1 = 0.0_wp; v2 = 0.0_wp
-#include "dpmpm_stencil_do_2d.inc"
-      v1 = v1 + nn*f(1, i, j, k)
-      v2 = v2 + nn*f(2, i, j, k)
-#include "dpmpm_stencil_end_2d.inc"
-      v1 = mass(p)*v1; v2 = mass(p)*v2
-#include "dpmpm_stencil_do_2d.inc"
-      node(1, i, j, k) = node(1, i, j, k) + nn*v1
-      node(2, i, j, k) = node(2, i, j, k) + nn*v2
-#include "dpmpm_stencil_end_2d.inc"
-    end do
-  end subroutine project_p2g_2d
 
   !> Fluid points to the grid: the pore-pressure forces of the weak form (paper eq. 5),
   !> f_f,I += V n_f p grad N_I and f_s,I += V (1 - n_f) p grad N_I (point quadrature,
@@ -683,29 +590,6 @@ contains
 #include "dpmpm_stencil_end_2d.inc"
     end do
   end subroutine momentum_p2g_2d
-
-  subroutine interp_scalar_2d(nw, n, i0, sw, sdw, lo, f, val, grad)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(out) :: val(:), grad(:, :)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb, gb, fn, s0, s1, s2
-    do p = 1, n
-      s0 = 0.0_wp; s1 = 0.0_wp; s2 = 0.0_wp
-#include "dpmpm_stencil_do_2d_grad.inc"
-      fn = f(1, i, j, k)
-      s0 = s0 + nn*fn
-      s1 = s1 + sdw(a, 1, p)*wb*fn
-      s2 = s2 + sw(a, 1, p)*gb*fn
-#include "dpmpm_stencil_end_2d.inc"
-      val(p) = s0
-      grad(:, p) = 0.0_wp
-      grad(1, p) = s1; grad(2, p) = s2
-    end do
-  end subroutine interp_scalar_2d
 
   subroutine interp_scalar_value_2d(nw, n, i0, sw, sdw, lo, f, comp, val, grad, val2)
     integer, intent(in) :: nw(3), n

@@ -13,7 +13,7 @@ the laws, and the deposits.
 
     python3 scripts/c1_study.py --bin build/release/dpmpm --ratios 0.5 1 2 4 8 \\
         --workdir out/c1 --plot c1_study.png [--base fixed|rough] [--shape standard|pair]
-        [--ranks 2]
+        [--max-dilation J] [--ranks 2]
 """
 import argparse
 import math
@@ -50,8 +50,9 @@ PAIR = """&shape
 /"""
 
 
-def scene_text(a, base, workdir, shape="standard"):
-    """The template with column height a L0, a grid that holds the deposit and a geostatic start."""
+def scene_text(a, base, workdir, shape="standard", max_dilation=0.0):
+    """The template with column height a L0, a grid that holds the deposit and a geostatic start
+    (and, with max_dilation > 0, that bound on the points' volume, doc/theory.md 5.4)."""
     text = open(TEMPLATE).read()
     h0 = a * L0
     # room for 1.5 times the larger scaling law's runout, and 5 cells above the column
@@ -60,7 +61,8 @@ def scene_text(a, base, workdir, shape="standard"):
     ny = int(math.ceil((h0 + 0.05) / H_CELL))
     t_end = round(1.0 * math.sqrt(a / 2.0) + 0.5, 2)
     name = (f"c1_a{a:g}".replace(".", "p") + ("_rough" if base == "rough" else "")
-            + ("_pair" if shape == "pair" else ""))
+            + ("_pair" if shape == "pair" else "")
+            + (f"_j{max_dilation:g}".replace(".", "p") if max_dilation > 0 else ""))
     subs = [
         (r"name = '[^']*'", f"name = '{name}'"),
         (r"t_end = [0-9.]+", f"t_end = {t_end}"),
@@ -80,6 +82,11 @@ def scene_text(a, base, workdir, shape="standard"):
         text, n = re.subn(r"&shape\n  kernel = 'linear'\n/", PAIR, text)
         if n != 1:
             raise SystemExit("c1_study: the template's &shape is not the linear kernel")
+    if max_dilation > 0:
+        text, n = re.subn(r"  tensile_strength = 0.0\n",
+                          f"  tensile_strength = 0.0\n  max_dilation = {max_dilation:g}\n", text)
+        if n != 1:
+            raise SystemExit("c1_study: the template's &material has no tensile_strength line")
     if base == "rough":
         text, n = re.subn(r"face = 'y-', condition = 'fixed'",
                           "face = 'y-', condition = 'roller', friction = 0.577", text)
@@ -109,6 +116,8 @@ def main():
     ap.add_argument("--base", choices=["fixed", "rough"], default="fixed")
     ap.add_argument("--shape", choices=["standard", "pair"], default="standard",
                     help="Standard MPM (the template's linear grid functions) or the MLS pair")
+    ap.add_argument("--max-dilation", type=float, default=0.0,
+                    help="&material max_dilation of the soil (0: no bound)")
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--workdir", default="out/c1")
     ap.add_argument("--rerun", action="store_true", help="run again when the output exists")
@@ -118,7 +127,7 @@ def main():
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     rows = []
     for a in args.ratios:
-        name, text = scene_text(a, args.base, args.workdir, args.shape)
+        name, text = scene_text(a, args.base, args.workdir, args.shape, args.max_dilation)
         nml = os.path.join(args.workdir, name + ".nml")
         h5 = os.path.join(args.workdir, name + ".h5")
         open(nml, "w").write(text)

@@ -83,6 +83,32 @@ expect(p.returncode == 0, "the scene runs again")
 expect(p.stderr.count("dpmpm: warning: out/cli.h5 exists and is overwritten") == 1,
        "the second run warns once that it overwrites out/cli.h5")
 
+# The time step falls tenfold: a soft block (wave speed 1 m/s) falls under g = 100 m/s^2
+# until its speed is 10 m/s (0.1 s, 0.5 m), so that c + |v| grows elevenfold. The run
+# warns once, names the point of the fastest signal and its volume against its initial
+# one; max_dilation is named only for a plastic soil point dilated more than twice, so
+# not here.
+for model in ["linear_elastic", "mohr_coulomb"]:
+    (work / "fall.nml").write_text(f"""&run name = 'fall', t_end = 0.1, gravity = -100.0 /
+&grid ndim = 1, ncells = 100, length = 1.0 /
+&material id = 1, model = '{model}', youngs_modulus = 1000.0, poisson_ratio = 0.0,
+  density = 1000.0 /
+&region lo = 0.9, hi = 1.0 /
+&output dir = 'out' /
+""")
+    p, _ = run("fall.nml", ranks=2)
+    expect(p.returncode == 0, f"{model}: the falling block runs")
+    falls = re.findall(r"dpmpm: warning: step \d+: time step .* s, below 10\^-1 of the first \(.*\); "
+                       r"the fastest signal is at solid point id \d+ at x = .*: wave speed +(\S+) m/s, "
+                       r"speed +(\S+) m/s, volume +(\S+) times its initial one", p.stderr)
+    expect(len(falls) == 1, f"{model}: one warning when the step falls below a tenth of the first")
+    if falls:
+        c, v, vol = (float(s) for s in falls[0])
+        expect(abs(c - 1.0) < 1e-3 and 9.0 <= v <= 10.0 and abs(vol - 1.0) < 1e-3,
+               f"{model}: the warning gives wave speed 1 m/s, a speed of 9-10 m/s and volume 1")
+    expect("10^-2" not in p.stderr, f"{model}: no second warning (the step fell by less than 100)")
+    expect("max_dilation" not in p.stderr, f"{model}: max_dilation is not named (volume 1)")
+
 # --check prints every parameter as input that reads back to the same parameters, for
 # every scene that ships with dpmpm.
 inputs = pathlib.Path(__file__).resolve().parent.parent / "inputs"

@@ -48,6 +48,7 @@ program test_plasticity
   call test_mc_softening_closed_form()
   call test_points_carry_plastic_strain()
   call test_stress_update_plastic_work()
+  call test_dilation_bound()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -776,5 +777,48 @@ contains
     call check_close(stress(6, 1), gs*(gam - dg), 1.0e-12_wp, 0.0_wp, 'tau')
     call check_close(work, 0.5_wp*2.0_wp*gs*(gam - dg)*dg, 1.0e-10_wp, 0.0_wp, 'plastic work')
   end subroutine test_stress_update_plastic_work
+
+  !> A cohesionless point stretched by det(I + dt L) = 1.05^2 per step stays at the apex
+  !> (zero stress). Without a bound its volume grows as 1.05^(2n); with max_dilation = 3
+  !> it stops at 3 V0 (for Mohr-Coulomb and Drucker-Prager alike), and the first
+  !> compression step lowers it from there by 0.95^2.
+  subroutine test_dilation_bound()
+    type(material_t), allocatable :: mats(:)
+    real(wp) :: vgrad(9, 1), stress(6, 1), vol(1), vol0(1), epsp(1), dt
+    integer :: m, step
+    character(len=*), parameter :: models(2) = [character(len=16) :: 'mohr_coulomb', 'drucker_prager']
+    call begin_test('dilation_bound')
+    dt = 1.0e-3_wp
+    do m = 1, 2
+      call materials_from_config([material_cfg_t(id=1, model=models(m), youngs_modulus=youngs, &
+                                                 poisson_ratio=nu, friction_angle=30.0_wp), &
+                                  material_cfg_t(id=2, model=models(m), youngs_modulus=youngs, &
+                                                 poisson_ratio=nu, friction_angle=30.0_wp, &
+                                                 max_dilation=3.0_wp)], mats)
+      vgrad = 0.0_wp
+      vgrad(1, 1) = 0.05_wp/dt
+      vgrad(5, 1) = 0.05_wp/dt
+      ! no bound
+      stress = 0.0_wp; vol = 1.0e-4_wp; vol0 = 1.0e-4_wp; epsp = 0.0_wp
+      do step = 1, 40
+        call stress_update(mats(1), 1, dt, 1, [1], vgrad, stress, vol, vol0, epsp=epsp)
+      end do
+      call check_close(vol(1)/vol0(1), 1.05_wp**80, 1.0e-12_wp, 0.0_wp, trim(models(m))//' unbounded volume')
+      call check(all(abs(stress) < 1.0e-9_wp), trim(models(m))//' stress free without the bound')
+      ! bound 3
+      stress = 0.0_wp; vol = 1.0e-4_wp; vol0 = 1.0e-4_wp; epsp = 0.0_wp
+      do step = 1, 40
+        call stress_update(mats(2), 2, dt, 1, [2], vgrad, stress, vol, vol0, epsp=epsp)
+        call check(vol(1) <= 3.0_wp*vol0(1)*(1.0_wp + 1.0e-15_wp), trim(models(m))//' volume within the bound')
+      end do
+      call check_close(vol(1)/vol0(1), 3.0_wp, 1.0e-15_wp, 0.0_wp, trim(models(m))//' volume at the bound')
+      call check(all(abs(stress) < 1.0e-9_wp), trim(models(m))//' stress free at the bound')
+      vgrad(1, 1) = -0.05_wp/dt
+      vgrad(5, 1) = -0.05_wp/dt
+      call stress_update(mats(2), 2, dt, 1, [2], vgrad, stress, vol, vol0, epsp=epsp)
+      call check_close(vol(1)/vol0(1), 3.0_wp*0.95_wp**2, 1.0e-14_wp, 0.0_wp, &
+                       trim(models(m))//' compression lowers the volume from the bound')
+    end do
+  end subroutine test_dilation_bound
 
 end program test_plasticity

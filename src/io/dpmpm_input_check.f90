@@ -691,6 +691,9 @@ contains
     end if
     if (.not. real_ok(m%tensile_strength, ge=0.0_wp)) call add_value(pb, g_material, k, &
       'tensile_strength', rtoa(m%tensile_strength), 'must be >= 0 (Pa; 0 = no tension)')
+    if (.not. real_ok(m%max_dilation, ge=0.0_wp) .or. (m%max_dilation > 0.0_wp .and. m%max_dilation <= 1.0_wp)) &
+      call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
+                     'must be 0 (no bound) or > 1 (the largest volume of a point over its initial one)')
     if (.not. real_ok(m%residual_cohesion, ge=0.0_wp)) then
       call add_value(pb, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
                      'must be >= 0 (Pa)')

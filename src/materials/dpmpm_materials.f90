@@ -32,6 +32,7 @@ module dpmpm_materials
     real(wp) :: conductivity = 0.0_wp   !< hydraulic conductivity of a soil (m/s), 0 = none
     logical :: kozeny_carman = .false.  !< k follows the porosity (Kozeny-Carman)
     type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
+    real(wp) :: max_dilation = 0.0_wp   !< mohr_coulomb, drucker_prager: bound of V/V0, 0 = none
     real(wp) :: velocity(3) = 0.0_wp    !< rigid: the prescribed velocity of the body (m/s)
   end type material_t
 
@@ -89,6 +90,7 @@ contains
                                         cfgs(k)%dilatancy_angle, cfgs(k)%cohesion, &
                                         cfgs(k)%tensile_strength, cfgs(k)%cohesion_softening, &
                                         cfgs(k)%residual_cohesion, match)
+        mats(k)%max_dilation = cfgs(k)%max_dilation
       end if
       if (mats(k)%model == model_fluid) then
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
@@ -221,6 +223,8 @@ contains
           dissipation = dissipation + 0.5_wp*vol(p)*dot_product(sv0 + sv, dep)
         end if
         vol(p) = vol(p)*det3(ident + dt*lg)
+        ! Grains that have moved apart: the volume stays at the bound (doc/theory.md 5.4).
+        if (mat%max_dilation > 0.0_wp) vol(p) = min(vol(p), mat%max_dilation*vol0(p))
       end do
     end select
   end subroutine stress_update

@@ -53,6 +53,8 @@ module dpmpm_state
     real(wp) :: kf_max = 0.0_wp, rhof_min = 0.0_wp !< stiffest, lightest pore fluid (CFL)
     real(wp) :: dt_wave = 0.0_wp, dt_drag = huge(1.0_wp) !< the two limits of the last step
     integer :: governing = 0                  !< limit that set the last step: 1 wave, 2 drag
+    real(wp) :: dt_first = 0.0_wp             !< the run's first wave step (dt_falls)
+    integer :: dt_drops = 0                   !< decades the wave step has fallen below dt_first
     ! Occupancy of the Gauss cells (one component; see gauss_occupancy).
     real(wp), allocatable :: occ(:, :, :, :), occ2(:, :, :, :)
     integer :: fill = 1                       !< half-width of the occupancy closing (cells)

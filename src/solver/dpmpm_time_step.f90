@@ -3,11 +3,13 @@
 !> node-wise limit is in dpmpm_drag) set it.
 module dpmpm_time_step
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-  use dpmpm_kinds, only: wp
+  use dpmpm_kinds, only: wp, i8
   use dpmpm_strings, only: i8toa
-  use dpmpm_materials, only: wave_speed
+  use dpmpm_materials, only: wave_speed, is_plastic
   use dpmpm_state, only: state_t, exit_bad_input, exit_monitor
-  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
+  use dpmpm_particles, only: particle_set_t
+  use mpi_f08, only: MPI_Allreduce, MPI_Bcast, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_2DOUBLE_PRECISION, &
+                     MPI_MAXLOC
   implicit none
   private
   public :: stable_dt, report_governing
@@ -20,13 +22,16 @@ contains
   !> the porosity a fluid point uses is a weighted mean of these, so its K_f / n is
   !> covered. Bodies that are not porous (porosity 0) carry their own wave. A fixed dt above the critical step
   !> (Courant number 1) is refused, and a non-finite speed stops the run (collective:
-  !> exit_code set on every rank, dt = 0).
+  !> exit_code set on every rank, dt = 0). Each time the step falls another decade
+  !> below the run's first one, the point of the fastest signal is named (dt_falls).
   real(wp) function stable_dt(self) result(dt)
     class(state_t), intent(inout) :: self
-    real(wp) :: rate, c, crit, rho, nf
-    integer :: p
+    real(wp) :: rate, c, crit, rho, nf, r, best(2)
+    integer :: p, pbest, sbest
     character(len=256) :: line
     rate = 0.0_wp
+    pbest = 0
+    sbest = 1
     do p = 1, self%phase(1)%pts%n
       rho = self%phase(1)%pts%mass(p)/self%phase(1)%pts%vol(p)
       c = wave_speed(self%mats(self%phase(1)%pts%mat(p)), rho)
@@ -36,15 +41,26 @@ contains
         if (nf > 0.0_wp) c = sqrt((self%mats(self%phase(1)%pts%mat(p))%pwave + self%kf_max/nf)/ &
                                   (rho + nf*self%rhof_min))
       end if
-      rate = max(rate, c + norm2(self%phase(1)%pts%v(:, p)))
+      r = c + norm2(self%phase(1)%pts%v(:, p))
+      if (r > rate) then
+        rate = r
+        pbest = p
+      end if
     end do
     do p = 1, merge(self%phase(2)%pts%n, 0, self%two_phase)
       associate (mat => self%mats(self%phase(2)%pts%mat(p)))
         c = sqrt(mat%bulk_fluid/mat%density)
       end associate
-      rate = max(rate, c + norm2(self%phase(2)%pts%v(:, p)))
+      r = c + norm2(self%phase(2)%pts%v(:, p))
+      if (r > rate) then
+        rate = r
+        pbest = p
+        sbest = 2
+      end if
     end do
-    call MPI_Allreduce(MPI_IN_PLACE, rate, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
+    best = [rate, real(self%dec%rank, wp)]
+    call MPI_Allreduce(MPI_IN_PLACE, best, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
+    rate = best(1)
     if (.not. ieee_is_finite(rate)) then
       call self%log%error('non-finite wave speed or velocity at step '//i8toa(self%step)// &
                           '; the run became unstable')
@@ -68,7 +84,53 @@ contains
       dt = self%cfg%cfl*crit
     end if
     self%dt_wave = dt
+    if (self%dt_first <= 0.0_wp) self%dt_first = dt
+    if (dt < self%dt_first*10.0_wp**(-self%dt_drops - 1)) &
+      call dt_falls(self, dt, rate, nint(best(2)), sbest, pbest)
   end function stable_dt
+
+  !> The wave step dt has fallen another decade below the run's first: log the point
+  !> of the fastest signal (rank owner, set is, local index p), its speed, and its
+  !> volume against its initial one, and for a plastic soil point dilated more than
+  !> twice with no max_dilation, that bound (collective).
+  subroutine dt_falls(self, dt, rate, owner, is, p)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: dt, rate
+    integer, intent(in) :: owner, is, p
+    real(wp) :: info(9)
+    character(len=640) :: line
+    do while (dt < self%dt_first*10.0_wp**(-self%dt_drops - 1))
+      self%dt_drops = self%dt_drops + 1
+    end do
+    info = 0.0_wp
+    if (self%dec%rank == owner) call describe(self%phase(is)%pts)
+    call MPI_Bcast(info, 9, MPI_DOUBLE_PRECISION, owner, self%dec%comm)
+    write (line, '(a,i0,a,es10.3,a,i0,a,es10.3,a,a,a,i0,a,3es11.3,a,es10.3,a,es10.3,a,es10.3,a)') &
+      'step ', self%step, ': time step ', dt, ' s, below 10^-', self%dt_drops, ' of the first (', &
+      self%dt_first, ' s); the fastest signal is at ', trim(merge('solid', 'fluid', is == 1)), &
+      ' point id ', nint(info(1), i8), ' at x =', info(2:4), ': wave speed ', info(5), ' m/s, speed ', &
+      info(6), ' m/s, volume ', info(7), ' times its initial one'
+    call self%log%warning(trim(line))
+    if (nint(info(8)) == 1) call self%log%warning('  a Mohr-Coulomb or Drucker-Prager point keeps its stiffness '// &
+                                               'however far it dilates; &material max_dilation bounds its volume '// &
+                                               '(doc/input.md)')
+  contains
+    subroutine describe(ps)
+      type(particle_set_t), intent(in) :: ps
+      real(wp) :: v
+      info(1) = real(ps%id(p), wp)
+      info(2:1 + self%nd) = ps%x(:, p)
+      v = norm2(ps%v(:, p))
+      info(6) = v
+      info(5) = rate - v
+      info(7) = ps%vol(p)/ps%vol0(p)
+      ! A dilated plastic point without a bound on its volume: name the bound.
+      if (is == 1 .and. info(7) > 2.0_wp) then
+        if (is_plastic(self%mats(ps%mat(p))%model) .and. self%mats(ps%mat(p))%max_dilation == 0.0_wp) &
+          info(8) = 1.0_wp
+      end if
+    end subroutine describe
+  end subroutine dt_falls
 
   !> Log which limit sets the time step when it changes (wave CFL or the drag
   !> limit of explicit drag), with both values.

@@ -1,18 +1,23 @@
-!> Occupancy of the Gauss cells (dpmpm_reconstruct occupancy_pass): the closing
-!> by a box of half-width r fills gaps of up to 2r empty cells inside a body,
-!> leaves wider gaps open, and neither grows a body past its outermost occupied
-!> cells nor erodes it at the grid faces.
+!> Bookkeeping of the Gauss cells (dpmpm_gauss_fields). Occupancy (occupancy_pass):
+!> the closing by a box of half-width r fills gaps of up to 2r empty cells inside a
+!> body, leaves wider gaps open, and neither grows a body past its outermost occupied
+!> cells nor erodes it at the grid faces. The reach kept by gauss_accumulate gives
+!> gauss_strain the same point gradients as the reach found again.
 program test_occupancy
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
-  use dpmpm_gauss_fields, only: occupancy_pass
+  use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_strain, reach_cache_t, &
+                                reach_cache_entries, gauss_cell_components, gauss_solution_components
+  use dpmpm_kernels, only: kernel_wendland_c2, kernel_cubic
+  use dpmpm_mls, only: basis_linear, basis_constant
   use dpmpm_assert, only: begin_test, check, finish_tests
   implicit none
   integer :: status
   call start_mpi()
   call test_closing_fills_gaps_up_to_twice_the_width_1d()
   call test_closing_keeps_block_surfaces_2d()
+  call test_kept_reach_gives_the_same_gradients()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -77,4 +82,69 @@ contains
     call check(all(closed(2, ncells, 1, occ0) == want), 'r = 1: holes filled, L-shape kept')
     call check(all(closed(2, ncells, 2, occ0) == want), 'r = 2: holes filled, L-shape kept')
   end subroutine test_closing_keeps_block_surfaces_2d
+  !> gauss_strain with the reach kept by gauss_accumulate against the reach found again
+  !> per point: the same point gradients (two fields) and effective volumes, bit for bit,
+  !> in 2D and 3D with 2 and 3 Gauss points per axis, for the Wendland C2 weight of
+  !> radius 2 with the linear basis and the cubic B-spline (tensor form) with the
+  !> constant one. Scattered points, random fields; the cache is valid and not empty.
+  subroutine test_kept_reach_gives_the_same_gradients()
+    integer, parameter :: n = 60, nc = 8
+    integer :: nd, ng, variant, kernel, basis, lo(3), hi(3), ncells(3), nk1, nk2, p
+    real(wp), allocatable :: x(:, :), vol(:), stress(:, :), acc(:, :, :, :), sol(:, :, :, :)
+    real(wp), allocatable :: lg(:, :, :, :), lg2(:, :, :, :), va(:, :), vb(:, :), wa(:, :), wb(:, :)
+    real(wp), allocatable :: ta(:), tb(:)
+    real(wp) :: origin(3), h(3), radius
+    logical :: radial
+    type(reach_cache_t) :: cache
+    character(len=40) :: tag
+    call begin_test('kept_reach_gives_the_same_gradients')
+    origin = [0.1_wp, -0.2_wp, 0.3_wp]
+    h = [0.5_wp, 0.25_wp, 0.4_wp]
+    do nd = 2, 3
+      do ng = 2, 3
+        do variant = 1, 2
+          kernel = merge(kernel_wendland_c2, kernel_cubic, variant == 1)
+          basis = merge(basis_linear, basis_constant, variant == 1)
+          radius = 2.0_wp
+          radial = variant == 1
+          write (tag, '(i0,a,i0,a,i0)') nd, 'D ng = ', ng, ' variant ', variant
+          ncells = 1
+          ncells(1:nd) = nc
+          lo = 0; hi = 0
+          lo(1:nd) = -2
+          hi(1:nd) = nc + 2
+          allocate (x(nd, n), vol(n), stress(6, n), ta(n), tb(n), va(9, n), vb(9, n), wa(9, n), wb(9, n))
+          call random_number(x)
+          do p = 1, n
+            x(:, p) = origin(1:nd) + (1.0_wp + 6.0_wp*x(:, p))*h(1:nd)
+          end do
+          call random_number(vol)
+          vol = 0.01_wp*(0.5_wp + vol)
+          call random_number(stress)
+          allocate (acc(gauss_cell_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          allocate (sol(gauss_solution_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          allocate (lg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          allocate (lg2, mold=lg)
+          acc = 0.0_wp
+          call gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, ng, kernel, radius, radial, &
+                                basis, lo, acc, cache=cache)
+          call check(cache%valid .and. reach_cache_entries(cache) > n, trim(tag)//': the reach is kept')
+          call random_number(sol)
+          sol(1, :, :, :) = 1.0_wp
+          call random_number(lg)
+          call random_number(lg2)
+          va = 0.0_wp; vb = 0.0_wp; wa = 0.0_wp; wb = 0.0_wp
+          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+                            lg, va, ta, nk1, lg2, wa)
+          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+                            lg, vb, tb, nk2, lg2, wb, cache=cache)
+          call check(all(va == vb) .and. all(wa == wb), trim(tag)//': the same point gradients')
+          call check(all(ta == tb) .and. nk1 == nk2, trim(tag)//': the same effective volumes')
+          call check(maxval(abs(va)) > 0.0_wp .and. minval(ta) > 0.0_wp, trim(tag)//': nonzero gradients')
+          deallocate (x, vol, stress, ta, tb, va, vb, wa, wb, acc, sol, lg, lg2)
+        end do
+      end do
+    end do
+  end subroutine test_kept_reach_gives_the_same_gradients
+
 end program test_occupancy

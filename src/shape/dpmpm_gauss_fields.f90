@@ -30,6 +30,7 @@ module dpmpm_gauss_fields
   public :: gauss_rule, field_components, stress_voigt_index
   public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
   public :: occupancy_pass, gauss_cell_components, gauss_solution_components
+  public :: reach_cache_t, reach_cache_entries, reach_cache_bytes
 
   !> Most Gauss points of one cell (4 per axis in 3D).
   integer, parameter :: max_gauss_cell = 64
@@ -37,6 +38,23 @@ module dpmpm_gauss_fields
   integer, parameter :: max_lattice = 40
   !> Most Gauss points within reach of a point.
   integer, parameter :: max_reach = max_lattice**3
+  !> Bytes of one entry of a reach cache (four integers and a weight).
+  integer, parameter :: reach_entry_bytes = 24
+  !> Memory a reach cache may take per point set (bytes); beyond it gauss_strain
+  !> finds the Gauss points within reach again.
+  integer(kind=8), parameter :: reach_cache_budget = 256_8*1024_8*1024_8
+
+  !> The Gauss points within reach of every point of a set and their weights, kept by
+  !> gauss_accumulate for gauss_strain in the same step (the same positions), so that
+  !> the reach is found once per point and step. Entry q of point p (start(p) <= q <
+  !> start(p + 1)): cell idx(1:3, q), Gauss indices along the axes packed in idx(4, q)
+  !> (3 bits each), weight w(q). Not valid when it would pass reach_cache_budget.
+  type :: reach_cache_t
+    logical :: valid = .false.
+    integer :: n = 0
+    integer, allocatable :: start(:), idx(:, :)
+    real(wp), allocatable :: w(:)
+  end type reach_cache_t
 
 contains
 
@@ -167,11 +185,13 @@ contains
   !> indices within the cell (lexicographic), offsets (Gauss point minus point, cell
   !> units) and weights. Radial weights are evaluated only inside the radius.
   pure subroutine points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, np, &
-                                  cells, gidx, offs, w)
+                                  cells, gidx, offs, w, gax)
     integer, intent(in) :: nd, ncells(3), ng, kernel
     real(wp), intent(in) :: s(3), xi(:), radius, reach
     logical, intent(in) :: radial
     integer, intent(out) :: np, cells(:, :), gidx(:)
+    !> The Gauss index along each axis, from 0, packed 3 bits each (reach_cache_t).
+    integer, intent(out) :: gax(:)
     real(wp), intent(out) :: offs(:, :), w(:)
     integer :: nl(3), cl(max_lattice, 3), gl(max_lattice, 3), a, b, c, d
     real(wp) :: ol(max_lattice, 3), wl(max_lattice, 3), dwl, r2, wk, dwk(3), r
@@ -203,6 +223,7 @@ contains
           np = np + 1
           cells(:, np) = [cl(a, 1), cl(b, 2), cl(c, 3)]
           gidx(np) = gl(a, 1) + ng*(gl(b, 2) - 1) + ng*ng*(gl(c, 3) - 1)
+          gax(np) = ior(ior(gl(a, 1) - 1, ishft(gl(b, 2) - 1, 3)), ishft(gl(c, 3) - 1, 6))
           offs(:, np) = [ol(a, 1), ol(b, 2), ol(c, 3)]
           w(np) = wk
         end do
@@ -214,7 +235,7 @@ contains
   !> to the Gauss points within reach. acc per cell: point count, then per
   !> Gauss point: count, packed sum V W p p^T, sum V W p sigma_f (nf fields).
   subroutine gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, ng, kernel, radius, &
-                              radial, basis, lo, acc, stress2, acc2)
+                              radial, basis, lo, acc, stress2, acc2, cache)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis
     real(wp), intent(in) :: x(:, :), vol(:), stress(:, :), origin(3), h(3), radius
     logical, intent(in) :: radial
@@ -223,12 +244,25 @@ contains
     !> A second field of the same points, summed into acc2 in the same pass.
     real(wp), intent(in), optional :: stress2(:, :)
     real(wp), intent(inout), optional :: acc2(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, d, nq
-    integer, allocatable :: cells(:, :), gidx(:)
+    !> Keeps the Gauss points within reach of each point for gauss_strain.
+    type(reach_cache_t), intent(inout), optional :: cache
+    integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, d, nq, nc
+    integer, allocatable :: cells(:, :), gidx(:), gax(:)
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), w, pv(10), reach, xi(ng), wxi(ng), sig(6), sig2(6)
-    logical :: two
+    logical :: two, keep
     two = present(stress2) .and. present(acc2)
+    keep = present(cache)
+    if (keep) then
+      cache%n = n
+      cache%valid = .true.
+      if (allocated(cache%start)) then
+        if (size(cache%start) < n + 1) deallocate (cache%start)
+      end if
+      if (.not. allocated(cache%start)) allocate (cache%start(n + 1))
+      cache%start(1) = 1
+    end if
+    nc = 0
     sig2 = 0.0_wp
     nb = basis_size(basis, nd)
     np = packed_size(nb)
@@ -237,7 +271,8 @@ contains
     call gauss_rule(ng, xi, wxi)
     reach = kernel_reach(kernel, radius, radial)
     allocate (cells(3, max_reach_of(nd, ng, reach)), gidx(max_reach_of(nd, ng, reach)), &
-              offs(3, max_reach_of(nd, ng, reach)), wq(max_reach_of(nd, ng, reach)))
+              offs(3, max_reach_of(nd, ng, reach)), wq(max_reach_of(nd, ng, reach)), &
+              gax(max_reach_of(nd, ng, reach)))
     do p = 1, n
       s = 0.0_wp
       do d = 1, nd
@@ -256,7 +291,10 @@ contains
       if (two) acc2(1, cp(1), cp(2), cp(3)) = acc2(1, cp(1), cp(2), cp(3)) + 1.0_wp
       ! MLS sums at the Gauss points.
       call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
-                           offs, wq)
+                           offs, wq, gax)
+      if (keep) then
+        if (cache%valid) call keep_reach(cache, p, nc, nq, cells, gax, wq)
+      end if
       do q = 1, nq
         i = cells(1, q); j = cells(2, q); k = cells(3, q)
         w = vol(p)*wq(q)
@@ -290,6 +328,56 @@ contains
       end do
     end do
   end subroutine gauss_accumulate
+
+  !> Append the nq Gauss points within reach of point p to the cache (nc entries so
+  !> far); the cache becomes invalid when it would pass its memory budget.
+  subroutine keep_reach(cache, p, nc, nq, cells, gax, wq)
+    type(reach_cache_t), intent(inout) :: cache
+    integer, intent(in) :: p, nq, cells(:, :), gax(:)
+    integer, intent(inout) :: nc
+    real(wp), intent(in) :: wq(:)
+    integer :: cap, q
+    integer, allocatable :: ti(:, :)
+    real(wp), allocatable :: tw(:)
+    cap = 0
+    if (allocated(cache%w)) cap = size(cache%w)
+    if (nc + nq > cap) then
+      if (int(nc + nq, 8)*reach_entry_bytes > reach_cache_budget) then
+        cache%valid = .false.
+        return
+      end if
+      cap = int(min(max(2_8*int(cap, 8), int(nc + nq, 8), 1024_8), reach_cache_budget/reach_entry_bytes))
+      allocate (ti(4, cap), tw(cap))
+      if (nc > 0) then
+        ti(:, 1:nc) = cache%idx(:, 1:nc)
+        tw(1:nc) = cache%w(1:nc)
+      end if
+      call move_alloc(ti, cache%idx)
+      call move_alloc(tw, cache%w)
+    end if
+    do q = 1, nq
+      cache%idx(1:3, nc + q) = cells(:, q)
+      cache%idx(4, nc + q) = gax(q)
+      cache%w(nc + q) = wq(q)
+    end do
+    nc = nc + nq
+    cache%start(p + 1) = nc + 1
+  end subroutine keep_reach
+
+  !> Entries of a valid cache (0 otherwise), for the memory report.
+  pure integer function reach_cache_entries(cache) result(m)
+    type(reach_cache_t), intent(in) :: cache
+    m = 0
+    if (cache%valid .and. allocated(cache%start)) m = cache%start(cache%n + 1) - 1
+  end function reach_cache_entries
+
+  !> Bytes held by a cache.
+  pure integer(kind=8) function reach_cache_bytes(cache) result(b)
+    type(reach_cache_t), intent(in) :: cache
+    b = 0
+    if (allocated(cache%w)) b = int(size(cache%w), 8)*reach_entry_bytes
+    if (allocated(cache%start)) b = b + int(size(cache%start), 8)*4
+  end function reach_cache_bytes
 
   !> One pass of the occupancy closing on the owned cells clo..chi: dst(1, c) is the
   !> largest (grow) or smallest (shrink) src(1, .) over the cells within r of c
@@ -462,7 +550,7 @@ contains
   !> positions and volumes of the force evaluation (x, vol). Points whose
   !> effective volume sum_g C_gp is not positive keep their vgrad; nkept counts them.
   subroutine gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, &
-                          lo, sol, lg, vgrad, vt, nkept, lg2, vgrad2)
+                          lo, sol, lg, vgrad, vt, nkept, lg2, vgrad2, cache)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis, lo(3)
     real(wp), intent(in) :: x(:, :), vol(:), origin(3), h(3), radius
     logical, intent(in) :: radial
@@ -472,20 +560,25 @@ contains
     !> A second Gauss-point gradient field, transposed into vgrad2 in the same pass.
     real(wp), intent(in), optional :: lg2(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout), optional :: vgrad2(:, :)
-    integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d
-    integer, allocatable :: cells(:, :), gidx(:)
+    !> The reach kept by gauss_accumulate at the same positions (used when valid).
+    type(reach_cache_t), intent(in), optional :: cache
+    integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d, q0, ga(3)
+    integer, allocatable :: cells(:, :), gidx(:), gax(:)
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
                 wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell
-    logical :: two
+    logical :: two, kept
     two = present(lg2) .and. present(vgrad2)
+    kept = .false.
+    if (present(cache)) kept = cache%valid .and. cache%n == n
     nb = basis_size(basis, nd)
     nf = field_components(nd)
     call gauss_rule(ng, xi, wxi)
     call gauss_points_of_cell(nd, ng, yg, wg)
     reach = kernel_reach(kernel, radius, radial)
     allocate (cells(3, max_reach_of(nd, ng, reach)), gidx(max_reach_of(nd, ng, reach)), &
-              offs(3, max_reach_of(nd, ng, reach)), wq(max_reach_of(nd, ng, reach)))
+              offs(3, max_reach_of(nd, ng, reach)), wq(max_reach_of(nd, ng, reach)), &
+              gax(max_reach_of(nd, ng, reach)))
     wcell = product(h(1:nd))
     nkept = 0
     do p = 1, n
@@ -493,8 +586,26 @@ contains
       do d = 1, nd
         s(d) = (x(d, p) - origin(d))/h(d)
       end do
-      call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
-                           offs, wq)
+      if (kept) then
+        ! The reach of gauss_accumulate: cells, Gauss indices, offsets and weights again.
+        q0 = cache%start(p) - 1
+        nq = cache%start(p + 1) - 1 - q0
+        do q = 1, nq
+          cells(:, q) = cache%idx(1:3, q0 + q)
+          ga(1) = iand(cache%idx(4, q0 + q), 7)
+          ga(2) = iand(ishft(cache%idx(4, q0 + q), -3), 7)
+          ga(3) = ishft(cache%idx(4, q0 + q), -6)
+          gidx(q) = 1 + ga(1) + ng*(ga(2) + ng*ga(3))
+          offs(:, q) = 0.0_wp
+          do d = 1, nd
+            offs(d, q) = real(cells(d, q), wp) + xi(ga(d) + 1) - s(d)
+          end do
+          wq(q) = cache%w(q0 + q)
+        end do
+      else
+        call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
+                             offs, wq, gax)
+      end if
       ctot = 0.0_wp
       l = 0.0_wp
       l2 = 0.0_wp

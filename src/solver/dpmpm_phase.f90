@@ -5,6 +5,7 @@ module dpmpm_phase
   use dpmpm_kinds, only: wp
   use dpmpm_particles, only: particle_set_t
   use dpmpm_stencil, only: stencil_t
+  use dpmpm_gauss_fields, only: reach_cache_t, reach_cache_bytes
   implicit none
   private
   public :: phase_t, solid_phase, fluid_phase
@@ -31,6 +32,7 @@ module dpmpm_phase
     !> second velocity, made in the same passes over the points as the first.
     real(wp), allocatable :: gacc2(:, :, :, :), glg2(:, :, :, :)
     real(wp), allocatable :: xold(:, :), volold(:), vt(:)
+    type(reach_cache_t) :: reach              !< Gauss points within reach of each point
   contains
     procedure :: free => phase_free
     procedure :: bytes_per_point => phase_bytes_per_point
@@ -52,6 +54,7 @@ contains
     if (allocated(self%xold)) b = b + size(self%xold, 1)*storage_size(self%xold)/8
     if (allocated(self%volold)) b = b + storage_size(self%volold)/8
     if (allocated(self%vt)) b = b + storage_size(self%vt)/8
+    if (self%pts%n > 0) b = b + int(reach_cache_bytes(self%reach)/self%pts%n)
   end function phase_bytes_per_point
 
   !> Release the points and every work array.
@@ -75,6 +78,7 @@ contains
     if (allocated(self%xold)) deallocate (self%xold)
     if (allocated(self%volold)) deallocate (self%volold)
     if (allocated(self%vt)) deallocate (self%vt)
+    self%reach = reach_cache_t()
   end subroutine phase_free
 
 end module dpmpm_phase

@@ -45,11 +45,11 @@ contains
         call gauss_accumulate(self%nd, n, tr%pts%x, tr%pts%vol, fields, self%grid%origin, self%grid%h, &
                               self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
                               pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc, fields2, &
-                              tr%gacc2)
+                              tr%gacc2, cache=tr%reach)
       else
         call gauss_accumulate(self%nd, n, tr%pts%x, tr%pts%vol, fields, self%grid%origin, self%grid%h, &
                               self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
-                              pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc)
+                              pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc, cache=tr%reach)
       end if
       call self%timers%tic(t_halo)
       call self%dec%halo_sum(tr%gacc)
@@ -127,14 +127,14 @@ contains
         call gauss_strain(self%nd, tr%pts%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
                           self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
                           pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, vgrad, &
-                          tr%vt, nkept, tr%glg2, vgrad2)
+                          tr%vt, nkept, tr%glg2, vgrad2, cache=tr%reach)
         ! Both gradients keep their point-wise value at the same points.
         nkept = 2*nkept
       else
         call gauss_strain(self%nd, tr%pts%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
                           self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
                           pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, vgrad, &
-                          tr%vt, nkept)
+                          tr%vt, nkept, cache=tr%reach)
       end if
     end associate
     self%nkept = self%nkept + nkept

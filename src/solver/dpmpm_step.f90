@@ -19,7 +19,7 @@ module dpmpm_step
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g, &
-                            interp_scalar_value, fluid_p2g, volume_p2g, reaches_thin_node, body_force_work, &
+                            interp_scalar_value, fluid_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped, locked_velocity, remove_split
@@ -46,10 +46,13 @@ contains
     integer :: m, ip, nlost, ns, nf, nd, blo(3), bhi(3)
     integer, allocatable :: fcell(:)
     logical, allocatable :: fsurf(:)
-    logical :: coupled
+    logical :: coupled, surface
     real(wp) :: wplastic, rforce(3)
+    real(wp), allocatable :: fvol(:, :, :, :)
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), ngrad(:, :), gnrel(:), skinv(:)
     coupled = self%nph == 2
+    ! the free surface of the pore fluid is looked for (free_surface_points)
+    surface = coupled .and. self%cfg%free_surface_fraction > 0.0_wp .and. .not. self%plan%gauss
     nd = self%nd
     ns = self%phase(solid_phase)%pts%n
     nf = 0
@@ -97,9 +100,19 @@ contains
         call skeleton_kinv(ns, self%mats, s%pts%mat, s%pts%porosity, s%pts%vol, s%pts%vol0, skinv)
         call solid_porosity_p2g(s%st%nw, ns, s%st%i0, s%st%sw, s%pts%mass, s%pts%porosity, skinv, &
                                 self%dec%alo, self%nporo)
-        call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
-                       f%pts%pressure, f%pts%kinv, &
-                       (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag)
+        if (surface) then
+          ! with the fluid volume at the nodes for the free-surface test
+          allocate (fvol(1, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                         self%dec%alo(3):self%dec%ahi(3)))
+          fvol = 0.0_wp
+          call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
+                         f%pts%pressure, f%pts%kinv, &
+                         (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag, fvol)
+        else
+          call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
+                         f%pts%pressure, f%pts%kinv, &
+                         (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag)
+        end if
       end associate
     end if
     if (self%plan%gauss) then
@@ -161,8 +174,7 @@ contains
     ! the pressure update).
     ! (Not with Gauss quadrature: the forces come from the fields reconstructed over whole
     ! cells, and a thin node inside a scattered set is no surface.)
-    if (coupled .and. self%cfg%free_surface_fraction > 0.0_wp .and. .not. self%plan%gauss) &
-      call free_surface_points(self, fsurf)
+    if (surface) call free_surface_points(self, fvol, fsurf)
 
     ! 4. Nodal update: MLS nodal velocities, then each phase alone or both with drag.
     call self%timers%tic(t_nodal)
@@ -621,14 +633,13 @@ contains
   !> fluid can accelerate hard; the surface is drained to the air (p = 0). A node
   !> on the surface of a full body holds half a cell and is not thin; nodes on the grid's
   !> faces follow the face conditions.
-  subroutine free_surface_points(self, fsurf)
+  subroutine free_surface_points(self, fvol, fsurf)
     class(state_t), intent(inout) :: self
+    !> sum_p N_Ip V_p of this rank's fluid points (fluid_p2g)
+    real(wp), contiguous, intent(inout) :: fvol(:, :, :, :)
     logical, allocatable, intent(out) :: fsurf(:)
-    real(wp), allocatable :: fvol(:, :, :, :)
-    associate (f => self%phase(fluid_phase), alo => self%dec%alo, ahi => self%dec%ahi)
-      allocate (fvol(1, alo(1):ahi(1), alo(2):ahi(2), alo(3):ahi(3)), fsurf(f%pts%n))
-      fvol = 0.0_wp
-      call volume_p2g(f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%pts%vol, alo, fvol)
+    associate (f => self%phase(fluid_phase), alo => self%dec%alo)
+      allocate (fsurf(f%pts%n))
       call self%mirror%fold(fvol, 1, f%bc)
       call self%dec%halo_sum(fvol)
       call self%dec%halo_copy(fvol)

@@ -14,7 +14,7 @@ module dpmpm_transfer
   private
   public :: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g
   public :: interp_scalar_value
-  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, volume_p2g, reaches_thin_node
+  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, reaches_thin_node
   public :: body_force_work
 
 contains
@@ -302,7 +302,7 @@ contains
   !> f_f,I += V n_f p grad N_I and f_s,I += V (1 - n_f) p grad N_I (point quadrature,
   !> only when point_forces), and the drag coefficient D_I += N_I m n_f g / k.
   subroutine fluid_p2g(nd, nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, &
-                       node_s, node_f, drag)
+                       node_s, node_f, drag, fvol)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
@@ -311,18 +311,24 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
+    !> The fluid volume at the nodes, sum N_I V (the free-surface test), in the same pass.
+    real(wp), contiguous, intent(inout), optional :: fvol(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), pv, dp
+    logical :: vols
     if (nd == 2) then
-      call fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, node_s, node_f, drag)
+      call fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, node_s, node_f, drag, &
+                        fvol)
       return
     end if
+    vols = present(fvol)
     do p = 1, n
       pv = 0.0_wp
       if (point_forces) pv = vol(p)*pres(p)
       dp = mass(p)*poro(p)*gravity_drag*kinv(p)
 #include "dpmpm_stencil_do_3d.inc"
       drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
+      if (vols) fvol(1, i, j, k) = fvol(1, i, j, k) + nn*vol(p)
       if (.not. point_forces) cycle
 #include "dpmpm_stencil_grad_3d.inc"
       node_f(2 + nd:1 + 2*nd, i, j, k) = node_f(2 + nd:1 + 2*nd, i, j, k) + &
@@ -376,22 +382,6 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine solid_porosity_p2g
-
-  !> The volume the points represent at the nodes: f(1, I) += sum_p N_I(x_p) V_p.
-  subroutine volume_p2g(nw, n, i0, sw, vol, lo, f)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), vol(:)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(inout) :: f(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, a, b, c, i, j, k
-    real(wp) :: nn
-    do p = 1, n
-#include "dpmpm_stencil_do_3d.inc"
-      f(1, i, j, k) = f(1, i, j, k) + nn*vol(p)
-#include "dpmpm_stencil_end_3d.inc"
-    end do
-  end subroutine volume_p2g
 
   !> Whether each point's grid functions reach (N > 0) a node inside the grid (not on a
   !> face: 0 < index < ncells on the axes 1..nd) whose nodal volume f(1) is below vmin.
@@ -618,7 +608,7 @@ contains
   end subroutine interp_scalar_value_2d
 
   subroutine fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, &
-                          node_s, node_f, drag)
+                          node_s, node_f, drag, fvol)
     integer, intent(in) :: nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
@@ -627,8 +617,11 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout), optional :: fvol(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, i, j, k
     real(wp) :: nn, wb, gb, g1, g2, pv, dp, pf, ps
+    logical :: vols
+    vols = present(fvol)
     do p = 1, n
       pv = 0.0_wp
       if (point_forces) pv = vol(p)*pres(p)
@@ -637,6 +630,7 @@ contains
       dp = mass(p)*poro(p)*gravity_drag*kinv(p)
 #include "dpmpm_stencil_do_2d_grad.inc"
       drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
+      if (vols) fvol(1, i, j, k) = fvol(1, i, j, k) + nn*vol(p)
       if (.not. point_forces) cycle
       g1 = sdw(a, 1, p)*wb
       g2 = sw(a, 1, p)*gb

@@ -26,37 +26,15 @@ contains
   !> below the run's first one, the point of the fastest signal is named (dt_falls).
   real(wp) function stable_dt(self) result(dt)
     class(state_t), intent(inout) :: self
-    real(wp) :: rate, c, crit, rho, nf, r, best(2)
-    integer :: p, pbest, sbest
+    real(wp) :: rate, crit, best(2)
+    integer :: p
     character(len=256) :: line
     rate = 0.0_wp
-    pbest = 0
-    sbest = 1
     do p = 1, self%phase(1)%pts%n
-      rho = self%phase(1)%pts%mass(p)/self%phase(1)%pts%vol(p)
-      c = wave_speed(self%mats(self%phase(1)%pts%mat(p)), rho)
-      if (self%two_phase) then
-        ! Undrained wave of the mixture, c_u^2 = (E_c + K_f/n) / rho_sat (doc/theory.md 7.1).
-        nf = self%phase(1)%pts%porosity(p)
-        if (nf > 0.0_wp) c = sqrt((self%mats(self%phase(1)%pts%mat(p))%pwave + self%kf_max/nf)/ &
-                                  (rho + nf*self%rhof_min))
-      end if
-      r = c + norm2(self%phase(1)%pts%v(:, p))
-      if (r > rate) then
-        rate = r
-        pbest = p
-      end if
+      rate = max(rate, signal_speed(self, 1, p))
     end do
     do p = 1, merge(self%phase(2)%pts%n, 0, self%two_phase)
-      associate (mat => self%mats(self%phase(2)%pts%mat(p)))
-        c = sqrt(mat%bulk_fluid/mat%density)
-      end associate
-      r = c + norm2(self%phase(2)%pts%v(:, p))
-      if (r > rate) then
-        rate = r
-        pbest = p
-        sbest = 2
-      end if
+      rate = max(rate, signal_speed(self, 2, p))
     end do
     best = [rate, real(self%dec%rank, wp)]
     call MPI_Allreduce(MPI_IN_PLACE, best, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
@@ -85,26 +63,67 @@ contains
     end if
     self%dt_wave = dt
     if (self%dt_first <= 0.0_wp) self%dt_first = dt
-    if (dt < self%dt_first*10.0_wp**(-self%dt_drops - 1)) &
-      call dt_falls(self, dt, rate, nint(best(2)), sbest, pbest)
+    if (dt < self%dt_first*10.0_wp**(-self%dt_drops - 1)) call dt_falls(self, dt, rate, nint(best(2)))
   end function stable_dt
+
+  !> The fastest signal at point p of set is (1 solid, 2 fluid): wave speed plus point
+  !> speed. In two-phase scenes a porous skeleton point carries the undrained wave of
+  !> the mixture, c_u^2 = (E_c + K_f/n) / rho_sat (doc/theory.md 7.1).
+  real(wp) function signal_speed(self, is, p) result(r)
+    class(state_t), intent(in) :: self
+    integer, intent(in) :: is, p
+    real(wp) :: c, rho, nf
+    if (is == 1) then
+      rho = self%phase(1)%pts%mass(p)/self%phase(1)%pts%vol(p)
+      c = wave_speed(self%mats(self%phase(1)%pts%mat(p)), rho)
+      if (self%two_phase) then
+        nf = self%phase(1)%pts%porosity(p)
+        if (nf > 0.0_wp) c = sqrt((self%mats(self%phase(1)%pts%mat(p))%pwave + self%kf_max/nf)/ &
+                                  (rho + nf*self%rhof_min))
+      end if
+    else
+      associate (mat => self%mats(self%phase(2)%pts%mat(p)))
+        c = sqrt(mat%bulk_fluid/mat%density)
+      end associate
+    end if
+    r = c + norm2(self%phase(is)%pts%v(:, p))
+  end function signal_speed
 
   !> The wave step dt has fallen another decade below the run's first: log the point
   !> of the fastest signal (rank owner, set is, local index p), its speed, and its
   !> volume against its initial one, and for a plastic soil point dilated more than
   !> twice with no max_dilation, that bound (collective).
-  subroutine dt_falls(self, dt, rate, owner, is, p)
+  subroutine dt_falls(self, dt, rate, owner)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt, rate
-    integer, intent(in) :: owner, is, p
-    real(wp) :: info(9)
+    integer, intent(in) :: owner
+    real(wp) :: info(9), r, rmax
     character(len=640) :: line
+    integer :: is, p, k, js
     do while (dt < self%dt_first*10.0_wp**(-self%dt_drops - 1))
       self%dt_drops = self%dt_drops + 1
     end do
     info = 0.0_wp
-    if (self%dec%rank == owner) call describe(self%phase(is)%pts)
+    is = 1
+    p = 0
+    if (self%dec%rank == owner) then
+      ! the point of the fastest signal: the largest on the rank that holds the largest
+      rmax = -1.0_wp
+      do js = 1, merge(2, 1, self%two_phase)
+        do k = 1, self%phase(js)%pts%n
+          r = signal_speed(self, js, k)
+          if (r > rmax) then
+            rmax = r
+            is = js
+            p = k
+          end if
+        end do
+      end do
+      if (p > 0) call describe(self%phase(is)%pts)
+      info(9) = real(is, wp)
+    end if
     call MPI_Bcast(info, 9, MPI_DOUBLE_PRECISION, owner, self%dec%comm)
+    is = nint(info(9))
     write (line, '(a,i0,a,es10.3,a,i0,a,es10.3,a,a,a,i0,a,3es11.3,a,es10.3,a,es10.3,a,es10.3,a)') &
       'step ', self%step, ': time step ', dt, ' s, below 10^-', self%dt_drops, ' of the first (', &
       self%dt_first, ' s); the fastest signal is at ', trim(merge('solid', 'fluid', is == 1)), &

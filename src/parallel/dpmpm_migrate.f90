@@ -44,10 +44,18 @@ contains
     integer, intent(out) :: nlost
     integer, allocatable, intent(out), optional :: lost(:)
     integer :: d
+    logical, allocatable :: gone(:)
+    ! The points that leave are flagged on each sweep and removed once after the last:
+    ! the order of the others is the same as with a removal per sweep (the survivors
+    ! keep their order, the arrivals follow in the order they came), and the set is
+    ! compacted once instead of once per split axis.
+    allocate (gone(ps%n))
+    gone = .false.
     do d = 1, dec%ndim
       ! An axis held by one rank has no neighbour on it (the same on every rank).
-      if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d)
+      if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d, gone)
     end do
+    if (any(gone(1:ps%n))) call ps%remove(gone)
     call find_unowned(dec, origin, h, ps, nlost, lost)
   end subroutine migrate
 
@@ -84,28 +92,32 @@ contains
 
   !> One sweep along axis d: points below clo(d) go to the lower neighbour,
   !> points above chi(d) to the upper one. At the grid faces there is no
-  !> neighbour and points outside the grid stay where they are.
-  subroutine migrate_axis(dec, origin, h, ps, d)
+  !> neighbour and points outside the grid stay where they are. Points already
+  !> gone (sent on an earlier sweep) are skipped; the points sent now are flagged in
+  !> gone, and the arrivals, appended to the set, extend it as staying.
+  subroutine migrate_axis(dec, origin, h, ps, d, gone)
     type(decomp_t), intent(in) :: dec
     real(wp), intent(in) :: origin(3), h(3)
     type(particle_set_t), intent(inout) :: ps
     integer, intent(in) :: d
+    logical, allocatable, intent(inout) :: gone(:)
     integer, allocatable :: to_lo(:), to_hi(:)
-    logical, allocatable :: gone(:)
+    logical, allocatable :: grown(:)
     real(wp), allocatable :: slo(:, :), shi(:, :), rlo(:, :), rhi(:, :)
     integer, allocatable :: cells(:, :)
-    integer :: k, m, nfrom_lo, nfrom_hi
+    integer :: k, m, nfrom_lo, nfrom_hi, n0
     integer :: dest(ps%n)
     m = ps%nreal_packed()
-    allocate (gone(ps%n), cells(3, ps%n))
+    allocate (cells(3, ps%n))
     call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
     ! dest: -1 lower neighbour, +1 upper neighbour, 0 stays.
     do k = 1, ps%n
       dest(k) = 0
+      if (gone(k)) cycle
       if (cells(d, k) < dec%clo(d) .and. dec%nbr_lo(d) /= MPI_PROC_NULL) dest(k) = -1
       if (cells(d, k) > dec%chi(d) .and. dec%nbr_hi(d) /= MPI_PROC_NULL) dest(k) = 1
     end do
-    gone = dest /= 0
+    gone(1:ps%n) = gone(1:ps%n) .or. dest /= 0
     to_lo = pack([(k, k=1, ps%n)], dest == -1)
     to_hi = pack([(k, k=1, ps%n)], dest == 1)
     allocate (slo(m, size(to_lo)), shi(m, size(to_hi)))
@@ -130,9 +142,15 @@ contains
                       rlo, size(rlo), MPI_DOUBLE_PRECISION, dec%nbr_lo(d), tag_data + 1, &
                       dec%comm, MPI_STATUS_IGNORE)
 
-    call ps%remove(gone)
+    n0 = ps%n
     call ps%unpack_points(rlo)
     call ps%unpack_points(rhi)
+    if (ps%n > size(gone)) then
+      allocate (grown(max(ps%n, 2*size(gone))))
+      grown(1:n0) = gone(1:n0)
+      call move_alloc(grown, gone)
+    end if
+    gone(n0 + 1:ps%n) = .false.
   end subroutine migrate_axis
 
 end module dpmpm_migrate

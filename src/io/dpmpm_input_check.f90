@@ -165,8 +165,12 @@ contains
           call add_value(pb, g_material, k, 'conductivity_law', quote(m%conductivity_law), &
                          'the laws are constant, kozeny_carman (k = conductivity n^3 (1 - n0)^2 / '// &
                          '((1 - n)^2 n0^3) at porosity n, initial porosity n0)')
-        if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') &
+        if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') then
           call check_plastic(pb, k, m)
+        else if (m%max_dilation /= 0.0_wp) then
+          call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
+                         'only a mohr_coulomb or drucker_prager soil has this bound; leave it 0')
+        end if
         do j = 1, k - 1
           if (cfg%materials(j)%id == m%id) then
             call add_value(pb, g_material, k, 'id', itoa(m%id), &

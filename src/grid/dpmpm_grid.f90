@@ -8,7 +8,7 @@ module dpmpm_grid
   use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller
   implicit none
   private
-  public :: grid_t, cell_of, cells_of
+  public :: grid_t, cell_of, cells_of, axis_cells_of
 
   !> Cell indices are clamped to +-cell_clamp so that a point far away (or at a
   !> NaN position) still gets a valid integer cell, outside the grid.
@@ -153,6 +153,22 @@ contains
       c(:, k) = cell_of(origin, h, x(:, k), ndim)
     end do
   end subroutine cells_of
+
+  !> The cell index along axis d alone of the points x(:, 1:n), as cell_of gives it.
+  pure subroutine axis_cells_of(origin, h, x, n, d, c)
+    real(wp), intent(in) :: origin(3), h(3)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: n, d
+    integer, intent(out) :: c(:)
+    integer :: k
+    real(wp) :: s
+    do k = 1, n
+      s = (x(d, k) - origin(d))/h(d)
+      if (s > cell_clamp) s = cell_clamp
+      if (.not. (s > -cell_clamp)) s = -cell_clamp   ! also catches NaN
+      c(k) = floor(s)
+    end do
+  end subroutine axis_cells_of
 
   !> True when x lies inside the grid (lower faces included, upper excluded).
   pure logical function grid_inside(self, x)

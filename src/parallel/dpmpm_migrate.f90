@@ -12,7 +12,7 @@
 module dpmpm_migrate
   use dpmpm_kinds, only: wp
   use dpmpm_decomp, only: decomp_t
-  use dpmpm_grid, only: cells_of
+  use dpmpm_grid, only: cells_of, axis_cells_of
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Sendrecv, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
                      MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL
@@ -104,22 +104,40 @@ contains
     integer, allocatable :: to_lo(:), to_hi(:)
     logical, allocatable :: grown(:)
     real(wp), allocatable :: slo(:, :), shi(:, :), rlo(:, :), rhi(:, :)
-    integer, allocatable :: cells(:, :)
-    integer :: k, m, nfrom_lo, nfrom_hi, n0
-    integer :: dest(ps%n)
+    integer :: k, m, nfrom_lo, nfrom_hi, n0, nlo, nhi
+    integer, allocatable :: dest(:), cell(:)
     m = ps%nreal_packed()
-    allocate (cells(3, ps%n))
-    call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
+    allocate (dest(ps%n), cell(ps%n))
+    ! the cells along d only
+    call axis_cells_of(origin, h, ps%x, ps%n, d, cell)
     ! dest: -1 lower neighbour, +1 upper neighbour, 0 stays.
+    nlo = 0
+    nhi = 0
     do k = 1, ps%n
       dest(k) = 0
       if (gone(k)) cycle
-      if (cells(d, k) < dec%clo(d) .and. dec%nbr_lo(d) /= MPI_PROC_NULL) dest(k) = -1
-      if (cells(d, k) > dec%chi(d) .and. dec%nbr_hi(d) /= MPI_PROC_NULL) dest(k) = 1
+      if (cell(k) < dec%clo(d) .and. dec%nbr_lo(d) /= MPI_PROC_NULL) dest(k) = -1
+      if (cell(k) > dec%chi(d) .and. dec%nbr_hi(d) /= MPI_PROC_NULL) dest(k) = 1
+      if (dest(k) == -1) nlo = nlo + 1
+      if (dest(k) == 1) nhi = nhi + 1
     end do
-    gone(1:ps%n) = gone(1:ps%n) .or. dest /= 0
-    to_lo = pack([(k, k=1, ps%n)], dest == -1)
-    to_hi = pack([(k, k=1, ps%n)], dest == 1)
+    ! the points leaving, in the order of the set
+    allocate (to_lo(nlo), to_hi(nhi))
+    nlo = 0
+    nhi = 0
+    if (size(to_lo) + size(to_hi) > 0) then
+      do k = 1, ps%n
+        if (dest(k) == -1) then
+          nlo = nlo + 1
+          to_lo(nlo) = k
+          gone(k) = .true.
+        else if (dest(k) == 1) then
+          nhi = nhi + 1
+          to_hi(nhi) = k
+          gone(k) = .true.
+        end if
+      end do
+    end if
     allocate (slo(m, size(to_lo)), shi(m, size(to_hi)))
     call ps%pack_points(to_lo, slo)
     call ps%pack_points(to_hi, shi)

@@ -101,18 +101,15 @@ contains
         call solid_porosity_p2g(s%st%nw, ns, s%st%i0, s%st%sw, s%pts%mass, s%pts%porosity, skinv, &
                                 self%dec%alo, self%nporo)
         if (surface) then
-          ! with the fluid volume at the nodes for the free-surface test
+          ! the fluid volume at the nodes for the free-surface test, summed in the same
+          ! pass (unallocated, fvol is an absent argument)
           allocate (fvol(1, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                          self%dec%alo(3):self%dec%ahi(3)))
           fvol = 0.0_wp
-          call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
-                         f%pts%pressure, f%pts%kinv, &
-                         (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag, fvol)
-        else
-          call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
-                         f%pts%pressure, f%pts%kinv, &
-                         (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag)
         end if
+        call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
+                       f%pts%pressure, f%pts%kinv, &
+                       (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag, fvol)
       end associate
     end if
     if (self%plan%gauss) then

@@ -15,8 +15,9 @@ import sys
 import h5py
 import numpy as np
 
-L0 = 0.2          #: column length of c1_study.py (m)
-HALF = 0.0025     #: half the initial point spacing (m), as c1_study.py adds it
+from c1_study import L0, SPACING
+
+HALF = 0.5 * SPACING   #: half the initial point spacing (m), as c1_study.py adds it
 
 
 def volume_ratio(f, frame):

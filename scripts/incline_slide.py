@@ -12,6 +12,11 @@ beside the closed form.
 With --study BIN: runs the scene with the variants of doc/verification.md ("Rough
 walls": flip, friction, grid functions) with the binary BIN in --workdir, then reports
 them as above, with one line per run at t_end.
+
+With --flutter BIN: a long block (1.6 m x 0.1 m, elastic, on the rough face y-) at several
+incline angles, friction coefficients and flip, dry and saturated, each run to 0.2 s; prints
+the mean displacement of the points that start within 0.2 m of the block's middle over the
+Coulomb distance (doc/verification.md, "Rough walls", "Larger friction: frictional flutter").
 """
 import argparse
 import os
@@ -31,6 +36,104 @@ VARIANTS = [("flip0", 0.0, 0.3, "linear"), ("flip05", 0.5, 0.3, "linear"),
             ("flip09", 0.9, 0.3, "linear"), ("flip1", 1.0, 0.3, "linear"),
             ("hold05", 0.5, 0.7, "linear"), ("hold1", 1.0, 0.7, "linear"),
             ("smooth", 0.5, 0.0, "linear")]
+
+
+#: (tag, angle (deg), friction, flip, cells per 0.02 m, block length (m), saturated, K_f (Pa))
+FLUTTER = [("d30_mu03", 30, 0.3, 0.5, 1, 1.6, False, 0.0),
+           ("d30_mu04", 30, 0.4, 0.5, 1, 1.6, False, 0.0),
+           ("d30_mu05", 30, 0.5, 0.5, 1, 1.6, False, 0.0),
+           ("d30_mu05_pic", 30, 0.5, 0.0, 1, 1.6, False, 0.0),
+           ("d45_mu05", 45, 0.5, 0.5, 1, 1.6, False, 0.0),
+           ("d45_mu05_f025", 45, 0.5, 0.25, 1, 1.6, False, 0.0),
+           ("d45_mu05_pic", 45, 0.5, 0.0, 1, 1.6, False, 0.0),
+           ("d45_mu07", 45, 0.7, 0.5, 1, 1.6, False, 0.0),
+           ("d45_mu07_f025", 45, 0.7, 0.25, 1, 1.6, False, 0.0),
+           ("d45_mu07_pic", 45, 0.7, 0.0, 1, 1.6, False, 0.0),
+           ("d45_mu07_fine", 45, 0.7, 0.5, 2, 1.6, False, 0.0),
+           ("d45_mu07_short", 45, 0.7, 0.5, 1, 0.2, False, 0.0),
+           ("d45_mu09", 45, 0.9, 0.5, 1, 1.6, False, 0.0),
+           ("d45_mu09_pic", 45, 0.9, 0.0, 1, 1.6, False, 0.0),
+           ("s30_mu03", 30, 0.3, 0.5, 1, 1.6, True, 2.2e7),
+           ("s30_mu07", 30, 0.7, 0.5, 1, 1.6, True, 2.2e7),
+           ("s30_mu07_pic", 30, 0.7, 0.0, 1, 1.6, True, 2.2e7),
+           ("s30_mu07_fine", 30, 0.7, 0.5, 2, 1.6, True, 2.2e7),
+           ("s30_mu07_kf6", 30, 0.7, 0.5, 1, 1.6, True, 2.2e6),
+           ("s30_mu07_kf8", 30, 0.7, 0.5, 1, 1.6, True, 2.2e8),
+           ("s30_mu15", 30, 1.5, 0.5, 1, 1.6, True, 2.2e7)]
+
+
+def long_block(tag, angle, mu, flip, refine, length, saturated, kf, workdir):
+    """Scene text of a block of the given length, 0.1 m thick, at rest in its geostatic state
+    on the rough face y- of a grid tilted by gravity (as tests/test_wall_friction.f90 builds
+    it): dry (1000 kg/m^3, K0 = 3/7) or saturated (grains 2650 kg/m^3, n = 0.4, k = 1e-8 m/s,
+    water of bulk modulus kf; sigma'_xx = p so that no total stress acts across its ends)."""
+    g = 9.81
+    th = np.radians(angle)
+    gx, gn = g * np.sin(th), g * np.cos(th)
+    nx, ny = int(round((length + 0.8) / 0.02)) * refine, 10 * refine
+    lines = [f"&run name = '{tag}', t_end = 0.2, cfl = 0.5, flip = {flip},",
+             f"  gravity = {gx:.7f}, {-gn:.7f}, 0.0" + (", drag = 'implicit' /" if saturated else " /"),
+             f"&grid ndim = 2, ncells = {nx}, {ny}, length = {length + 0.8}, 0.2 /",
+             "&shape kernel = 'linear' /"]
+    if saturated:
+        rho = 0.6 * 1650.0
+        lines += ["&material id = 1, model = 'linear_elastic', density = 2650.0, youngs_modulus = 1.0e7,",
+                  "  poisson_ratio = 0.3, conductivity = 1.0e-8 /",
+                  f"&material id = 2, model = 'fluid', density = 1000.0, bulk_modulus = {kf} /",
+                  "&region lo = 0.1, 0.0, hi = " + f"{0.1 + length}, 0.1, material = 1, ppc = 2,",
+                  "  phase = 'saturated', fluid_material = 2, porosity = 0.4,",
+                  f"  pore_pressure = {1000 * gn * 0.1:.6f}, pore_pressure_gradient = 0.0, {-1000 * gn:.6f}, 0.0,",
+                  f"  stress = {1000 * gn * 0.1:.6f}, {-rho * gn * 0.1:.6f}, {-rho * gn * 0.1 * 3 / 7:.6f}, 0.0, 0.0, 0.0,",
+                  f"  stress_gradient(1:6, 2) = {-1000 * gn:.6f}, {rho * gn:.6f}, {rho * gn * 3 / 7:.6f}, 0.0, 0.0, 0.0 /"]
+    else:
+        rho = 1000.0
+        lines += ["&material id = 1, model = 'linear_elastic', density = 1000.0, youngs_modulus = 1.0e7,",
+                  "  poisson_ratio = 0.3 /",
+                  "&region lo = 0.1, 0.0, hi = " + f"{0.1 + length}, 0.1, material = 1, ppc = 2,",
+                  f"  stress = {-rho * gn * 0.1 * 3 / 7:.6f}, {-rho * gn * 0.1:.6f}, {-rho * gn * 0.1 * 3 / 7:.6f}, 0.0, 0.0, 0.0,",
+                  f"  stress_gradient(1:6, 2) = {rho * gn * 3 / 7:.6f}, {rho * gn:.6f}, {rho * gn * 3 / 7:.6f}, 0.0, 0.0, 0.0 /"]
+    lines += [f"&boundary face = 'y-', condition = 'roller', friction = {mu} /",
+              f"&output dir = '{workdir}', frame_interval = 0.01 /", ""]
+    return "\n".join(lines)
+
+
+def middle_slide(path, length, saturated, mu):
+    """Mean x displacement at the last frame of the solid points that start within 0.2 m of
+    the block's middle, and the Coulomb distance (0 where friction holds the block)."""
+    with open_run(path) as run:
+        g = np.zeros(3)
+        gv = run.input_groups("run")[0].get("gravity", [0.0])
+        g[:len(gv)] = gv
+        fr = run.frames[-1]
+        s = fr["solid"]
+        x0 = s["x"][:, 0] - s["displacement"][:, 0]
+        m = np.abs(x0 - (0.1 + 0.5 * length)) < 0.2
+        ux = float(np.mean(s["displacement"][m, 0]))
+        t = fr.time
+    # the friction takes mu times the buoyant weight of a saturated block (doc/theory.md 6.7)
+    share = (0.6 * 1650.0) / (0.6 * 2650.0 + 400.0) if saturated else 1.0
+    a = max(0.0, g[0] + mu * share * g[1])
+    return t, ux, 0.5 * a * t * t
+
+
+def flutter(binary, workdir):
+    os.makedirs(workdir, exist_ok=True)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    print("| run | angle | μ | flip | h (m) | block (m) | pore water K_f (Pa) | x at 0.2 s (m) "
+          "| Coulomb x (m) | ratio |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for tag, angle, mu, flip, refine, length, sat, kf in FLUTTER:
+        nml = os.path.join(workdir, f"{tag}.nml")
+        open(nml, "w").write(long_block(tag, angle, mu, flip, refine, length, sat, kf, workdir))
+        h5 = os.path.join(workdir, f"{tag}.h5")
+        if not os.path.exists(h5):
+            subprocess.run(["mpirun", "--oversubscribe", "-n", "1", binary, nml], env=env,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+        t, ux, ex = middle_slide(h5, length, sat, mu)
+        ratio = f"{ux / ex:.3f}" if ex > 0 else "(stays)"
+        water = f"{kf:.1e}" if sat else "dry"
+        print(f"| {tag} | {angle}° | {mu} | {flip} | {0.02 / refine:.2f} | {length} | {water} "
+              f"| {ux:.3e} | {ex:.3e} | {ratio} |")
 
 
 def boundary_friction(run):
@@ -99,10 +202,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("files", nargs="*")
     ap.add_argument("--study", metavar="BIN", help="run the variants with this dpmpm binary")
+    ap.add_argument("--flutter", metavar="BIN", help="run the long-block study with this binary")
     ap.add_argument("--workdir", default="out/incline_study")
     ap.add_argument("--plot", help="figure of x(t) against the closed form")
     args = ap.parse_args()
     files = list(args.files)
+    if args.flutter:
+        flutter(args.flutter, args.workdir)
+        return
     if args.study:
         files += study(args.study, args.workdir)
     curves = [(f, *report(f)) for f in files]

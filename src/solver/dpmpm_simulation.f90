@@ -258,6 +258,11 @@ contains
       'friction) with flip > 0.5: FLIP noise at the wall raises the friction; an elastic block on '// &
       'an incline slides at a tenth of the Coulomb rate with flip 0.9 and 1 (doc/verification.md, '// &
       '"Rough walls"); flip = 0.5 reproduces it')
+    if (maxval(self%grid%friction) >= 0.45_wp) call self%log%warning('rough walls (&boundary '// &
+      'friction) of 0.45 or more: a body sliding on them slides too little (a dry block with '// &
+      'friction 0.7 on a 45 degree incline a fifth of the Coulomb distance, with flip 0.5), from a '// &
+      'growing wave of normal force along the face (doc/verification.md, "Larger friction: '// &
+      'frictional flutter"); friction that holds a body still holds it')
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init

@@ -138,9 +138,11 @@ def plot(frs, ms, path, title):
     for i, fr in enumerate(pick):
         ax = fig.add_subplot(5, 1, i + 1)
         xf, xs = fr["fluid/x"], fr["solid/x"]
-        free = fr["fluid/porosity"] >= 0.99
-        ax.scatter(xf[free, 0], xf[free, 1], s=0.6, c="tab:blue", label="free water")
-        a = ax.scatter(xs[:, 0], xs[:, 1], s=0.6, c=fr["solid/plastic_strain"], cmap="YlOrBr",
+        # every water point, the pore water included: the soil points drawn over them hide
+        # the pores, and the water beside the soil that takes its porosity (within the
+        # reach of its nodes) shows as water
+        ax.scatter(xf[:, 0], xf[:, 1], s=0.6, c="tab:blue", label="water")
+        a = ax.scatter(xs[:, 0], xs[:, 1], s=1.6, c=fr["solid/plastic_strain"], cmap="YlOrBr",
                        vmin=0.0, vmax=2.0)
         fig.colorbar(a, ax=ax, label="plastic strain", pad=0.01)
         ax.set_aspect("equal")

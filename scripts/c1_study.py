@@ -89,7 +89,8 @@ def scene_text(a, base, workdir, shape="standard", max_dilation=0.0):
             raise SystemExit("c1_study: the template's &material has no tensile_strength line")
     if base == "rough":
         text, n = re.subn(r"face = 'y-', condition = 'fixed'",
-                          "face = 'y-', condition = 'roller', friction = 0.577", text)
+                          "face = 'y-', condition = 'roller', friction = 0.577, lift_off = .false.",
+                          text)
         if n != 1:
             raise SystemExit("c1_study: the template has no fixed base to make rough")
     return name, text

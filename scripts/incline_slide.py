@@ -62,7 +62,7 @@ FLUTTER = [("d30_mu03", 30, 0.3, 0.5, 1, 1.6, False, 0.0),
            ("s30_mu15", 30, 1.5, 0.5, 1, 1.6, True, 2.2e7)]
 
 
-def long_block(tag, angle, mu, flip, refine, length, saturated, kf, workdir):
+def long_block(tag, angle, mu, flip, refine, length, saturated, kf, workdir, lift_off=True):
     """Scene text of a block of the given length, 0.1 m thick, at rest in its geostatic state
     on the rough face y- of a grid tilted by gravity (as tests/test_wall_friction.f90 builds
     it): dry (1000 kg/m^3, K0 = 3/7) or saturated (grains 2650 kg/m^3, n = 0.4, k = 1e-8 m/s,
@@ -92,7 +92,8 @@ def long_block(tag, angle, mu, flip, refine, length, saturated, kf, workdir):
                   "&region lo = 0.1, 0.0, hi = " + f"{0.1 + length}, 0.1, material = 1, ppc = 2,",
                   f"  stress = {-rho * gn * 0.1 * 3 / 7:.6f}, {-rho * gn * 0.1:.6f}, {-rho * gn * 0.1 * 3 / 7:.6f}, 0.0, 0.0, 0.0,",
                   f"  stress_gradient(1:6, 2) = {rho * gn * 3 / 7:.6f}, {rho * gn:.6f}, {rho * gn * 3 / 7:.6f}, 0.0, 0.0, 0.0 /"]
-    lines += [f"&boundary face = 'y-', condition = 'roller', friction = {mu} /",
+    hold = "" if lift_off else ", lift_off = .false."
+    lines += [f"&boundary face = 'y-', condition = 'roller', friction = {mu}{hold} /",
               f"&output dir = '{workdir}', frame_interval = 0.01 /", ""]
     return "\n".join(lines)
 
@@ -117,23 +118,47 @@ def middle_slide(path, length, saturated, mu):
 
 
 def flutter(binary, workdir):
+    """Runs the FLUTTER cases, each dry one also with lift_off = .false. (the wall holding
+    its nodes whatever their motion; the wall holds the skeleton with pore water either way),
+    and prints one table."""
     os.makedirs(workdir, exist_ok=True)
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    print("| run | angle | μ | flip | h (m) | block (m) | pore water K_f (Pa) | x at 0.2 s (m) "
-          "| Coulomb x (m) | ratio |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    for tag, angle, mu, flip, refine, length, sat, kf in FLUTTER:
-        nml = os.path.join(workdir, f"{tag}.nml")
-        open(nml, "w").write(long_block(tag, angle, mu, flip, refine, length, sat, kf, workdir))
-        h5 = os.path.join(workdir, f"{tag}.h5")
+
+    def slide(tag, case, lift_off):
+        angle, mu, flip, refine, length, sat, kf = case
+        name = tag if lift_off else tag + "_held"
+        nml = os.path.join(workdir, f"{name}.nml")
+        open(nml, "w").write(long_block(name, angle, mu, flip, refine, length, sat, kf, workdir,
+                                        lift_off))
+        h5 = os.path.join(workdir, f"{name}.h5")
         if not os.path.exists(h5):
             subprocess.run(["mpirun", "--oversubscribe", "-n", "1", binary, nml], env=env,
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
         t, ux, ex = middle_slide(h5, length, sat, mu)
-        ratio = f"{ux / ex:.3f}" if ex > 0 else "(stays)"
+        # the mean friction (per unit mass) that the distance slid implies, against mu g_n
+        # (times the buoyant share with pore water): a = g_t - f
+        th = np.radians(angle)
+        share = (0.6 * 1650.0) / (0.6 * 2650.0 + 400.0) if sat else 1.0
+        force = (9.81 * np.sin(th) - 2.0 * ux / t ** 2) / (mu * share * 9.81 * np.cos(th))
+        return ux, ex, force
+
+    print("| run | angle | μ | flip | h (m) | block (m) | pore water K_f (Pa) | Coulomb x (m) "
+          "| x at 0.2 s (m) | ratio | friction force against Coulomb's "
+          "| lift_off = .false.: x (m) | ratio | friction force |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for tag, *case in FLUTTER:
+        angle, mu, flip, refine, length, sat, kf = case
+        ux, ex, force = slide(tag, case, True)
         water = f"{kf:.1e}" if sat else "dry"
-        print(f"| {tag} | {angle}° | {mu} | {flip} | {0.02 / refine:.2f} | {length} | {water} "
-              f"| {ux:.3e} | {ex:.3e} | {ratio} |")
+        row = (f"| {tag} | {angle}° | {mu} | {flip} | {0.02 / refine:.2f} | {length} | {water} "
+               f"| {ex:.3e} | {ux:.3e} | ")
+        row += f"{ux / ex:.3f} | {force:.3f} |" if ex > 0 else "(stays) | |"
+        if sat:
+            row += " (the same) | | |"
+        else:
+            ux, ex, force = slide(tag, case, False)
+            row += f" {ux:.3e} | " + (f"{ux / ex:.3f} | {force:.3f} |" if ex > 0 else "(stays) | |")
+        print(row)
 
 
 def boundary_friction(run):

@@ -109,22 +109,28 @@ for model in ["linear_elastic", "mohr_coulomb"]:
     expect("10^-2" not in p.stderr, f"{model}: no second warning (the step fell by less than 100)")
     expect("max_dilation" not in p.stderr, f"{model}: max_dilation is not named (volume 1)")
 
-# Rough walls of friction 0.45 or more warn that a body sliding on them slides too little
-# (frictional flutter, doc/verification.md); 0.44 does not.
-for mu, warns in [(0.44, False), (0.45, True)]:
+# Rough walls of friction 0.45 or more under pore water warn that the wall holds the
+# skeleton (doc/verification.md, "Larger friction: frictional flutter"); 0.44 does not,
+# nor does a dry scene, whose wall lets go of nodes moving away from it.
+for mu, water, warns in [(0.44, True, False), (0.45, True, True), (0.9, False, False)]:
+    soil = ("&material id = 1, model = 'linear_elastic', youngs_modulus = 1.0e6, poisson_ratio = 0.3,\n"
+            "  density = 2650.0, conductivity = 1.0e-4 /\n"
+            "&material id = 2, model = 'fluid', density = 1000.0, bulk_modulus = 1.0e7 /\n"
+            "&region lo = 0.2, 0.0, hi = 0.6, 0.2, phase = 'saturated', fluid_material = 2,\n"
+            "  porosity = 0.4 /\n") if water else (
+            "&material id = 1, model = 'linear_elastic', youngs_modulus = 1.0e6, poisson_ratio = 0.3,\n"
+            "  density = 1000.0 /\n&region lo = 0.2, 0.0, hi = 0.6, 0.2 /\n")
     (work / "rough.nml").write_text(f"""&run name = 'rough', t_end = 1.0, max_steps = 2, gravity = 4.9, -8.5 /
 &grid ndim = 2, ncells = 10, 5, length = 1.0, 0.5 /
 &shape kernel = 'linear' /
-&material id = 1, model = 'linear_elastic', youngs_modulus = 1.0e6, poisson_ratio = 0.3,
-  density = 1000.0 /
-&region lo = 0.2, 0.0, hi = 0.6, 0.2 /
-&boundary face = 'y-', condition = 'roller', friction = {mu} /
+{soil}&boundary face = 'y-', condition = 'roller', friction = {mu} /
 &output dir = 'out' /
 """)
     p, _ = run("rough.nml")
     named = "Larger friction: frictional flutter" in p.stderr
+    what = f"friction {mu}, {'saturated' if water else 'dry'}: "
     expect(p.returncode == 0 and named == warns,
-           f"friction {mu}: " + ("warns of frictional flutter" if warns else "no flutter warning"))
+           what + ("warns of frictional flutter" if warns else "no flutter warning"))
 
 # --check prints every parameter as input that reads back to the same parameters, for
 # every scene that ships with dpmpm.

@@ -80,6 +80,9 @@ module dpmpm_config
     integer :: absorbing(6) = 0
     !> Coulomb friction coefficient of a roller face (a rough wall); 0 = smooth
     real(wp) :: wall_friction(6) = 0.0_wp
+    !> a rough wall lets go of nodes that move away from it (scenes of one phase); .false.
+    !> holds them, so that the wall also pulls
+    logical :: wall_lift_off(6) = .true.
   end type config_t
 
   !> Datasets of a point set that &output solid_fields / fluid_fields may leave out (id, x, v,

@@ -24,10 +24,12 @@ module dpmpm_grid
     integer :: bc(6) = bc_free         !< per face: x-, x+, y-, y+, z-, z+
     real(wp) :: friction(6) = 0.0_wp   !< Coulomb friction coefficient of roller faces
     logical :: rough = .false.         !< some face has friction
+    logical :: lift_off(6) = .true.    !< rough face lets go of nodes moving away (wall_contact)
   contains
     procedure :: init => grid_init
     procedure :: constrained => grid_constrained
     procedure :: wall_friction
+    procedure :: wall_contact
     procedure :: inside => grid_inside
   end type grid_t
 
@@ -53,17 +55,19 @@ contains
     self%friction = 0.0_wp
     where (self%bc == bc_roller) self%friction = cfg%wall_friction
     self%rough = any(self%friction > 0.0_wp)
+    self%lift_off = cfg%wall_lift_off
   end subroutine grid_init
 
   !> Coulomb friction of the rough roller faces on which node idx lies (doc/theory.md
-  !> 6.7). v(1:nd) is the node's velocity at the end of the update, dv(1:nd) its change
-  !> in the update, both before the wall conditions. Where the normal component of dv
-  !> runs into such a wall, the wall takes it (vn, the normal impulse per unit mass of
-  !> the step: the normal velocity itself is held at zero, so the change is the whole
-  !> impulse) and its friction takes mu vn from the speed along the wall, down to rest at
-  !> most (sticking). Components held by other conditions (fix) do not slide. Where the
-  !> wall pulls the node no friction acts. Only the tangential components of v change;
-  !> the caller zeroes the normal one with the roller's constraint.
+  !> 6.7). v(1:nd) is the node's velocity at the end of the update, before the wall
+  !> conditions; dv(1:nd) the velocity whose normal component the wall takes from the node
+  !> (its normal impulse per unit mass: one phase, the node's velocity v itself, held at
+  !> zero where it runs into the wall; the skeleton of two phases, its effective push
+  !> over the mass the push moves). Where that component runs into such a wall (vn > 0)
+  !> its friction takes mu vn from the speed along the wall, down to rest at most
+  !> (sticking). Components held by other conditions (fix) do not slide. Where the wall
+  !> does not push the node no friction acts. Only the tangential components of v change;
+  !> the caller holds the normal one.
   pure subroutine wall_friction(self, idx, nd, fix, dv, v)
     class(grid_t), intent(in) :: self
     integer, intent(in) :: idx(3), nd
@@ -91,6 +95,38 @@ contains
       v = v - vt*min(1.0_wp, self%friction(f)*vn/s)
     end do
   end subroutine wall_friction
+
+  !> Contact of node idx with the rough roller faces it lies on (doc/theory.md 6.7), per
+  !> axis: 1 where such a face holds the normal component because the node's velocity
+  !> v(1:nd) (before the wall conditions) runs into it, 2 where the node moves away from
+  !> it and the wall lets go, 0 where no rough face is concerned or the face holds its
+  !> nodes whatever their motion (lift_off = .false.). A node on a fixed face stays held
+  !> (0: the fixed face's condition decides).
+  pure function wall_contact(self, idx, nd, v) result(state)
+    class(grid_t), intent(in) :: self
+    integer, intent(in) :: idx(3), nd
+    real(wp), intent(in) :: v(3)
+    integer :: state(3)
+    integer :: f, d
+    state = 0
+    do f = 1, 2*nd
+      if (self%bc(f) /= bc_fixed) cycle
+      d = (f + 1)/2
+      if (mod(f, 2) == 1 .and. idx(d) <= 0) return
+      if (mod(f, 2) == 0 .and. idx(d) >= self%ncells(d)) return
+    end do
+    do f = 1, 2*nd
+      if (self%friction(f) <= 0.0_wp .or. .not. self%lift_off(f)) cycle
+      d = (f + 1)/2
+      if (mod(f, 2) == 1) then
+        if (idx(d) /= 0) cycle
+        state(d) = merge(1, 2, v(d) < 0.0_wp)
+      else
+        if (idx(d) /= self%ncells(d)) cycle
+        state(d) = merge(1, 2, v(d) > 0.0_wp)
+      end if
+    end do
+  end function wall_contact
 
   !> Which velocity components are held at zero at node (i, j, k): a fixed face
   !> holds all components, a roller the normal one. Exterior nodes beyond a face

@@ -481,6 +481,10 @@ contains
                        'normal force acts through nodes inside the grid, and the friction taken '// &
                        'from the face nodes would be too low (doc/input.md, &boundary)')
       end if
+      if (.not. lift_off .and. .not. (friction > 0.0_wp)) &
+        call add_value(pb, g_boundary, k, 'lift_off', '.false.', &
+                       'only a rough wall (friction > 0) lets go of nodes or holds them; '// &
+                       'leave lift_off out')
       if (material /= 0 .and. trim(adjustl(condition)) /= 'absorbing') &
         call add_value(pb, g_boundary, k, 'material', itoa(material), &
                        "only an absorbing face takes a material (condition = 'absorbing')")
@@ -543,6 +547,7 @@ contains
         cfg%pore_pressure_gradient(:, f) = pore_pressure_gradient
         cfg%absorbing(f) = absorbing
         cfg%wall_friction(f) = friction
+        cfg%wall_lift_off(f) = lift_off
       end if
     end do
   end subroutine read_boundaries

@@ -30,7 +30,8 @@ contains
     real(wp), intent(in) :: damping           !< local damping coefficient (0 = none)
     real(wp), intent(inout) :: dissipated     !< energy taken by the local damping and wall friction
     integer :: i, j, k
-    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3), ffr(3), wf
+    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3), ffr(3), wf, vwall(3)
+    integer :: contact(3)
     logical :: fix(3), near, rough
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
@@ -63,10 +64,23 @@ contains
           if (any(cd(1:nd) > 0.0_wp)) vnew(1:nd) = vnew(1:nd)*m/(m + dt*cd(1:nd))
           rough = near .and. faces%grid%rough
           if (rough) then
-            ! Friction of rough walls: the force along the wall, m dv/dt.
+            ! A rough wall pushes and rubs but does not pull (doc/theory.md 6.7): it holds
+            ! the normal component of a node that runs into it, whose whole normal velocity
+            ! it takes (the impulse of the friction), and lets go of one moving away.
+            contact = faces%grid%wall_contact([i, j, k], nd, vnew)
+            where (contact == 2) fix = .false.
             ffr = vnew
-            call faces%grid%wall_friction([i, j, k], nd, fix, vnew - vold, vnew)
+            ! Where the wall holds its nodes whatever their motion (lift_off = .false.),
+            ! the impulse is the change of the step (the normal velocity is held at zero).
+            vwall = vnew
+            if (all(contact == 0)) vwall = vnew - vold
+            call faces%grid%wall_friction([i, j, k], nd, fix, vwall, vnew)
+            where (contact == 1) vnew = 0.0_wp
+            ! The wall's force, normal and friction, m dv/dt.
             ffr = m*(vnew - ffr)/dt
+            ! A held normal component keeps its old velocity in nvel, so that the points'
+            ! FLIP update takes the normal velocity they carry into the wall away with it.
+            where (contact == 1) fix = .false.
           end if
           where (fix) vold = 0.0_wp
           where (fix) vnew = 0.0_wp
@@ -75,8 +89,8 @@ contains
           ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd) - cd(1:nd)*vnew(1:nd), &
                                                       vold(1:nd) + vnew(1:nd))
           if (rough) then
-            ! The friction's work (the wall's normal force does none): in ext_work and
-            ! counted as dissipated, as the damping's.
+            ! The wall's work (the friction's, and the normal force's where the node ran
+            ! into the wall): in ext_work and counted as dissipated, as the damping's.
             wf = 0.5_wp*dt*dot_product(ffr(1:nd), vold(1:nd) + vnew(1:nd))
             ext_work = ext_work + wf
             dissipated = dissipated - wf
@@ -339,15 +353,17 @@ contains
 
   !> MUSL remap, at the nodes olo..ohi: the new-velocity slots of nvel (cleared first)
   !> from the remapped momenta node(2:1+nd) over the step's masses node(1); components
-  !> held by the face conditions bc of grid are zero.
-  subroutine remap_nodal_velocity(nd, lo, olo, ohi, node, grid, bc, nvel)
+  !> held by the face conditions bc of grid are zero (with walls, not those of a node that
+  !> moves away from a rough wall, which the wall lets go as in nodal_update).
+  subroutine remap_nodal_velocity(nd, lo, olo, ohi, node, grid, bc, nvel, walls)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)
     type(grid_t), intent(in) :: grid
     integer, intent(in) :: bc(6)
     real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    logical, intent(in) :: walls   !< rough walls let go of nodes moving away (nodal_update)
     integer :: i, j, k
-    real(wp) :: m
+    real(wp) :: m, v(3)
     logical :: fix(3)
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
@@ -357,6 +373,12 @@ contains
           if (m <= 0.0_wp) cycle
           fix = grid%constrained([i, j, k], bc)
           nvel(nd + 1:2*nd, i, j, k) = node(2:1 + nd, i, j, k)/m
+          if (walls .and. any(fix)) then
+            ! As in the update: a rough wall holds only a node that runs into it.
+            v = 0.0_wp
+            v(1:nd) = nvel(nd + 1:2*nd, i, j, k)
+            where (grid%wall_contact([i, j, k], nd, v) == 2) fix = .false.
+          end if
           where (fix(1:nd)) nvel(nd + 1:2*nd, i, j, k) = 0.0_wp
         end do
       end do

@@ -255,14 +255,15 @@ contains
     call diagnostics(self)
     call check_load_path(self)
     if (self%grid%rough .and. cfg%flip > 0.5_wp) call self%log%warning('rough walls (&boundary '// &
-      'friction) with flip > 0.5: FLIP noise at the wall raises the friction; an elastic block on '// &
-      'an incline slides at a tenth of the Coulomb rate with flip 0.9 and 1 (doc/verification.md, '// &
-      '"Rough walls"); flip = 0.5 reproduces it')
-    if (maxval(self%grid%friction) >= 0.45_wp) call self%log%warning('rough walls (&boundary '// &
-      'friction) of 0.45 or more: a body sliding on them slides too little (a dry block with '// &
-      'friction 0.7 on a 45 degree incline a fifth of the Coulomb distance, with flip 0.5), from a '// &
-      'growing wave of normal force along the face (doc/verification.md, "Larger friction: '// &
-      'frictional flutter"); friction that holds a body still holds it')
+      'friction) with flip > 0.5: a block that the friction should hold creeps (flip 1, friction '// &
+      '0.7 at 30 degrees: 2 mm in 0.1 s, 0.03 mm with flip 0.5), and with flip 1 a cohesionless '// &
+      'soil flowing on a wall that lets go of its nodes throws points off it (lift_off = .false. '// &
+      'holds them; doc/verification.md, "Rough walls")')
+    if (maxval(self%grid%friction) >= 0.45_wp .and. self%nph == 2) call self%log%warning('rough '// &
+      'walls (&boundary friction) of 0.45 or more under pore water: the wall holds the skeleton '// &
+      'where it would pull it (it lets go only in scenes of one phase), and a saturated block with '// &
+      'friction 0.7 slid 9.5 % too far, with a soft pore fluid half the distance (doc/verification.md, '// &
+      '"Larger friction: frictional flutter")')
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init

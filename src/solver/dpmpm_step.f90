@@ -582,8 +582,9 @@ contains
     end if
     call self%mirror%fold(ph%node, 1, ph%bc)
     call self%dec%halo_sum(ph%node)
+    ! Rough walls let go of nodes moving away from them in scenes of one phase (nodal_update).
     call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
-                              ph%node, self%grid, ph%bc, ph%nvel)
+                              ph%node, self%grid, ph%bc, ph%nvel, self%grid%rough .and. self%nph == 1)
   end subroutine remap_velocities
 
   !> The work of the surface loads in this step, f . (v_old + v_new) dt / 2 at their

@@ -12,10 +12,13 @@ pressure of the water (doc/verification.md, "Saturated slope").
 import argparse
 import os
 import re
-import subprocess
+import sys
 
 import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "python"))
+from dpmpm.launch import run_scene, scene_arguments  # noqa: E402
 
 B = 2.0      # footing width (m)
 V = 0.1      # footing speed (m/s)
@@ -33,16 +36,7 @@ def run(args):
     text = re.sub(r"kernel = '[^']*'", f"kernel = '{args.kernel}'", text, count=1)
     if args.t_end:
         text = re.sub(r"t_end = [0-9.eE+-]+", f"t_end = {args.t_end}", text, count=1)
-    nml = os.path.join(args.workdir, name + ".nml")
-    h5 = os.path.join(args.workdir, name + ".h5")
-    with open(nml, "w") as f:
-        f.write(text)
-    if args.rerun or not os.path.exists(h5):
-        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        cmd = ["mpirun", "--oversubscribe", "-n", str(args.ranks), args.bin, nml]
-        with open(os.path.join(args.workdir, name + ".log"), "w") as log:
-            subprocess.run(cmd, check=True, stdout=log, stderr=subprocess.STDOUT, env=env)
-    return h5
+    return run_scene(args.bin, text, args.workdir, name, args.ranks, args.rerun)
 
 
 def measure(h5):
@@ -94,12 +88,7 @@ def plot(t, q, fr, path, title):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--bin", default="build/release/dpmpm")
-    ap.add_argument("--ranks", type=int, default=1)
-    ap.add_argument("--kernel", default="linear", help="grid functions (linear, quadratic, cubic)")
-    ap.add_argument("--t-end", type=float, help="end time (s), replacing the scene's 4 s")
-    ap.add_argument("--workdir", default="out/slope")
-    ap.add_argument("--rerun", action="store_true")
+    scene_arguments(ap, 4.0, "out/slope")
     ap.add_argument("--plot", help="figure: q-settlement, plastic strain, excess pore pressure")
     args = ap.parse_args()
     h5 = run(args)

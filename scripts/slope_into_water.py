@@ -15,10 +15,13 @@ the water levels against time (doc/verification.md, "Saturated slope sliding int
 import argparse
 import os
 import re
-import subprocess
+import sys
 
 import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "python"))
+from dpmpm.launch import run_scene, scene_arguments  # noqa: E402
 
 SCENE = "inputs/slope_into_water_2d.nml"
 RHO_G = 1000.0 * 9.81  # unit weight of the water (N/m^3)
@@ -47,16 +50,7 @@ def run(args):
         text = re.sub(r"t_end = [0-9.eE+-]+", f"t_end = {args.t_end}", text, count=1)
         text = text.replace(f"name = '{name}'", f"name = '{name}{name_t}'")
         name += name_t
-    nml = os.path.join(args.workdir, name + ".nml")
-    h5 = os.path.join(args.workdir, name + ".h5")
-    with open(nml, "w") as f:
-        f.write(text)
-    if args.rerun or not os.path.exists(h5):
-        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        cmd = ["mpirun", "--oversubscribe", "-n", str(args.ranks), args.bin, nml]
-        with open(os.path.join(args.workdir, name + ".log"), "w") as log:
-            subprocess.run(cmd, check=True, stdout=log, stderr=subprocess.STDOUT, env=env)
-    return h5
+    return run_scene(args.bin, text, args.workdir, name, args.ranks, args.rerun)
 
 
 def frames(h5):
@@ -172,14 +166,9 @@ def plot(frs, ms, path, title):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--bin", default="build/release/dpmpm")
-    ap.add_argument("--ranks", type=int, default=1)
-    ap.add_argument("--kernel", default="linear", help="grid functions (linear, quadratic, cubic)")
-    ap.add_argument("--t-end", type=float, help="end time (s), replacing the scene's 3 s")
+    scene_arguments(ap, 3.0, "out/slope_into_water")
     ap.add_argument("--porosity-gradient", choices=("on", "off"),
                     help="replace the scene's choice of porosity_gradient (off)")
-    ap.add_argument("--workdir", default="out/slope_into_water")
-    ap.add_argument("--rerun", action="store_true")
     ap.add_argument("--h5", help="read this output file instead of running the scene")
     ap.add_argument("--compare", help="another run's output file: largest differences by id")
     ap.add_argument("--plot", default="doc/figures/slope_into_water.png")

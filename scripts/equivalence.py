@@ -55,6 +55,7 @@ SCENES = {
     "seepage_layers_1d": 0.4,
     "slope_equilibrium_2d": 0.05,
     "slope_saturated_2d": 0.1,
+    "slope_into_water_2d": 0.1,
     "strip_pulse_2d": 0.05,
     "submerged_layer_2d": 0.05,
     "t1": 0.2,

@@ -14,9 +14,10 @@ walls": flip, friction, grid functions) with the binary BIN in --workdir, then r
 them as above, with one line per run at t_end.
 
 With --flutter BIN: a long block (1.6 m x 0.1 m, elastic, on the rough face y-) at several
-incline angles, friction coefficients and flip, dry and saturated, each run to 0.2 s; prints
-the mean displacement of the points that start within 0.2 m of the block's middle over the
-Coulomb distance (doc/verification.md, "Rough walls", "Larger friction: frictional flutter").
+incline angles, friction coefficients and flip, dry and saturated, each run to 0.2 s, the dry
+ones also with lift_off = .false.; prints the mean displacement of the points that start
+within 0.2 m of the block's middle over the Coulomb distance, and the friction force it
+implies over Coulomb's (doc/verification.md, "Larger friction: frictional flutter").
 """
 import argparse
 import os
@@ -28,6 +29,7 @@ import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+from dpmpm.launch import run_scene  # noqa: E402
 from dpmpm.run import open_run  # noqa: E402
 
 SCENE = os.path.join(ROOT, "inputs", "incline_slide_2d.nml")
@@ -98,6 +100,12 @@ def long_block(tag, angle, mu, flip, refine, length, saturated, kf, workdir, lif
     return "\n".join(lines)
 
 
+def normal_share(saturated):
+    """The share of the weight that the friction takes: all of it dry, the buoyant weight
+    over the saturated weight with pore water (doc/theory.md 6.7)."""
+    return (0.6 * 1650.0) / (0.6 * 2650.0 + 400.0) if saturated else 1.0
+
+
 def middle_slide(path, length, saturated, mu):
     """Mean x displacement at the last frame of the solid points that start within 0.2 m of
     the block's middle, and the Coulomb distance (0 where friction holds the block)."""
@@ -111,9 +119,7 @@ def middle_slide(path, length, saturated, mu):
         m = np.abs(x0 - (0.1 + 0.5 * length)) < 0.2
         ux = float(np.mean(s["displacement"][m, 0]))
         t = fr.time
-    # the friction takes mu times the buoyant weight of a saturated block (doc/theory.md 6.7)
-    share = (0.6 * 1650.0) / (0.6 * 2650.0 + 400.0) if saturated else 1.0
-    a = max(0.0, g[0] + mu * share * g[1])
+    a = max(0.0, g[0] + mu * normal_share(saturated) * g[1])
     return t, ux, 0.5 * a * t * t
 
 
@@ -121,25 +127,18 @@ def flutter(binary, workdir):
     """Runs the FLUTTER cases, each dry one also with lift_off = .false. (the wall holding
     its nodes whatever their motion; the wall holds the skeleton with pore water either way),
     and prints one table."""
-    os.makedirs(workdir, exist_ok=True)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    workdir = os.path.abspath(workdir)
 
     def slide(tag, case, lift_off):
         angle, mu, flip, refine, length, sat, kf = case
         name = tag if lift_off else tag + "_held"
-        nml = os.path.join(workdir, f"{name}.nml")
-        open(nml, "w").write(long_block(name, angle, mu, flip, refine, length, sat, kf, workdir,
-                                        lift_off))
-        h5 = os.path.join(workdir, f"{name}.h5")
-        if not os.path.exists(h5):
-            subprocess.run(["mpirun", "--oversubscribe", "-n", "1", binary, nml], env=env,
-                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+        h5 = run_scene(binary, long_block(name, angle, mu, flip, refine, length, sat, kf, workdir,
+                                          lift_off), workdir, name)
         t, ux, ex = middle_slide(h5, length, sat, mu)
         # the mean friction (per unit mass) that the distance slid implies, against mu g_n
         # (times the buoyant share with pore water): a = g_t - f
         th = np.radians(angle)
-        share = (0.6 * 1650.0) / (0.6 * 2650.0 + 400.0) if sat else 1.0
-        force = (9.81 * np.sin(th) - 2.0 * ux / t ** 2) / (mu * share * 9.81 * np.cos(th))
+        force = (9.81 * np.sin(th) - 2.0 * ux / t ** 2) / (mu * normal_share(sat) * 9.81 * np.cos(th))
         return ux, ex, force
 
     print("| run | angle | μ | flip | h (m) | block (m) | pore water K_f (Pa) | Coulomb x (m) "

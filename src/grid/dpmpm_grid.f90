@@ -166,15 +166,22 @@ contains
     integer, intent(in) :: ndim
     integer :: c(3)
     integer :: d
-    real(wp) :: s
     c = 0
     do d = 1, ndim
-      s = (x(d) - origin(d))/h(d)
-      if (s > cell_clamp) s = cell_clamp
-      if (.not. (s > -cell_clamp)) s = -cell_clamp   ! also catches NaN
-      c(d) = floor(s)
+      c(d) = clamped_floor((x(d) - origin(d))/h(d))
     end do
   end function cell_of
+
+  !> floor(s) with s clamped to +-cell_clamp (NaN to -cell_clamp): the cell index along
+  !> one axis of a position s cells from the origin.
+  pure integer function clamped_floor(s) result(c)
+    real(wp), intent(in) :: s
+    real(wp) :: t
+    t = s
+    if (t > cell_clamp) t = cell_clamp
+    if (.not. (t > -cell_clamp)) t = -cell_clamp   ! also catches NaN
+    c = floor(t)
+  end function clamped_floor
 
   !> cell_of of the points x(:, 1:n) at once: c(:, k) is the cell of x(:, k). One call
   !> per point set keeps the per-point work inside this module (inlined), not a call
@@ -197,12 +204,8 @@ contains
     integer, intent(in) :: n, d
     integer, intent(out) :: c(:)
     integer :: k
-    real(wp) :: s
     do k = 1, n
-      s = (x(d, k) - origin(d))/h(d)
-      if (s > cell_clamp) s = cell_clamp
-      if (.not. (s > -cell_clamp)) s = -cell_clamp   ! also catches NaN
-      c(k) = floor(s)
+      c(k) = clamped_floor((x(d, k) - origin(d))/h(d))
     end do
   end subroutine axis_cells_of
 

@@ -325,16 +325,18 @@ contains
   !> rollers at the sides): 1.5 m of saturated sand (n = 0.4) under 0.5 m of free water,
   !> started hydrostatic and geostatic, run for 0.3 s. With the porosity-gradient terms
   !> (which the input of such a scene must choose; given here) the largest
-  !> |p - p_h| / (rho_f g H) over the soil's fluid points measured 0.0148 (1 and 2
-  !> ranks); without them 0.375 (the pore pressure sits 37 % above hydrostatic).
-  !> Bounds: 0.02 with (+35 %), and at least 0.3 without (the test of the default).
+  !> |p - p_h| / (rho_f g H) over the soil's fluid points measured 0.0303 (1 and 2
+  !> ranks; 0.0148 with the earlier form of the interphase force, which grew where
+  !> water meets dry soil); without them 0.375 (the pore pressure sits 37 % above
+  !> hydrostatic). Bounds: 0.041 with (+35 %), and at least 0.3 without (the test of the
+  !> default).
   subroutine test_submerged_layer_stays_hydrostatic()
     real(wp) :: e(2)
     call begin_test('submerged_layer_stays_hydrostatic')
     e(1) = submerged(.true.)
     e(2) = submerged(.false.)
-    call check(e(1) < 0.02_wp, &
-               say('with the porosity-gradient terms: max |p - p_h| / p_b', e(1), 0.02_wp))
+    call check(e(1) < 0.041_wp, &
+               say('with the porosity-gradient terms: max |p - p_h| / p_b', e(1), 0.041_wp))
     call check(e(2) > 0.3_wp, say('without them: max |p - p_h| / p_b', e(2), 0.3_wp))
   end subroutine test_submerged_layer_stays_hydrostatic
 

@@ -123,13 +123,18 @@ contains
                           cfg%quadrature == 'gauss')
 
     if (grid_ok) call check_decomposition(pb, cfg, nranks)
+    if (cfg%porosity_gradient .and. cfg%quadrature == 'gauss') &
+      call add_value(pb, g_run, 1, 'porosity_gradient', '.true.', 'the porosity-gradient terms are '// &
+                     'written for point quadrature: with quadrature = ''gauss'' the pore-pressure forces '// &
+                     'come from the Gauss points, the terms are not their transpose and grow '// &
+                     '(doc/verification.md, "Submerged layer at rest"); use .false. or quadrature = ''points''')
     if (porosity_varies(cfg) .and. .not. cfg%porosity_gradient_given) &
       call add_value(pb, g_run, 1, 'porosity_gradient', '(not given)', 'the porosity varies '// &
                      'between the regions, so choose it: .true. keeps the pore pressure right '// &
-                     'across a water-soil interface at rest (a submerged layer: 1.5 % off '// &
-                     'hydrostatic, 37 % without) but grows where free water enters dry soil and '// &
-                     'with cubic or Gauss grid functions; .false. is stable there and leaves '// &
-                     'that error (doc/verification.md, "Submerged layer at rest")')
+                     'across a water-soil interface (a submerged layer within 3 % of hydrostatic '// &
+                     'with linear grid functions, 37 % off without), not with Gauss quadrature; '// &
+                     '.false. keeps n p continuous across a jump of porosity, the paper''s choice '// &
+                     '(doc/verification.md, "Submerged layer at rest")')
 
     ! &material
     do k = 1, size(cfg%materials)

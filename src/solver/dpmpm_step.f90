@@ -19,7 +19,7 @@ module dpmpm_step
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g, &
-                            interp_scalar_value, fluid_p2g, reaches_thin_node, body_force_work, &
+                            interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped, locked_velocity, remove_split
@@ -49,7 +49,7 @@ contains
     logical :: coupled, surface
     real(wp) :: wplastic, rforce(3)
     real(wp), allocatable :: fvol(:, :, :, :)
-    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), ngrad(:, :), gnrel(:), skinv(:)
+    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), gnrel(:), skinv(:)
     coupled = self%nph == 2
     ! the free surface of the pore fluid is looked for (free_surface_points)
     surface = coupled .and. self%cfg%free_surface_fraction > 0.0_wp .and. .not. self%plan%gauss
@@ -198,9 +198,9 @@ contains
       call self%timers%toc(t_nodal)
     else
       ! Porosity and 1/k of the porous skeleton at the nodes, then at the fluid points
-      ! (start-of-step positions, doc/theory.md 3.5): the porosity with its gradient for
-      ! the pressure update, 1/k for the next step's drag; the interphase force when
-      ! asked for. Free water (no porous solid around) gets n = 1 and no drag.
+      ! (start-of-step positions, doc/theory.md 3.5): the porosity for the pressure
+      ! update, 1/k for the next step's drag; the interphase force when asked for.
+      ! Free water (no porous solid around) gets n = 1 and no drag.
       call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%nporo)
       call self%timers%toc(t_nodal)
       call self%timers%tic(t_halo)
@@ -208,17 +208,17 @@ contains
       call self%mirror%unfold(self%nporo, 3, self%grid%bc)
       call self%timers%toc(t_halo)
       call self%timers%tic(t_g2p)
-      allocate (nval(nf), ngrad(3, nf), gnrel(nf), nkinv(nf))
+      allocate (nval(nf), gnrel(nf), nkinv(nf))
       associate (f => self%phase(fluid_phase))
-        call interp_scalar_value(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, self%nporo, 3, &
-                                 nval, ngrad, nkinv)
+        call interp_two_values(nd, f%st%nw, nf, f%st%i0, f%st%sw, self%dec%alo, self%nporo, 3, nval, nkinv)
+        call self%timers%toc(t_g2p)
+        ! (with the porosity the fluid points had in p2g)
+        if (self%cfg%porosity_gradient) call add_interphase_force(self)
         ! The floor only guards against negative interpolation weights; porous points
         ! have n > 0 and water away from them n = 1.
         f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-3_wp))
         f%pts%kinv(1:nf) = max(0.0_wp, nkinv)
       end associate
-      call self%timers%toc(t_g2p)
-      if (self%cfg%porosity_gradient) call add_interphase_force(self, ngrad)
 
       call self%timers%tic(t_nodal)
       self%dt_drag = huge(1.0_wp)
@@ -826,19 +826,21 @@ contains
   end function velocity_signs
 
   !> The interphase force p grad n_f (eq. 2) at the nodes: added to the fluid's
-  !> internal force and taken from the solid's (interphase_p2g), with grad n_f at
-  !> the fluid points from the nodal porosity.
-  subroutine add_interphase_force(self, ngrad)
+  !> internal force and taken from the solid's (interphase_p2g), with the nodal
+  !> porosity of this step and the fluid points' porosity of the p2g (fluid_p2g), so
+  !> that the two together are the transpose of the mixture flux.
+  subroutine add_interphase_force(self)
     class(state_t), intent(inout) :: self
-    real(wp), intent(in) :: ngrad(:, :)
     real(wp), allocatable :: ff(:, :, :, :), fs(:, :, :, :)
     integer :: nd
     nd = self%nd
     allocate (ff(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                  self%dec%alo(3):self%dec%ahi(3)))
     ff = 0.0_wp
-    call interphase_p2g(nd, self%phase(2)%st%nw, self%phase(2)%pts%n, self%phase(2)%st%i0, self%phase(2)%st%sw, &
-                        self%phase(2)%pts%vol, self%phase(2)%pts%pressure, ngrad, self%dec%alo, ff)
+    associate (f => self%phase(fluid_phase))
+      call interphase_p2g(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, f%pts%vol, f%pts%pressure, &
+                          f%pts%porosity, self%dec%alo, self%nporo, ff)
+    end associate
     fs = -ff
     call self%mirror%fold(ff, 0, self%phase(2)%bc)
     call self%mirror%fold(fs, 0, self%phase(1)%bc)

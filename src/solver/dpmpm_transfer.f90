@@ -13,7 +13,7 @@ module dpmpm_transfer
   implicit none
   private
   public :: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g
-  public :: interp_scalar_value
+  public :: interp_two_values
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, reaches_thin_node
   public :: body_force_work
 
@@ -269,34 +269,31 @@ contains
     end do
   end subroutine mixture_flux
 
-  !> Nodal fields to the points in one pass: the scalar f(1, :) with its gradient
-  !> (val, grad) and the component comp of f (val2).
-  subroutine interp_scalar_value(nd, nw, n, i0, sw, sdw, lo, f, comp, val, grad, val2)
+  !> Nodal fields to the points in one pass: the components 1 (val) and comp (val2)
+  !> of f.
+  subroutine interp_two_values(nd, nw, n, i0, sw, lo, f, comp, val, val2)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
     integer, intent(in) :: comp
-    real(wp), contiguous, intent(out) :: val(:), grad(:, :), val2(:)
+    real(wp), contiguous, intent(out) :: val(:), val2(:)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, g(3)
+    real(wp) :: nn
     if (nd == 2) then
-      call interp_scalar_value_2d(nw, n, i0, sw, sdw, lo, f, comp, val, grad, val2)
+      call interp_two_values_2d(nw, n, i0, sw, lo, f, comp, val, val2)
       return
     end if
     do p = 1, n
       val(p) = 0.0_wp
-      grad(:, p) = 0.0_wp
       val2(p) = 0.0_wp
 #include "dpmpm_stencil_do_3d.inc"
-#include "dpmpm_stencil_grad_3d.inc"
       val(p) = val(p) + nn*f(1, i, j, k)
-      grad(1:nd, p) = grad(1:nd, p) + g(1:nd)*f(1, i, j, k)
       val2(p) = val2(p) + nn*f(comp, i, j, k)
 #include "dpmpm_stencil_end_3d.inc"
     end do
-  end subroutine interp_scalar_value
+  end subroutine interp_two_values
 
   !> Fluid points to the grid: the pore-pressure forces of the weak form (paper eq. 5),
   !> f_f,I += V n_f p grad N_I and f_s,I += V (1 - n_f) p grad N_I (point quadrature,
@@ -340,23 +337,28 @@ contains
   end subroutine fluid_p2g
 
   !> Fluid points to the grid: the interphase force p grad n_f of eq. 2 (point
-  !> quadrature), force_I += N_I V p grad n at each fluid point. The weak form of
-  !> eq. 5 integrates n_f p against grad N_I, which is -grad(n_f p) = -n_f grad p
-  !> - p grad n_f on the fluid; adding p grad n_f to the fluid and taking it from
-  !> the solid restores -n_f grad p and -(1 - n_f) grad p of eq. 1 where the
-  !> porosity varies.
-  subroutine interphase_p2g(nd, nw, n, i0, sw, vol, pres, ngrad, lo, force)
+  !> quadrature) in the form that is the transpose of the mixture flux (mixture_flux),
+  !> force_I += V p (n_I - n_p) grad N_I at each fluid point. The weak form of eq. 5
+  !> integrates n_p p against grad N_I (fluid_p2g); with this term the fluid receives
+  !> V p n_I grad N_I and the solid V p (1 - n_I) grad N_I, the negative transpose of
+  !> the divergence sum_I grad N_I . (n_I v_f,I + (1 - n_I) v_s,I) of the pressure
+  !> update, so that the pressure forces do no work that the pore fluid does not
+  !> store (doc/theory.md 2.6). It restores -n_f grad p and -(1 - n_f) grad p of eq. 1
+  !> where the porosity varies.
+  subroutine interphase_p2g(nd, nw, n, i0, sw, sdw, vol, pres, poro, lo, nporo, force)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), vol(:), pres(:), ngrad(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :), vol(:), pres(:), poro(:)
     integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nporo(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: force(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, f(3)
+    real(wp) :: nn, g(3), vp
     do p = 1, n
-      f(1:nd) = vol(p)*pres(p)*ngrad(1:nd, p)
+      vp = vol(p)*pres(p)
 #include "dpmpm_stencil_do_3d.inc"
-      force(1:nd, i, j, k) = force(1:nd, i, j, k) + nn*f(1:nd)
+#include "dpmpm_stencil_grad_3d.inc"
+      force(1:nd, i, j, k) = force(1:nd, i, j, k) + vp*(nporo(1, i, j, k) - poro(p))*g(1:nd)
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine interphase_p2g
@@ -581,31 +583,26 @@ contains
     end do
   end subroutine momentum_p2g_2d
 
-  subroutine interp_scalar_value_2d(nw, n, i0, sw, sdw, lo, f, comp, val, grad, val2)
+  subroutine interp_two_values_2d(nw, n, i0, sw, lo, f, comp, val, val2)
     integer, intent(in) :: nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
     integer, intent(in) :: comp
-    real(wp), contiguous, intent(out) :: val(:), grad(:, :), val2(:)
+    real(wp), contiguous, intent(out) :: val(:), val2(:)
     integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb, gb, fn, s0, s1, s2, t0
+    real(wp) :: nn, wb, s0, t0
     do p = 1, n
-      s0 = 0.0_wp; s1 = 0.0_wp; s2 = 0.0_wp; t0 = 0.0_wp
-#include "dpmpm_stencil_do_2d_grad.inc"
-      fn = f(1, i, j, k)
-      s0 = s0 + nn*fn
-      s1 = s1 + sdw(a, 1, p)*wb*fn
-      s2 = s2 + sw(a, 1, p)*gb*fn
+      s0 = 0.0_wp; t0 = 0.0_wp
+#include "dpmpm_stencil_do_2d.inc"
+      s0 = s0 + nn*f(1, i, j, k)
       t0 = t0 + nn*f(comp, i, j, k)
 #include "dpmpm_stencil_end_2d.inc"
       val(p) = s0
-      grad(:, p) = 0.0_wp
-      grad(1, p) = s1; grad(2, p) = s2
       val2(p) = t0
     end do
-  end subroutine interp_scalar_value_2d
+  end subroutine interp_two_values_2d
 
   subroutine fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, &
                           node_s, node_f, drag, fvol)

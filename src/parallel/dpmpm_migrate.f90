@@ -12,7 +12,7 @@
 module dpmpm_migrate
   use dpmpm_kinds, only: wp
   use dpmpm_decomp, only: decomp_t
-  use dpmpm_grid, only: cells_of, axis_cells_of
+  use dpmpm_grid, only: cells_of, axis_cells_of, count_cells_outside
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Sendrecv, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
                      MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL
@@ -80,13 +80,20 @@ contains
     logical, allocatable :: bad(:)
     integer, allocatable :: cells(:, :)
     integer :: k
-    allocate (bad(ps%n), cells(3, ps%n))
-    call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
-    do k = 1, ps%n
-      bad(k) = .not. owns_cell(dec, cells(:, k))
-    end do
-    if (present(idx)) idx = pack([(k, k=1, ps%n)], bad)
-    nglobal = count(bad)
+    ! The count first, in one pass; the list only when asked for and not empty.
+    nglobal = count_cells_outside(origin, h, ps%x, ps%n, dec%ndim, dec%clo, dec%chi)
+    if (present(idx)) then
+      if (nglobal > 0) then
+        allocate (bad(ps%n), cells(3, ps%n))
+        call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
+        do k = 1, ps%n
+          bad(k) = .not. owns_cell(dec, cells(:, k))
+        end do
+        idx = pack([(k, k=1, ps%n)], bad)
+      else
+        allocate (idx(0))
+      end if
+    end if
     call MPI_Allreduce(MPI_IN_PLACE, nglobal, 1, MPI_INTEGER, MPI_SUM, dec%comm)
   end subroutine find_unowned
 

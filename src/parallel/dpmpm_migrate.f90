@@ -49,13 +49,16 @@ contains
     ! the order of the others is the same as with a removal per sweep (the survivors
     ! keep their order, the arrivals follow in the order they came), and the set is
     ! compacted once instead of once per split axis.
-    allocate (gone(ps%n))
-    gone = .false.
-    do d = 1, dec%ndim
-      ! An axis held by one rank has no neighbour on it (the same on every rank).
-      if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d, gone)
-    end do
-    if (any(gone(1:ps%n))) call ps%remove(gone)
+    ! An axis held by one rank has no neighbour on it (the same on every rank); with
+    ! none split, no point leaves and there is nothing to flag.
+    if (any(dec%dims(1:dec%ndim) > 1)) then
+      allocate (gone(ps%n))
+      gone = .false.
+      do d = 1, dec%ndim
+        if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d, gone)
+      end do
+      if (any(gone(1:ps%n))) call ps%remove(gone)
+    end if
     call find_unowned(dec, origin, h, ps, nlost, lost)
   end subroutine migrate
 

@@ -8,7 +8,7 @@ module dpmpm_grid
   use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller
   implicit none
   private
-  public :: grid_t, cell_of, cells_of, axis_cells_of
+  public :: grid_t, cell_of, cells_of, axis_cells_of, count_cells_outside
 
   !> Cell indices are clamped to +-cell_clamp so that a point far away (or at a
   !> NaN position) still gets a valid integer cell, outside the grid.
@@ -31,6 +31,7 @@ module dpmpm_grid
     procedure :: wall_friction
     procedure :: wall_contact
     procedure :: inside => grid_inside
+    procedure :: all_inside => grid_all_inside
   end type grid_t
 
 contains
@@ -197,6 +198,20 @@ contains
     end do
   end subroutine cells_of
 
+  !> How many of the points x(:, 1:n) have their cell_of outside the cells clo..chi
+  !> (one loop in this module, without an array of the cells).
+  pure integer function count_cells_outside(origin, h, x, n, ndim, clo, chi) result(nout)
+    real(wp), intent(in) :: origin(3), h(3)
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: n, ndim, clo(3), chi(3)
+    integer :: k, c(3)
+    nout = 0
+    do k = 1, n
+      c = cell_of(origin, h, x(:, k), ndim)
+      if (.not. all(c >= clo .and. c <= chi)) nout = nout + 1
+    end do
+  end function count_cells_outside
+
   !> The cell index along axis d alone of the points x(:, 1:n), as cell_of gives it.
   pure subroutine axis_cells_of(origin, h, x, n, d, c)
     real(wp), intent(in) :: origin(3), h(3)
@@ -208,6 +223,22 @@ contains
       c(k) = clamped_floor((x(d, k) - origin(d))/h(d))
     end do
   end subroutine axis_cells_of
+
+  !> True when every point x(:, 1:n) lies inside the grid (grid_inside of each, in one
+  !> loop inside this module instead of one call per point).
+  pure logical function grid_all_inside(self, x, n) result(yes)
+    class(grid_t), intent(in) :: self
+    real(wp), intent(in) :: x(:, :)
+    integer, intent(in) :: n
+    integer :: k
+    yes = .true.
+    do k = 1, n
+      if (.not. grid_inside(self, x(:, k))) then
+        yes = .false.
+        return
+      end if
+    end do
+  end function grid_all_inside
 
   !> True when x lies inside the grid (lower faces included, upper excluded).
   pure logical function grid_inside(self, x)

@@ -10,7 +10,7 @@ module dpmpm_materials
   private
   public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
   public :: model_mohr_coulomb, model_drucker_prager, model_rigid, is_plastic
-  public :: materials_from_config, stress_update, strain_energy, wave_speed
+  public :: materials_from_config, stress_update, strain_energy, wave_speed, wave_speeds
   public :: voigt_to_tensor, tensor_to_voigt
 
   integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
@@ -116,6 +116,19 @@ contains
     real(wp), intent(in) :: rho
     c = sqrt(mat%pwave/rho)
   end function wave_speed
+
+  !> wave_speed of n points of materials mats(pmat(:)) at density mass / vol, in c
+  !> (one loop where the function is inlined; the time step's scan takes them in chunks).
+  pure subroutine wave_speeds(mats, n, pmat, mass, vol, c)
+    type(material_t), intent(in) :: mats(:)
+    integer, intent(in) :: n, pmat(:)
+    real(wp), intent(in) :: mass(:), vol(:)
+    real(wp), intent(out) :: c(:)
+    integer :: p
+    do p = 1, n
+      c(p) = wave_speed(mats(pmat(p)), mass(p)/vol(p))
+    end do
+  end subroutine wave_speeds
 
   !> 3x3 symmetric tensor from Voigt components.
   pure function voigt_to_tensor(s) result(t)

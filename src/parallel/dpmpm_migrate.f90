@@ -12,7 +12,7 @@
 module dpmpm_migrate
   use dpmpm_kinds, only: wp
   use dpmpm_decomp, only: decomp_t
-  use dpmpm_grid, only: cells_of, axis_cells_of
+  use dpmpm_grid, only: cells_of, axis_cells_of, count_cells_outside
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Sendrecv, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
                      MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL
@@ -49,13 +49,16 @@ contains
     ! the order of the others is the same as with a removal per sweep (the survivors
     ! keep their order, the arrivals follow in the order they came), and the set is
     ! compacted once instead of once per split axis.
-    allocate (gone(ps%n))
-    gone = .false.
-    do d = 1, dec%ndim
-      ! An axis held by one rank has no neighbour on it (the same on every rank).
-      if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d, gone)
-    end do
-    if (any(gone(1:ps%n))) call ps%remove(gone)
+    ! An axis held by one rank has no neighbour on it (the same on every rank); with
+    ! none split, no point leaves and there is nothing to flag.
+    if (any(dec%dims(1:dec%ndim) > 1)) then
+      allocate (gone(ps%n))
+      gone = .false.
+      do d = 1, dec%ndim
+        if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d, gone)
+      end do
+      if (any(gone(1:ps%n))) call ps%remove(gone)
+    end if
     call find_unowned(dec, origin, h, ps, nlost, lost)
   end subroutine migrate
 
@@ -80,13 +83,20 @@ contains
     logical, allocatable :: bad(:)
     integer, allocatable :: cells(:, :)
     integer :: k
-    allocate (bad(ps%n), cells(3, ps%n))
-    call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
-    do k = 1, ps%n
-      bad(k) = .not. owns_cell(dec, cells(:, k))
-    end do
-    if (present(idx)) idx = pack([(k, k=1, ps%n)], bad)
-    nglobal = count(bad)
+    ! The count first, in one pass; the list only when asked for and not empty.
+    nglobal = count_cells_outside(origin, h, ps%x, ps%n, dec%ndim, dec%clo, dec%chi)
+    if (present(idx)) then
+      if (nglobal > 0) then
+        allocate (bad(ps%n), cells(3, ps%n))
+        call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
+        do k = 1, ps%n
+          bad(k) = .not. owns_cell(dec, cells(:, k))
+        end do
+        idx = pack([(k, k=1, ps%n)], bad)
+      else
+        allocate (idx(0))
+      end if
+    end if
     call MPI_Allreduce(MPI_IN_PLACE, nglobal, 1, MPI_INTEGER, MPI_SUM, dec%comm)
   end subroutine find_unowned
 

@@ -1,6 +1,7 @@
 !> Kernels of dpmpm. Two uses share one set of functions:
 !> - grid functions (linear, quadratic, cubic B-spline) as tensor products on the
-!>   regular grid: kernel_eval_1d gives a point's stencil of nodes and weights;
+!>   regular grid: kernel_eval_1d gives a point's stencil of nodes and weights,
+!>   psi_stencil those of every axis and psi_stencils those of a whole point set;
 !> - reconstruction weights of MLS (any B-spline, tensor product or radial, and
 !>   the radial Wendland C2 and C4 functions): kernel_weight gives the weight of
 !>   a data site at an offset from an evaluation point (doc/theory.md 3.3).
@@ -11,7 +12,7 @@ module dpmpm_kernels
   private
   public :: kernel_linear, kernel_quadratic, kernel_cubic, kernel_wendland_c2, kernel_wendland_c4
   public :: kernel_names, kernel_from_name, ngrid_kernels, is_grid_kernel
-  public :: kernel_width, kernel_ghost_width, kernel_eval_1d, max_stencil
+  public :: kernel_width, kernel_ghost_width, kernel_eval_1d, max_stencil, psi_stencil, psi_stencils
   public :: bspline_1d, kernel_radial, kernel_weight, kernel_reach
 
   integer, parameter :: kernel_linear = 1, kernel_quadratic = 2, kernel_cubic = 3
@@ -74,38 +75,124 @@ contains
     real(wp), intent(in) :: s
     integer, intent(out) :: i0
     real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
+    select case (kernel)
+    case (kernel_linear)
+      call linear_1d(s, i0, w, dw)
+    case (kernel_quadratic)
+      call quadratic_1d(s, i0, w, dw)
+    case default
+      call cubic_1d(s, i0, w, dw)
+    end select
+  end subroutine kernel_eval_1d
+
+  ! The pieces of bspline_1d written out for the nodes of the stencil, with f the
+  ! position from its first node: f in [0, 1) linear, [0.5, 1.5) quadratic, [1, 2) cubic
+  ! (kernel_eval_1d; small enough to be inlined into the loops over points).
+
+  pure subroutine linear_1d(s, i0, w, dw)
+    real(wp), intent(in) :: s
+    integer, intent(out) :: i0
+    real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
+    real(wp) :: f
+    w = 0.0_wp
+    dw = 0.0_wp
+    i0 = floor(s)
+    f = s - real(i0, wp)
+    w(1) = 1.0_wp - f; dw(1) = -1.0_wp
+    w(2) = f; dw(2) = 1.0_wp
+  end subroutine linear_1d
+
+  pure subroutine quadratic_1d(s, i0, w, dw)
+    real(wp), intent(in) :: s
+    integer, intent(out) :: i0
+    real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
+    real(wp) :: f, a
+    w = 0.0_wp
+    dw = 0.0_wp
+    i0 = floor(s - 0.5_wp)
+    f = s - real(i0, wp)
+    a = 1.5_wp - f
+    w(1) = 0.5_wp*a*a; dw(1) = -a
+    a = f - 1.0_wp
+    w(2) = 0.75_wp - a*a; dw(2) = -2.0_wp*a
+    a = f - 0.5_wp
+    w(3) = 0.5_wp*a*a; dw(3) = a
+  end subroutine quadratic_1d
+
+  pure subroutine cubic_1d(s, i0, w, dw)
+    real(wp), intent(in) :: s
+    integer, intent(out) :: i0
+    real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
     real(wp) :: f, a, b
     w = 0.0_wp
     dw = 0.0_wp
-    ! The pieces of bspline_1d written out for the nodes of the stencil, with f the
-    ! position from its first node: f in [0, 1) linear, [0.5, 1.5) quadratic, [1, 2) cubic.
-    select case (kernel)
-    case (kernel_linear)
-      i0 = floor(s)
-      f = s - real(i0, wp)
-      w(1) = 1.0_wp - f; dw(1) = -1.0_wp
-      w(2) = f; dw(2) = 1.0_wp
-    case (kernel_quadratic)
-      i0 = floor(s - 0.5_wp)
-      f = s - real(i0, wp)
-      a = 1.5_wp - f
-      w(1) = 0.5_wp*a*a; dw(1) = -a
-      a = f - 1.0_wp
-      w(2) = 0.75_wp - a*a; dw(2) = -2.0_wp*a
-      a = f - 0.5_wp
-      w(3) = 0.5_wp*a*a; dw(3) = a
-    case default
-      i0 = floor(s) - 1
-      f = s - real(i0, wp)
-      a = 2.0_wp - f
-      w(1) = a*a*a/6.0_wp; dw(1) = -0.5_wp*a*a
-      a = f - 1.0_wp
-      w(2) = 0.5_wp*a*a*a - a*a + 2.0_wp/3.0_wp; dw(2) = 1.5_wp*a*a - 2.0_wp*a
-      b = 2.0_wp - f
-      w(3) = 0.5_wp*b*b*b - b*b + 2.0_wp/3.0_wp; dw(3) = -(1.5_wp*b*b - 2.0_wp*b)
-      w(4) = a*a*a/6.0_wp; dw(4) = 0.5_wp*a*a
-    end select
-  end subroutine kernel_eval_1d
+    i0 = floor(s) - 1
+    f = s - real(i0, wp)
+    a = 2.0_wp - f
+    w(1) = a*a*a/6.0_wp; dw(1) = -0.5_wp*a*a
+    a = f - 1.0_wp
+    w(2) = 0.5_wp*a*a*a - a*a + 2.0_wp/3.0_wp; dw(2) = 1.5_wp*a*a - 2.0_wp*a
+    b = 2.0_wp - f
+    w(3) = 0.5_wp*b*b*b - b*b + 2.0_wp/3.0_wp; dw(3) = -(1.5_wp*b*b - 2.0_wp*b)
+    w(4) = a*a*a/6.0_wp; dw(4) = 0.5_wp*a*a
+  end subroutine cubic_1d
+
+  !> Grid-function weights and gradients (per metre) per axis at a position y in
+  !> cell units: first node i0, weights sw(:, d), derivatives sdw(:, d); the
+  !> unused axes have one node of weight 1.
+  pure subroutine psi_stencil(nd, kernel, y, h, i0, sw, sdw)
+    integer, intent(in) :: nd, kernel
+    real(wp), intent(in) :: y(3), h(3)
+    integer, intent(out) :: i0(3)
+    real(wp), intent(out) :: sw(max_stencil, 3), sdw(max_stencil, 3)
+    integer :: d
+    do d = 1, 3
+      if (d <= nd) then
+        call kernel_eval_1d(kernel, y(d), i0(d), sw(:, d), sdw(:, d))
+        sdw(:, d) = sdw(:, d)/h(d)
+      else
+        i0(d) = 0
+        sw(:, d) = 0.0_wp
+        sw(1, d) = 1.0_wp
+        sdw(:, d) = 0.0_wp
+      end if
+    end do
+  end subroutine psi_stencil
+
+  !> psi_stencil of the first n points at positions x (nd, n) on the grid with the given
+  !> origin and cell size h (y = (x - origin) / h per axis): first nodes i0(:, p),
+  !> weights sw(:, :, p) and derivatives sdw(:, :, p). In the module of kernel_eval_1d
+  !> so that the kernel is evaluated inline, once per point and axis.
+  pure subroutine psi_stencils(nd, kernel, n, x, origin, h, i0, sw, sdw)
+    integer, intent(in) :: nd, kernel, n
+    real(wp), intent(in) :: x(:, :), origin(3), h(3)
+    integer, contiguous, intent(inout) :: i0(:, :)
+    real(wp), contiguous, intent(inout) :: sw(:, :, :), sdw(:, :, :)
+    integer :: p, d
+    real(wp) :: s, w(max_stencil), dw(max_stencil)
+    do p = 1, n
+      do d = 1, nd
+        s = (x(d, p) - origin(d))/h(d)
+        ! (w and dw are local: stored once each, as whole rows)
+        select case (kernel)
+        case (kernel_linear)
+          call linear_1d(s, i0(d, p), w, dw)
+        case (kernel_quadratic)
+          call quadratic_1d(s, i0(d, p), w, dw)
+        case default
+          call cubic_1d(s, i0(d, p), w, dw)
+        end select
+        sw(:, d, p) = w
+        sdw(:, d, p) = dw/h(d)
+      end do
+      do d = nd + 1, 3
+        i0(d, p) = 0
+        sw(:, d, p) = 0.0_wp
+        sw(1, d, p) = 1.0_wp
+        sdw(:, d, p) = 0.0_wp
+      end do
+    end do
+  end subroutine psi_stencils
 
   !> 1D B-spline of the given order (linear, quadratic, cubic) centred at 0, at
   !> xi in cell units, with its derivative (doc/theory.md 3.3).

@@ -4,7 +4,7 @@
 !> (dpmpm_transfer), which forms the products node by node.
 module dpmpm_stencil
   use dpmpm_kinds, only: wp
-  use dpmpm_kernels, only: kernel_eval_1d, kernel_width, max_stencil
+  use dpmpm_kernels, only: psi_stencil, psi_stencils, kernel_width, max_stencil
   implicit none
   private
   public :: stencil_t, psi_stencil, stencil_offsets, tensor_weights
@@ -43,19 +43,11 @@ contains
     class(stencil_t), intent(inout) :: self
     integer, intent(in) :: n, cap
     real(wp), intent(in) :: x(:, :), origin(3), h(3)
-    integer :: p, d
-    real(wp) :: y(3)
     if (size(self%i0, 2) < n) then
       deallocate (self%i0, self%sw, self%sdw)
       allocate (self%i0(3, cap), self%sw(max_stencil, 3, cap), self%sdw(max_stencil, 3, cap))
     end if
-    do p = 1, n
-      y = 0.0_wp
-      do d = 1, self%nd
-        y(d) = (x(d, p) - origin(d))/h(d)
-      end do
-      call psi_stencil(self%nd, self%kernel, y, h, self%i0(:, p), self%sw(:, :, p), self%sdw(:, :, p))
-    end do
+    call psi_stencils(self%nd, self%kernel, n, x, origin, h, self%i0, self%sw, self%sdw)
   end subroutine stencil_build
 
   subroutine stencil_free(self)
@@ -110,27 +102,5 @@ contains
       end do
     end do
   end subroutine tensor_weights
-
-  !> Grid-function weights and gradients (per metre) per axis at a position y in
-  !> cell units: first node i0, weights sw(:, d), derivatives sdw(:, d); the
-  !> unused axes have one node of weight 1.
-  pure subroutine psi_stencil(nd, kernel, y, h, i0, sw, sdw)
-    integer, intent(in) :: nd, kernel
-    real(wp), intent(in) :: y(3), h(3)
-    integer, intent(out) :: i0(3)
-    real(wp), intent(out) :: sw(max_stencil, 3), sdw(max_stencil, 3)
-    integer :: d
-    do d = 1, 3
-      if (d <= nd) then
-        call kernel_eval_1d(kernel, y(d), i0(d), sw(:, d), sdw(:, d))
-        sdw(:, d) = sdw(:, d)/h(d)
-      else
-        i0(d) = 0
-        sw(:, d) = 0.0_wp
-        sw(1, d) = 1.0_wp
-        sdw(:, d) = 0.0_wp
-      end if
-    end do
-  end subroutine psi_stencil
 
 end module dpmpm_stencil

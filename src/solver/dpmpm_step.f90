@@ -763,6 +763,8 @@ contains
     real(wp) :: wall(2), eps
     logical, allocatable :: gone(:)
     character(len=256) :: msg
+    ! Nothing to do when every point is inside (the common case; one pass in dpmpm_grid).
+    if (self%grid%all_inside(ps%x, ps%n)) return
     allocate (gone(ps%n))
     gone = .false.
     do p = 1, ps%n

@@ -5,7 +5,7 @@ module dpmpm_time_step
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp, i8
   use dpmpm_strings, only: i8toa
-  use dpmpm_materials, only: wave_speed, is_plastic
+  use dpmpm_materials, only: wave_speed, wave_speeds, is_plastic
   use dpmpm_state, only: state_t, exit_bad_input, exit_monitor
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Allreduce, MPI_Bcast, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_2DOUBLE_PRECISION, &
@@ -27,15 +27,10 @@ contains
   real(wp) function stable_dt(self) result(dt)
     class(state_t), intent(inout) :: self
     real(wp) :: rate, crit, best(2)
-    integer :: p
     character(len=256) :: line
     rate = 0.0_wp
-    do p = 1, self%phase(1)%pts%n
-      rate = max(rate, signal_speed(self, 1, p))
-    end do
-    do p = 1, merge(self%phase(2)%pts%n, 0, self%two_phase)
-      rate = max(rate, signal_speed(self, 2, p))
-    end do
+    call fastest_signal(self, 1, rate)
+    if (self%two_phase) call fastest_signal(self, 2, rate)
     best = [rate, real(self%dec%rank, wp)]
     call MPI_Allreduce(MPI_IN_PLACE, best, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
     rate = best(1)
@@ -65,6 +60,45 @@ contains
     if (self%dt_first <= 0.0_wp) self%dt_first = dt
     if (dt < self%dt_first*10.0_wp**(-self%dt_drops - 1)) call dt_falls(self, dt, rate, nint(best(2)))
   end function stable_dt
+
+  !> rate raised to the fastest signal of the points of set is (1 solid, 2 fluid), point
+  !> by point in their order: signal_speed's value, with the wave speeds taken a
+  !> chunk of points at a time (one call per chunk instead of one per point).
+  subroutine fastest_signal(self, is, rate)
+    class(state_t), intent(in) :: self
+    integer, intent(in) :: is
+    real(wp), intent(inout) :: rate
+    integer, parameter :: chunk = 256
+    real(wp) :: c(chunk), rho, nf
+    integer :: p0, m, k, p
+    associate (ps => self%phase(is)%pts)
+      do p0 = 1, ps%n, chunk
+        m = min(chunk, ps%n - p0 + 1)
+        if (is == 1) then
+          call wave_speeds(self%mats, m, ps%mat(p0:p0 + m - 1), ps%mass(p0:p0 + m - 1), ps%vol(p0:p0 + m - 1), c)
+          if (self%two_phase) then
+            do k = 1, m
+              p = p0 + k - 1
+              nf = ps%porosity(p)
+              if (nf > 0.0_wp) then
+                rho = ps%mass(p)/ps%vol(p)
+                c(k) = sqrt((self%mats(ps%mat(p))%pwave + self%kf_max/nf)/(rho + nf*self%rhof_min))
+              end if
+            end do
+          end if
+        else
+          do k = 1, m
+            associate (mat => self%mats(ps%mat(p0 + k - 1)))
+              c(k) = sqrt(mat%bulk_fluid/mat%density)
+            end associate
+          end do
+        end if
+        do k = 1, m
+          rate = max(rate, c(k) + norm2(ps%v(:, p0 + k - 1)))
+        end do
+      end do
+    end associate
+  end subroutine fastest_signal
 
   !> The fastest signal at point p of set is (1 solid, 2 fluid): wave speed plus point
   !> speed. In two-phase scenes a porous skeleton point carries the undrained wave of

@@ -79,6 +79,9 @@ contains
     if (nd == 2) then
       call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad)
       return
+    else if (nd == 3) then
+      call g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad)
+      return
     end if
     do p = 1, n
       dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp
@@ -447,7 +450,13 @@ contains
 #include "dpmpm_stencil_do_2d_grad.inc"
       g1 = sdw(a, 1, p)*wb
       g2 = sw(a, 1, p)*gb
-      node(1:5, i, j, k) = node(1:5, i, j, k) + (nn*c0 + g1*c1 + g2*c2)
+      ! (slot by slot: the same sums as node(1:5) + (nn c0 + g1 c1 + g2 c2), in fewer
+      ! instructions than the compiler's vector form of the five-element update)
+      node(1, i, j, k) = node(1, i, j, k) + (nn*c0(1) + g1*c1(1) + g2*c2(1))
+      node(2, i, j, k) = node(2, i, j, k) + (nn*c0(2) + g1*c1(2) + g2*c2(2))
+      node(3, i, j, k) = node(3, i, j, k) + (nn*c0(3) + g1*c1(3) + g2*c2(3))
+      node(4, i, j, k) = node(4, i, j, k) + (nn*c0(4) + g1*c1(4) + g2*c2(4))
+      node(5, i, j, k) = node(5, i, j, k) + (nn*c0(5) + g1*c1(5) + g2*c2(5))
 #include "dpmpm_stencil_end_2d.inc"
     end do
   end subroutine p2g_2d
@@ -485,6 +494,49 @@ contains
       vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
     end do
   end subroutine g2p_2d
+
+  ! The three-dimensional form of g2p: the same sums, component by component.
+  subroutine g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: flip, dt
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
+    logical, intent(in) :: gradient
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, g(3), u1, u2, u3, dv1, dv2, dv3, vn1, vn2, vn3
+    real(wp) :: l11, l21, l31, l12, l22, l32, l13, l23, l33
+    do p = 1, n
+      dv1 = 0.0_wp; dv2 = 0.0_wp; dv3 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp; vn3 = 0.0_wp
+      l11 = 0.0_wp; l21 = 0.0_wp; l31 = 0.0_wp
+      l12 = 0.0_wp; l22 = 0.0_wp; l32 = 0.0_wp
+      l13 = 0.0_wp; l23 = 0.0_wp; l33 = 0.0_wp
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      u1 = nvel(4, i, j, k); u2 = nvel(5, i, j, k); u3 = nvel(6, i, j, k)
+      vn1 = vn1 + nn*u1; vn2 = vn2 + nn*u2; vn3 = vn3 + nn*u3
+      dv1 = dv1 + nn*(u1 - nvel(1, i, j, k))
+      dv2 = dv2 + nn*(u2 - nvel(2, i, j, k))
+      dv3 = dv3 + nn*(u3 - nvel(3, i, j, k))
+      if (.not. gradient) cycle
+      l11 = l11 + u1*g(1); l21 = l21 + u2*g(1); l31 = l31 + u3*g(1)
+      l12 = l12 + u1*g(2); l22 = l22 + u2*g(2); l32 = l32 + u3*g(2)
+      l13 = l13 + u1*g(3); l23 = l23 + u2*g(3); l33 = l33 + u3*g(3)
+#include "dpmpm_stencil_end_3d.inc"
+      v(1, p) = flip*(v(1, p) + dv1) + (1.0_wp - flip)*vn1
+      v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
+      v(3, p) = flip*(v(3, p) + dv3) + (1.0_wp - flip)*vn3
+      x(1, p) = x(1, p) + dt*vn1
+      x(2, p) = x(2, p) + dt*vn2
+      x(3, p) = x(3, p) + dt*vn3
+      if (.not. gradient) cycle
+      vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(3, p) = l31
+      vgrad(4, p) = l12; vgrad(5, p) = l22; vgrad(6, p) = l32
+      vgrad(7, p) = l13; vgrad(8, p) = l23; vgrad(9, p) = l33
+    end do
+  end subroutine g2p_3d
 
   subroutine point_gradient_2d(nw, n, i0, sw, sdw, lo, nvel, vgrad)
     integer, intent(in) :: nw(3), n

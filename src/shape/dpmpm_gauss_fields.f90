@@ -31,6 +31,7 @@ module dpmpm_gauss_fields
   public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
   public :: occupancy_pass, gauss_cell_components, gauss_solution_components
   public :: reach_cache_t, reach_cache_entries, reach_cache_bytes
+  public :: thin_fraction, thin_node_forces
 
   !> Most Gauss points of one cell (4 per axis in 3D).
   integer, parameter :: max_gauss_cell = 64
@@ -43,6 +44,10 @@ module dpmpm_gauss_fields
   !> Memory a reach cache may take per point set (bytes); beyond it gauss_strain
   !> finds the Gauss points within reach again.
   integer(kind=8), parameter :: reach_cache_budget = 256_8*1024_8*1024_8
+  !> A node is thin for a point set when the set's points give it less than this
+  !> fraction of the volume its Gauss points give it, sum_p V_p Psi_I(x_p) <
+  !> thin_fraction sum_g w_g Psi_I(x_g) (thin_node_forces).
+  real(wp), parameter :: thin_fraction = 1.0e-3_wp
 
   !> The Gauss points within reach of every point of a set and their weights, kept by
   !> gauss_accumulate for gauss_strain in the same step (the same positions), so that
@@ -448,12 +453,14 @@ contains
   !> Grid-function gradients (per metre) at the Gauss points of a cell, the same
   !> for every cell: for Gauss point g and stencil node m, the node's offset from
   !> the cell's lower corner (off) and grad Psi (gr). Returns the nodes per point.
-  subroutine gauss_psi_table(nd, ng, kernel, h, nn, off, gr)
+  subroutine gauss_psi_table(nd, ng, kernel, h, nn, off, gr, psi)
     integer, intent(in) :: nd, ng, kernel
     real(wp), intent(in) :: h(3)
     integer, intent(out) :: nn
     integer, allocatable, intent(out) :: off(:, :, :)
     real(wp), allocatable, intent(out) :: gr(:, :, :)
+    !> Psi_I(x_g) of the same nodes (psi(m, g)).
+    real(wp), allocatable, intent(out), optional :: psi(:, :)
     integer :: g, m, i0(3), nw(3)
     integer, allocatable :: qoff(:, :)
     real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), sw(max_stencil, 3), sdw(max_stencil, 3)
@@ -466,6 +473,10 @@ contains
     do g = 1, ng**nd
       call psi_stencil(nd, kernel, yg(:, g), h, i0, sw, sdw)
       call tensor_weights(nw, sw, sdw, w, gr(:, :, g))
+      if (present(psi)) then
+        if (.not. allocated(psi)) allocate (psi(nn, ng**nd))
+        psi(:, g) = w
+      end if
       do m = 1, nn
         off(:, m, g) = i0 + qoff(:, m)
       end do
@@ -473,20 +484,22 @@ contains
   end subroutine gauss_psi_table
 
   !> Internal forces of the owned occupied cells' Gauss points added to node
-  !> (components 2+nd:1+2nd): f_I -= w_g sigma_h(x_g) grad Psi_I(x_g).
-  subroutine gauss_forces(nd, ng, basis, kernel, h, lo, clo, chi, sol, node)
+  !> (components 2+nd:1+2nd): f_I -= w_g sigma_h(x_g) grad Psi_I(x_g). With qvol, the
+  !> quadrature volume of the nodes, sum_g w_g Psi_I(x_g), is added to qvol(1, I).
+  subroutine gauss_forces(nd, ng, basis, kernel, h, lo, clo, chi, sol, node, qvol)
     integer, intent(in) :: nd, ng, basis, kernel, lo(3), clo(3), chi(3)
     real(wp), intent(in) :: h(3)
     real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout), optional :: qvol(:, lo(1):, lo(2):, lo(3):)
     integer :: i, j, k, g, nb, nf, bs, m, nn, f, idx(3)
     integer, allocatable :: off(:, :, :)
-    real(wp), allocatable :: gr(:, :, :)
+    real(wp), allocatable :: gr(:, :, :), psi(:, :)
     real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), vv(6), s(3, 3), fs(3), wq
     nb = basis_size(basis, nd)
     nf = field_components(nd)
     call gauss_points_of_cell(nd, ng, yg, wg)
-    call gauss_psi_table(nd, ng, kernel, h, nn, off, gr)
+    call gauss_psi_table(nd, ng, kernel, h, nn, off, gr, psi)
     do k = clo(3), chi(3)
       do j = clo(2), chi(2)
         do i = clo(1), chi(1)
@@ -504,12 +517,41 @@ contains
               fs = -wq*matmul(s, gr(:, m, g))
               node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) = &
                 node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) + fs(1:nd)
+              if (present(qvol)) qvol(1, idx(1), idx(2), idx(3)) = &
+                qvol(1, idx(1), idx(2), idx(3)) + wq*psi(m, g)
             end do
           end do
         end do
       end do
     end do
   end subroutine gauss_forces
+
+  !> Clear the internal forces (node components 2+nd:1+2nd) of the nodes olo..ohi that
+  !> are thin for their point set: nvol(1, I) = sum_p V_p Psi_I(x_p) below thin_fraction
+  !> times nvol(2, I) = sum_g w_g Psi_I(x_g). The Gauss points of a cell reach nodes
+  !> that its points reach only with the tip of their grid functions (a point that has
+  !> just entered a cell at its corner gives a node two cells on a sliver of its mass,
+  !> while the cell's Gauss points give that node the force of a whole cell); such a
+  !> node moves with the momentum of its points and with gravity and drag, but takes
+  !> no internal force, which would give it a velocity of the order of force times
+  !> step over a sliver of mass. nthin counts the nodes.
+  pure subroutine thin_node_forces(nd, lo, olo, ohi, nvol, node, nthin)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    real(wp), intent(in) :: nvol(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
+    integer(kind=8), intent(inout) :: nthin
+    integer :: i, j, k
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        do i = olo(1), ohi(1)
+          if (nvol(1, i, j, k) >= thin_fraction*nvol(2, i, j, k)) cycle
+          if (node(1, i, j, k) <= 0.0_wp) cycle
+          node(2 + nd:1 + 2*nd, i, j, k) = 0.0_wp
+          nthin = nthin + 1
+        end do
+      end do
+    end do
+  end subroutine thin_node_forces
 
   !> Velocity gradients L_g = sum_I v_I (x) grad Psi_I(x_g) at the Gauss points of
   !> the owned occupied cells, from the nodal velocities nvel(nd+1:2nd).

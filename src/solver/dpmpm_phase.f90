@@ -32,6 +32,8 @@ module dpmpm_phase
     !> second velocity, made in the same passes over the points as the first.
     real(wp), allocatable :: gacc2(:, :, :, :), glg2(:, :, :, :)
     real(wp), allocatable :: xold(:, :), volold(:), vt(:)
+    !> Point volume and Gauss-quadrature volume of the nodes (thin_node_forces).
+    real(wp), allocatable :: nvol(:, :, :, :)
     type(reach_cache_t) :: reach              !< Gauss points within reach of each point
   contains
     procedure :: free => phase_free
@@ -78,6 +80,7 @@ contains
     if (allocated(self%xold)) deallocate (self%xold)
     if (allocated(self%volold)) deallocate (self%volold)
     if (allocated(self%vt)) deallocate (self%vt)
+    if (allocated(self%nvol)) deallocate (self%nvol)
     self%reach = reach_cache_t()
   end subroutine phase_free
 

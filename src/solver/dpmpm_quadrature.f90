@@ -69,7 +69,7 @@ contains
       if (two) call self%dec%halo_copy(sol2)
       call self%timers%toc(t_halo)
       call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
-                        self%dec%alo, clo, chi, sol, node)
+                        self%dec%alo, clo, chi, sol, node, tr%nvol(2:2, :, :, :))
       if (two) call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
                                  self%dec%alo, clo, chi, sol2, node2)
     end associate

@@ -110,6 +110,7 @@ contains
     self%kernel = self%plan%grid_kernel
     self%mls_stats = mls_stats_t()
     self%nkept = 0
+    self%nthin = 0
     self%nwall = 0
     self%ncavitated = 0
     self%nfree_surface = 0
@@ -214,6 +215,7 @@ contains
           allocate (self%phase(1)%gsol(gauss_solution_components(nd, ng, basis), lo(1):hi(1), &
                               lo(2):hi(2), lo(3):hi(3)))
           allocate (self%phase(1)%glg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          allocate (self%phase(1)%nvol(2, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         end associate
         allocate (self%occ(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         allocate (self%occ2, mold=self%occ)
@@ -233,6 +235,7 @@ contains
           allocate (self%phase(2)%glg, mold=self%phase(1)%glg)
           allocate (self%phase(2)%gacc2, mold=self%phase(1)%gacc)
           allocate (self%phase(2)%glg2, mold=self%phase(1)%glg)
+          allocate (self%phase(2)%nvol, mold=self%phase(1)%nvol)
         end if
       end if
     end associate
@@ -573,7 +576,7 @@ contains
                field_bytes(self%phase(ip)%vacc) + field_bytes(self%phase(ip)%gacc) + &
                field_bytes(self%phase(ip)%gsol) + field_bytes(self%phase(ip)%gsol2) + &
                field_bytes(self%phase(ip)%glg) + field_bytes(self%phase(ip)%gacc2) + &
-               field_bytes(self%phase(ip)%glg2)
+               field_bytes(self%phase(ip)%glg2) + field_bytes(self%phase(ip)%nvol)
     end do
     gbytes = gbytes + field_bytes(self%nporo) + field_bytes(self%ndrag)
     nodes = product(int(self%dec%ahi - self%dec%alo + 1, i8))

@@ -20,13 +20,14 @@ module dpmpm_step
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g, &
                             interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
-                            interphase_p2g, solid_porosity_p2g, mixture_flux
+                            interphase_p2g, solid_porosity_p2g, mixture_flux, volume_p2g
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: nodal_drag_limit, relax_remapped, locked_velocity, remove_split
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, fluid_density, &
                                  local_cell, &
                                  fluid_pressure_step, fluid_state
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
+  use dpmpm_gauss_fields, only: thin_node_forces
   use dpmpm_time_step, only: report_governing
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points
   use dpmpm_surface_loads, only: surface_forces
@@ -113,6 +114,13 @@ contains
       end associate
     end if
     if (self%plan%gauss) then
+      ! The point volume of the nodes beside their quadrature volume (thin nodes).
+      do ip = 1, self%nph
+        associate (ph => self%phase(ip))
+          ph%nvol = 0.0_wp
+          call volume_p2g(ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%vol, self%dec%alo, ph%nvol)
+        end associate
+      end do
       associate (s => self%phase(solid_phase))
         call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node)
       end associate
@@ -134,6 +142,7 @@ contains
     end if
     do ip = 1, self%nph
       call self%mirror%fold(self%phase(ip)%node, 1, self%phase(ip)%bc)
+      if (self%plan%gauss) call self%mirror%fold(self%phase(ip)%nvol, 2, self%phase(ip)%bc)
     end do
     if (coupled) then
       call self%mirror%fold(self%nporo, 3, self%grid%bc)
@@ -156,6 +165,7 @@ contains
     call self%timers%tic(t_halo)
     do ip = 1, self%nph
       call self%dec%halo_sum(self%phase(ip)%node)
+      if (self%plan%gauss) call self%dec%halo_sum(self%phase(ip)%nvol)
     end do
     if (coupled) then
       call self%dec%halo_sum(self%nporo)
@@ -172,6 +182,14 @@ contains
     ! (Not with Gauss quadrature: the forces come from the fields reconstructed over whole
     ! cells, and a thin node inside a scattered set is no surface.)
     if (surface) call free_surface_points(self, fvol, fsurf)
+    ! Nodes that the Gauss points of a set reach but its points barely reach take no
+    ! internal force (thin_node_forces).
+    if (self%plan%gauss) then
+      do ip = 1, self%nph
+        call thin_node_forces(nd, self%dec%alo, blo, bhi, self%phase(ip)%nvol, self%phase(ip)%node, &
+                              self%nthin)
+      end do
+    end if
 
     ! 4. Nodal update: MLS nodal velocities, then each phase alone or both with drag.
     call self%timers%tic(t_nodal)

@@ -15,7 +15,7 @@ module dpmpm_transfer
   public :: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g
   public :: interp_two_values
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, reaches_thin_node
-  public :: body_force_work
+  public :: body_force_work, volume_p2g
 
 contains
 
@@ -242,6 +242,23 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine momentum_p2g
+
+  !> The point volume of the nodes, sum_p V_p N_I(x_p), added to nvol(1, I) (the thin
+  !> nodes of Gauss quadrature, thin_node_forces).
+  subroutine volume_p2g(nw, n, i0, sw, vol, lo, nvol)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), vol(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: nvol(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn
+    do p = 1, n
+#include "dpmpm_stencil_do_3d.inc"
+      nvol(1, i, j, k) = nvol(1, i, j, k) + nn*vol(p)
+#include "dpmpm_stencil_end_3d.inc"
+    end do
+  end subroutine volume_p2g
 
   !> grad n . (v_f - v_s) at the fluid points from the new nodal velocities (the
   !> porosity-gradient term of eq. 10), discretised so that the whole bracket of

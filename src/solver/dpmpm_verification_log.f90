@@ -127,7 +127,7 @@ contains
   !> counts as attributes of /verification when the run writes one.
   subroutine report_mls(self)
     class(state_t), intent(inout) :: self
-    integer(i8) :: c(6)
+    integer(i8) :: c(6), nthin
     character(len=256) :: line
     character(len=16), parameter :: names(6) = [character(len=16) :: 'mls_full', 'mls_reduced', &
       'mls_regularised', 'mls_constant', 'mls_empty', 'strain_pointwise']
@@ -139,6 +139,12 @@ contains
     write (line, '(a,5(1x,i0),a,i0)') '  MLS solves: full, reduced basis, regularised, constant '// &
       'basis, empty:', c(1:5), '; point gradients left point-wise: ', c(6)
     call self%log%info(line)
+    if (self%plan%gauss) then
+      nthin = self%nthin
+      call MPI_Allreduce(MPI_IN_PLACE, nthin, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+      write (line, '(a,i0)') '  Gauss quadrature: node-steps without internal force (thin nodes): ', nthin
+      call self%log%info(line)
+    end if
     if (self%write_output .and. self%cfg%benchmark /= 'none') then
       do k = 1, 6
         call self%out%write_verification_attr(trim(names(k)), real(c(k), wp))

@@ -22,7 +22,9 @@ frame's header, the name heap of /frames): the continued run then rebuilds it fr
 can be read, and a frame it cannot read must be named in the log (the others equal to
 the last bit). Such damage came with 6 of 125 kills measured, so it is also made on
 purpose: one frame of a finished run is unlinked before the run is continued from its
-checkpoint.
+checkpoint. A kill can also leave the index of /frames listing a frame twice while every
+frame still opens by its name: that is made on purpose too (a frame linked a second time
+under another name), and the continued run must rebuild the file.
 """
 import os
 import pathlib
@@ -217,6 +219,32 @@ expect(sorted(got) == [k for k in sorted(want) if k != 10 and k <= 60],
        f"damaged file: frames at every step to 60 but 10 ({len(got)} frames)")
 same = all(np.array_equal(got[k][d], want[k][d]) for k in got for d in got[k] if k in want)
 expect(same, "damaged file: every kept frame equal to the reference's to the last bit")
+
+# A damaged frame index, made on purpose: the index of /frames of a finished run lists
+# frame 10 a second time under the name 000099 (as a kill once left a file whose index
+# listed two frames twice while every frame still opened by its name). The continued run
+# must find the index damaged and rebuild the file: no frame lost, every frame equal to the
+# reference's, nothing more in /frames.
+nml = work / scene("stray")
+nml.write_text(nml.read_text().replace(f"max_steps = {MAX_STEPS}", "max_steps = 60"))
+rc, log = run(["stray.nml"])
+expect(rc == 0, "the run whose index is to be damaged ends with exit code 0")
+stray = work / "out" / "stray.h5"
+with h5py.File(stray, "r+") as f:
+    f["frames/000099"] = f["frames/000010"]
+rc, log = run(["--restart", "stray.nml"])
+print("\n".join(line for line in log.splitlines() if "damaged" in line))
+expect(rc == 0 and "damaged" in log and "lost" not in log,
+       "damaged index: the continued run ends with exit code 0 and rebuilds the file, no frame lost")
+rc, out = check_output(stray)
+expect(rc == 0, "damaged index: check_output.py passes on the rebuilt file")
+got = frames_by_step(stray)
+with h5py.File(stray, "r") as f:
+    names = list(f["frames"])
+expect(names == [f"{k:06d}" for k in range(61)] and sorted(got) == list(range(61)),
+       f"damaged index: frames 000000 .. 000060 for the steps 0 .. 60, each once ({len(names)} links)")
+same = all(np.array_equal(got[k][d], want[k][d]) for k in got for d in got[k])
+expect(same, "damaged index: every frame equal to the reference's to the last bit")
 
 print(f"{damaged} of {t} kills damaged the file; {nlost} of the rebuilt files lost frames")
 expect(torn > 0, f"{torn} of {t} kills left a file that check_output.py rejects (a torn frame or the sidecar behind)")

@@ -6,7 +6,8 @@ module dpmpm_h5_salvage
   use hdf5, only: hid_t, hsize_t, h5fopen_f, h5fclose_f, h5lexists_f, h5oopen_f, h5oclose_f, &
                   h5dopen_f, h5dclose_f, h5dread_f, h5dget_space_f, h5sclose_f, &
                   h5sget_simple_extent_dims_f, h5eset_auto_f, h5kind_to_type, H5F_ACC_RDONLY_F, &
-                  H5_INTEGER_KIND, H5_REAL_KIND
+                  H5_INTEGER_KIND, H5_REAL_KIND, h5gopen_f, h5gclose_f, h5gget_info_f, &
+                  h5lget_name_by_idx_f, H5_INDEX_NAME_F, H5_ITER_INC_F
   use dpmpm_kinds, only: wp, i8
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   implicit none
@@ -18,6 +19,9 @@ contains
   !> The file opens, its first nframes frames and the diagnostics can be read (every
   !> frame group opens with its point sets' ids), and so can the later frames that a
   !> continued run deletes (every rank looks on its own; the answer is the same on all).
+  !> The index of /frames must list the frames 000000, 000001, ... in order, each once:
+  !> a kill during a frame write can leave it listing a frame twice or under another
+  !> place while every frame still opens by its name.
   !> HDF5's error printing is off meanwhile: damage is an answer here.
   logical function file_sound(path, nframes) result(sound)
     character(len=*), intent(in) :: path
@@ -31,6 +35,7 @@ contains
     sound = err >= 0
     if (sound) then
       sound = object_sound(file, 'diagnostics/step')
+      if (sound) sound = index_sound(file)
       do k = 0, nframes - 1
         if (.not. sound) exit
         sound = frame_sound(file, k)
@@ -49,6 +54,31 @@ contains
     end if
     call h5eset_auto_f(1, e2)
   end function file_sound
+
+  !> The link index of /frames of an open file lists 000000, 000001, ... in name order,
+  !> each once and nothing else.
+  logical function index_sound(file) result(sound)
+    integer(hid_t), intent(in) :: file
+    integer(hid_t) :: group
+    integer :: err, e2, storage, max_corder, nlinks, k
+    character(len=32) :: name, want
+    sound = object_sound(file, 'frames')
+    if (.not. sound) return
+    call h5gopen_f(file, 'frames', group, err)
+    sound = err >= 0
+    if (.not. sound) return
+    call h5gget_info_f(group, storage, nlinks, max_corder, err)
+    sound = err >= 0
+    do k = 0, nlinks - 1
+      if (.not. sound) exit
+      name = ''
+      call h5lget_name_by_idx_f(group, '.', H5_INDEX_NAME_F, H5_ITER_INC_F, int(k, hsize_t), &
+                                name, err)
+      write (want, '(i6.6)') k
+      sound = err >= 0 .and. name == want
+    end do
+    call h5gclose_f(group, e2)
+  end function index_sound
 
   !> Frame k of an open file can be opened, and so can the ids of its point sets.
   logical function frame_sound(file, k) result(sound)

@@ -266,9 +266,9 @@ def main():
                         .replace("length = 1.0, 1.0", f"length = 1.0, {cy / 360}")
                         .replace("hi = 1.0, 1.0", f"hi = 1.0, {cy / 360}"))
             return make
-        one, _ = rounds(lambda: step_time(full(360), n(4), n(16), work, 1), k)
-        two, _ = rounds(lambda: step_time(full(360), n(4), n(16), work, 2), k)
-        half, _ = rounds(lambda: step_time(full(180), n(4), n(16), work, 1), k)
+        one, _ = rounds(lambda: step_time(full(360), n(5), n(45), work, 1), k)
+        two, _ = rounds(lambda: step_time(full(360), n(5), n(45), work, 2), k)
+        half, _ = rounds(lambda: step_time(full(180), n(5), n(45), work, 1), k)
         big, small = 720 * 720, 720 * 360
         sp = [a_ / b_ for a_, b_ in zip(one, two)]
         eff = [h_ / b_ for h_, b_ in zip(half, two)]

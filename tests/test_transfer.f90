@@ -304,7 +304,9 @@ contains
 
   !> The 2D forms (nd = 2) against the general form (nd = 3) of the same points with a
   !> third axis of one node of weight 1: p2g (a plane stress state with sigma_zz),
-  !> g2p, the point gradient and the momentum remap agree to rounding.
+  !> g2p, the point gradient and the momentum remap agree to rounding; so do the fluid's
+  !> pore forces, drag and its mass and momentum summed in fluid_p2g's own pass, which
+  !> also equal the fluid's p2g (no stress).
   subroutine test_two_d_forms_match_general_form()
     integer :: kernel, p, lo2(3), lo3(3), nw2(3), nw3(3), i0(3, npt), c
     real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
@@ -313,6 +315,7 @@ contains
     real(wp), allocatable :: sc2(:, :, :, :), sc3(:, :, :, :)
     real(wp), allocatable :: n2(:, :, :, :), n3(:, :, :, :), vel2(:, :, :, :), vel3(:, :, :, :)
     real(wp), allocatable :: fl2(:, :, :, :), fl3(:, :, :, :), d2(:, :, :, :), d3(:, :, :, :)
+    real(wp), allocatable :: m2(:, :, :, :), m3(:, :, :, :)
     real(wp), parameter :: dt = 1.0e-3_wp, flip = 0.95_wp
     real(wp) :: scale
     !> Measured largest relative difference 3.3e-16 (release, linear gradient); 6x margin.
@@ -391,10 +394,24 @@ contains
       call make_nodes(3, 7, lo3, fl3)
       call make_nodes(2, 1, lo2, d2)
       call make_nodes(3, 1, lo3, d3)
-      call fluid_p2g(2, nw2, npt, i0, sw, sdw, mass, vol, stress(2, :), stress(1, :), stress(3, :), .true., &
-                     lo2, n2, fl2, d2)
-      call fluid_p2g(3, nw3, npt, i0, sw, sdw, mass, vol, stress(2, :), stress(1, :), stress(3, :), .true., &
-                     lo3, n3, fl3, d3)
+      v3(3, :) = 0.0_wp
+      v3(1:2, :) = v2(1:2, :)
+      call fluid_p2g(2, nw2, npt, i0, sw, sdw, mass, v2(1:2, :), vol, stress(2, :), stress(1, :), stress(3, :), &
+                     .true., .true., lo2, n2, fl2, d2)
+      call fluid_p2g(3, nw3, npt, i0, sw, sdw, mass, v3, vol, stress(2, :), stress(1, :), stress(3, :), &
+                     .true., .true., lo3, n3, fl3, d3)
+      ! The fluid's mass and momentum of the same pass against p2g's (no stress: the fluid's
+      ! p2g), in 2D and 3D.
+      call make_nodes(2, 5, lo2, m2)
+      call make_nodes(3, 7, lo3, m3)
+      call p2g(2, nw2, npt, i0, sw, sdw, mass, v2(1:2, :), vol, stress, .false., lo2, m2)
+      call p2g(3, nw3, npt, i0, sw, sdw, mass, v3, vol, stress, .false., lo3, m3)
+      do c = 1, 3
+        call check_close(maxval(abs(fl2(c, :, :, :) - m2(c, :, :, :)))/maxval(abs(m2(c, :, :, :))), 0.0_wp, &
+                         0.0_wp, tol_rel, trim(kernel_names(kernel))//' fluid mass and momentum, 2D (relative)')
+        call check_close(maxval(abs(fl3(c, :, :, :) - m3(c, :, :, :)))/maxval(abs(m3(c, :, :, :))), 0.0_wp, &
+                         0.0_wp, tol_rel, trim(kernel_names(kernel))//' fluid mass and momentum, 3D (relative)')
+      end do
       do c = 1, 2
         call check_close(maxval(abs(n2(3 + c, :, :, 0) - n3(4 + c, :, :, 0)))/maxval(abs(n2(3 + c, :, :, :))), &
                          0.0_wp, 0.0_wp, tol_rel, trim(kernel_names(kernel))//' solid pore force (relative)')
@@ -407,21 +424,26 @@ contains
     end do
   end subroutine test_two_d_forms_match_general_form
 
-  !> The projection of momentum_project_p2g (remap correction of two-phase MUSL) against
-  !> the field interpolated to the points per component (interp_two_values) and mapped
-  !> with momentum_p2g, in 1D, 2D and 3D with every B-spline. The sums run in another
-  !> order; measured largest relative difference 1.9e-16, tolerance 2e-15 (10x). The
-  !> momenta of the same fused pass against momentum_p2g's keep their order: measured 0,
-  !> the tolerance 2e-15 leaves room for a compiler that vectorises the loops differently.
+  !> The projection of the remap correction of two-phase MUSL: the locked velocity
+  !> gathered at the points in g2p's pass (gf, gv) against the field interpolated per
+  !> component (interp_two_values), and momentum_project_p2g of those point values against
+  !> momentum_p2g of the same points moving with them, in 1D, 2D and 3D with every
+  !> B-spline. The gather sums in interp_two_values' order (measured 0); the projection
+  !> multiplies N m c as (m c) N, momentum_p2g as (N m) c: measured largest relative
+  !> difference 1.9e-16, tolerance 2e-15 (10x). The momenta of the same fused pass against
+  !> momentum_p2g's keep their order: measured 0, the tolerance 2e-15 leaves room for a
+  !> compiler that vectorises the loops differently.
   subroutine test_projection_is_interpolation_then_momentum_map()
     integer :: nd, kernel, p, c, lo(3), nw(3), i0(3, npt)
     real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vc(npt)
-    real(wp) :: v0(npt)
+    real(wp) :: v0(npt), vt(3, npt), xt(3, npt), gt(9, npt)
     real(wp), allocatable :: f(:, :, :, :), one(:, :, :, :), two(:, :, :, :), vp(:, :), mom(:, :, :, :)
+    real(wp), allocatable :: nv(:, :, :, :), gp(:, :)
     character(len=32) :: tag
-    real(wp) :: rel, worst
+    real(wp) :: rel, worst, worstg
     call begin_test('projection_is_interpolation_then_momentum_map')
     worst = 0.0_wp
+    worstg = 0.0_wp
     do nd = 1, 3
       do kernel = 1, ngrid_kernels
         write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
@@ -431,17 +453,27 @@ contains
         end do
         call make_nodes(nd, nd, lo, f)
         call fill_scattered(lo, f)
-        if (allocated(vp)) deallocate (vp)
-        allocate (vp(nd, npt))
+        if (allocated(vp)) deallocate (vp, gp)
+        allocate (vp(nd, npt), gp(nd, npt))
         do c = 1, nd
           call interp_two_values(nd, nw, npt, i0, sw, lo, f, c, v0, vc)
           vp(c, :) = vc
         end do
+        ! the gather of g2p's pass (nodal velocities of no importance here)
+        call make_nodes(nd, 2*nd, lo, nv)
+        vt = 0.0_wp
+        xt = x
+        gp = 0.0_wp
+        call g2p(nd, nw, npt, i0, sw, sdw, lo, nv, 1.0_wp, 1.0e-3_wp, vt(1:nd, :), xt(1:nd, :), gt, &
+                 gradient=.false., gf=f, gv=gp)
+        rel = maxval(abs(gp - vp))/maxval(abs(vp))
+        worstg = max(worstg, rel)
+        call check_close(rel, 0.0_wp, 0.0_wp, 2.0e-15_wp, trim(tag)//' gathered in g2p (relative)')
         call make_nodes(nd, 1 + nd, lo, one)
         call momentum_p2g(nd, nw, npt, i0, sw, mass, vp, lo, one)
         call make_nodes(nd, nd, lo, two)
         call make_nodes(nd, 1 + nd, lo, mom)
-        call momentum_project_p2g(nd, nw, npt, i0, sw, mass, vp, lo, f, mom, two)
+        call momentum_project_p2g(nd, nw, npt, i0, sw, mass, vp, lo, gp, mom, two)
         call same_values(pack(mom(2:1 + nd, :, :, :), .true.), pack(one(2:1 + nd, :, :, :), .true.), &
                          trim(tag)//' remapped momentum', worst)
         rel = maxval(abs(one(2:1 + nd, :, :, :) - two))/maxval(abs(two))
@@ -450,7 +482,7 @@ contains
         call check(maxval(abs(two)) > 0.0_wp, trim(tag)//' nonzero projection')
       end do
     end do
-    print '(a,es10.3)', '  largest relative difference ', worst
+    print '(a,es10.3,a,es10.3)', '  largest relative difference ', worst, '; of the gather ', worstg
   end subroutine test_projection_is_interpolation_then_momentum_map
 
   !> The fused gradient pass of the two-phase step against the kernel it joins, in 1D, 2D

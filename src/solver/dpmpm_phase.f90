@@ -24,6 +24,9 @@ module dpmpm_phase
     real(wp), allocatable :: nvel(:, :, :, :) !< velocity before (nd) and after (nd) the update
     real(wp), allocatable :: vacc(:, :, :, :) !< MLS nodal velocities: moment sums (velocity_mls)
     real(wp), allocatable :: bacc(:, :)       !< body acceleration per point (manufactured solution)
+    !> Two phases, MUSL, implicit drag: the locked velocity at the points (nd, n), gathered
+    !> by g2p for the remap (musl_remap)
+    real(wp), allocatable :: lockp(:, :)
     ! Gauss quadrature: reconstruction sums and solutions (cell arrays), velocity
     ! gradients at the Gauss points, positions and volumes at the force evaluation,
     ! effective point volumes. Fluid sets: gsol2 is the solid share -n_s p.
@@ -53,6 +56,7 @@ contains
     if (allocated(self%vgrad)) b = b + size(self%vgrad, 1)*storage_size(self%vgrad)/8
     if (allocated(self%vgrad2)) b = b + size(self%vgrad2, 1)*storage_size(self%vgrad2)/8
     if (allocated(self%bacc)) b = b + size(self%bacc, 1)*storage_size(self%bacc)/8
+    if (allocated(self%lockp)) b = b + size(self%lockp, 1)*storage_size(self%lockp)/8
     if (allocated(self%xold)) b = b + size(self%xold, 1)*storage_size(self%xold)/8
     if (allocated(self%volold)) b = b + storage_size(self%volold)/8
     if (allocated(self%vt)) b = b + storage_size(self%vt)/8
@@ -71,6 +75,7 @@ contains
     if (allocated(self%nvel)) deallocate (self%nvel)
     if (allocated(self%vacc)) deallocate (self%vacc)
     if (allocated(self%bacc)) deallocate (self%bacc)
+    if (allocated(self%lockp)) deallocate (self%lockp)
     if (allocated(self%gacc)) deallocate (self%gacc)
     if (allocated(self%gsol)) deallocate (self%gsol)
     if (allocated(self%gsol2)) deallocate (self%gsol2)

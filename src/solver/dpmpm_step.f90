@@ -47,9 +47,9 @@ contains
     integer :: m, ip, nlost, ns, nf, nd, blo(3), bhi(3)
     integer, allocatable :: fcell(:)
     logical, allocatable :: fsurf(:)
-    logical :: coupled, surface
+    logical :: coupled, surface, fluid_mom, locked
     real(wp) :: wplastic, rforce(3)
-    real(wp), allocatable :: fvol(:, :, :, :)
+    real(wp), allocatable :: fvol(:, :, :, :), lockv(:, :, :, :)
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), gnrel(:), skinv(:)
     coupled = self%nph == 2
     ! the free surface of the pore fluid is looked for (free_surface_points)
@@ -80,10 +80,16 @@ contains
     ! 2. p2g of every phase; the solid's internal force by point quadrature unless
     ! Gauss quadrature gives it; the fluid's pore-pressure forces come with the coupling.
     call self%timers%tic(t_p2g)
+    ! (With a fluid, fluid_p2g sums the fluid's mass and momentum in its own pass, unless
+    ! the fluid points carry body accelerations.)
+    fluid_mom = coupled
+    if (coupled) fluid_mom = .not. allocated(self%phase(fluid_phase)%bacc)
     do ip = 1, self%nph
       associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
         ph%node(:, self%zlo(1):self%zhi(1), self%zlo(2):self%zhi(2), self%zlo(3):self%zhi(3)) = 0.0_wp
-        if (allocated(ph%bacc)) then
+        if (ip == fluid_phase .and. fluid_mom) then
+          continue
+        else if (allocated(ph%bacc)) then
           call benchmark_body_force(self%cfg, self%mats, ps, self%time, ph%bacc)
           call p2g(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
                    ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node, ph%bacc)
@@ -108,8 +114,8 @@ contains
                          self%dec%alo(3):self%dec%ahi(3)))
           fvol = 0.0_wp
         end if
-        call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%vol, f%pts%porosity, &
-                       f%pts%pressure, f%pts%kinv, &
+        call fluid_p2g(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%v, f%pts%vol, &
+                       f%pts%porosity, f%pts%pressure, f%pts%kinv, fluid_mom, &
                        (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag, fvol)
       end associate
     end if
@@ -286,17 +292,37 @@ contains
     ! 6. g2p: velocities, positions, velocity gradients (MUSL: from the remapped
     ! nodal velocities; Gauss quadrature: by the transposed force operator).
     call self%timers%tic(t_g2p)
+    ! Where the implicit drag locks the phases, the MUSL remap carries the locked velocity
+    ! to the points of each set and back (musl_remap); g2p gathers it at the points, from
+    ! the exterior nodes as each phase's walls mirror them.
+    locked = coupled .and. self%cfg%scheme == 'musl' .and. self%cfg%remap_drag .and. &
+             self%cfg%drag == 'implicit'
+    if (locked) then
+      associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+        allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                        self%dec%alo(3):self%dec%ahi(3)))
+        call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
+                             f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
+      end associate
+      call self%dec%halo_copy(lockv)
+    end if
     do ip = 1, self%nph
       associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
         ! (MUSL takes the gradients from the remapped velocities.)
-        call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
-                 dt, ps%v, ps%x, ph%vgrad, gradient=self%cfg%scheme /= 'musl')
+        if (locked) then
+          call self%mirror%unfold(lockv, 0, ph%bc)
+          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
+                   dt, ps%v, ps%x, ph%vgrad, gradient=.false., gf=lockv, gv=ph%lockp)
+        else
+          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
+                   dt, ps%v, ps%x, ph%vgrad, gradient=self%cfg%scheme /= 'musl')
+        end if
       end associate
     end do
     if (self%has_rigid) call hold_rigid_points(nd, ns, self%phase(solid_phase)%pts%mat, self%mats, &
                                                self%phase(solid_phase)%pts%v)
     if (self%cfg%scheme == 'musl') then
-      call musl_remap(self, dt)
+      call musl_remap(self, dt, locked)
     else if (coupled) then
       associate (f => self%phase(fluid_phase))
         call point_gradient(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, &
@@ -482,38 +508,30 @@ contains
   !> shrunk as the step's drag would (relax_remapped): without it the step is
   !> unstable on scattered points (doc/verification.md, "Long runs"). The fluid
   !> points also get the solid's velocity gradient.
-  subroutine musl_remap(self, dt)
+  !> locked: the points of each phase hold in lockp the velocity that the implicit drag
+  !> locks both phases to (locked_velocity), gathered by g2p; the remap carries it back
+  !> to the grid through each point set (remove_common_split).
+  subroutine musl_remap(self, dt, locked)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
-    real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :), proj(:, :, :, :, :)
+    logical, intent(in) :: locked
+    real(wp), allocatable :: wstep(:, :, :, :), proj(:, :, :, :, :)
     integer :: ip, nd
     logical :: coupled
-    logical :: locked
     nd = self%nd
     coupled = self%nph == 2
-    locked = coupled .and. self%cfg%remap_drag .and. self%cfg%drag == 'implicit'
-    ! Relative velocity of the nodal update, and the velocity the drag makes common to
-    ! both phases, before the remap overwrites them.
+    ! Relative velocity of the nodal update, before the remap overwrites it.
     if (coupled) wstep = self%phase(fluid_phase)%nvel(nd + 1:2*nd, :, :, :) - &
                          self%phase(solid_phase)%nvel(nd + 1:2*nd, :, :, :)
     if (locked) then
-      associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
-                         self%dec%alo(3):self%dec%ahi(3)))
-        call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
-                             f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
+      ! The locked velocity goes back to the grid in the remap's own pass
+      ! (remove_common_split uses the projections).
+      associate (n => self%phase(solid_phase)%node)
+        allocate (proj(nd, size(n, 2), size(n, 3), size(n, 4), 2))
       end associate
-    end if
-    if (locked) then
-      ! The locked velocity goes to the points of each set and back in the remap's own
-      ! pass (remove_common_split uses the projections).
-      call self%dec%halo_copy(lockv)
-      allocate (proj(nd, size(lockv, 2), size(lockv, 3), size(lockv, 4), 2))
       proj = 0.0_wp
       do ip = 1, self%nph
-        ! the exterior nodes as this phase's walls mirror them
-        call self%mirror%unfold(lockv, 0, self%phase(ip)%bc)
-        call remap_velocities(self, self%phase(ip), lockv, proj(:, :, :, :, ip))
+        call remap_velocities(self, self%phase(ip), self%phase(ip)%lockp, proj(:, :, :, :, ip))
       end do
     else
       do ip = 1, self%nph
@@ -579,21 +597,22 @@ contains
 
   !> Nodal velocities (new slots of ph%nvel, owned nodes) from the point momenta of
   !> the phase mapped to the grid again; the masses in ph%node are those of the step.
-  !> Components held by the phase's face conditions are zero. With lockv, the same pass
-  !> adds the momentum of its projection through the phase's points to proj
-  !> (momentum_project_p2g; neither folded nor summed over the ranks).
-  subroutine remap_velocities(self, ph, lockv, proj)
+  !> Components held by the phase's face conditions are zero. With lockp (the locked
+  !> velocity at the phase's points), the same pass adds the momentum of its projection
+  !> through the phase's points to proj (momentum_project_p2g; neither folded nor
+  !> summed over the ranks).
+  subroutine remap_velocities(self, ph, lockp, proj)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: ph
-    real(wp), contiguous, intent(in), optional :: lockv(:, :, :, :)
+    real(wp), contiguous, intent(in), optional :: lockp(:, :)
     real(wp), contiguous, intent(inout), optional :: proj(:, :, :, :)
     integer :: nd
     nd = self%nd
     ! Reuse the momentum slots of node(); the masses are unchanged (zero beyond the box).
     ph%node(2:1 + 2*nd, self%zlo(1):self%zhi(1), self%zlo(2):self%zhi(2), self%zlo(3):self%zhi(3)) = 0.0_wp
-    if (present(lockv)) then
+    if (present(lockp)) then
       call momentum_project_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, &
-                                self%dec%alo, lockv, ph%node, proj)
+                                self%dec%alo, lockp, ph%node, proj)
     else
       call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, &
                         ph%node)
@@ -755,6 +774,7 @@ contains
       if (allocated(tr%vgrad)) deallocate (tr%vgrad)
       if (allocated(tr%vgrad2)) deallocate (tr%vgrad2)
       if (allocated(tr%xold)) deallocate (tr%xold, tr%volold, tr%vt)
+      if (allocated(tr%lockp)) deallocate (tr%lockp)
     end if
     call tr%st%build(n, tr%pts%cap, tr%pts%x, self%grid%origin, self%grid%h)
     cap = size(tr%st%i0, 2)
@@ -762,6 +782,8 @@ contains
     if (tr%pts%has_pressure .and. .not. allocated(tr%vgrad2)) allocate (tr%vgrad2(9, cap))
     if (self%plan%gauss .and. .not. allocated(tr%xold)) &
       allocate (tr%xold(self%nd, cap), tr%volold(cap), tr%vt(cap))
+    if (self%nph == 2 .and. self%cfg%scheme == 'musl' .and. self%cfg%remap_drag .and. &
+        self%cfg%drag == 'implicit' .and. .not. allocated(tr%lockp)) allocate (tr%lockp(self%nd, cap))
     if (allocated(tr%bacc)) then
       if (size(tr%bacc, 2) < n) deallocate (tr%bacc)
     end if

@@ -62,7 +62,7 @@ contains
   !> Grid to particle: FLIP/PIC blend of the velocity, position update with the
   !> new nodal velocity, and the velocity gradient from the new nodal velocity (USL).
   !> gradient = .false. (MUSL, whose remap replaces the gradient) leaves vgrad as it is.
-  subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient)
+  subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient, gf, gv)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
@@ -71,24 +71,42 @@ contains
     real(wp), intent(in) :: flip, dt
     real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
     logical, intent(in), optional :: gradient
+    !> With gf: gv(1:nd, p) = sum_I N_I(x_p) gf(1:nd, I), another nodal vector field at the
+    !> points in the same pass (the locked velocity of the MUSL remap, momentum_project_p2g),
+    !> summed in the order interp_two_values sums.
+    real(wp), contiguous, intent(in), optional :: gf(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout), optional :: gv(:, :)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3)
-    logical :: grad
+    real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3), gs(3)
+    real(wp) :: none(1, 1)
+    logical :: grad, gather
     grad = .true.
     if (present(gradient)) grad = gradient
+    gather = present(gf) .and. present(gv)
+    ! (An absent optional array cannot be passed on to a contiguous dummy: without gf the
+    ! kernels get nvel and a dummy they do not touch.)
     if (nd == 2) then
-      call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad)
+      if (gather) then
+        call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+      else
+        call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+      end if
       return
     else if (nd == 3) then
-      call g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad)
+      if (gather) then
+        call g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+      else
+        call g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+      end if
       return
     end if
     do p = 1, n
-      dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp
+      dv = 0.0_wp; vn = 0.0_wp; lg = 0.0_wp; gs = 0.0_wp
 #include "dpmpm_stencil_do_3d.inc"
 #include "dpmpm_stencil_grad_3d.inc"
       vn(1:nd) = vn(1:nd) + nn*nvel(nd + 1:2*nd, i, j, k)
       dv(1:nd) = dv(1:nd) + nn*(nvel(nd + 1:2*nd, i, j, k) - nvel(1:nd, i, j, k))
+      if (gather) gs(1:nd) = gs(1:nd) + nn*gf(1:nd, i, j, k)
       if (.not. grad) cycle
       lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
       lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
@@ -96,6 +114,7 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
       v(:, p) = flip*(v(:, p) + dv(1:nd)) + (1.0_wp - flip)*vn(1:nd)
       x(:, p) = x(:, p) + dt*vn(1:nd)
+      if (gather) gv(1:nd, p) = gs(1:nd)
       if (.not. grad) cycle
       vgrad(1:3, p) = lg(:, 1)
       vgrad(4:6, p) = lg(:, 2)
@@ -194,27 +213,23 @@ contains
 
   !> The MUSL remap with the locked velocity f in one pass over the points of a phase:
   !> the momenta node(2:1+nd) += sum N_I m_p v_p (as momentum_p2g) and the momentum of
-  !> f's projection through this point set, proj(1:nd) += sum_p N_I m_p sum_J N_J f_J
-  !> (divided by the nodal mass it is P f).
-  subroutine momentum_project_p2g(nd, nw, n, i0, sw, mass, v, lo, f, node, proj)
+  !> f's projection through this point set, proj(1:nd) += sum_p N_I m_p fp_p, where
+  !> fp_p = sum_J N_J f_J is f at the points (g2p gathers it in its pass). Divided by the
+  !> nodal mass it is P f.
+  subroutine momentum_project_p2g(nd, nw, n, i0, sw, mass, v, lo, fp, node, proj)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :), fp(:, :)
     integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):), proj(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, vc(3)
     if (nd == 2) then
-      call momentum_project_p2g_2d(nw, n, i0, sw, mass, v, lo, f, node, proj)
+      call momentum_project_p2g_2d(nw, n, i0, sw, mass, v, lo, fp, node, proj)
       return
     end if
     do p = 1, n
-      vc(1:nd) = 0.0_wp
-#include "dpmpm_stencil_do_3d.inc"
-      vc(1:nd) = vc(1:nd) + nn*f(1:nd, i, j, k)
-#include "dpmpm_stencil_end_3d.inc"
-      vc(1:nd) = mass(p)*vc(1:nd)
+      vc(1:nd) = mass(p)*fp(1:nd, p)
 #include "dpmpm_stencil_do_3d.inc"
       node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
       proj(1:nd, i, j, k) = proj(1:nd, i, j, k) + nn*vc(1:nd)
@@ -318,12 +333,15 @@ contains
   !> Fluid points to the grid: the pore-pressure forces of the weak form (paper eq. 5),
   !> f_f,I += V n_f p grad N_I and f_s,I += V (1 - n_f) p grad N_I (point quadrature,
   !> only when point_forces), and the drag coefficient D_I += N_I m n_f g / k.
-  subroutine fluid_p2g(nd, nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, &
+  subroutine fluid_p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
                        node_s, node_f, drag, fvol)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    real(wp), contiguous, intent(in) :: mass(:), vol(:), poro(:), pres(:), kinv(:)
+    real(wp), contiguous, intent(in) :: mass(:), v(:, :), vol(:), poro(:), pres(:), kinv(:)
+    !> Also the fluid's mass and momentum, node_f(1:1+nd), as p2g sums them (the fluid
+    !> then needs no p2g pass of its own).
+    logical, intent(in) :: momentum
     logical, intent(in) :: point_forces
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
@@ -331,19 +349,25 @@ contains
     !> The fluid volume at the nodes, sum N_I V (the free-surface test), in the same pass.
     real(wp), contiguous, intent(inout), optional :: fvol(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, g(3), pv, dp
+    real(wp) :: nn, g(3), pv, dp, mv(3)
     logical :: vols
     if (nd == 2) then
-      call fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, node_s, node_f, drag, &
-                        fvol)
+      call fluid_p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, node_s, &
+                        node_f, drag, fvol)
       return
     end if
     vols = present(fvol)
+    mv = 0.0_wp
     do p = 1, n
       pv = 0.0_wp
       if (point_forces) pv = vol(p)*pres(p)
       dp = mass(p)*poro(p)*gravity_drag*kinv(p)
+      if (momentum) mv(1:nd) = mass(p)*v(:, p)
 #include "dpmpm_stencil_do_3d.inc"
+      if (momentum) then
+        node_f(1, i, j, k) = node_f(1, i, j, k) + nn*mass(p)
+        node_f(2:1 + nd, i, j, k) = node_f(2:1 + nd, i, j, k) + nn*mv(1:nd)
+      end if
       drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
       if (vols) fvol(1, i, j, k) = fvol(1, i, j, k) + nn*vol(p)
       if (.not. point_forces) cycle
@@ -394,6 +418,10 @@ contains
     real(wp), contiguous, intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, nm
+    if (nw(3) == 1) then
+      call solid_porosity_p2g_2d(nw, n, i0, sw, mass, poro, kinv, lo, sporo)
+      return
+    end if
     do p = 1, n
       if (.not. poro(p) > 0.0_wp) cycle
 #include "dpmpm_stencil_do_3d.inc"
@@ -420,6 +448,10 @@ contains
     real(wp) :: nn
     hi = huge(1)
     hi(1:nd) = ncells(1:nd)
+    if (nd == 2) then
+      call reaches_thin_node_2d(nw, n, i0, sw, lo, f, hi, vmin, flag)
+      return
+    end if
     do p = 1, n
       flag(p) = .false.
 #include "dpmpm_stencil_do_3d.inc"
@@ -478,26 +510,31 @@ contains
     end do
   end subroutine p2g_2d
 
-  subroutine g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient)
+  subroutine g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient, gf, gv, gather)
     integer, intent(in) :: nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
     integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), gf(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: flip, dt
-    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
-    logical, intent(in) :: gradient
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :), gv(:, :)
+    logical, intent(in) :: gradient, gather
     integer :: p, a, b, i, j, k
-    real(wp) :: nn, g1, g2, wb, gb, v1, v2, dv1, dv2, vn1, vn2, l11, l21, l12, l22
+    real(wp) :: nn, g1, g2, wb, gb, v1, v2, dv1, dv2, vn1, vn2, l11, l21, l12, l22, c1, c2
     do p = 1, n
       dv1 = 0.0_wp; dv2 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp
       l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
+      c1 = 0.0_wp; c2 = 0.0_wp
 #include "dpmpm_stencil_do_2d_grad.inc"
       g1 = sdw(a, 1, p)*wb
       g2 = sw(a, 1, p)*gb
       v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
       vn1 = vn1 + nn*v1; vn2 = vn2 + nn*v2
       dv1 = dv1 + nn*(v1 - nvel(1, i, j, k)); dv2 = dv2 + nn*(v2 - nvel(2, i, j, k))
+      if (gather) then
+        c1 = c1 + nn*gf(1, i, j, k)
+        c2 = c2 + nn*gf(2, i, j, k)
+      end if
       if (.not. gradient) cycle
       l11 = l11 + v1*g1; l21 = l21 + v2*g1
       l12 = l12 + v1*g2; l22 = l22 + v2*g2
@@ -506,6 +543,9 @@ contains
       v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
       x(1, p) = x(1, p) + dt*vn1
       x(2, p) = x(2, p) + dt*vn2
+      if (gather) then
+        gv(1, p) = c1; gv(2, p) = c2
+      end if
       if (.not. gradient) cycle
       vgrad(:, p) = 0.0_wp
       vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
@@ -513,23 +553,24 @@ contains
   end subroutine g2p_2d
 
   ! The three-dimensional form of g2p: the same sums, component by component.
-  subroutine g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient)
+  subroutine g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient, gf, gv, gather)
     integer, intent(in) :: nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
     integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), gf(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: flip, dt
-    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
-    logical, intent(in) :: gradient
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :), gv(:, :)
+    logical, intent(in) :: gradient, gather
     integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, g(3), u1, u2, u3, dv1, dv2, dv3, vn1, vn2, vn3
+    real(wp) :: nn, g(3), u1, u2, u3, dv1, dv2, dv3, vn1, vn2, vn3, gs(3)
     real(wp) :: l11, l21, l31, l12, l22, l32, l13, l23, l33
     do p = 1, n
       dv1 = 0.0_wp; dv2 = 0.0_wp; dv3 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp; vn3 = 0.0_wp
       l11 = 0.0_wp; l21 = 0.0_wp; l31 = 0.0_wp
       l12 = 0.0_wp; l22 = 0.0_wp; l32 = 0.0_wp
       l13 = 0.0_wp; l23 = 0.0_wp; l33 = 0.0_wp
+      gs = 0.0_wp
 #include "dpmpm_stencil_do_3d.inc"
 #include "dpmpm_stencil_grad_3d.inc"
       u1 = nvel(4, i, j, k); u2 = nvel(5, i, j, k); u3 = nvel(6, i, j, k)
@@ -537,6 +578,7 @@ contains
       dv1 = dv1 + nn*(u1 - nvel(1, i, j, k))
       dv2 = dv2 + nn*(u2 - nvel(2, i, j, k))
       dv3 = dv3 + nn*(u3 - nvel(3, i, j, k))
+      if (gather) gs = gs + nn*gf(1:3, i, j, k)
       if (.not. gradient) cycle
       l11 = l11 + u1*g(1); l21 = l21 + u2*g(1); l31 = l31 + u3*g(1)
       l12 = l12 + u1*g(2); l22 = l22 + u2*g(2); l32 = l32 + u3*g(2)
@@ -548,6 +590,7 @@ contains
       x(1, p) = x(1, p) + dt*vn1
       x(2, p) = x(2, p) + dt*vn2
       x(3, p) = x(3, p) + dt*vn3
+      if (gather) gv(1:3, p) = gs
       if (.not. gradient) cycle
       vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(3, p) = l31
       vgrad(4, p) = l12; vgrad(5, p) = l22; vgrad(6, p) = l32
@@ -607,23 +650,17 @@ contains
     end do
   end subroutine point_gradients_2d
 
-  subroutine momentum_project_p2g_2d(nw, n, i0, sw, mass, v, lo, f, node, proj)
+  subroutine momentum_project_p2g_2d(nw, n, i0, sw, mass, v, lo, fp, node, proj)
     integer, intent(in) :: nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :), fp(:, :)
     integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):), proj(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, i, j, k
     real(wp) :: nn, nm, wb, v1, v2, c1, c2
     do p = 1, n
       v1 = v(1, p); v2 = v(2, p)
-      c1 = 0.0_wp; c2 = 0.0_wp
-#include "dpmpm_stencil_do_2d.inc"
-      c1 = c1 + nn*f(1, i, j, k)
-      c2 = c2 + nn*f(2, i, j, k)
-#include "dpmpm_stencil_end_2d.inc"
-      c1 = mass(p)*c1; c2 = mass(p)*c2
+      c1 = mass(p)*fp(1, p); c2 = mass(p)*fp(2, p)
 #include "dpmpm_stencil_do_2d.inc"
       nm = nn*mass(p)
       node(2, i, j, k) = node(2, i, j, k) + nm*v1
@@ -673,19 +710,19 @@ contains
     end do
   end subroutine interp_two_values_2d
 
-  subroutine fluid_p2g_2d(nw, n, i0, sw, sdw, mass, vol, poro, pres, kinv, point_forces, lo, &
+  subroutine fluid_p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
                           node_s, node_f, drag, fvol)
     integer, intent(in) :: nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    real(wp), contiguous, intent(in) :: mass(:), vol(:), poro(:), pres(:), kinv(:)
-    logical, intent(in) :: point_forces
+    real(wp), contiguous, intent(in) :: mass(:), v(:, :), vol(:), poro(:), pres(:), kinv(:)
+    logical, intent(in) :: momentum, point_forces
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout), optional :: fvol(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb, gb, g1, g2, pv, dp, pf, ps
+    real(wp) :: nn, wb, gb, g1, g2, pv, dp, pf, ps, mp, mv1, mv2
     logical :: vols
     vols = present(fvol)
     do p = 1, n
@@ -694,7 +731,14 @@ contains
       pf = pv*poro(p)
       ps = pv*(1.0_wp - poro(p))
       dp = mass(p)*poro(p)*gravity_drag*kinv(p)
+      mp = mass(p)
+      mv1 = mp*v(1, p); mv2 = mp*v(2, p)
 #include "dpmpm_stencil_do_2d_grad.inc"
+      if (momentum) then
+        node_f(1, i, j, k) = node_f(1, i, j, k) + nn*mp
+        node_f(2, i, j, k) = node_f(2, i, j, k) + nn*mv1
+        node_f(3, i, j, k) = node_f(3, i, j, k) + nn*mv2
+      end if
       drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
       if (vols) fvol(1, i, j, k) = fvol(1, i, j, k) + nn*vol(p)
       if (.not. point_forces) cycle
@@ -707,5 +751,46 @@ contains
 #include "dpmpm_stencil_end_2d.inc"
     end do
   end subroutine fluid_p2g_2d
+
+  subroutine solid_porosity_p2g_2d(nw, n, i0, sw, mass, poro, kinv, lo, sporo)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), poro(:), kinv(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, nm, wb, mp, mn, mk
+    do p = 1, n
+      if (.not. poro(p) > 0.0_wp) cycle
+      mp = mass(p); mn = poro(p); mk = kinv(p)
+#include "dpmpm_stencil_do_2d.inc"
+      nm = nn*mp
+      sporo(1, i, j, k) = sporo(1, i, j, k) + nm*mn
+      sporo(2, i, j, k) = sporo(2, i, j, k) + nm
+      sporo(3, i, j, k) = sporo(3, i, j, k) + nm*mk
+#include "dpmpm_stencil_end_2d.inc"
+    end do
+  end subroutine solid_porosity_p2g_2d
+
+  subroutine reaches_thin_node_2d(nw, n, i0, sw, lo, f, hi, vmin, flag)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    integer, intent(in) :: hi(3)
+    real(wp), intent(in) :: vmin
+    logical, intent(out) :: flag(:)
+    integer :: p, a, b, i, j, k
+    real(wp) :: nn, wb
+    do p = 1, n
+      flag(p) = .false.
+#include "dpmpm_stencil_do_2d.inc"
+      if (nn > 0.0_wp .and. f(1, i, j, k) < vmin) then
+        if (i > 0 .and. i < hi(1) .and. j > 0 .and. j < hi(2)) flag(p) = .true.
+      end if
+#include "dpmpm_stencil_end_2d.inc"
+    end do
+  end subroutine reaches_thin_node_2d
 
 end module dpmpm_transfer

@@ -195,19 +195,27 @@ while True:
     expect(not left, f"{name}: no temporary file left ({left})")
 
 
+def damage_and_continue(name, damage):
+    """A run of 60 steps to its end; damage(h5py file) on its output, then the run
+    continued from its last checkpoint. The exit codes of both runs, the continued run's
+    log and the output's path."""
+    nml = work / scene(name)
+    nml.write_text(nml.read_text().replace(f"max_steps = {MAX_STEPS}", "max_steps = 60"))
+    rc0, _ = run([nml.name])
+    path = work / "out" / f"{name}.h5"
+    with h5py.File(path, "r+") as f:
+        damage(f)
+    rc, log = run(["--restart", nml.name])
+    print("\n".join(line for line in log.splitlines() if "damaged" in line))
+    return rc0, rc, log, path
+
+
 # A damaged file, made on purpose: frame 10 of a finished run is unlinked (as a kill can
-# leave a frame unreadable), then the run is continued from its last checkpoint (step 50).
+# leave a frame unreadable), then the run is continued from its last checkpoint.
 # The file is rebuilt from what can be read: the damaged one kept aside, the lost frame
 # named, every other frame equal to the reference's at the same step.
-nml = work / scene("dmg")
-nml.write_text(nml.read_text().replace(f"max_steps = {MAX_STEPS}", "max_steps = 60"))
-rc, log = run(["dmg.nml"])
-expect(rc == 0, "the run to be damaged ends with exit code 0")
-dmg = work / "out" / "dmg.h5"
-with h5py.File(dmg, "r+") as f:
-    del f["frames/000010"]
-rc, log = run(["--restart", "dmg.nml"])
-print("\n".join(line for line in log.splitlines() if "damaged" in line))
+rc0, rc, log, dmg = damage_and_continue("dmg", lambda f: f.__delitem__("frames/000010"))
+expect(rc0 == 0, "the run to be damaged ends with exit code 0")
 expect(rc == 0, "damaged file: the continued run ends with exit code 0")
 expect("1 frames could not be read and are lost" in log and
        (work / "out" / "dmg.damaged.h5").exists(),
@@ -220,20 +228,18 @@ expect(sorted(got) == [k for k in sorted(want) if k != 10 and k <= 60],
 same = all(np.array_equal(got[k][d], want[k][d]) for k in got for d in got[k] if k in want)
 expect(same, "damaged file: every kept frame equal to the reference's to the last bit")
 
+
 # A damaged frame index, made on purpose: the index of /frames of a finished run lists
 # frame 10 a second time under the name 000099 (as a kill once left a file whose index
 # listed two frames twice while every frame still opened by its name). The continued run
 # must find the index damaged and rebuild the file: no frame lost, every frame equal to the
 # reference's, nothing more in /frames.
-nml = work / scene("stray")
-nml.write_text(nml.read_text().replace(f"max_steps = {MAX_STEPS}", "max_steps = 60"))
-rc, log = run(["stray.nml"])
-expect(rc == 0, "the run whose index is to be damaged ends with exit code 0")
-stray = work / "out" / "stray.h5"
-with h5py.File(stray, "r+") as f:
+def link_twice(f):
     f["frames/000099"] = f["frames/000010"]
-rc, log = run(["--restart", "stray.nml"])
-print("\n".join(line for line in log.splitlines() if "damaged" in line))
+
+
+rc0, rc, log, stray = damage_and_continue("stray", link_twice)
+expect(rc0 == 0, "the run whose index is to be damaged ends with exit code 0")
 expect(rc == 0 and "damaged" in log and "lost" not in log,
        "damaged index: the continued run ends with exit code 0 and rebuilds the file, no frame lost")
 rc, out = check_output(stray)

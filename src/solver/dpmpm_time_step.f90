@@ -69,13 +69,26 @@ contains
     integer, intent(in) :: is
     real(wp), intent(inout) :: rate
     integer, parameter :: chunk = 256
-    real(wp) :: c(chunk), rho, nf
+    real(wp) :: c(chunk), rho, nf, cf(size(self%mats))
     integer :: p0, m, k, p
+    if (is == 2) then
+      do k = 1, size(self%mats)
+        ! (materials of no fluid point may have no fluid bulk modulus)
+        cf(k) = 0.0_wp
+        if (self%mats(k)%density > 0.0_wp .and. self%mats(k)%bulk_fluid >= 0.0_wp) &
+          cf(k) = sqrt(self%mats(k)%bulk_fluid/self%mats(k)%density)
+      end do
+    end if
     associate (ps => self%phase(is)%pts)
       do p0 = 1, ps%n, chunk
         m = min(chunk, ps%n - p0 + 1)
         if (is == 1) then
-          call wave_speeds(self%mats, m, ps%mat(p0:p0 + m - 1), ps%mass(p0:p0 + m - 1), ps%vol(p0:p0 + m - 1), c)
+          ! (the porous points of two-phase scenes take the undrained speed below instead)
+          if (.not. self%two_phase) then
+            call wave_speeds(self%mats, m, ps%mat(p0:p0 + m - 1), ps%mass(p0:p0 + m - 1), ps%vol(p0:p0 + m - 1), c)
+          else if (.not. all(ps%porosity(p0:p0 + m - 1) > 0.0_wp)) then
+            call wave_speeds(self%mats, m, ps%mat(p0:p0 + m - 1), ps%mass(p0:p0 + m - 1), ps%vol(p0:p0 + m - 1), c)
+          end if
           if (self%two_phase) then
             do k = 1, m
               p = p0 + k - 1
@@ -87,10 +100,9 @@ contains
             end do
           end if
         else
+          ! the fluid's wave speed is its material's (one per material, as signal_speed has it)
           do k = 1, m
-            associate (mat => self%mats(ps%mat(p0 + k - 1)))
-              c(k) = sqrt(mat%bulk_fluid/mat%density)
-            end associate
+            c(k) = cf(ps%mat(p0 + k - 1))
           end do
         end if
         do k = 1, m

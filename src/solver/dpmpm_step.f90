@@ -295,8 +295,7 @@ contains
     ! Where the implicit drag locks the phases, the MUSL remap carries the locked velocity
     ! to the points of each set and back (musl_remap); g2p gathers it at the points, from
     ! the exterior nodes as each phase's walls mirror them.
-    locked = coupled .and. self%cfg%scheme == 'musl' .and. self%cfg%remap_drag .and. &
-             self%cfg%drag == 'implicit'
+    locked = remap_locks(self)
     if (locked) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
@@ -659,13 +658,20 @@ contains
     if (tr%pts%has_pressure .and. .not. allocated(tr%vgrad2)) allocate (tr%vgrad2(9, cap))
     if (self%plan%gauss .and. .not. allocated(tr%xold)) &
       allocate (tr%xold(self%nd, cap), tr%volold(cap), tr%vt(cap))
-    if (self%nph == 2 .and. self%cfg%scheme == 'musl' .and. self%cfg%remap_drag .and. &
-        self%cfg%drag == 'implicit' .and. .not. allocated(tr%lockp)) allocate (tr%lockp(self%nd, cap))
+    if (remap_locks(self) .and. .not. allocated(tr%lockp)) allocate (tr%lockp(self%nd, cap))
     if (allocated(tr%bacc)) then
       if (size(tr%bacc, 2) < n) deallocate (tr%bacc)
     end if
     if (self%cfg%benchmark == 'mms' .and. .not. allocated(tr%bacc)) allocate (tr%bacc(self%nd, cap))
   end subroutine compute_stencils
+
+  !> Two phases with the MUSL remap and implicit drag: the remap carries the velocity the
+  !> drag locks both phases to through each point set (g2p gathers it, musl_remap).
+  logical function remap_locks(self)
+    class(state_t), intent(in) :: self
+    remap_locks = self%nph == 2 .and. self%cfg%scheme == 'musl' .and. self%cfg%remap_drag .and. &
+                  self%cfg%drag == 'implicit'
+  end function remap_locks
 
   !> Points that crossed a fixed or roller face (walls are impenetrable) are put
   !> back just inside it and counted; wide kernels interpolate a small normal

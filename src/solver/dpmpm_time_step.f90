@@ -71,6 +71,7 @@ contains
     integer, parameter :: chunk = 256
     real(wp) :: c(chunk), rho, nf, cf(size(self%mats))
     integer :: p0, m, k, p
+    logical :: drained
     if (is == 2) then
       do k = 1, size(self%mats)
         ! (materials of no fluid point may have no fluid bulk modulus)
@@ -84,11 +85,10 @@ contains
         m = min(chunk, ps%n - p0 + 1)
         if (is == 1) then
           ! (the porous points of two-phase scenes take the undrained speed below instead)
-          if (.not. self%two_phase) then
+          drained = .not. self%two_phase
+          if (.not. drained) drained = .not. all(ps%porosity(p0:p0 + m - 1) > 0.0_wp)
+          if (drained) &
             call wave_speeds(self%mats, m, ps%mat(p0:p0 + m - 1), ps%mass(p0:p0 + m - 1), ps%vol(p0:p0 + m - 1), c)
-          else if (.not. all(ps%porosity(p0:p0 + m - 1) > 0.0_wp)) then
-            call wave_speeds(self%mats, m, ps%mat(p0:p0 + m - 1), ps%mass(p0:p0 + m - 1), ps%vol(p0:p0 + m - 1), c)
-          end if
           if (self%two_phase) then
             do k = 1, m
               p = p0 + k - 1

@@ -9,13 +9,14 @@
 !> forces and drag) equal the general form with a third axis of one node; the
 !> one-pass projection of a nodal field through a point set (in momentum_project_p2g)
 !> equals its interpolation to the points followed by the momentum map, and the
-!> fused passes equal the kernels they join.
+!> fused passes equal the kernels they join; the 3D forms of p2g and g2p (compiled per
+!> stencil width) equal sums over the nodes written out from the tensor-product weights.
 program test_transfer
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: kernel_width, kernel_names, ngrid_kernels, max_stencil
-  use dpmpm_stencil, only: psi_stencil
+  use dpmpm_stencil, only: psi_stencil, tensor_weights, stencil_offsets
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, fluid_p2g, point_gradients, &
                             momentum_project_p2g, interp_two_values
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests
@@ -35,6 +36,7 @@ program test_transfer
   call test_two_d_forms_match_general_form()
   call test_projection_is_interpolation_then_momentum_map()
   call test_fused_passes_match_separate_kernels()
+  call test_three_d_forms_match_direct_sums()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -574,5 +576,85 @@ contains
       end do
     end do
   end subroutine check_gradient
+
+  !> In 3D, p2g (mass, momentum, body force and the internal force of a full stress) and
+  !> g2p (FLIP blend, position, velocity gradient) against the same sums written out node
+  !> by node from tensor_weights, for each stencil width: p2g and g2p run the forms of
+  !> fixed width (dpmpm_transfer_w2/3/4), the reference none of the transfer kernels.
+  subroutine test_three_d_forms_match_direct_sums()
+    integer, parameter :: nd = 3
+    real(wp), parameter :: tol_rel = 1.0e-13_wp, flip = 0.7_wp, dt = 1.0e-3_wp
+    integer :: kernel, p, lo(3), nw(3), i0(3, npt), m, nq, c, i, j, k
+    integer, allocatable :: off(:, :)
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
+    real(wp) :: v(3, npt), bacc(3, npt), stress(6, npt), s(3, 3), w(64), dw(3, 64)
+    real(wp) :: v1(3, npt), x1(3, npt), vgrad(9, npt), vn(3), dv(3), lg(3, 3)
+    real(wp), allocatable :: node(:, :, :, :), ref(:, :, :, :), nvel(:, :, :, :)
+    character(len=32) :: tag
+    call begin_test('three_d_forms_match_direct_sums')
+    do kernel = 1, ngrid_kernels
+      tag = trim(kernel_names(kernel))//' 3D'
+      call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+      call stencil_offsets(nw, nq, off)
+      do p = 1, npt
+        mass(p) = 1.0_wp + 0.1_wp*real(mod(p, 7), wp)
+        vol(p) = 0.01_wp + 1.0e-4_wp*real(mod(p, 5), wp)
+        v(:, p) = [0.3_wp, -1.2_wp, 0.7_wp] + 0.05_wp*real(p, wp)
+        bacc(:, p) = [1.5_wp, -9.8_wp, 0.4_wp] - 0.02_wp*real(p, wp)
+        stress(:, p) = [-3.0_wp, -5.0_wp, -4.0_wp, 0.7_wp, -0.3_wp, 1.1_wp]*(1.0_wp + 0.03_wp*real(p, wp))
+      end do
+      call make_nodes(nd, 1 + 2*nd, lo, node)
+      call make_nodes(nd, 1 + 2*nd, lo, ref)
+      call p2g(nd, nw, npt, i0, sw, sdw, mass, v, vol, stress, .true., lo, node, bacc)
+      do p = 1, npt
+        call tensor_weights(nw, sw(:, :, p), sdw(:, :, p), w(1:nq), dw(:, 1:nq))
+        s = reshape([stress(1, p), stress(6, p), stress(5, p), stress(6, p), stress(2, p), stress(4, p), &
+                     stress(5, p), stress(4, p), stress(3, p)], [3, 3])
+        do m = 1, nq
+          i = i0(1, p) + off(1, m); j = i0(2, p) + off(2, m); k = i0(3, p) + off(3, m)
+          ref(1, i, j, k) = ref(1, i, j, k) + w(m)*mass(p)
+          ref(2:4, i, j, k) = ref(2:4, i, j, k) + w(m)*mass(p)*v(:, p)
+          ref(5:7, i, j, k) = ref(5:7, i, j, k) + w(m)*mass(p)*bacc(:, p) - vol(p)*matmul(s, dw(:, m))
+        end do
+      end do
+      do c = 1, 7
+        call check_close(maxval(abs(node(c, :, :, :) - ref(c, :, :, :)))/maxval(abs(ref(c, :, :, :))), 0.0_wp, &
+                         0.0_wp, tol_rel, trim(tag)//' p2g slot (relative)')
+      end do
+      ! g2p: old and new nodal velocities of no particular form.
+      call make_nodes(nd, 2*nd, lo, nvel)
+      do k = lbound(nvel, 4), ubound(nvel, 4)
+        do j = lbound(nvel, 3), ubound(nvel, 3)
+          do i = lbound(nvel, 2), ubound(nvel, 2)
+            do c = 1, 2*nd
+              nvel(c, i, j, k) = sin(0.7_wp*real(i, wp) + 1.3_wp*real(j, wp) - 0.4_wp*real(k, wp) + real(c, wp))
+            end do
+          end do
+        end do
+      end do
+      v1 = v
+      x1 = x
+      call g2p(nd, nw, npt, i0, sw, sdw, lo, nvel, flip, dt, v1, x1, vgrad)
+      do p = 1, npt
+        call tensor_weights(nw, sw(:, :, p), sdw(:, :, p), w(1:nq), dw(:, 1:nq))
+        vn = 0.0_wp; dv = 0.0_wp; lg = 0.0_wp
+        do m = 1, nq
+          i = i0(1, p) + off(1, m); j = i0(2, p) + off(2, m); k = i0(3, p) + off(3, m)
+          vn = vn + w(m)*nvel(4:6, i, j, k)
+          dv = dv + w(m)*(nvel(4:6, i, j, k) - nvel(1:3, i, j, k))
+          do c = 1, 3
+            lg(:, c) = lg(:, c) + nvel(4:6, i, j, k)*dw(c, m)
+          end do
+        end do
+        do c = 1, 3
+          call check_close(v1(c, p), flip*(v(c, p) + dv(c)) + (1.0_wp - flip)*vn(c), 1.0e-13_wp, 1.0e-13_wp, &
+                           trim(tag)//' g2p velocity')
+          call check_close(x1(c, p), x(c, p) + dt*vn(c), 1.0e-14_wp, 1.0e-14_wp, trim(tag)//' g2p position')
+        end do
+        call check_close(maxval(abs(vgrad(:, p) - reshape(lg, [9]))), 0.0_wp, 0.0_wp, 1.0e-12_wp, &
+                         trim(tag)//' g2p velocity gradient')
+      end do
+    end do
+  end subroutine test_three_d_forms_match_direct_sums
 
 end program test_transfer

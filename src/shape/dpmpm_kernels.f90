@@ -160,9 +160,11 @@ contains
   end subroutine psi_stencil
 
   !> psi_stencil of the first n points at positions x (nd, n) on the grid with the given
-  !> origin and cell size h (y = (x - origin) / h per axis): first nodes i0(:, p),
-  !> weights sw(:, :, p) and derivatives sdw(:, :, p). In the module of kernel_eval_1d
-  !> so that the kernel is evaluated inline, once per point and axis.
+  !> origin and cell size h (y = (x - origin) / h per axis): first nodes i0(1:nd, p),
+  !> weights sw(:, 1:nd, p) and derivatives sdw(:, 1:nd, p), rows of the kernel's width
+  !> (2, 3 or 4 values; size(sw, 1) may be larger); the axes beyond nd are left as they
+  !> are (stencil_t sets them once). In the module of kernel_eval_1d so that the kernel
+  !> is evaluated inline, once per point and axis.
   pure subroutine psi_stencils(nd, kernel, n, x, origin, h, i0, sw, sdw)
     integer, intent(in) :: nd, kernel, n
     real(wp), intent(in) :: x(:, :), origin(3), h(3)
@@ -173,23 +175,22 @@ contains
     do p = 1, n
       do d = 1, nd
         s = (x(d, p) - origin(d))/h(d)
-        ! (w and dw are local: stored once each, as whole rows)
+        ! (w and dw are local; each branch stores rows of a fixed length, which the
+        ! compiler writes in place, where a row of run-time length is a library call)
         select case (kernel)
         case (kernel_linear)
           call linear_1d(s, i0(d, p), w, dw)
+          sw(1:2, d, p) = w(1:2)
+          sdw(1:2, d, p) = dw(1:2)/h(d)
         case (kernel_quadratic)
           call quadratic_1d(s, i0(d, p), w, dw)
+          sw(1:3, d, p) = w(1:3)
+          sdw(1:3, d, p) = dw(1:3)/h(d)
         case default
           call cubic_1d(s, i0(d, p), w, dw)
+          sw(1:4, d, p) = w(1:4)
+          sdw(1:4, d, p) = dw(1:4)/h(d)
         end select
-        sw(:, d, p) = w
-        sdw(:, d, p) = dw/h(d)
-      end do
-      do d = nd + 1, 3
-        i0(d, p) = 0
-        sw(:, d, p) = 0.0_wp
-        sw(1, d, p) = 1.0_wp
-        sdw(:, d, p) = 0.0_wp
       end do
     end do
   end subroutine psi_stencils

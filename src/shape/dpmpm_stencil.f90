@@ -15,8 +15,10 @@ module dpmpm_stencil
     integer :: kernel = 0                   !< grid kernel id
     integer :: nw(3) = 1                    !< nodes per axis
     integer, allocatable :: i0(:, :)        !< (3, cap) first node of a point's stencil
-    real(wp), allocatable :: sw(:, :, :)    !< (max_stencil, 3, cap) weights per axis
-    real(wp), allocatable :: sdw(:, :, :)   !< (max_stencil, 3, cap) derivatives per axis (per metre)
+    !> (nw, 3, cap) weights per axis, one row of nw = kernel_width values per axis (the
+    !> axes beyond nd hold one node of weight 1 and derivative 0, set at allocation)
+    real(wp), allocatable :: sw(:, :, :)
+    real(wp), allocatable :: sdw(:, :, :)   !< (nw, 3, cap) derivatives per axis (per metre)
   contains
     procedure :: init => stencil_init
     procedure :: build => stencil_build
@@ -34,7 +36,7 @@ contains
     self%kernel = kernel
     self%nw = 1
     self%nw(1:nd) = kernel_width(kernel)
-    allocate (self%i0(3, 0), self%sw(max_stencil, 3, 0), self%sdw(max_stencil, 3, 0))
+    allocate (self%i0(3, 0), self%sw(self%nw(1), 3, 0), self%sdw(self%nw(1), 3, 0))
   end subroutine stencil_init
 
   !> Stencils of the first n points at positions x (nd, n) on the grid with the
@@ -45,7 +47,12 @@ contains
     real(wp), intent(in) :: x(:, :), origin(3), h(3)
     if (size(self%i0, 2) < n) then
       deallocate (self%i0, self%sw, self%sdw)
-      allocate (self%i0(3, cap), self%sw(max_stencil, 3, cap), self%sdw(max_stencil, 3, cap))
+      allocate (self%i0(3, cap), self%sw(self%nw(1), 3, cap), self%sdw(self%nw(1), 3, cap))
+      ! The axes beyond nd, once: one node (the first) of weight 1 and derivative 0.
+      self%i0(self%nd + 1:3, :) = 0
+      self%sw(:, self%nd + 1:3, :) = 0.0_wp
+      self%sw(1, self%nd + 1:3, :) = 1.0_wp
+      self%sdw(:, self%nd + 1:3, :) = 0.0_wp
     end if
     call psi_stencils(self%nd, self%kernel, n, x, origin, h, self%i0, self%sw, self%sdw)
   end subroutine stencil_build

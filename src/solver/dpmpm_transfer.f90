@@ -10,6 +10,24 @@ module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: voigt_to_tensor
   use dpmpm_drag, only: gravity_drag
+  use dpmpm_transfer_w2, only: p2g_2d_w2 => p2g_2d, p2g_3d_w2 => p2g_3d, g2p_2d_w2 => g2p_2d, &
+    g2p_3d_w2 => g2p_3d, point_gradient_2d_w2 => point_gradient_2d, &
+    point_gradients_2d_w2 => point_gradients_2d, momentum_project_p2g_2d_w2 => momentum_project_p2g_2d, &
+    momentum_p2g_2d_w2 => momentum_p2g_2d, interp_two_values_2d_w2 => interp_two_values_2d, &
+    fluid_p2g_2d_w2 => fluid_p2g_2d, solid_porosity_p2g_2d_w2 => solid_porosity_p2g_2d, &
+    reaches_thin_node_2d_w2 => reaches_thin_node_2d
+  use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, g2p_2d_w3 => g2p_2d, &
+    g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
+    point_gradients_2d_w3 => point_gradients_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
+    momentum_p2g_2d_w3 => momentum_p2g_2d, interp_two_values_2d_w3 => interp_two_values_2d, &
+    fluid_p2g_2d_w3 => fluid_p2g_2d, solid_porosity_p2g_2d_w3 => solid_porosity_p2g_2d, &
+    reaches_thin_node_2d_w3 => reaches_thin_node_2d
+  use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, g2p_2d_w4 => g2p_2d, &
+    g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
+    point_gradients_2d_w4 => point_gradients_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
+    momentum_p2g_2d_w4 => momentum_p2g_2d, interp_two_values_2d_w4 => interp_two_values_2d, &
+    fluid_p2g_2d_w4 => fluid_p2g_2d, solid_porosity_p2g_2d_w4 => solid_porosity_p2g_2d, &
+    reaches_thin_node_2d_w4 => reaches_thin_node_2d
   implicit none
   private
   public :: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g
@@ -36,9 +54,44 @@ contains
     if (nd == 2) then
       ! (An absent optional array cannot be passed on to a contiguous dummy.)
       if (present(bacc)) then
-        call p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        select case (nw(1))
+        case (2)
+          call p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        case (3)
+          call p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        case default
+          call p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        end select
       else
-        call p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        select case (nw(1))
+        case (2)
+          call p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        case (3)
+          call p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        case default
+          call p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        end select
+      end if
+      return
+    else if (nd == 3 .and. all(nw == nw(1))) then
+      if (present(bacc)) then
+        select case (nw(1))
+        case (2)
+          call p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        case (3)
+          call p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        case default
+          call p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        end select
+      else
+        select case (nw(1))
+        case (2)
+          call p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        case (3)
+          call p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        case default
+          call p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        end select
       end if
       return
     end if
@@ -87,16 +140,44 @@ contains
     ! kernels get nvel and a dummy they do not touch.)
     if (nd == 2) then
       if (gather) then
-        call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+        select case (nw(1))
+        case (2)
+          call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+        case (3)
+          call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+        case default
+          call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+        end select
       else
-        call g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+        select case (nw(1))
+        case (2)
+          call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+        case (3)
+          call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+        case default
+          call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+        end select
       end if
       return
-    else if (nd == 3) then
+    else if (nd == 3 .and. all(nw == nw(1))) then
       if (gather) then
-        call g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+        select case (nw(1))
+        case (2)
+          call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+        case (3)
+          call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+        case default
+          call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
+        end select
       else
-        call g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+        select case (nw(1))
+        case (2)
+          call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+        case (3)
+          call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+        case default
+          call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
+        end select
       end if
       return
     end if
@@ -157,7 +238,14 @@ contains
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), lg(3, 3)
     if (nd == 2) then
-      call point_gradient_2d(nw, n, i0, sw, sdw, lo, nvel, vgrad)
+      select case (nw(1))
+      case (2)
+        call point_gradient_2d_w2(n, i0, sw, sdw, lo, nvel, vgrad)
+      case (3)
+        call point_gradient_2d_w3(n, i0, sw, sdw, lo, nvel, vgrad)
+      case default
+        call point_gradient_2d_w4(n, i0, sw, sdw, lo, nvel, vgrad)
+      end select
       return
     end if
     do p = 1, n
@@ -187,7 +275,14 @@ contains
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), lg(3, 3), lg2(3, 3)
     if (nd == 2) then
-      call point_gradients_2d(nw, n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+      select case (nw(1))
+      case (2)
+        call point_gradients_2d_w2(n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+      case (3)
+        call point_gradients_2d_w3(n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+      case default
+        call point_gradients_2d_w4(n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+      end select
       return
     end if
     do p = 1, n
@@ -225,7 +320,14 @@ contains
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, vc(3)
     if (nd == 2) then
-      call momentum_project_p2g_2d(nw, n, i0, sw, mass, v, lo, fp, node, proj)
+      select case (nw(1))
+      case (2)
+        call momentum_project_p2g_2d_w2(n, i0, sw, mass, v, lo, fp, node, proj)
+      case (3)
+        call momentum_project_p2g_2d_w3(n, i0, sw, mass, v, lo, fp, node, proj)
+      case default
+        call momentum_project_p2g_2d_w4(n, i0, sw, mass, v, lo, fp, node, proj)
+      end select
       return
     end if
     do p = 1, n
@@ -248,7 +350,14 @@ contains
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn
     if (nd == 2) then
-      call momentum_p2g_2d(nw, n, i0, sw, mass, v, lo, node)
+      select case (nw(1))
+      case (2)
+        call momentum_p2g_2d_w2(n, i0, sw, mass, v, lo, node)
+      case (3)
+        call momentum_p2g_2d_w3(n, i0, sw, mass, v, lo, node)
+      case default
+        call momentum_p2g_2d_w4(n, i0, sw, mass, v, lo, node)
+      end select
       return
     end if
     do p = 1, n
@@ -317,7 +426,14 @@ contains
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn
     if (nd == 2) then
-      call interp_two_values_2d(nw, n, i0, sw, lo, f, comp, val, val2)
+      select case (nw(1))
+      case (2)
+        call interp_two_values_2d_w2(n, i0, sw, lo, f, comp, val, val2)
+      case (3)
+        call interp_two_values_2d_w3(n, i0, sw, lo, f, comp, val, val2)
+      case default
+        call interp_two_values_2d_w4(n, i0, sw, lo, f, comp, val, val2)
+      end select
       return
     end if
     do p = 1, n
@@ -352,8 +468,17 @@ contains
     real(wp) :: nn, g(3), pv, dp, mv(3)
     logical :: vols
     if (nd == 2) then
-      call fluid_p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, node_s, &
-                        node_f, drag, fvol)
+      select case (nw(1))
+      case (2)
+        call fluid_p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
+                                node_s, node_f, drag, fvol)
+      case (3)
+        call fluid_p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
+                                node_s, node_f, drag, fvol)
+      case default
+        call fluid_p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
+                                node_s, node_f, drag, fvol)
+      end select
       return
     end if
     vols = present(fvol)
@@ -418,8 +543,15 @@ contains
     real(wp), contiguous, intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, nm
-    if (nw(3) == 1) then
-      call solid_porosity_p2g_2d(nw, n, i0, sw, mass, poro, kinv, lo, sporo)
+    if (nw(3) == 1 .and. nw(2) > 1) then
+      select case (nw(1))
+      case (2)
+        call solid_porosity_p2g_2d_w2(n, i0, sw, mass, poro, kinv, lo, sporo)
+      case (3)
+        call solid_porosity_p2g_2d_w3(n, i0, sw, mass, poro, kinv, lo, sporo)
+      case default
+        call solid_porosity_p2g_2d_w4(n, i0, sw, mass, poro, kinv, lo, sporo)
+      end select
       return
     end if
     do p = 1, n
@@ -449,7 +581,14 @@ contains
     hi = huge(1)
     hi(1:nd) = ncells(1:nd)
     if (nd == 2) then
-      call reaches_thin_node_2d(nw, n, i0, sw, lo, f, hi, vmin, flag)
+      select case (nw(1))
+      case (2)
+        call reaches_thin_node_2d_w2(n, i0, sw, lo, f, hi, vmin, flag)
+      case (3)
+        call reaches_thin_node_2d_w3(n, i0, sw, lo, f, hi, vmin, flag)
+      case default
+        call reaches_thin_node_2d_w4(n, i0, sw, lo, f, hi, vmin, flag)
+      end select
       return
     end if
     do p = 1, n
@@ -462,335 +601,5 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine reaches_thin_node
-
-  ! Two-dimensional forms of the kernels above (nd = 2: the third axis has one node
-  ! of weight 1 and derivative 0, so its factors and the third components drop out).
-
-  subroutine p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    real(wp), contiguous, intent(in) :: mass(:), v(:, :), vol(:), stress(:, :)
-    logical, intent(in) :: point_forces
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(in), optional :: bacc(:, :)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, g1, g2, wb, gb, mp, vp
-    ! A point adds nn c0 + g1 c1 + g2 c2 to the five slots (mass, momentum, force) of
-    ! each node of its stencil: c0 = (m, m v, m b), c1 = -V (0, 0, 0, s11, s12),
-    ! c2 = -V (0, 0, 0, s12, s22).
-    real(wp) :: c0(5), c1(5), c2(5)
-    logical :: body
-    body = present(bacc)
-    c0 = 0.0_wp; c1 = 0.0_wp; c2 = 0.0_wp
-    do p = 1, n
-      mp = mass(p)
-      c0(1) = mp
-      c0(2) = mp*v(1, p); c0(3) = mp*v(2, p)
-      if (body) then
-        c0(4) = mp*bacc(1, p); c0(5) = mp*bacc(2, p)
-      end if
-      if (point_forces) then
-        vp = vol(p)
-        c1(4) = -vp*stress(1, p); c1(5) = -vp*stress(6, p)
-        c2(4) = -vp*stress(6, p); c2(5) = -vp*stress(2, p)
-      end if
-#include "dpmpm_stencil_do_2d_grad.inc"
-      g1 = sdw(a, 1, p)*wb
-      g2 = sw(a, 1, p)*gb
-      ! (slot by slot: the same sums as node(1:5) + (nn c0 + g1 c1 + g2 c2), in fewer
-      ! instructions than the compiler's vector form of the five-element update)
-      node(1, i, j, k) = node(1, i, j, k) + (nn*c0(1) + g1*c1(1) + g2*c2(1))
-      node(2, i, j, k) = node(2, i, j, k) + (nn*c0(2) + g1*c1(2) + g2*c2(2))
-      node(3, i, j, k) = node(3, i, j, k) + (nn*c0(3) + g1*c1(3) + g2*c2(3))
-      node(4, i, j, k) = node(4, i, j, k) + (nn*c0(4) + g1*c1(4) + g2*c2(4))
-      node(5, i, j, k) = node(5, i, j, k) + (nn*c0(5) + g1*c1(5) + g2*c2(5))
-#include "dpmpm_stencil_end_2d.inc"
-    end do
-  end subroutine p2g_2d
-
-  subroutine g2p_2d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient, gf, gv, gather)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), gf(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(in) :: flip, dt
-    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :), gv(:, :)
-    logical, intent(in) :: gradient, gather
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, g1, g2, wb, gb, v1, v2, dv1, dv2, vn1, vn2, l11, l21, l12, l22, c1, c2
-    do p = 1, n
-      dv1 = 0.0_wp; dv2 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp
-      l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
-      c1 = 0.0_wp; c2 = 0.0_wp
-#include "dpmpm_stencil_do_2d_grad.inc"
-      g1 = sdw(a, 1, p)*wb
-      g2 = sw(a, 1, p)*gb
-      v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
-      vn1 = vn1 + nn*v1; vn2 = vn2 + nn*v2
-      dv1 = dv1 + nn*(v1 - nvel(1, i, j, k)); dv2 = dv2 + nn*(v2 - nvel(2, i, j, k))
-      if (gather) then
-        c1 = c1 + nn*gf(1, i, j, k)
-        c2 = c2 + nn*gf(2, i, j, k)
-      end if
-      if (.not. gradient) cycle
-      l11 = l11 + v1*g1; l21 = l21 + v2*g1
-      l12 = l12 + v1*g2; l22 = l22 + v2*g2
-#include "dpmpm_stencil_end_2d.inc"
-      v(1, p) = flip*(v(1, p) + dv1) + (1.0_wp - flip)*vn1
-      v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
-      x(1, p) = x(1, p) + dt*vn1
-      x(2, p) = x(2, p) + dt*vn2
-      if (gather) then
-        gv(1, p) = c1; gv(2, p) = c2
-      end if
-      if (.not. gradient) cycle
-      vgrad(:, p) = 0.0_wp
-      vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
-    end do
-  end subroutine g2p_2d
-
-  ! The three-dimensional form of g2p: the same sums, component by component.
-  subroutine g2p_3d(nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient, gf, gv, gather)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), gf(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(in) :: flip, dt
-    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :), gv(:, :)
-    logical, intent(in) :: gradient, gather
-    integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, g(3), u1, u2, u3, dv1, dv2, dv3, vn1, vn2, vn3, gs(3)
-    real(wp) :: l11, l21, l31, l12, l22, l32, l13, l23, l33
-    do p = 1, n
-      dv1 = 0.0_wp; dv2 = 0.0_wp; dv3 = 0.0_wp; vn1 = 0.0_wp; vn2 = 0.0_wp; vn3 = 0.0_wp
-      l11 = 0.0_wp; l21 = 0.0_wp; l31 = 0.0_wp
-      l12 = 0.0_wp; l22 = 0.0_wp; l32 = 0.0_wp
-      l13 = 0.0_wp; l23 = 0.0_wp; l33 = 0.0_wp
-      gs = 0.0_wp
-#include "dpmpm_stencil_do_3d.inc"
-#include "dpmpm_stencil_grad_3d.inc"
-      u1 = nvel(4, i, j, k); u2 = nvel(5, i, j, k); u3 = nvel(6, i, j, k)
-      vn1 = vn1 + nn*u1; vn2 = vn2 + nn*u2; vn3 = vn3 + nn*u3
-      dv1 = dv1 + nn*(u1 - nvel(1, i, j, k))
-      dv2 = dv2 + nn*(u2 - nvel(2, i, j, k))
-      dv3 = dv3 + nn*(u3 - nvel(3, i, j, k))
-      if (gather) gs = gs + nn*gf(1:3, i, j, k)
-      if (.not. gradient) cycle
-      l11 = l11 + u1*g(1); l21 = l21 + u2*g(1); l31 = l31 + u3*g(1)
-      l12 = l12 + u1*g(2); l22 = l22 + u2*g(2); l32 = l32 + u3*g(2)
-      l13 = l13 + u1*g(3); l23 = l23 + u2*g(3); l33 = l33 + u3*g(3)
-#include "dpmpm_stencil_end_3d.inc"
-      v(1, p) = flip*(v(1, p) + dv1) + (1.0_wp - flip)*vn1
-      v(2, p) = flip*(v(2, p) + dv2) + (1.0_wp - flip)*vn2
-      v(3, p) = flip*(v(3, p) + dv3) + (1.0_wp - flip)*vn3
-      x(1, p) = x(1, p) + dt*vn1
-      x(2, p) = x(2, p) + dt*vn2
-      x(3, p) = x(3, p) + dt*vn3
-      if (gather) gv(1:3, p) = gs
-      if (.not. gradient) cycle
-      vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(3, p) = l31
-      vgrad(4, p) = l12; vgrad(5, p) = l22; vgrad(6, p) = l32
-      vgrad(7, p) = l13; vgrad(8, p) = l23; vgrad(9, p) = l33
-    end do
-  end subroutine g2p_3d
-
-  subroutine point_gradient_2d(nw, n, i0, sw, sdw, lo, nvel, vgrad)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(inout) :: vgrad(:, :)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, g1, g2, wb, gb, v1, v2, l11, l21, l12, l22
-    do p = 1, n
-      l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
-#include "dpmpm_stencil_do_2d_grad.inc"
-      g1 = sdw(a, 1, p)*wb
-      g2 = sw(a, 1, p)*gb
-      v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
-      l11 = l11 + v1*g1; l21 = l21 + v2*g1
-      l12 = l12 + v1*g2; l22 = l22 + v2*g2
-#include "dpmpm_stencil_end_2d.inc"
-      vgrad(:, p) = 0.0_wp
-      vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
-    end do
-  end subroutine point_gradient_2d
-
-  subroutine point_gradients_2d(nw, n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), nvel2(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(inout) :: vgrad(:, :), vgrad2(:, :)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, g1, g2, wb, gb, v1, v2, l11, l21, l12, l22, u1, u2, m11, m21, m12, m22
-    do p = 1, n
-      l11 = 0.0_wp; l21 = 0.0_wp; l12 = 0.0_wp; l22 = 0.0_wp
-      m11 = 0.0_wp; m21 = 0.0_wp; m12 = 0.0_wp; m22 = 0.0_wp
-#include "dpmpm_stencil_do_2d_grad.inc"
-      g1 = sdw(a, 1, p)*wb
-      g2 = sw(a, 1, p)*gb
-      v1 = nvel(3, i, j, k); v2 = nvel(4, i, j, k)
-      l11 = l11 + v1*g1; l21 = l21 + v2*g1
-      l12 = l12 + v1*g2; l22 = l22 + v2*g2
-      u1 = nvel2(3, i, j, k); u2 = nvel2(4, i, j, k)
-      m11 = m11 + u1*g1; m21 = m21 + u2*g1
-      m12 = m12 + u1*g2; m22 = m22 + u2*g2
-#include "dpmpm_stencil_end_2d.inc"
-      vgrad(:, p) = 0.0_wp
-      vgrad(1, p) = l11; vgrad(2, p) = l21; vgrad(4, p) = l12; vgrad(5, p) = l22
-      vgrad2(:, p) = 0.0_wp
-      vgrad2(1, p) = m11; vgrad2(2, p) = m21; vgrad2(4, p) = m12; vgrad2(5, p) = m22
-    end do
-  end subroutine point_gradients_2d
-
-  subroutine momentum_project_p2g_2d(nw, n, i0, sw, mass, v, lo, fp, node, proj)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :), fp(:, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):), proj(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, nm, wb, v1, v2, c1, c2
-    do p = 1, n
-      v1 = v(1, p); v2 = v(2, p)
-      c1 = mass(p)*fp(1, p); c2 = mass(p)*fp(2, p)
-#include "dpmpm_stencil_do_2d.inc"
-      nm = nn*mass(p)
-      node(2, i, j, k) = node(2, i, j, k) + nm*v1
-      node(3, i, j, k) = node(3, i, j, k) + nm*v2
-      proj(1, i, j, k) = proj(1, i, j, k) + nn*c1
-      proj(2, i, j, k) = proj(2, i, j, k) + nn*c2
-#include "dpmpm_stencil_end_2d.inc"
-    end do
-  end subroutine momentum_project_p2g_2d
-
-  subroutine momentum_p2g_2d(nw, n, i0, sw, mass, v, lo, node)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, nm, wb, v1, v2
-    do p = 1, n
-      v1 = v(1, p); v2 = v(2, p)
-#include "dpmpm_stencil_do_2d.inc"
-      nm = nn*mass(p)
-      node(2, i, j, k) = node(2, i, j, k) + nm*v1
-      node(3, i, j, k) = node(3, i, j, k) + nm*v2
-#include "dpmpm_stencil_end_2d.inc"
-    end do
-  end subroutine momentum_p2g_2d
-
-  subroutine interp_two_values_2d(nw, n, i0, sw, lo, f, comp, val, val2)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
-    integer, intent(in) :: comp
-    real(wp), contiguous, intent(out) :: val(:), val2(:)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb, s0, t0
-    do p = 1, n
-      s0 = 0.0_wp; t0 = 0.0_wp
-#include "dpmpm_stencil_do_2d.inc"
-      s0 = s0 + nn*f(1, i, j, k)
-      t0 = t0 + nn*f(comp, i, j, k)
-#include "dpmpm_stencil_end_2d.inc"
-      val(p) = s0
-      val2(p) = t0
-    end do
-  end subroutine interp_two_values_2d
-
-  subroutine fluid_p2g_2d(nw, n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
-                          node_s, node_f, drag, fvol)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
-    real(wp), contiguous, intent(in) :: mass(:), v(:, :), vol(:), poro(:), pres(:), kinv(:)
-    logical, intent(in) :: momentum, point_forces
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(inout) :: drag(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(inout), optional :: fvol(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb, gb, g1, g2, pv, dp, pf, ps, mp, mv1, mv2
-    logical :: vols
-    vols = present(fvol)
-    do p = 1, n
-      pv = 0.0_wp
-      if (point_forces) pv = vol(p)*pres(p)
-      pf = pv*poro(p)
-      ps = pv*(1.0_wp - poro(p))
-      dp = mass(p)*poro(p)*gravity_drag*kinv(p)
-      mp = mass(p)
-      mv1 = mp*v(1, p); mv2 = mp*v(2, p)
-#include "dpmpm_stencil_do_2d_grad.inc"
-      if (momentum) then
-        node_f(1, i, j, k) = node_f(1, i, j, k) + nn*mp
-        node_f(2, i, j, k) = node_f(2, i, j, k) + nn*mv1
-        node_f(3, i, j, k) = node_f(3, i, j, k) + nn*mv2
-      end if
-      drag(1, i, j, k) = drag(1, i, j, k) + nn*dp
-      if (vols) fvol(1, i, j, k) = fvol(1, i, j, k) + nn*vol(p)
-      if (.not. point_forces) cycle
-      g1 = sdw(a, 1, p)*wb
-      g2 = sw(a, 1, p)*gb
-      node_f(4, i, j, k) = node_f(4, i, j, k) + pf*g1
-      node_f(5, i, j, k) = node_f(5, i, j, k) + pf*g2
-      node_s(4, i, j, k) = node_s(4, i, j, k) + ps*g1
-      node_s(5, i, j, k) = node_s(5, i, j, k) + ps*g2
-#include "dpmpm_stencil_end_2d.inc"
-    end do
-  end subroutine fluid_p2g_2d
-
-  subroutine solid_porosity_p2g_2d(nw, n, i0, sw, mass, poro, kinv, lo, sporo)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), poro(:), kinv(:)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, nm, wb, mp, mn, mk
-    do p = 1, n
-      if (.not. poro(p) > 0.0_wp) cycle
-      mp = mass(p); mn = poro(p); mk = kinv(p)
-#include "dpmpm_stencil_do_2d.inc"
-      nm = nn*mp
-      sporo(1, i, j, k) = sporo(1, i, j, k) + nm*mn
-      sporo(2, i, j, k) = sporo(2, i, j, k) + nm
-      sporo(3, i, j, k) = sporo(3, i, j, k) + nm*mk
-#include "dpmpm_stencil_end_2d.inc"
-    end do
-  end subroutine solid_porosity_p2g_2d
-
-  subroutine reaches_thin_node_2d(nw, n, i0, sw, lo, f, hi, vmin, flag)
-    integer, intent(in) :: nw(3), n
-    integer, contiguous, intent(in) :: i0(:, :)
-    real(wp), contiguous, intent(in) :: sw(:, :, :)
-    integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
-    integer, intent(in) :: hi(3)
-    real(wp), intent(in) :: vmin
-    logical, intent(out) :: flag(:)
-    integer :: p, a, b, i, j, k
-    real(wp) :: nn, wb
-    do p = 1, n
-      flag(p) = .false.
-#include "dpmpm_stencil_do_2d.inc"
-      if (nn > 0.0_wp .and. f(1, i, j, k) < vmin) then
-        if (i > 0 .and. i < hi(1) .and. j > 0 .and. j < hi(2)) flag(p) = .true.
-      end if
-#include "dpmpm_stencil_end_2d.inc"
-    end do
-  end subroutine reaches_thin_node_2d
 
 end module dpmpm_transfer

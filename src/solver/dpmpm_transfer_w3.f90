@@ -1,0 +1,11 @@
+!> The grid transfers of fixed dimension for stencils of 3 nodes per axis (quadratic
+!> B-splines): dpmpm_transfer_kernels.inc with the stencil width as a constant.
+module dpmpm_transfer_w3
+  use dpmpm_kinds, only: wp
+  use dpmpm_drag, only: gravity_drag
+  implicit none
+  private
+  !> Nodes per axis of the stencils (the 2D kernels read the first two).
+  integer, parameter :: nw(3) = 3
+#include "dpmpm_transfer_kernels.inc"
+end module dpmpm_transfer_w3

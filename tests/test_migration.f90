@@ -149,22 +149,29 @@ contains
     if (dec%rank == 0) ps%x(1, 1) = origin(1) + (split_extent(ncells(1), nranks, 2) + 0.5_wp)*h(1)
     call expect_one_lost(dec, ps, 1_i8, 'two ranks away')
     call ps%free()
+    ! The same with the step's promise that every point is in the grid (in_grid): it
+    ! spares the count on one rank only, never a point lost between ranks.
+    call make_points(dec, ps, 20)
+    if (dec%rank == 0) ps%x(1, 1) = origin(1) + (split_extent(ncells(1), nranks, 2) + 0.5_wp)*h(1)
+    call expect_one_lost(dec, ps, 1_i8, 'two ranks away, in_grid', in_grid=.true.)
+    call ps%free()
     call dec%free()
   end subroutine test_point_jumping_past_neighbour_is_counted
 
   !> Migrate once and check that exactly one point, with id lost_id (the same
   !> on every rank), is lost, that exactly one rank holds it and that no point
   !> disappeared.
-  subroutine expect_one_lost(dec, ps, lost_id, what)
+  subroutine expect_one_lost(dec, ps, lost_id, what, in_grid)
     type(decomp_t), intent(in) :: dec
     type(particle_set_t), intent(inout) :: ps
     integer(i8), intent(in) :: lost_id
     character(len=*), intent(in) :: what
+    logical, intent(in), optional :: in_grid
     integer(i8) :: n0, n1
     integer :: nlost, nbad, nheld, nmatch
     integer, allocatable :: lost(:)
     n0 = global_count(dec, ps)
-    call migrate(dec, origin, h, ps, nlost, lost)
+    call migrate(dec, origin, h, ps, nlost, lost, in_grid)
     n1 = global_count(dec, ps)
     call check_equal_int(nlost, 1, trim(what)//': nlost')
     call check(n1 == n0, trim(what)//': no point dropped')

@@ -36,13 +36,16 @@ contains
   !> still on a rank that does not own their cell: they moved further than one
   !> neighbour per axis or left the grid. Those points are kept; lost, when
   !> present, returns their local indices on this rank so the caller can report
-  !> them. Collective over dec%comm.
-  subroutine migrate(dec, origin, h, ps, nlost, lost)
+  !> them. in_grid (default .false.): the caller has kept every point in the grid
+  !> (the step's check_inside), so that with one rank holding the whole grid no point
+  !> can be lost and the count is 0 without a scan. Collective over dec%comm.
+  subroutine migrate(dec, origin, h, ps, nlost, lost, in_grid)
     type(decomp_t), intent(in) :: dec
     real(wp), intent(in) :: origin(3), h(3)
     type(particle_set_t), intent(inout) :: ps
     integer, intent(out) :: nlost
     integer, allocatable, intent(out), optional :: lost(:)
+    logical, intent(in), optional :: in_grid
     integer :: d
     logical, allocatable :: gone(:)
     ! The points that leave are flagged on each sweep and removed once after the last:
@@ -58,6 +61,12 @@ contains
         if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d, gone)
       end do
       if (any(gone(1:ps%n))) call ps%remove(gone)
+    else if (present(in_grid)) then
+      if (in_grid) then
+        nlost = 0
+        if (present(lost)) allocate (lost(0))
+        return
+      end if
     end if
     call find_unowned(dec, origin, h, ps, nlost, lost)
   end subroutine migrate

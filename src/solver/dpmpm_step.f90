@@ -389,7 +389,7 @@ contains
       call check_inside(self, self%phase(ip)%pts, ip == fluid_phase)
     end do
     do ip = 1, self%nph
-      call migrate(self%dec, self%grid%origin, self%grid%h, self%phase(ip)%pts, nlost)
+      call migrate(self%dec, self%grid%origin, self%grid%h, self%phase(ip)%pts, nlost, in_grid=.true.)
       if (nlost > 0) call fatal(trim(merge('points      ', 'fluid points', ip == solid_phase))// &
                                 ' were lost in migration (moved more than one rank width in a step)', &
                                 'migrate')

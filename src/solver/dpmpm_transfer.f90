@@ -6,6 +6,9 @@
 !> force, mixture flux). Every kernel works on plain arrays: a point's stencil is
 !> its first node i0(:, p) and its weights sw(:, axis, p) and derivatives
 !> sdw(:, axis, p) per axis (tensor products), nodes are addressed from lo.
+!> In 2D, and in 3D for p2g and g2p, each public kernel calls its form of fixed
+!> stencil width (dpmpm_transfer_w2, _w3, _w4 by nw(1)); the loops here, with the
+!> width read at run time, serve 1D and the general form with a third axis of one node.
 module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: voigt_to_tensor

@@ -17,6 +17,7 @@ program test_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: kernel_width, kernel_names, ngrid_kernels, max_stencil
   use dpmpm_stencil, only: psi_stencil, tensor_weights, stencil_offsets
+  use dpmpm_materials, only: voigt_to_tensor
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, fluid_p2g, point_gradients, &
                             momentum_project_p2g, interp_two_values
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests
@@ -608,8 +609,7 @@ contains
       call p2g(nd, nw, npt, i0, sw, sdw, mass, v, vol, stress, .true., lo, node, bacc)
       do p = 1, npt
         call tensor_weights(nw, sw(:, :, p), sdw(:, :, p), w(1:nq), dw(:, 1:nq))
-        s = reshape([stress(1, p), stress(6, p), stress(5, p), stress(6, p), stress(2, p), stress(4, p), &
-                     stress(5, p), stress(4, p), stress(3, p)], [3, 3])
+        s = voigt_to_tensor(stress(:, p))
         do m = 1, nq
           i = i0(1, p) + off(1, m); j = i0(2, p) + off(2, m); k = i0(3, p) + off(3, m)
           ref(1, i, j, k) = ref(1, i, j, k) + w(m)*mass(p)

@@ -13,7 +13,7 @@ Writes the tables and, for each benchmark, the cheapest choice that reaches each
 level between the markers <!-- pareto:begin --> and <!-- pareto:end --> of
 doc/performance.md, and the log-log figure doc/figures/speed_error.png.
 
-Usage: scripts/pareto.py [--quick] [--skip-runs] [--out out/pareto]
+Usage: scripts/pareto.py [--quick] [--skip-runs | --missing] [--out out/pareto]
 """
 import argparse
 import json
@@ -42,10 +42,18 @@ BEGIN, END = "<!-- pareto:begin -->", "<!-- pareto:end -->"
 
 M1_CELLS = [8, 16, 32, 64]
 W1_CELLS = [50, 100, 200]
-# W1 variants of Figure 6 plus the B-spline choices with point quadrature.
+# Linear grid functions with the stress taken at one Gauss point per cell (its MLS
+# reconstruction with the linear hat as weight) instead of at the points.
+LINEAR_GAUSS = ("kernel = 'linear', quadrature = 'gauss', gauss_points = 1, "
+                "field_kernel = 'linear', field_radius = 0.0")
+# M1 choices of scripts/verify_mls.py plus that one.
+M1_COMBOS = dict(verify_mls.COMBOS)
+M1_COMBOS["linear + one Gauss point"] = LINEAR_GAUSS
+# W1 variants of Figure 6 plus the B-spline choices with point quadrature and that one.
 W1_VARIANTS = dict(figure6.VARIANTS)
 W1_VARIANTS["quadratic B-spline"] = "kernel = 'quadratic', quadrature = 'points'"
 W1_VARIANTS["cubic B-spline"] = "kernel = 'cubic', quadrature = 'points'"
+W1_VARIANTS["linear + one Gauss point"] = LINEAR_GAUSS
 
 
 def slug(s):
@@ -64,7 +72,7 @@ def run(build, outdir, tag, text):
 
 def m1_text(label, cells, amp, outdir, tag):
     """The M1 scene of scripts/verify_mls.py, with diagnostics at the automatic interval."""
-    text = verify_mls.scene_text(label, cells, amp, outdir, tag)
+    text = verify_mls.scene_text(label, cells, amp, outdir, tag, shape=M1_COMBOS[label])
     return re.sub(r"diag_every = \d+", "diag_every = 0", text)
 
 
@@ -98,7 +106,7 @@ def cases(quick):
     out = []
     for amp in verify_mls.AMPLITUDES:
         bench = f"M1, B = {amp:g}"
-        for label in verify_mls.COMBOS:
+        for label in M1_COMBOS:
             for c in m1_cells:
                 out.append((bench, label, c, f"pm1_{slug(label)}_{c}_{'small' if amp < 1e-2 else 'large'}",
                             lambda outdir, tag, label=label, c=c, amp=amp: m1_text(label, c, amp, outdir, tag)))
@@ -121,12 +129,15 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "pareto"))
     ap.add_argument("--quick", action="store_true", help="two resolutions each (a smoke run)")
     ap.add_argument("--skip-runs", action="store_true", help="use the outputs already in --out")
+    ap.add_argument("--missing", action="store_true",
+                    help="run only the cases without a finished output in --out")
     ap.add_argument("--no-doc", action="store_true")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     res = {}
     for bench, label, cells, tag, make in cases(a.quick):
-        if not a.skip_runs:
+        done = a.missing and (attrs(a.out, tag) or {}).get("wall_time_step_loop") is not None
+        if not a.skip_runs and not done:
             rc = run(a.build, a.out, tag, make(a.out, tag))
             print(f"pareto: {bench:14s} {label:32s} {cells:4d} rc {rc}", file=sys.stderr)
         at = attrs(a.out, tag)

@@ -51,12 +51,14 @@ def tag_of(label, ncells, amp):
     return f"m1_{slug}_{ncells}_{'small' if amp < 1e-2 else 'large'}"
 
 
-def scene_text(label, ncells, amp, outdir, tag):
-    """inputs/mms.nml with the shape choice, cells, amplitude, name and output folder."""
+def scene_text(label, ncells, amp, outdir, tag, shape=None):
+    """inputs/mms.nml with the shape choice (COMBOS[label] unless shape is given), cells,
+    amplitude, name and output folder."""
     text = open(os.path.join(ROOT, "inputs", "mms.nml")).read()
     text = text.replace("name = 'mms'", f"name = '{tag}'", 1)
     text = re.sub(r"ncells = \d+, \d+", f"ncells = {ncells}, {ncells}", text)
-    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {COMBOS[label]}\n/", text, flags=re.S | re.M)
+    shape = COMBOS[label] if shape is None else shape
+    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {shape}\n/", text, flags=re.S | re.M)
     text = re.sub(r"amplitude = [0-9.eE+-]+", f"amplitude = {amp}", text)
     return text.replace("dir = 'out'", f"dir = '{outdir}'")
 

@@ -183,32 +183,11 @@ contains
   !> functions) reaches the front, carries the 1 Pa behind it and is far closer
   !> to the reference.
   subroutine test_w1_uniform_scatter_mls_pair_beats_standard_mpm()
-    character(len=error_name_len), allocatable :: names(:)
-    real(wp), allocatable :: vs(:), vm(:), sx(:, :), ss(:, :), fx(:, :), fs(:, :)
     type(config_t) :: cfg
-    integer(i8) :: ns, nm
     call begin_test('w1_uniform_scatter_mls_pair_beats_standard_mpm')
     cfg = column_scene(100, 1.0e-5_wp, 3.0e6_wp, 0.05_wp, 'implicit')
-    cfg%cfl = 0.3_wp
-    cfg%regions(1)%placement = 'uniform'
-    cfg%regions(1)%seed = 1
-    call run_column(cfg, names, vs, sx, ss, fx, fs, ns)
-    call print_errors('  W1, uniform scatter, Standard MPM', names, vs, ns)
-    cfg%kernel = 'cubic'
-    cfg%quadrature = 'gauss'
-    cfg%gauss_points = 3
-    cfg%field_kernel = 'wendland_c2'
-    cfg%field_radius = 2.0_wp
-    call run_column(cfg, names, vm, sx, ss, fx, fs, nm)
-    call print_errors('  W1, uniform scatter, MLS Wendland C2 pair', names, vm, nm)
-    if (rank == 0) then
-      call check(err(names, vm, 'error_sigma_eff') <= U1_SIG, 'pair: sigma_eff error within bound')
-      call check(err(names, vm, 'error_pore_pressure') <= U1_P, 'pair: pore pressure error within bound')
-      call check(abs(err(names, vm, 'total_stress_behind_front') + 1.0_wp) <= U1_TOT, &
-                 'pair: total stress behind the front is -1 Pa')
-      call check(err(names, vs, 'error_sigma_eff') >= U1_GAIN*err(names, vm, 'error_sigma_eff'), &
-                 'Standard MPM is far less accurate on this scatter')
-    end if
+    call gauss_choice_against_standard_mpm(cfg, 'cubic', 3, 'wendland_c2', 2.0_wp, 'pair', &
+                                           U1_SIG, U1_P, U1_GAIN)
   end subroutine test_w1_uniform_scatter_mls_pair_beats_standard_mpm
 
   !> W1 as the 2D column of inputs/w1_2d.nml (100 x 2 cells, uniform scatter, rollers on
@@ -217,10 +196,7 @@ contains
   !> Standard MPM, at the accuracy of the MLS pairs (doc/performance.md, "Speed against
   !> error", where this choice is the cheapest below an error of 0.1 in 2D).
   subroutine test_w1_2d_linear_one_gauss_point_beats_standard_mpm()
-    character(len=error_name_len), allocatable :: names(:)
-    real(wp), allocatable :: vs(:), vg(:), sx(:, :), ss(:, :), fx(:, :), fs(:, :)
     type(config_t) :: cfg
-    integer(i8) :: ns, ng
     call begin_test('w1_2d_linear_one_gauss_point_beats_standard_mpm')
     cfg = column_scene(100, 1.0e-5_wp, 3.0e6_wp, 0.05_wp, 'implicit')
     cfg%ndim = 2
@@ -228,26 +204,44 @@ contains
     cfg%length = [10.0_wp, 0.2_wp, 1.0_wp]
     cfg%regions(1)%hi = [10.0_wp, 0.2_wp, 1.0_wp]
     cfg%bc(3:4) = bc_roller
+    call gauss_choice_against_standard_mpm(cfg, 'linear', 1, 'linear', 0.0_wp, 'one Gauss point', &
+                                           G1_SIG, G1_P, G1_GAIN)
+  end subroutine test_w1_2d_linear_one_gauss_point_beats_standard_mpm
+
+  !> The column cfg on the uniform scatter (seed 1, Courant number 0.3) with Standard MPM,
+  !> then with Gauss quadrature (grid kernel, Gauss points per cell and axis, MLS field
+  !> weight and radius): the Gauss choice's sigma' and p errors within sig and pbound,
+  !> its total stress behind the front within U1_TOT of -1 Pa, and Standard MPM's sigma'
+  !> error at least gain times the Gauss choice's.
+  subroutine gauss_choice_against_standard_mpm(cfg, kernel, ngauss, field_kernel, field_radius, &
+                                               label, sig, pbound, gain)
+    type(config_t), intent(inout) :: cfg
+    character(len=*), intent(in) :: kernel, field_kernel, label
+    integer, intent(in) :: ngauss
+    real(wp), intent(in) :: field_radius, sig, pbound, gain
+    character(len=error_name_len), allocatable :: names(:)
+    real(wp), allocatable :: vs(:), vg(:), sx(:, :), ss(:, :), fx(:, :), fs(:, :)
+    integer(i8) :: ns, ng
     cfg%cfl = 0.3_wp
     cfg%regions(1)%placement = 'uniform'
     cfg%regions(1)%seed = 1
     call run_column(cfg, names, vs, sx, ss, fx, fs, ns)
-    call print_errors('  W1 2D, uniform scatter, Standard MPM', names, vs, ns)
+    call print_errors('  W1, uniform scatter, Standard MPM', names, vs, ns)
+    cfg%kernel = kernel
     cfg%quadrature = 'gauss'
-    cfg%gauss_points = 1
-    cfg%field_kernel = 'linear'
-    cfg%field_radius = 0.0_wp
+    cfg%gauss_points = ngauss
+    cfg%field_kernel = field_kernel
+    cfg%field_radius = field_radius
     call run_column(cfg, names, vg, sx, ss, fx, fs, ng)
-    call print_errors('  W1 2D, uniform scatter, linear + one Gauss point', names, vg, ng)
-    if (rank == 0) then
-      call check(err(names, vg, 'error_sigma_eff') <= G1_SIG, 'one Gauss point: sigma_eff error within bound')
-      call check(err(names, vg, 'error_pore_pressure') <= G1_P, 'one Gauss point: pore pressure error within bound')
-      call check(abs(err(names, vg, 'total_stress_behind_front') + 1.0_wp) <= U1_TOT, &
-                 'one Gauss point: total stress behind the front is -1 Pa')
-      call check(err(names, vs, 'error_sigma_eff') >= G1_GAIN*err(names, vg, 'error_sigma_eff'), &
-                 'Standard MPM is far less accurate on this scatter')
-    end if
-  end subroutine test_w1_2d_linear_one_gauss_point_beats_standard_mpm
+    call print_errors('  W1, uniform scatter, '//label, names, vg, ng)
+    if (rank /= 0) return
+    call check(err(names, vg, 'error_sigma_eff') <= sig, label//': sigma_eff error within bound')
+    call check(err(names, vg, 'error_pore_pressure') <= pbound, label//': pore pressure error within bound')
+    call check(abs(err(names, vg, 'total_stress_behind_front') + 1.0_wp) <= U1_TOT, &
+               label//': total stress behind the front is -1 Pa')
+    call check(err(names, vs, 'error_sigma_eff') >= gain*err(names, vg, 'error_sigma_eff'), &
+               'Standard MPM is far less accurate on this scatter')
+  end subroutine gauss_choice_against_standard_mpm
 
   !> W3 (real water, k = 1e-4 m/s, 4 ms): explicit and implicit drag give the same
   !> fields; the step counts show the gain (none here: the wave CFL governs).

@@ -136,11 +136,11 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     res = {}
     for bench, label, cells, tag, make in cases(a.quick):
-        done = a.missing and (attrs(a.out, tag) or {}).get("wall_time_step_loop") is not None
-        if not a.skip_runs and not done:
+        at = attrs(a.out, tag) if a.skip_runs or a.missing else None
+        if not a.skip_runs and (at is None or "wall_time_step_loop" not in at):
             rc = run(a.build, a.out, tag, make(a.out, tag))
             print(f"pareto: {bench:14s} {label:32s} {cells:4d} rc {rc}", file=sys.stderr)
-        at = attrs(a.out, tag)
+            at = attrs(a.out, tag)
         if at is None or "wall_time_step_loop" not in at:
             res.setdefault(bench, {}).setdefault(label, []).append((cells, np.nan, np.nan))
             continue

@@ -27,7 +27,7 @@ module dpmpm_gauss_fields
   use dpmpm_materials, only: voigt_to_tensor
   implicit none
   private
-  public :: gauss_rule, field_components, stress_voigt_index
+  public :: gauss_rule, gauss_cover_radius, field_components, stress_voigt_index
   public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
   public :: occupancy_pass, gauss_cell_components, gauss_solution_components
   public :: reach_cache_t, reach_cache_entries, reach_cache_bytes
@@ -88,6 +88,22 @@ contains
       w(4) = w(1)
     end select
   end subroutine gauss_rule
+
+  !> The distance (cell units) from the Gauss points of a cell, ng per axis, to the
+  !> place of the cell farthest from all of them: sqrt(nd) times that distance along one
+  !> axis, the larger of the end gaps and half the inner ones. A radial field weight of a
+  !> smaller radius leaves points in that part of the cell without a Gauss point of it.
+  pure real(wp) function gauss_cover_radius(nd, ng) result(r)
+    integer, intent(in) :: nd, ng
+    real(wp) :: xi(ng), w(ng)
+    integer :: a
+    call gauss_rule(ng, xi, w)
+    r = max(xi(1), 1.0_wp - xi(ng))
+    do a = 1, ng - 1
+      r = max(r, 0.5_wp*(xi(a + 1) - xi(a)))
+    end do
+    r = sqrt(real(nd, wp))*r
+  end function gauss_cover_radius
 
   !> Stress components that enter the force integrals in nd dimensions.
   pure integer function field_components(nd) result(n)

@@ -10,7 +10,7 @@ module dpmpm_simulation
   use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable, fbc_names, face_names
   use dpmpm_kernels, only: kernel_reach
   use dpmpm_mls, only: mls_stats_t, basis_size, packed_size
-  use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components
+  use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components, gauss_cover_radius
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: materials_from_config, model_neo_hookean, model_fluid, model_rigid, is_plastic
   use dpmpm_rigid, only: hold_rigid_points
@@ -267,9 +267,28 @@ contains
       'where it would pull it (it lets go only in scenes of one phase), and a saturated block with '// &
       'friction 0.7 slid 9.5 % too far, with a soft pore fluid half the distance (doc/verification.md, '// &
       '"Larger friction: frictional flutter")')
+    call warn_field_reach(self)
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
+
+  !> Gauss quadrature with a radial field weight too short to reach every place of a cell
+  !> from the cell's Gauss points: points there find none, keep their velocity gradient
+  !> from the step before and give their stress to no Gauss point.
+  subroutine warn_field_reach(self)
+    class(simulation_t), intent(inout) :: self
+    real(wp) :: cover
+    character(len=16) :: r, c
+    if (.not. (self%plan%gauss .and. self%plan%field_radial)) return
+    cover = gauss_cover_radius(self%cfg%ndim, self%plan%ngauss)
+    if (self%plan%field_radius > cover) return
+    write (r, '(f6.3)') self%plan%field_radius
+    write (c, '(f6.3)') cover
+    call self%log%warning('&shape field_radius = '//trim(adjustl(r))//' cells does not reach every place of a '// &
+      'cell from its Gauss points (the farthest lies '//trim(adjustl(c))//' cells from them): points there keep '// &
+      'their velocity gradient and give their stress to no Gauss point (counted at the end as point '// &
+      'gradients left point-wise); take field_radius > '//trim(adjustl(c))//' (doc/input.md, &shape)')
+  end subroutine warn_field_reach
 
   !> A <name>.ckpt.h5.tmp left by a run killed while writing its checkpoint is a torn copy
   !> (the checkpoint before it is whole): removed, and said.

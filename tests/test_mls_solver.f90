@@ -3,7 +3,9 @@
 !> (doc/theory.md 3.6) keeps the energy of a long elastic run; the manufactured
 !> solution M1 at B = 0.05 cracks Standard MPM but not the MLS pair, which
 !> converges at second order; a point that has just entered a cell at its corner
-!> does not give a node that it barely reaches the force of the whole cell. Bounds are measured values with the margins in
+!> does not give a node that it barely reaches the force of the whole cell; linear grid
+!> functions with one Gauss point per cell whose weight reaches just the cell keep Standard
+!> MPM's error at small deformation and do not crack at large. Bounds are measured values with the margins in
 !> doc/verification.md.
 program test_mls_solver
   use dpmpm_mpi_start, only: start_mpi
@@ -21,6 +23,7 @@ program test_mls_solver
   call test_mms_crack_and_convergence()
   call test_mms_body_force_work_is_booked()
   call test_pair_thin_node_takes_no_force()
+  call test_cell_gauss_point_keeps_standard_mpm_accuracy()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -248,6 +251,51 @@ contains
     call check(e(4, 2, 2) <= 1.03_wp, 'the pair stays closed at h = 1/16 (measured 1.02)')
     call check(order >= 1.9_wp, 'the pair converges at second order (measured 2.16)')
   end subroutine test_mms_crack_and_convergence
+
+  !> Linear grid functions with the stresses at one Gauss point per cell, reconstructed
+  !> with the radial linear hat of radius 0.75 cells (every place of the cell within
+  !> reach, half its diagonal being 0.71 cells; none of the neighbours' points with 2 x 2
+  !> regular points per cell, 0.79 cells away), against Standard MPM on M1 at h = 1/16.
+  !> B = 1e-4: e_u(T) 2.420e-6 for both (ratio 1.000; bound 1.05), where the tensor-product
+  !> hat of one cell (radius 0) reaches the neighbours' points and has 4.536e-6 (ratio
+  !> 1.87; the check asks for 1.5). B = 0.05: 1.601e-3 against Standard MPM's cracked
+  !> 6.532e-3 (ratio 4.08; bound 2.1e-3, + 30 %, and a ratio of at least 3).
+  subroutine test_cell_gauss_point_keeps_standard_mpm_accuracy()
+    real(wp) :: std_small, cell_small, hat_small, std_large, cell_large
+    call begin_test('cell_gauss_point_keeps_standard_mpm_accuracy')
+    std_small = m1_error(16, 1.0e-4_wp, -1.0_wp)
+    cell_small = m1_error(16, 1.0e-4_wp, 0.75_wp)
+    hat_small = m1_error(16, 1.0e-4_wp, 0.0_wp)
+    std_large = m1_error(16, 0.05_wp, -1.0_wp)
+    cell_large = m1_error(16, 0.05_wp, 0.75_wp)
+    print '(a,3es11.4)', '  B = 1e-4, e_u(T): Standard MPM, radius 0.75, radius 0: ', std_small, cell_small, hat_small
+    print '(a,2es11.4)', '  B = 0.05, e_u(T): Standard MPM, radius 0.75: ', std_large, cell_large
+    call check(cell_small <= 1.05_wp*std_small, 'small deformation: the error of Standard MPM')
+    call check(hat_small >= 1.5_wp*std_small, 'small deformation: the weight of one cell each way has more')
+    call check(cell_large <= 2.1e-3_wp, 'large deformation: error within bound')
+    call check(std_large >= 3.0_wp*cell_large, 'large deformation: Standard MPM (cracked) far worse')
+  end subroutine test_cell_gauss_point_keeps_standard_mpm_accuracy
+
+  !> e_u(T) of M1 with ncells^2 cells and amplitude b: Standard MPM for radius < 0, else
+  !> linear grid functions with one Gauss point per cell and the linear hat of that radius
+  !> (cells; 0: the tensor-product hat of one cell) as the field weight.
+  real(wp) function m1_error(ncells, b, radius) result(e)
+    integer, intent(in) :: ncells
+    real(wp), intent(in) :: b, radius
+    type(config_t) :: cfg
+    type(simulation_t) :: sim
+    cfg = mms_scene(ncells, b, .false.)
+    if (radius >= 0.0_wp) then
+      cfg%quadrature = 'gauss'
+      cfg%gauss_points = 1
+      cfg%field_kernel = 'linear'
+      cfg%field_radius = radius
+    end if
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    call sim%run()
+    e = sim%err_hist(3, sim%nerr)
+    call sim%free()
+  end function m1_error
 
   !> Errors of one M1 run at its end: velocity, displacement, mean velocity,
   !> largest gap ratio over the run, empty cells.

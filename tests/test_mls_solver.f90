@@ -240,7 +240,7 @@ contains
     call begin_test('mms_crack_and_convergence')
     do m = 1, 2
       do k = 1, 2
-        e(:, k, m) = mms_run(8*k, m == 2)
+        e(:, k, m) = mms_run(mms_scene(8*k, 0.05_wp, m == 2))
       end do
     end do
     print '(a,4es11.3)', '  gap ratio std 1/8 1/16, pair 1/8 1/16: ', e(4, :, 1), e(4, :, 2)
@@ -283,7 +283,7 @@ contains
     integer, intent(in) :: ncells
     real(wp), intent(in) :: b, radius
     type(config_t) :: cfg
-    type(simulation_t) :: sim
+    real(wp) :: err(5)
     cfg = mms_scene(ncells, b, .false.)
     if (radius >= 0.0_wp) then
       cfg%quadrature = 'gauss'
@@ -291,20 +291,17 @@ contains
       cfg%field_kernel = 'linear'
       cfg%field_radius = radius
     end if
-    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
-    call sim%run()
-    e = sim%err_hist(3, sim%nerr)
-    call sim%free()
+    err = mms_run(cfg)
+    e = err(2)
   end function m1_error
 
-  !> Errors of one M1 run at its end: velocity, displacement, mean velocity,
+  !> Errors of one M1 run (cfg) at its end: velocity, displacement, mean velocity,
   !> largest gap ratio over the run, empty cells.
-  function mms_run(ncells, pair) result(err)
-    integer, intent(in) :: ncells
-    logical, intent(in) :: pair
+  function mms_run(cfg) result(err)
+    type(config_t), intent(in) :: cfg
     real(wp) :: err(5)
     type(simulation_t) :: sim
-    call sim%init(mms_scene(ncells, 0.05_wp, pair), MPI_COMM_WORLD, write_output=.false.)
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
     err = sim%err_hist(2:6, sim%nerr)
     err(4) = maxval(sim%err_hist(5, 1:sim%nerr))

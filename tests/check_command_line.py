@@ -132,23 +132,26 @@ for mu, water, warns in [(0.44, True, False), (0.45, True, True), (0.9, False, F
     expect(p.returncode == 0 and named == warns,
            what + ("warns of frictional flutter" if warns else "no flutter warning"))
 
-# Gauss quadrature with a radial field weight that does not reach every place of a cell
-# from the cell's Gauss points warns (one Gauss point in 2D: the corners lie 0.707 cells
-# from it); a radius beyond that, and the tensor-product weight (radius 0), do not.
-for radius, warns in [(0.65, True), (0.75, False), (0.0, False)]:
+# Gauss quadrature with a field weight that does not reach every place of a cell from the
+# cell's Gauss points warns (one Gauss point in 2D: the corners lie 0.707 cells from it, and
+# 0.5 cells along each axis for a box); a radius beyond that, and the tensor-product weight
+# of natural support (radius 0), do not.
+for radius, support, warns, far in [(0.65, "ball", True, "0.707"), (0.75, "ball", False, "0.707"),
+                                    (0.0, "ball", False, "0.707"), (0.5, "box", True, "0.500"),
+                                    (0.55, "box", False, "0.500")]:
     (work / "reach.nml").write_text(f"""&run name = 'reach', t_end = 1.0, max_steps = 2 /
 &grid ndim = 2, ncells = 8, 8, length = 1.0, 1.0 /
 &shape kernel = 'linear', quadrature = 'gauss', gauss_points = 1, field_kernel = 'linear',
-  field_radius = {radius} /
+  field_radius = {radius}, field_support = '{support}' /
 &material id = 1, youngs_modulus = 1.0e6, poisson_ratio = 0.3, density = 1000.0 /
 &region lo = 0.25, 0.25, hi = 0.75, 0.75 /
 &output dir = 'out' /
 """)
     p, _ = run("reach.nml")
-    named = "does not reach every place of a cell" in p.stderr and "0.707" in p.stderr
+    named = "does not reach every place of a cell" in p.stderr and far in p.stderr
     expect(p.returncode == 0 and named == warns,
-           f"field_radius {radius}: " + ("warns that the weight misses the cell's corners" if warns
-                                         else "no reach warning"))
+           f"field_radius {radius} ({support}): " + ("warns that the weight misses the cell's corners"
+                                                    if warns else "no reach warning"))
 
 # --check prints every parameter as input that reads back to the same parameters, for
 # every scene that ships with dpmpm.

@@ -19,6 +19,7 @@ program test_kernels
   call test_linear_field_reproduced()
   call test_weight_gradient_matches_finite_difference()
   call test_radial_profiles_vanish_at_support()
+  call test_box_weight_is_a_product_of_profiles()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -128,25 +129,29 @@ contains
   end subroutine test_linear_field_reproduced
 
   subroutine test_weight_gradient_matches_finite_difference()
-    ! kernel_weight's gradient against central differences, tensor and radial forms, 1D-3D.
+    ! kernel_weight's gradient against central differences, 1D-3D: radial (every other
+    ! offset), a box of half-width 1.9 and, for the B-splines, the tensor product of natural
+    ! support (radius 0).
     integer :: k, nd, j, m
     logical :: radial
-    real(wp) :: d(3), e(3), w, dw(3), wp_, wm, tmp(3), fd
+    real(wp) :: d(3), e(3), w, dw(3), wp_, wm, tmp(3), fd, radius
     real(wp), parameter :: eps = 1.0e-6_wp
     call begin_test('weight_gradient_matches_finite_difference')
     do k = 1, size(kernel_names)
       do nd = 1, 3
         do j = 1, 40
-          radial = k > ngrid_kernels .or. mod(j, 2) == 0
+          radial = mod(j, 2) == 0
+          radius = 1.9_wp
+          if (mod(j, 4) == 1 .and. k <= ngrid_kernels) radius = 0.0_wp
           d = [0.61_wp*sin(1.3_wp*j), 0.57_wp*cos(0.7_wp*j), 0.43_wp*sin(2.1_wp*j + 0.3_wp)]
-          call kernel_weight(k, 1.9_wp, radial, nd, d(1:nd), w, dw(1:nd))
+          call kernel_weight(k, radius, radial, nd, d(1:nd), w, dw(1:nd))
           call check(w >= 0.0_wp, trim(kernel_names(k))//' weight non-negative')
           do m = 1, nd
             e = d
             e(m) = d(m) + eps
-            call kernel_weight(k, 1.9_wp, radial, nd, e(1:nd), wp_, tmp(1:nd))
+            call kernel_weight(k, radius, radial, nd, e(1:nd), wp_, tmp(1:nd))
             e(m) = d(m) - eps
-            call kernel_weight(k, 1.9_wp, radial, nd, e(1:nd), wm, tmp(1:nd))
+            call kernel_weight(k, radius, radial, nd, e(1:nd), wm, tmp(1:nd))
             fd = (wp_ - wm)/(2*eps)
             call check(abs(fd - dw(m)) < 1.0e-7_wp, trim(kernel_names(k))//' weight gradient')
           end do
@@ -173,5 +178,39 @@ contains
     call kernel_radial(kernel_wendland_c4, 0.0_wp, w, dwdr)
     call check_close(w, 1.0_wp, 1.0e-15_wp, 0.0_wp, 'Wendland C4 at 0')
   end subroutine test_radial_profiles_vanish_at_support
+
+  subroutine test_box_weight_is_a_product_of_profiles()
+    ! A box weight of half-width R is the product over the axes of the profile at |d_k| / R:
+    ! zero once one offset reaches R, non-zero in the corners the ball of radius R misses, and,
+    ! with the half-width of a B-spline's natural support, that tensor-product B-spline.
+    integer :: k, j
+    real(wp) :: d(3), w, dw(3), wb, dwb(3), p1, p2, p3, dpr
+    real(wp), parameter :: natural(3) = [1.0_wp, 1.5_wp, 2.0_wp]
+    call begin_test('box_weight_is_a_product_of_profiles')
+    do k = 1, size(kernel_names)
+      d = [0.3_wp, -0.45_wp, 0.2_wp]
+      call kernel_weight(k, 0.7_wp, .false., 3, d, w, dw)
+      call kernel_radial(k, 0.3_wp/0.7_wp, p1, dpr)
+      call kernel_radial(k, 0.45_wp/0.7_wp, p2, dpr)
+      call kernel_radial(k, 0.2_wp/0.7_wp, p3, dpr)
+      call check_close(w, p1*p2*p3, 1.0e-15_wp, 0.0_wp, trim(kernel_names(k))//' box weight')
+      call check_close(kernel_reach(k, 0.7_wp, .false.), 0.7_wp, 0.0_wp, 0.0_wp, 'box reach')
+      ! one offset at the half-width: outside; the corner (0.6, 0.6) inside the box, outside
+      ! the ball of the same radius
+      call kernel_weight(k, 0.7_wp, .false., 2, [0.7_wp, 0.1_wp], w, dw(1:2))
+      call check(w == 0.0_wp, trim(kernel_names(k))//' box ends at its half-width')
+      call kernel_weight(k, 0.7_wp, .false., 2, [0.6_wp, 0.6_wp], w, dw(1:2))
+      call kernel_weight(k, 0.7_wp, .true., 2, [0.6_wp, 0.6_wp], wb, dwb(1:2))
+      call check(w > 0.0_wp .and. wb == 0.0_wp, trim(kernel_names(k))//' box reaches the corner, ball not')
+      if (k > 3) cycle
+      do j = 1, 20
+        d = [0.9_wp*sin(1.7_wp*j), 1.1_wp*cos(0.9_wp*j), 0.8_wp*sin(2.3_wp*j + 0.4_wp)]*natural(k)/1.2_wp
+        call kernel_weight(k, 0.0_wp, .false., 3, d, w, dw)
+        call kernel_weight(k, natural(k), .false., 3, d, wb, dwb)
+        call check_close(wb, w, 1.0e-14_wp, 1.0e-15_wp, trim(kernel_names(k))//' natural box = B-spline')
+        call check(all(abs(dwb - dw) <= 1.0e-13_wp), trim(kernel_names(k))//' natural box gradient')
+      end do
+    end do
+  end subroutine test_box_weight_is_a_product_of_profiles
 
 end program test_kernels

@@ -105,7 +105,8 @@ contains
         do variant = 1, 2
           kernel = merge(kernel_wendland_c2, kernel_cubic, variant == 1)
           basis = merge(basis_linear, basis_constant, variant == 1)
-          radius = 2.0_wp
+          ! (variant 2: the tensor-product cubic B-spline of natural support)
+          radius = merge(2.0_wp, 0.0_wp, variant == 1)
           radial = variant == 1
           write (tag, '(i0,a,i0,a,i0)') nd, 'D ng = ', ng, ' variant ', variant
           ncells = 1

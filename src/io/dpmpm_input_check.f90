@@ -121,6 +121,14 @@ contains
       ' (Gauss points per cell per axis)')
     call check_mls_choice(pb, 'field', cfg%field_kernel, cfg%field_basis, cfg%field_radius, &
                           cfg%quadrature == 'gauss')
+    if (.not. any(cfg%field_support == [character(len=4) :: 'ball', 'box'])) &
+      call add_value(pb, g_shape, 1, 'field_support', quote(cfg%field_support), 'the supports are ball '// &
+                     '(a radial weight of radius field_radius), box (the tensor product of the weight''s '// &
+                     'profile, of half-width field_radius along each axis)')
+    if (cfg%quadrature == 'gauss' .and. cfg%field_support == 'box' .and. cfg%field_radius <= 0.0_wp) &
+      call add_value(pb, g_shape, 1, 'field_support', quote(cfg%field_support), 'a box needs its '// &
+                     'half-width field_radius > 0 (field_radius = 0 is the tensor-product B-spline of '// &
+                     'natural support already)')
 
     if (grid_ok) call check_decomposition(pb, cfg, nranks)
     if (cfg%porosity_gradient .and. cfg%quadrature == 'gauss') &

@@ -204,7 +204,7 @@ contains
 
   !> The Gauss points within reach of a point at s, in nd dimensions: their cells,
   !> indices within the cell (lexicographic), offsets (Gauss point minus point, cell
-  !> units) and weights. Radial weights are evaluated only inside the radius.
+  !> units) and weights (kernel_weight's). Radial weights are evaluated only inside the radius.
   pure subroutine points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, np, &
                                   cells, gidx, offs, w, gax)
     integer, intent(in) :: nd, ncells(3), ng, kernel
@@ -217,16 +217,20 @@ contains
     integer :: nl(3), cl(max_lattice, 3), gl(max_lattice, 3), a, b, c, d
     real(wp) :: ol(max_lattice, 3), wl(max_lattice, 3), dwl, r2, wk, dwk(3), r
     logical :: rad
-    rad = radial .or. .not. is_grid_kernel(kernel)
+    rad = radial .or. (radius <= 0.0_wp .and. .not. is_grid_kernel(kernel))
     nl = 1
     cl(1, :) = 0; gl(1, :) = 1; ol(1, :) = 0.0_wp; wl(1, :) = 1.0_wp
     do d = 1, nd
       call axis_lattice(s(d), reach, ncells(d), ng, xi, nl(d), cl(:, d), gl(:, d), ol(:, d))
-      if (.not. rad) then
-        do a = 1, nl(d)
+      if (rad) cycle
+      do a = 1, nl(d)
+        if (radius > 0.0_wp) then
+          ! the box: the kernel's profile of half-width radius along each axis
+          call kernel_radial(kernel, abs(ol(a, d))/radius, wl(a, d), dwl)
+        else
           call bspline_1d(kernel, ol(a, d), wl(a, d), dwl)
-        end do
-      end if
+        end if
+      end do
     end do
     np = 0
     do c = 1, nl(3)

@@ -2,8 +2,8 @@
 !> - grid functions (linear, quadratic, cubic B-spline) as tensor products on the
 !>   regular grid: kernel_eval_1d gives a point's stencil of nodes and weights,
 !>   psi_stencil those of every axis and psi_stencils those of a whole point set;
-!> - reconstruction weights of MLS (any B-spline, tensor product or radial, and
-!>   the radial Wendland C2 and C4 functions): kernel_weight gives the weight of
+!> - reconstruction weights of MLS (any kernel, radial or as a tensor product of
+!>   its profile over a box; the B-splines also of natural support): kernel_weight gives the weight of
 !>   a data site at an offset from an evaluation point (doc/theory.md 3.3).
 !> Offsets and radii are in cell units; derivatives are with respect to them.
 module dpmpm_kernels
@@ -268,9 +268,11 @@ contains
 
   !> Reconstruction weight of a data site seen from an evaluation point at
   !> offset d (evaluation point minus site, cell units) and its gradient with
-  !> respect to the evaluation point. Radial kernels use w(|d|/radius); the
-  !> tensor form (B-splines only) is the product of 1D B-splines of natural
-  !> support, and radius is then ignored. Wendland kernels are always radial.
+  !> respect to the evaluation point. Radial weights use w(|d|/radius). The tensor
+  !> form is the product over the axes of the kernel's profile w(|d_k|/radius), of
+  !> half-width radius along each axis (a box); with radius 0 it is the product of
+  !> 1D B-splines of natural support (B-splines only). Wendland kernels with
+  !> radius 0 are radial (the input refuses them).
   pure subroutine kernel_weight(kernel, radius, radial, nd, d, w, dw)
     integer, intent(in) :: kernel, nd
     real(wp), intent(in) :: radius
@@ -279,7 +281,7 @@ contains
     real(wp), intent(out) :: w, dw(nd)
     real(wp) :: r, dwdr, wk(nd), dwk(nd)
     integer :: k
-    if (radial .or. .not. is_grid_kernel(kernel)) then
+    if (radial .or. (radius <= 0.0_wp .and. .not. is_grid_kernel(kernel))) then
       r = norm2(d)/radius
       call kernel_radial(kernel, r, w, dwdr)
       if (r > 0.0_wp) then
@@ -287,13 +289,22 @@ contains
       else
         dw = 0.0_wp
       end if
+      return
+    end if
+    if (radius > 0.0_wp) then
+      do k = 1, nd
+        call kernel_radial(kernel, abs(d(k))/radius, wk(k), dwdr)
+        ! (the hat's kink at 0 is given the mean of its two slopes, 0)
+        dwk(k) = 0.0_wp
+        if (d(k) /= 0.0_wp) dwk(k) = dwdr*sign(1.0_wp, d(k))/radius
+      end do
     else
       call bspline_1d(kernel, d, wk, dwk)
-      w = product(wk)
-      do k = 1, nd
-        dw(k) = dwk(k)*product(wk(1:k - 1))*product(wk(k + 1:nd))
-      end do
     end if
+    w = product(wk)
+    do k = 1, nd
+      dw(k) = dwk(k)*product(wk(1:k - 1))*product(wk(k + 1:nd))
+    end do
   end subroutine kernel_weight
 
   !> Half-width (cell units) of the region where kernel_weight can be non-zero.
@@ -301,7 +312,7 @@ contains
     integer, intent(in) :: kernel
     real(wp), intent(in) :: radius
     logical, intent(in) :: radial
-    if (radial .or. .not. is_grid_kernel(kernel)) then
+    if (radial .or. radius > 0.0_wp .or. .not. is_grid_kernel(kernel)) then
       reach = radius
     else
       select case (kernel)

@@ -33,7 +33,7 @@ module dpmpm_shape_plan
     integer :: field_kernel = 4
     integer :: field_basis = 0
     real(wp) :: field_radius = 2.0_wp
-    logical :: field_radial = .true.
+    logical :: field_radial = .true.      !< radial weight; else a tensor product (box)
   contains
     procedure :: init => plan_init
     procedure :: ghost_width => plan_ghost_width
@@ -59,7 +59,8 @@ contains
       self%field_kernel = kernel_from_name(cfg%field_kernel)
       self%field_basis = basis_from_name(cfg%field_basis)
       self%field_radius = cfg%field_radius
-      self%field_radial = cfg%field_radius > 0.0_wp
+      ! a box of half-width field_radius is the tensor product of the kernel's profile
+      self%field_radial = cfg%field_radius > 0.0_wp .and. cfg%field_support /= 'box'
     end if
   end subroutine plan_init
 

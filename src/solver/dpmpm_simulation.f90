@@ -272,15 +272,16 @@ contains
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
 
-  !> Gauss quadrature with a radial field weight too short to reach every place of a cell
-  !> from the cell's Gauss points: points there find none, keep their velocity gradient
-  !> from the step before and give their stress to no Gauss point.
+  !> Gauss quadrature with a field weight (radial, or a box) too short to reach every
+  !> place of a cell from the cell's Gauss points: points there find none, keep their
+  !> velocity gradient from the step before and give their stress to no Gauss point.
   subroutine warn_field_reach(self)
     class(simulation_t), intent(inout) :: self
     real(wp) :: cover
     character(len=16) :: r, c
-    if (.not. (self%plan%gauss .and. self%plan%field_radial)) return
-    cover = gauss_cover_radius(self%cfg%ndim, self%plan%ngauss)
+    if (.not. self%plan%gauss .or. self%plan%field_radius <= 0.0_wp) return
+    ! a box reaches the corners when its half-width passes the widest gap along an axis
+    cover = gauss_cover_radius(merge(self%cfg%ndim, 1, self%plan%field_radial), self%plan%ngauss)
     if (self%plan%field_radius > cover) return
     write (r, '(f6.3)') self%plan%field_radius
     write (c, '(f6.3)') cover

@@ -87,7 +87,8 @@ contains
     select case (basis)
     case (basis_constant)
       radial = kernel == kernel_wendland_c2 .or. kernel == kernel_wendland_c4
-      radius = 2.0_wp
+      ! (radius 0: the B-splines' tensor products of natural support)
+      radius = merge(2.0_wp, 0.0_wp, radial)
     case (basis_linear)
       radial = .true.
       radius = 2.5_wp

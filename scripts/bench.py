@@ -229,32 +229,37 @@ def main():
         md.append("")
 
     if "mls" in cases:
-        md.append("### The MLS pair against Standard MPM (inputs/w1_2d.nml)\n")
-        with open(os.path.join(ROOT, "inputs", "w1_2d.nml")) as f:
-            w1 = f.read()
         # The shape choices as scripts/pareto.py spells them (imported here only: it
-        # brings h5py and matplotlib).
+        # brings h5py and matplotlib). In 3D linear + one Gauss point takes the box weight
+        # of half-width 0.65 cells (doc/input.md, &shape).
         import pareto
-        shapes = {"MLS pair": pareto.M1_COMBOS["pair (theory.md 3.6)"],
-                  "linear + one Gauss point": pareto.LINEAR_GAUSS}
-        variants = {"Standard MPM": w1}
-        for name, shape in shapes.items():
-            variants[name] = re.sub(r"&shape\s+kernel = 'linear'\s*/", f"&shape {shape} /", w1)
-        md.append("| shape | ms / step | steps per simulated second | wall s per simulated second | against Standard MPM |")
-        md.append("|---|---|---|---|---|")
-        base = None
-        for name, text in variants.items():
-            text = re.sub(r"&benchmark[^/]*/", "", text)
-            text = text.replace("dir = 'out'", f"dir = '{work}'")
-            make = lambda steps: re.sub(r"t_end = [0-9.e-]+", f"t_end = 10.0\n  max_steps = {steps}", text)  # noqa: E731
-            # (A step of this 800-point column takes a fraction of a millisecond.)
-            v, last = rounds(lambda: step_time(make, n(200), n(2200), work), k)
-            per_s = last["steps"] / last["t"]
-            wall = med(v) * per_s
-            base = base or wall
-            md.append(f"| {name} | {1e3 * med(v):.2f} | {per_s:.0f} | {wall:.2f} | {wall / base:.1f}x |")
-            res[f"w1_2d_{name}"] = {"s_per_step": v, "steps_per_s": per_s}
-        md.append("")
+        box = pareto.LINEAR_GAUSS.replace("field_radius = 0.75", "field_radius = 0.65, field_support = 'box'")
+        for nd, scene, gauss, steps in ((2, "w1_2d", pareto.LINEAR_GAUSS, (200, 2200)),
+                                        (3, "w1_3d", box, (50, 550))):
+            md.append(f"### The MLS pair against Standard MPM (inputs/{scene}.nml)\n")
+            with open(os.path.join(ROOT, "inputs", scene + ".nml")) as f:
+                w1 = f.read()
+            shapes = {"MLS pair": pareto.M1_COMBOS["pair (theory.md 3.6)"], "linear + one Gauss point": gauss}
+            variants = {"Standard MPM": w1}
+            for name, shape in shapes.items():
+                variants[name] = re.sub(r"&shape\s+kernel = 'linear'\s*/", f"&shape {shape} /", w1)
+            md.append("| shape | ms / step | steps per simulated second | wall s per simulated second | against Standard MPM |")
+            md.append("|---|---|---|---|---|")
+            base = None
+            for name, text in variants.items():
+                text = re.sub(r"&benchmark[^/]*/", "", text)
+                text = text.replace("dir = 'out'", f"dir = '{work}'")
+                make = lambda steps: re.sub(r"t_end = [0-9.e-]+", f"t_end = 10.0\n  max_steps = {steps}", text)  # noqa: E731
+                # (A step of these 800- and 3200-point columns takes a fraction of a millisecond
+                # to a few; the 3D pair 10-50 times more, hence fewer steps.)
+                s1, s2 = (5, 25) if (nd == 3 and name == "MLS pair") else steps
+                v, last = rounds(lambda: step_time(make, n(s1), n(s2), work), k)
+                per_s = last["steps"] / last["t"]
+                wall = med(v) * per_s
+                base = base or wall
+                md.append(f"| {name} | {1e3 * med(v):.2f} | {per_s:.0f} | {wall:.2f} | {wall / base:.1f}x |")
+                res[f"{scene}_{name}"] = {"s_per_step": v, "steps_per_s": per_s}
+            md.append("")
 
     if "scaling" in cases:
         md.append("### Scaling: a block filling the grid (2D, quadratic, MUSL)\n")

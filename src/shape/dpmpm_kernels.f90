@@ -3,8 +3,9 @@
 !>   regular grid: kernel_eval_1d gives a point's stencil of nodes and weights,
 !>   psi_stencil those of every axis and psi_stencils those of a whole point set;
 !> - reconstruction weights of MLS (any kernel, radial or as a tensor product of
-!>   its profile over a box; the B-splines also of natural support): kernel_weight gives the weight of
-!>   a data site at an offset from an evaluation point (doc/theory.md 3.3).
+!>   its profile over a box; the B-splines also of natural support): kernel_weight
+!>   gives the weight of a data site at an offset from an evaluation point
+!>   (doc/theory.md 3.3).
 !> Offsets and radii are in cell units; derivatives are with respect to them.
 module dpmpm_kernels
   use dpmpm_kinds, only: wp

@@ -18,8 +18,9 @@
 !> evaluated on a fine grid t_n = n dt, with Lanczos sigma factors sigma_k = sinc(k/N) against
 !> Gibbs ringing, then cubic interpolation to the requested times from the four samples around
 !> each. For a few requested times (the solver's checks ask for one) those samples are summed
-!> directly; for many, one FFTW complex-to-real transform gives the whole grid. Algorithm B (incompressible constituents, closed form with images) is here too, as
-!> an independent check of algorithm A.
+!> directly; for many, one FFTW complex-to-real transform gives the whole grid. Algorithm B
+!> (incompressible constituents, closed form with images) is here too, as an independent
+!> check of algorithm A.
 !>
 !> Parameters of the inversion and their measured accuracy (doc/verification.md has the tables):
 !> - period T_p = 4 t_end: the wrapped-around copies f(t + n T_p) are damped by e^{-alpha n T_p}.

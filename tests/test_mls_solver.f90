@@ -5,8 +5,8 @@
 !> converges at second order; a point that has just entered a cell at its corner
 !> does not give a node that it barely reaches the force of the whole cell; linear grid
 !> functions with one Gauss point per cell whose weight reaches just the cell keep Standard
-!> MPM's error at small deformation and do not crack at large, in 3D with a box weight. Bounds are measured values with the margins in
-!> doc/verification.md.
+!> MPM's error at small deformation and do not crack at large, in 3D with a box weight.
+!> Bounds are measured values with the margins in doc/verification.md.
 program test_mls_solver
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD
@@ -320,18 +320,25 @@ contains
     cfg%bc(3:6) = bc_roller
     cfg%benchmark = 'axial_bar'
     cfg%amplitude = 0.01_wp
-    if (radius >= 0.0_wp) then
-      cfg%quadrature = 'gauss'
-      cfg%gauss_points = 1
-      cfg%field_kernel = 'linear'
-      cfg%field_radius = radius
-      cfg%field_support = support
-    end if
+    if (radius >= 0.0_wp) call use_cell_gauss_point(cfg, radius, support)
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
     e = maxval(sim%err_hist(3, 1:sim%nerr))
     call sim%free()
   end function bar3d_error
+
+  !> Linear grid functions with the stresses at one Gauss point per cell, reconstructed with
+  !> the linear hat of the given radius (cells) and support (ball or box) as the field weight.
+  subroutine use_cell_gauss_point(cfg, radius, support)
+    type(config_t), intent(inout) :: cfg
+    real(wp), intent(in) :: radius
+    character(len=*), intent(in) :: support
+    cfg%quadrature = 'gauss'
+    cfg%gauss_points = 1
+    cfg%field_kernel = 'linear'
+    cfg%field_radius = radius
+    cfg%field_support = support
+  end subroutine use_cell_gauss_point
 
   !> e_u(T) of M1 with ncells^2 cells and amplitude b: Standard MPM for radius < 0, else
   !> linear grid functions with one Gauss point per cell and the linear hat of that radius
@@ -342,12 +349,7 @@ contains
     type(config_t) :: cfg
     real(wp) :: err(5)
     cfg = mms_scene(ncells, b, .false.)
-    if (radius >= 0.0_wp) then
-      cfg%quadrature = 'gauss'
-      cfg%gauss_points = 1
-      cfg%field_kernel = 'linear'
-      cfg%field_radius = radius
-    end if
+    if (radius >= 0.0_wp) call use_cell_gauss_point(cfg, radius, 'ball')
     err = mms_run(cfg)
     e = err(2)
   end function m1_error

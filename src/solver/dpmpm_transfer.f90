@@ -117,7 +117,8 @@ contains
 
   !> Grid to particle: FLIP/PIC blend of the velocity, position update with the
   !> new nodal velocity, and the velocity gradient from the new nodal velocity (USL).
-  !> gradient = .false. (MUSL, whose remap replaces the gradient) leaves vgrad as it is.
+  !> gradient = .false. (MUSL, whose remap replaces the gradient) leaves vgrad as it is;
+  !> without vgrad no gradient is formed.
   subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient, gf, gv)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
@@ -125,7 +126,8 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: flip, dt
-    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :)
+    real(wp), contiguous, intent(inout), optional :: vgrad(:, :)
     logical, intent(in), optional :: gradient
     !> With gf: gv(1:nd, p) = sum_I N_I(x_p) gf(1:nd, I), another nodal vector field at the
     !> points in the same pass (the locked velocity of the MUSL remap, momentum_project_p2g),
@@ -134,53 +136,18 @@ contains
     real(wp), contiguous, intent(inout), optional :: gv(:, :)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3), gs(3)
-    real(wp) :: none(1, 1)
+    real(wp) :: none(1, 1), nograd(1, 1)
     logical :: grad, gather
-    grad = .true.
-    if (present(gradient)) grad = gradient
+    grad = present(vgrad)
+    if (present(gradient)) grad = grad .and. gradient
     gather = present(gf) .and. present(gv)
-    ! (An absent optional array cannot be passed on to a contiguous dummy: without gf the
-    ! kernels get nvel and a dummy they do not touch.)
-    if (nd == 2) then
-      if (gather) then
-        select case (nw(1))
-        case (2)
-          call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        case (3)
-          call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        case default
-          call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        end select
+    if (nd == 2 .or. (nd == 3 .and. all(nw == nw(1)))) then
+      ! (An absent optional array cannot be passed on to a contiguous dummy: without vgrad
+      ! the kernels get a stand-in they do not touch.)
+      if (present(vgrad)) then
+        call g2p_fixed(vgrad)
       else
-        select case (nw(1))
-        case (2)
-          call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        case (3)
-          call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        case default
-          call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        end select
-      end if
-      return
-    else if (nd == 3 .and. all(nw == nw(1))) then
-      if (gather) then
-        select case (nw(1))
-        case (2)
-          call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        case (3)
-          call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        case default
-          call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        end select
-      else
-        select case (nw(1))
-        case (2)
-          call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        case (3)
-          call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        case default
-          call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        end select
+        call g2p_fixed(nograd)
       end if
       return
     end if
@@ -204,6 +171,56 @@ contains
       vgrad(4:6, p) = lg(:, 2)
       vgrad(7:9, p) = lg(:, 3)
     end do
+
+  contains
+
+    !> The forms of fixed dimension and stencil width, the gradients into vg.
+    subroutine g2p_fixed(vg)
+      real(wp), contiguous, intent(inout) :: vg(:, :)
+      ! (Without gf the kernels get nvel and a dummy they do not touch.)
+      if (nd == 2) then
+        if (gather) then
+          select case (nw(1))
+          case (2)
+            call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          case (3)
+            call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          case default
+            call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          end select
+        else
+          select case (nw(1))
+          case (2)
+            call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          case (3)
+            call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          case default
+            call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          end select
+        end if
+      else
+        if (gather) then
+          select case (nw(1))
+          case (2)
+            call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          case (3)
+            call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          case default
+            call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          end select
+        else
+          select case (nw(1))
+          case (2)
+            call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          case (3)
+            call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          case default
+            call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          end select
+        end if
+      end if
+    end subroutine g2p_fixed
+
   end subroutine g2p
 
   !> Work over a step of the body accelerations bacc that p2g gave the points:

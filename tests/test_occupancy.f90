@@ -2,7 +2,8 @@
 !> the closing by a box of half-width r fills gaps of up to 2r empty cells inside a
 !> body, leaves wider gaps open, and neither grows a body past its outermost occupied
 !> cells nor erodes it at the grid faces. The reach kept by gauss_accumulate gives
-!> gauss_strain the same point gradients as the reach found again.
+!> gauss_strain the same point gradients and divergences as the reach found again; the
+!> divergences are the traces of the gradients.
 program test_occupancy
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
@@ -83,16 +84,18 @@ contains
     call check(all(closed(2, ncells, 2, occ0) == want), 'r = 2: holes filled, L-shape kept')
   end subroutine test_closing_keeps_block_surfaces_2d
   !> gauss_strain with the reach kept by gauss_accumulate against the reach found again
-  !> per point: the same point gradients (two fields) and effective volumes, bit for bit,
-  !> in 2D and 3D with 2 and 3 Gauss points per axis, for the Wendland C2 weight of
-  !> radius 2 with the linear basis and the cubic B-spline (tensor form) with the
-  !> constant one. Scattered points, random fields; the cache is valid and not empty.
+  !> per point: the same point gradients (two fields), divergences (the two fields in
+  !> one pass, as the fluid points take them) and effective volumes, bit for bit, in 2D
+  !> and 3D with 2 and 3 Gauss points per axis, for the Wendland C2 weight of radius 2
+  !> with the linear basis and the cubic B-spline (tensor form) with the constant one.
+  !> The divergences equal the traces (L11 + L22) + L33 of the gradients bit for bit.
+  !> Scattered points, random fields; the cache is valid and not empty.
   subroutine test_kept_reach_gives_the_same_gradients()
     integer, parameter :: n = 60, nc = 8
-    integer :: nd, ng, variant, kernel, basis, lo(3), hi(3), ncells(3), nk1, nk2, p
+    integer :: nd, ng, variant, kernel, basis, lo(3), hi(3), ncells(3), nk1, nk2, nk3, nk4, p
     real(wp), allocatable :: x(:, :), vol(:), stress(:, :), acc(:, :, :, :), sol(:, :, :, :)
     real(wp), allocatable :: lg(:, :, :, :), lg2(:, :, :, :), va(:, :), vb(:, :), wa(:, :), wb(:, :)
-    real(wp), allocatable :: ta(:), tb(:)
+    real(wp), allocatable :: ta(:), tb(:), tc(:), td(:), da(:), db(:), dc(:), dd(:)
     real(wp) :: origin(3), h(3), radius
     logical :: radial
     type(reach_cache_t) :: cache
@@ -115,6 +118,7 @@ contains
           lo(1:nd) = -2
           hi(1:nd) = nc + 2
           allocate (x(nd, n), vol(n), stress(6, n), ta(n), tb(n), va(9, n), vb(9, n), wa(9, n), wb(9, n))
+          allocate (tc(n), td(n), da(n), db(n), dc(n), dd(n))
           call random_number(x)
           do p = 1, n
             x(:, p) = origin(1:nd) + (1.0_wp + 6.0_wp*x(:, p))*h(1:nd)
@@ -135,14 +139,29 @@ contains
           call random_number(lg)
           call random_number(lg2)
           va = 0.0_wp; vb = 0.0_wp; wa = 0.0_wp; wb = 0.0_wp
+          da = 0.0_wp; db = 0.0_wp; dc = 0.0_wp; dd = 0.0_wp
           call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
-                            lg, va, ta, nk1, lg2, wa)
+                            lg, ta, nk1, vgrad=va)
           call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
-                            lg, vb, tb, nk2, lg2, wb, cache=cache)
+                            lg, tb, nk2, vgrad=vb, cache=cache)
+          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+                            lg2, ta, nk1, vgrad=wa)
+          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+                            lg2, tb, nk2, vgrad=wb, cache=cache)
           call check(all(va == vb) .and. all(wa == wb), trim(tag)//': the same point gradients')
           call check(all(ta == tb) .and. nk1 == nk2, trim(tag)//': the same effective volumes')
           call check(maxval(abs(va)) > 0.0_wp .and. minval(ta) > 0.0_wp, trim(tag)//': nonzero gradients')
-          deallocate (x, vol, stress, ta, tb, va, vb, wa, wb, acc, sol, lg, lg2)
+          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+                            lg, tc, nk3, div=da, lg2=lg2, div2=db)
+          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+                            lg, td, nk4, div=dc, lg2=lg2, div2=dd, cache=cache)
+          call check(all(da == dc) .and. all(db == dd), trim(tag)//': the same point divergences')
+          call check(all(tc == ta) .and. all(td == ta) .and. nk3 == nk1 .and. nk4 == nk1, &
+                     trim(tag)//': the same effective volumes with the divergences')
+          call check(all(da == va(1, :) + va(5, :) + va(9, :)) .and. all(db == wa(1, :) + wa(5, :) + wa(9, :)), &
+                     trim(tag)//': the divergences are the traces of the gradients')
+          call check(maxval(abs(da)) > 0.0_wp .and. maxval(abs(db)) > 0.0_wp, trim(tag)//': nonzero divergences')
+          deallocate (x, vol, stress, ta, tb, va, vb, wa, wb, acc, sol, lg, lg2, tc, td, da, db, dc, dd)
         end do
       end do
     end do

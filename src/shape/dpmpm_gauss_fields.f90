@@ -609,19 +609,22 @@ contains
 
   !> Point velocity gradients by the transpose of the force operator:
   !> L_p = sum_g C_gp L_g / sum_g C_gp, C_gp = w_g V_p W_gp gamma_g . p_gp, with the
-  !> positions and volumes of the force evaluation (x, vol). Points whose
-  !> effective volume sum_g C_gp is not positive keep their vgrad; nkept counts them.
+  !> positions and volumes of the force evaluation (x, vol), into vgrad (9, n) or, with
+  !> div instead, only their traces (the divergences; fluid points). Points whose
+  !> effective volume sum_g C_gp is not positive keep their values; nkept counts them.
   subroutine gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, &
-                          lo, sol, lg, vgrad, vt, nkept, lg2, vgrad2, cache)
+                          lo, sol, lg, vt, nkept, vgrad, div, lg2, div2, cache)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis, lo(3)
     real(wp), intent(in) :: x(:, :), vol(:), origin(3), h(3), radius
     logical, intent(in) :: radial
     real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):), lg(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(inout) :: vgrad(:, :), vt(:)
+    real(wp), intent(inout) :: vt(:)
     integer, intent(out) :: nkept
-    !> A second Gauss-point gradient field, transposed into vgrad2 in the same pass.
+    real(wp), intent(inout), optional :: vgrad(:, :), div(:)
+    !> With div: a second Gauss-point gradient field, its divergences into div2 in the
+    !> same pass.
     real(wp), intent(in), optional :: lg2(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(inout), optional :: vgrad2(:, :)
+    real(wp), intent(inout), optional :: div2(:)
     !> The reach kept by gauss_accumulate at the same positions (used when valid).
     type(reach_cache_t), intent(in), optional :: cache
     integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d, q0, ga(3)
@@ -629,8 +632,9 @@ contains
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
                 wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell
-    logical :: two, kept
-    two = present(lg2) .and. present(vgrad2)
+    logical :: full, two, kept
+    full = present(vgrad)
+    two = present(div) .and. present(lg2) .and. present(div2)
     kept = .false.
     if (present(cache)) kept = cache%valid .and. cache%n == n
     nb = basis_size(basis, nd)
@@ -694,10 +698,14 @@ contains
       end if
       lm = 0.0_wp
       lm(1:nd, 1:nd) = reshape(l(1:nd*nd)/ctot, [nd, nd])
-      vgrad(1:3, p) = lm(:, 1); vgrad(4:6, p) = lm(:, 2); vgrad(7:9, p) = lm(:, 3)
+      if (full) then
+        vgrad(1:3, p) = lm(:, 1); vgrad(4:6, p) = lm(:, 2); vgrad(7:9, p) = lm(:, 3)
+      else if (present(div)) then
+        div(p) = lm(1, 1) + lm(2, 2) + lm(3, 3)
+      end if
       if (.not. two) cycle
       lm(1:nd, 1:nd) = reshape(l2(1:nd*nd)/ctot, [nd, nd])
-      vgrad2(1:3, p) = lm(:, 1); vgrad2(4:6, p) = lm(:, 2); vgrad2(7:9, p) = lm(:, 3)
+      div2(p) = lm(1, 1) + lm(2, 2) + lm(3, 3)
     end do
   end subroutine gauss_strain
 

@@ -17,8 +17,10 @@ module dpmpm_phase
     type(particle_set_t) :: pts               !< the points of the phase
     integer :: bc(6) = 0                      !< its face conditions at the mirror walls
     type(stencil_t) :: st                     !< the points' stencils, rebuilt every step
-    real(wp), allocatable :: vgrad(:, :)      !< velocity gradient of the phase (9, n)
-    real(wp), allocatable :: vgrad2(:, :)     !< fluid points: solid velocity gradient (9, n)
+    real(wp), allocatable :: vgrad(:, :)      !< solid points: velocity gradient of the phase (9, n)
+    !> Fluid points: the divergences of the fluid's velocity (divf) and of the skeleton's
+    !> (divs), all the pore-pressure update reads of the two velocity gradients (n)
+    real(wp), allocatable :: divf(:), divs(:)
     ! Node fields on the stored nodes (owned + ghosts).
     real(wp), allocatable :: node(:, :, :, :) !< mass, momentum(nd), force(nd)
     real(wp), allocatable :: nvel(:, :, :, :) !< velocity before (nd) and after (nd) the update
@@ -54,7 +56,8 @@ contains
     if (allocated(self%st%sw)) b = b + size(self%st%sw(:, :, 1))*storage_size(self%st%sw)/8
     if (allocated(self%st%sdw)) b = b + size(self%st%sdw(:, :, 1))*storage_size(self%st%sdw)/8
     if (allocated(self%vgrad)) b = b + size(self%vgrad, 1)*storage_size(self%vgrad)/8
-    if (allocated(self%vgrad2)) b = b + size(self%vgrad2, 1)*storage_size(self%vgrad2)/8
+    if (allocated(self%divf)) b = b + storage_size(self%divf)/8
+    if (allocated(self%divs)) b = b + storage_size(self%divs)/8
     if (allocated(self%bacc)) b = b + size(self%bacc, 1)*storage_size(self%bacc)/8
     if (allocated(self%lockp)) b = b + size(self%lockp, 1)*storage_size(self%lockp)/8
     if (allocated(self%xold)) b = b + size(self%xold, 1)*storage_size(self%xold)/8
@@ -70,7 +73,8 @@ contains
     self%bc = 0
     call self%st%free()
     if (allocated(self%vgrad)) deallocate (self%vgrad)
-    if (allocated(self%vgrad2)) deallocate (self%vgrad2)
+    if (allocated(self%divf)) deallocate (self%divf)
+    if (allocated(self%divs)) deallocate (self%divs)
     if (allocated(self%node)) deallocate (self%node)
     if (allocated(self%nvel)) deallocate (self%nvel)
     if (allocated(self%vacc)) deallocate (self%vacc)

@@ -1,7 +1,7 @@
 !> The pore-pressure update of the fluid points (doc/theory.md 4.6, the paper's eq. 10)
 !> and what goes with it: the nodal porosity from the solid points' sums, the
 !> skeleton's porosity from its volume change, the semi-implicit pressure update
-!> from the new velocity gradients (with the mixture-flux term of dpmpm_transfer),
+!> from the new velocity divergences (with the mixture-flux term of dpmpm_transfer),
 !> and the fluid volume and stress from the new pressure. Drained faces load the
 !> nodes in dpmpm_face_loads. Signs: pore pressure positive in compression.
 module dpmpm_pore_pressure
@@ -77,12 +77,12 @@ contains
   end subroutine skeleton_kinv
 
   !> The pore pressure of the fluid points over one step (eq. 10) with the bulk
-  !> modulus of each point's fluid; lf, ls the fluid and solid velocity gradients
-  !> at the fluid points, gnrel the mixture-flux term (zero without it). With cell
+  !> modulus of each point's fluid; divf, divs the divergences of the fluid and solid
+  !> velocities at the fluid points, gnrel the mixture-flux term (zero without it). With cell
   !> (point_cells), ncell and vol the change is smoothed over each cell
   !> (smooth_pressure_change). The pressure is then cut at pcav (cavitation: water does
   !> not carry a tension below it); ncut counts the points cut.
-  subroutine fluid_pressure_step(n, dt, mats, mat, poro, lf, ls, gnrel, pcav, pres, ncut, &
+  subroutine fluid_pressure_step(n, dt, mats, mat, poro, divf, divs, gnrel, pcav, pres, ncut, &
                                  cell, ncell, vol)
     integer, intent(in) :: n
     real(wp), intent(in) :: dt, pcav
@@ -91,7 +91,7 @@ contains
     real(wp), intent(in), optional :: vol(:)
     type(material_t), intent(in) :: mats(:)
     integer, intent(in) :: mat(:)
-    real(wp), intent(in) :: poro(:), lf(:, :), ls(:, :), gnrel(:)
+    real(wp), intent(in) :: poro(:), divf(:), divs(:), gnrel(:)
     real(wp), intent(inout) :: pres(:)
     real(wp), allocatable :: kf(:), pold(:)
     integer :: m
@@ -100,7 +100,7 @@ contains
       kf(m) = mats(mat(m))%bulk_fluid
     end do
     if (present(cell)) pold = pres(1:n)
-    call pressure_update(n, dt, kf, poro, lf, ls, gnrel, pres)
+    call pressure_update(n, dt, kf, poro, divf, divs, gnrel, pres)
     if (present(cell)) call smooth_pressure_change(n, ncell, cell, vol, pold, pres)
     ncut = ncut + count(pres(1:n) < pcav)
     pres(1:n) = max(pres(1:n), pcav)
@@ -176,22 +176,19 @@ contains
   end subroutine fluid_state
 
   !> Semi-implicit pore-pressure update at the fluid points (paper eq. 10) with
-  !> the velocity gradients of the new nodal velocities, lf (fluid) and ls (solid),
-  !> each 3x3 column-major:
+  !> the divergences of the new nodal velocities at the points, divf (fluid) and
+  !> divs (solid):
   !> p += -(K_f dt / n) [grad n . (v_f - v_s) + (1 - n) div v_s + n div v_f].
   !> gn_rel stands for grad n . (v_f - v_s) per point: the rest of the divergence
   !> of the nodal mixture flux (mixture_flux in dpmpm_transfer), zero when the
   !> porosity-gradient term is off.
-  pure subroutine pressure_update(n, dt, kf, poro, lf, ls, gn_rel, pres)
+  pure subroutine pressure_update(n, dt, kf, poro, divf, divs, gn_rel, pres)
     integer, intent(in) :: n
-    real(wp), intent(in) :: dt, kf(:), poro(:), lf(:, :), ls(:, :), gn_rel(:)
+    real(wp), intent(in) :: dt, kf(:), poro(:), divf(:), divs(:), gn_rel(:)
     real(wp), intent(inout) :: pres(:)
     integer :: p
-    real(wp) :: divf, divs
     do p = 1, n
-      divf = lf(1, p) + lf(5, p) + lf(9, p)
-      divs = ls(1, p) + ls(5, p) + ls(9, p)
-      pres(p) = pres(p) - kf(p)*dt/poro(p)*(gn_rel(p) + (1.0_wp - poro(p))*divs + poro(p)*divf)
+      pres(p) = pres(p) - kf(p)*dt/poro(p)*(gn_rel(p) + (1.0_wp - poro(p))*divs(p) + poro(p)*divf(p))
     end do
   end subroutine pressure_update
 

@@ -1,8 +1,8 @@
 !> Gauss quadrature of the internal forces (doc/theory.md 3.6): the driving code of
 !> the MLS reconstruction of a stress-like field on the Gauss points of the
 !> cells (sums, occupancy of the cells, solve, forces), and the point velocity
-!> gradients by the transpose of the same operator. The algebra is in
-!> dpmpm_gauss_fields; here are its passes with their halo exchanges.
+!> gradients (fluid points: divergences) by the transpose of the same operator. The
+!> algebra is in dpmpm_gauss_fields; here are its passes with their halo exchanges.
 module dpmpm_quadrature
   use dpmpm_kinds, only: wp
   use dpmpm_timer, only: t_halo
@@ -12,7 +12,7 @@ module dpmpm_quadrature
   use dpmpm_state, only: state_t
   implicit none
   private
-  public :: gauss_force_integrals, gauss_point_gradients
+  public :: gauss_force_integrals, gauss_point_gradients, gauss_point_divergences
 
 contains
 
@@ -102,42 +102,54 @@ contains
     end associate
   end subroutine gauss_occupancy
 
-  !> Point velocity gradients vgrad of the points of ps by the transpose of the
+  !> Point velocity gradients vgrad of the points of tr by the transpose of the
   !> quadrature force operator of their reconstruction sol, from the nodal
   !> velocities nvel (doc/theory.md 3.6).
-  subroutine gauss_point_gradients(self, tr, sol, nvel, vgrad, nvel2, vgrad2)
+  subroutine gauss_point_gradients(self, tr, sol, nvel, vgrad)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: tr
     real(wp), intent(in) :: sol(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     real(wp), intent(in) :: nvel(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     real(wp), intent(inout) :: vgrad(:, :)
-    !> A second nodal velocity (fluid points: the solid's), transposed in the same pass.
-    real(wp), intent(in), optional :: nvel2(:, self%dec%alo(1):, self%dec%alo(2):, &
-                                            self%dec%alo(3):)
-    real(wp), intent(inout), optional :: vgrad2(:, :)
     integer :: nkept
     call gauss_velocity_gradient(self%nd, self%plan%ngauss, self%kernel, self%grid%h, &
                                  self%dec%alo, self%dec%clo, self%dec%chi, sol, nvel, tr%glg)
     call self%dec%halo_copy(tr%glg)
     associate (pl => self%plan)
-      if (present(nvel2) .and. present(vgrad2)) then
-        call gauss_velocity_gradient(self%nd, pl%ngauss, self%kernel, self%grid%h, &
-                                     self%dec%alo, self%dec%clo, self%dec%chi, sol, nvel2, tr%glg2)
-        call self%dec%halo_copy(tr%glg2)
-        call gauss_strain(self%nd, tr%pts%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
-                          self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
-                          pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, vgrad, &
-                          tr%vt, nkept, tr%glg2, vgrad2, cache=tr%reach)
-        ! Both gradients keep their point-wise value at the same points.
-        nkept = 2*nkept
-      else
-        call gauss_strain(self%nd, tr%pts%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
-                          self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
-                          pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, vgrad, &
-                          tr%vt, nkept, cache=tr%reach)
-      end if
+      call gauss_strain(self%nd, tr%pts%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
+                        self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                        pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, tr%vt, nkept, &
+                        vgrad=vgrad, cache=tr%reach)
     end associate
     self%nkept = self%nkept + nkept
   end subroutine gauss_point_gradients
+
+  !> The divergences at the points of tr (fluid points) of two nodal velocities, div
+  !> of nvel and div2 of nvel2 (the solid's), by the transpose of the quadrature force
+  !> operator of the points' reconstruction sol in one pass over the points: the traces
+  !> of the gradients gauss_point_gradients gives.
+  subroutine gauss_point_divergences(self, tr, sol, nvel, nvel2, div, div2)
+    class(state_t), intent(inout) :: self
+    type(phase_t), intent(inout) :: tr
+    real(wp), intent(in) :: sol(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in) :: nvel(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in) :: nvel2(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(inout) :: div(:), div2(:)
+    integer :: nkept
+    associate (pl => self%plan)
+      call gauss_velocity_gradient(self%nd, pl%ngauss, self%kernel, self%grid%h, &
+                                   self%dec%alo, self%dec%clo, self%dec%chi, sol, nvel, tr%glg)
+      call self%dec%halo_copy(tr%glg)
+      call gauss_velocity_gradient(self%nd, pl%ngauss, self%kernel, self%grid%h, &
+                                   self%dec%alo, self%dec%clo, self%dec%chi, sol, nvel2, tr%glg2)
+      call self%dec%halo_copy(tr%glg2)
+      call gauss_strain(self%nd, tr%pts%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
+                        self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
+                        pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, tr%vt, nkept, &
+                        div=div, lg2=tr%glg2, div2=div2, cache=tr%reach)
+    end associate
+    ! Both divergences keep their point-wise value at the same points.
+    self%nkept = self%nkept + 2*nkept
+  end subroutine gauss_point_divergences
 
 end module dpmpm_quadrature

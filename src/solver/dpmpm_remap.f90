@@ -1,14 +1,15 @@
 !> The MUSL remap of one step (doc/theory.md 4.1, doc/architecture.md "One step"): the
 !> updated point momenta of every phase mapped back to the grid, the nodal velocities
-!> taken from them, and the point velocity gradients from those. With two phases it
-!> also ties the fluid to the skeleton at impermeable faces and, where the implicit drag
-!> locks the phases, removes the split that the two point sets' projections make of the
-!> locked velocity and relaxes the relative velocity as the step's drag would.
+!> taken from them, and the point velocity gradients (fluid points: the divergences)
+!> from those. With two phases it also ties the fluid to the skeleton at impermeable
+!> faces and, where the implicit drag locks the phases, removes the split that the two
+!> point sets' projections make of the locked velocity and relaxes the relative velocity
+!> as the step's drag would.
 module dpmpm_remap
   use dpmpm_kinds, only: wp
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_transfer, only: point_gradient, point_gradients, momentum_p2g, momentum_project_p2g
+  use dpmpm_transfer, only: point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
   use dpmpm_nodal_update, only: remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: relax_remapped, remove_split
   use dpmpm_rigid, only: drive_rigid_nodes
@@ -24,7 +25,7 @@ contains
   !> drag, where the drag locks the phases, the relative velocity the remap adds is
   !> shrunk as the step's drag would (relax_remapped): without it the step is
   !> unstable on scattered points (doc/verification.md, "Long runs"). The fluid
-  !> points also get the solid's velocity gradient.
+  !> points get the divergences of the fluid's and the solid's velocity.
   !> locked: the points of each phase hold in lockp the velocity that the implicit drag
   !> locks both phases to (locked_velocity), gathered by g2p; the remap carries it back
   !> to the grid through each point set (remove_common_split).
@@ -80,10 +81,10 @@ contains
       call point_gradient(nd, s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%st%sdw, self%dec%alo, s%nvel, s%vgrad)
     end associate
     if (coupled) then
-      ! the fluid points' gradients of both phases' velocities in one pass
+      ! the fluid points' divergences of both phases' velocities in one pass
       associate (f => self%phase(fluid_phase))
-        call point_gradients(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, f%nvel, &
-                             self%phase(solid_phase)%nvel, f%vgrad, f%vgrad2)
+        call point_divergences(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, f%nvel, &
+                               self%phase(solid_phase)%nvel, f%divf, f%divs)
       end associate
     end if
   end subroutine musl_remap

@@ -18,7 +18,7 @@ module dpmpm_step
   use dpmpm_particles, only: particle_set_t
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_transfer, only: p2g, g2p, point_gradient, interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
+  use dpmpm_transfer, only: p2g, g2p, point_divergences, interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, mixture_flux, volume_p2g
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
   use dpmpm_drag, only: nodal_drag_limit, locked_velocity
@@ -26,7 +26,7 @@ module dpmpm_step
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, fluid_density, &
                                  local_cell, &
                                  fluid_pressure_step, fluid_state
-  use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients
+  use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients, gauss_point_divergences
   use dpmpm_gauss_fields, only: thin_node_forces
   use dpmpm_time_step, only: report_governing
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points
@@ -290,7 +290,8 @@ contains
     end do
 
     ! 6. g2p: velocities, positions, velocity gradients (MUSL: from the remapped
-    ! nodal velocities; Gauss quadrature: by the transposed force operator).
+    ! nodal velocities; Gauss quadrature: by the transposed force operator). The fluid
+    ! points take the divergences of both phases' velocities in a pass of their own.
     call self%timers%tic(t_g2p)
     ! Where the implicit drag locks the phases, the MUSL remap carries the locked velocity
     ! to the points of each set and back (musl_remap); g2p gathers it at the points, from
@@ -307,7 +308,8 @@ contains
     end if
     do ip = 1, self%nph
       associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
-        ! (MUSL takes the gradients from the remapped velocities.)
+        ! (MUSL takes the gradients from the remapped velocities. The fluid points have no
+        ! vgrad: unallocated, it is an absent argument and g2p forms no gradient.)
         if (locked) then
           call self%mirror%unfold(lockv, 0, ph%bc)
           call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
@@ -324,8 +326,8 @@ contains
       call musl_remap(self, dt, locked)
     else if (coupled) then
       associate (f => self%phase(fluid_phase))
-        call point_gradient(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, &
-                            self%phase(solid_phase)%nvel, f%vgrad2)
+        call point_divergences(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, f%nvel, &
+                               self%phase(solid_phase)%nvel, f%divf, f%divs)
       end associate
     end if
     if (coupled) then
@@ -345,8 +347,8 @@ contains
       end associate
       if (coupled) then
         associate (f => self%phase(fluid_phase))
-          call gauss_point_gradients(self, f, f%gsol, f%nvel, f%vgrad, self%phase(solid_phase)%nvel, &
-                                     f%vgrad2)
+          call gauss_point_divergences(self, f, f%gsol, f%nvel, self%phase(solid_phase)%nvel, f%divf, &
+                                       f%divs)
         end associate
       end if
     end if
@@ -370,7 +372,7 @@ contains
     if (coupled) then
       associate (f => self%phase(fluid_phase))
         ! fcell is allocated only with cell smoothing; unallocated, it is an absent argument.
-        call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%vgrad, f%vgrad2, gnrel, &
+        call fluid_pressure_step(nf, dt, self%mats, f%pts%mat, f%pts%porosity, f%divf, f%divs, gnrel, &
                                  self%cfg%cavitation_pressure, f%pts%pressure, self%ncavitated, &
                                  fcell, product(self%dec%chi - self%dec%clo + 1), f%pts%vol)
         if (allocated(fsurf)) then
@@ -648,14 +650,18 @@ contains
     if (tr%st%nd == 0) call tr%st%init(self%nd, self%kernel)
     if (size(tr%st%i0, 2) < n) then
       if (allocated(tr%vgrad)) deallocate (tr%vgrad)
-      if (allocated(tr%vgrad2)) deallocate (tr%vgrad2)
+      if (allocated(tr%divf)) deallocate (tr%divf, tr%divs)
       if (allocated(tr%xold)) deallocate (tr%xold, tr%volold, tr%vt)
       if (allocated(tr%lockp)) deallocate (tr%lockp)
     end if
     call tr%st%build(n, tr%pts%cap, tr%pts%x, self%grid%origin, self%grid%h)
     cap = size(tr%st%i0, 2)
-    if (.not. allocated(tr%vgrad)) allocate (tr%vgrad(9, cap))
-    if (tr%pts%has_pressure .and. .not. allocated(tr%vgrad2)) allocate (tr%vgrad2(9, cap))
+    ! (The fluid points keep only the two divergences of the pore-pressure update.)
+    if (tr%pts%has_pressure) then
+      if (.not. allocated(tr%divf)) allocate (tr%divf(cap), tr%divs(cap))
+    else if (.not. allocated(tr%vgrad)) then
+      allocate (tr%vgrad(9, cap))
+    end if
     if (self%plan%gauss .and. .not. allocated(tr%xold)) &
       allocate (tr%xold(self%nd, cap), tr%volold(cap), tr%vt(cap))
     if (remap_locks(self) .and. .not. allocated(tr%lockp)) allocate (tr%lockp(self%nd, cap))

@@ -1,6 +1,6 @@
 !> Transfers between the points and the grid (doc/theory.md 3.5 and 4): p2g of mass,
 !> momentum and internal force, g2p (FLIP/PIC velocity, position, velocity
-!> gradient), point velocity gradients, the MUSL momentum remap, nodal scalars
+!> gradient), point velocity gradients and divergences, the MUSL momentum remap, nodal scalars
 !> interpolated to the points, and the two-phase terms that the points carry to
 !> the grid (pore-pressure forces, drag coefficient, porosity sums, interphase
 !> force, mixture flux). Every kernel works on plain arrays: a point's stencil is
@@ -15,25 +15,25 @@ module dpmpm_transfer
   use dpmpm_drag, only: gravity_drag
   use dpmpm_transfer_w2, only: p2g_2d_w2 => p2g_2d, p2g_3d_w2 => p2g_3d, g2p_2d_w2 => g2p_2d, &
     g2p_3d_w2 => g2p_3d, point_gradient_2d_w2 => point_gradient_2d, &
-    point_gradients_2d_w2 => point_gradients_2d, momentum_project_p2g_2d_w2 => momentum_project_p2g_2d, &
+    point_divergences_2d_w2 => point_divergences_2d, momentum_project_p2g_2d_w2 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w2 => momentum_p2g_2d, interp_two_values_2d_w2 => interp_two_values_2d, &
     fluid_p2g_2d_w2 => fluid_p2g_2d, solid_porosity_p2g_2d_w2 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w2 => reaches_thin_node_2d
   use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, g2p_2d_w3 => g2p_2d, &
     g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
-    point_gradients_2d_w3 => point_gradients_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
+    point_divergences_2d_w3 => point_divergences_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w3 => momentum_p2g_2d, interp_two_values_2d_w3 => interp_two_values_2d, &
     fluid_p2g_2d_w3 => fluid_p2g_2d, solid_porosity_p2g_2d_w3 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w3 => reaches_thin_node_2d
   use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, g2p_2d_w4 => g2p_2d, &
     g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
-    point_gradients_2d_w4 => point_gradients_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
+    point_divergences_2d_w4 => point_divergences_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w4 => momentum_p2g_2d, interp_two_values_2d_w4 => interp_two_values_2d, &
     fluid_p2g_2d_w4 => fluid_p2g_2d, solid_porosity_p2g_2d_w4 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w4 => reaches_thin_node_2d
   implicit none
   private
-  public :: p2g, g2p, point_gradient, point_gradients, momentum_p2g, momentum_project_p2g
+  public :: p2g, g2p, point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
   public :: interp_two_values
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, reaches_thin_node
   public :: body_force_work, volume_p2g
@@ -117,7 +117,9 @@ contains
 
   !> Grid to particle: FLIP/PIC blend of the velocity, position update with the
   !> new nodal velocity, and the velocity gradient from the new nodal velocity (USL).
-  !> gradient = .false. (MUSL, whose remap replaces the gradient) leaves vgrad as it is.
+  !> gradient = .false. (MUSL, whose remap replaces the gradient) leaves vgrad as it is;
+  !> without vgrad (the fluid points, which keep divergences: point_divergences) no
+  !> gradient is formed.
   subroutine g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, gradient, gf, gv)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
@@ -125,7 +127,8 @@ contains
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: flip, dt
-    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), vgrad(:, :)
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :)
+    real(wp), contiguous, intent(inout), optional :: vgrad(:, :)
     logical, intent(in), optional :: gradient
     !> With gf: gv(1:nd, p) = sum_I N_I(x_p) gf(1:nd, I), another nodal vector field at the
     !> points in the same pass (the locked velocity of the MUSL remap, momentum_project_p2g),
@@ -134,53 +137,18 @@ contains
     real(wp), contiguous, intent(inout), optional :: gv(:, :)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), dv(3), vn(3), lg(3, 3), gs(3)
-    real(wp) :: none(1, 1)
+    real(wp) :: none(1, 1), nograd(1, 1)
     logical :: grad, gather
-    grad = .true.
-    if (present(gradient)) grad = gradient
+    grad = present(vgrad)
+    if (present(gradient)) grad = grad .and. gradient
     gather = present(gf) .and. present(gv)
-    ! (An absent optional array cannot be passed on to a contiguous dummy: without gf the
-    ! kernels get nvel and a dummy they do not touch.)
-    if (nd == 2) then
-      if (gather) then
-        select case (nw(1))
-        case (2)
-          call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        case (3)
-          call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        case default
-          call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        end select
+    if (nd == 2 .or. (nd == 3 .and. all(nw == nw(1)))) then
+      ! (An absent optional array cannot be passed on to a contiguous dummy: without vgrad
+      ! the kernels get a stand-in they do not touch.)
+      if (present(vgrad)) then
+        call g2p_fixed(vgrad)
       else
-        select case (nw(1))
-        case (2)
-          call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        case (3)
-          call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        case default
-          call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        end select
-      end if
-      return
-    else if (nd == 3 .and. all(nw == nw(1))) then
-      if (gather) then
-        select case (nw(1))
-        case (2)
-          call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        case (3)
-          call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        case default
-          call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, gf, gv, .true.)
-        end select
-      else
-        select case (nw(1))
-        case (2)
-          call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        case (3)
-          call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        case default
-          call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vgrad, grad, nvel, none, .false.)
-        end select
+        call g2p_fixed(nograd)
       end if
       return
     end if
@@ -204,6 +172,56 @@ contains
       vgrad(4:6, p) = lg(:, 2)
       vgrad(7:9, p) = lg(:, 3)
     end do
+
+  contains
+
+    !> The forms of fixed dimension and stencil width, the gradients into vg.
+    subroutine g2p_fixed(vg)
+      real(wp), contiguous, intent(inout) :: vg(:, :)
+      ! (Without gf the kernels get nvel and a dummy they do not touch.)
+      if (nd == 2) then
+        if (gather) then
+          select case (nw(1))
+          case (2)
+            call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          case (3)
+            call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          case default
+            call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          end select
+        else
+          select case (nw(1))
+          case (2)
+            call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          case (3)
+            call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          case default
+            call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          end select
+        end if
+      else
+        if (gather) then
+          select case (nw(1))
+          case (2)
+            call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          case (3)
+            call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          case default
+            call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
+          end select
+        else
+          select case (nw(1))
+          case (2)
+            call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          case (3)
+            call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          case default
+            call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
+          end select
+        end if
+      end if
+    end subroutine g2p_fixed
+
   end subroutine g2p
 
   !> Work over a step of the body accelerations bacc that p2g gave the points:
@@ -265,49 +283,45 @@ contains
     end do
   end subroutine point_gradient
 
-  !> point_gradient of two nodal velocity fields in one pass over the points:
-  !> vgrad from nvel, vgrad2 from nvel2 (the fluid points' gradients of the fluid's and
-  !> the skeleton's velocity), each summed as point_gradient sums it.
-  subroutine point_gradients(nd, nw, n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+  !> Divergences of two nodal velocity fields at the points in one pass: div from
+  !> nvel(nd+1:2nd), div2 from nvel2 (the fluid points' divergences of the fluid's and
+  !> the skeleton's velocity, all the pore-pressure update reads of their gradients).
+  !> Each diagonal component is summed over the stencil as point_gradient sums it, and
+  !> the trace is formed from them in the order 1, 2, 3.
+  subroutine point_divergences(nd, nw, n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):), nvel2(:, lo(1):, lo(2):, lo(3):)
-    real(wp), contiguous, intent(inout) :: vgrad(:, :), vgrad2(:, :)
-    integer :: p, a, b, c, i, j, k
-    real(wp) :: nn, g(3), lg(3, 3), lg2(3, 3)
+    real(wp), contiguous, intent(inout) :: div(:), div2(:)
+    integer :: p, a, b, c, i, j, k, d
+    real(wp) :: nn, g(3), ld(3), ld2(3)
     if (nd == 2) then
       select case (nw(1))
       case (2)
-        call point_gradients_2d_w2(n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+        call point_divergences_2d_w2(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
       case (3)
-        call point_gradients_2d_w3(n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+        call point_divergences_2d_w3(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
       case default
-        call point_gradients_2d_w4(n, i0, sw, sdw, lo, nvel, nvel2, vgrad, vgrad2)
+        call point_divergences_2d_w4(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
       end select
       return
     end if
     do p = 1, n
-      lg = 0.0_wp
-      lg2 = 0.0_wp
+      ld = 0.0_wp
+      ld2 = 0.0_wp
 #include "dpmpm_stencil_do_3d.inc"
 #include "dpmpm_stencil_grad_3d.inc"
-      lg(1:nd, 1) = lg(1:nd, 1) + nvel(nd + 1:2*nd, i, j, k)*g(1)
-      lg(1:nd, 2) = lg(1:nd, 2) + nvel(nd + 1:2*nd, i, j, k)*g(2)
-      lg(1:nd, 3) = lg(1:nd, 3) + nvel(nd + 1:2*nd, i, j, k)*g(3)
-      lg2(1:nd, 1) = lg2(1:nd, 1) + nvel2(nd + 1:2*nd, i, j, k)*g(1)
-      lg2(1:nd, 2) = lg2(1:nd, 2) + nvel2(nd + 1:2*nd, i, j, k)*g(2)
-      lg2(1:nd, 3) = lg2(1:nd, 3) + nvel2(nd + 1:2*nd, i, j, k)*g(3)
+      do d = 1, nd
+        ld(d) = ld(d) + nvel(nd + d, i, j, k)*g(d)
+        ld2(d) = ld2(d) + nvel2(nd + d, i, j, k)*g(d)
+      end do
 #include "dpmpm_stencil_end_3d.inc"
-      vgrad(1:3, p) = lg(:, 1)
-      vgrad(4:6, p) = lg(:, 2)
-      vgrad(7:9, p) = lg(:, 3)
-      vgrad2(1:3, p) = lg2(:, 1)
-      vgrad2(4:6, p) = lg2(:, 2)
-      vgrad2(7:9, p) = lg2(:, 3)
+      div(p) = ld(1) + ld(2) + ld(3)
+      div2(p) = ld2(1) + ld2(2) + ld2(3)
     end do
-  end subroutine point_gradients
+  end subroutine point_divergences
 
   !> The MUSL remap with the locked velocity f in one pass over the points of a phase:
   !> the momenta node(2:1+nd) += sum N_I m_p v_p (as momentum_p2g) and the momentum of

@@ -417,7 +417,7 @@ contains
     integer(i8) :: id
     real(wp), allocatable :: acc(:, :), sacc(:, :)
     integer, allocatable :: first(:)
-    real(wp) :: vcell, vt, deficit, vn, x(3), pface, poro, rho, sg
+    real(wp) :: vcell, vt, deficit, vn, x(3), pface, poro, rho, sg, xwide(2)
     if (.not. any(self%fbc(1:2*self%nd) == fbc_drained)) return
     vcell = product(self%grid%h(1:self%nd))
     w = self%dec%chi - self%dec%clo + 1
@@ -429,6 +429,7 @@ contains
       sg = merge(1.0_wp, -1.0_wp, side == 1)   ! +1: away from the face is +x_d
       cb = merge(0, self%grid%ncells(d) - 1, side == 1)
       if (cb < self%dec%clo(d) .or. cb > self%dec%chi(d)) cycle
+      xwide = self%grid%origin(d) + [cb - 1, cb + 2]*self%grid%h(d)
       ! Per cell of this rank's boundary layer. Fluid: count, volume, mass, mass x normal
       ! velocity, mass x porosity, mass x 1/k, momentum. Skeleton: volume, mass, mass x
       ! normal velocity.
@@ -495,8 +496,9 @@ contains
       real(wp), intent(in) :: xp(:)
       integer :: cc(3)
       ic = 0
-      ! Most points are far from the face: their cell along d decides first.
-      if (abs(floor((xp(d) - self%grid%origin(d))/self%grid%h(d)) - cb) > 1) return
+      ! Most points are far from the face: a comparison with the layer widened by a
+      ! cell on each side (no division) decides first.
+      if (xp(d) < xwide(1) .or. xp(d) >= xwide(2)) return
       cc = local_cell(self%nd, xp, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi)
       if (cc(d) + self%dec%clo(d) == cb) ic = 1 + cc(1) + w(1)*(cc(2) + w(2)*cc(3))
     end function boundary_cell

@@ -5,13 +5,14 @@
 !> neighbouring rank, must be kept and counted in nlost.
 program test_migration
   use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank, &
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Comm_rank, &
                      MPI_Allreduce, MPI_Gather, MPI_Gatherv, MPI_IN_PLACE, MPI_SUM, &
                      MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_INTEGER8
   use dpmpm_kinds, only: wp, i8
   use dpmpm_decomp, only: decomp_t, split_extent
   use dpmpm_particles, only: particle_set_t
   use dpmpm_migrate, only: migrate, check_owned
+  use dpmpm_cell_order, only: cell_order, sort_by_cell
   use dpmpm_grid, only: cell_of
   use dpmpm_test_layouts, only: layouts_for
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
@@ -38,11 +39,50 @@ program test_migration
   call test_point_below_grid_is_kept()
   call test_point_above_grid_is_kept()
   call test_point_jumping_past_neighbour_is_counted()
+  call test_sort_by_cell_orders_cells_then_ids()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
 
 contains
+
+  !> sort_by_cell puts the points in the order of their cells (first axis fastest) and,
+  !> within a cell, of their ids; every field goes along with its point; the order
+  !> does not depend on the order before (the same points reversed sort the same).
+  subroutine test_sort_by_cell_orders_cells_then_ids()
+    type(decomp_t) :: dec
+    type(particle_set_t) :: a, b
+    integer, allocatable :: order(:), rev(:)
+    integer :: k, c(3), key, prev, n
+    logical :: sorted, carried
+    call begin_test('sort_by_cell_orders_cells_then_ids')
+    call dec%init(MPI_COMM_SELF, 2, ncells, 1, [1, 1, 1])
+    call make_points(dec, a, 400)
+    ! Several points share each cell: ids interleave across cells.
+    n = a%n
+    call sort_by_cell(a, origin, h, dec%clo, dec%chi)
+    call check(a%n == n, 'no point lost or added')
+    sorted = .true.
+    prev = -1
+    do k = 1, a%n
+      c = cell_of(origin, h, a%x(:, k), 2)
+      key = c(1) + ncells(1)*c(2)
+      if (k > 1) then
+        if (key < prev) sorted = .false.
+        if (key == prev .and. a%id(k) <= a%id(k - 1)) sorted = .false.
+      end if
+      prev = key
+    end do
+    carried = all(point_intact(a))
+    call check(sorted, 'cells in order, ids in order within a cell')
+    call check(carried, 'every field goes with its point')
+    ! The same points in reverse order sort to the same order.
+    call make_points(dec, b, 400)
+    rev = [(b%n + 1 - k, k = 1, b%n)]
+    call b%permute(rev)
+    order = cell_order(b, origin, h, dec%clo, dec%chi)
+    call check(all(b%id(order) == a%id(1:a%n)), 'the order does not depend on the order before')
+  end subroutine test_sort_by_cell_orders_cells_then_ids
 
   subroutine test_cell_of()
     integer :: c(3)

@@ -12,11 +12,14 @@ program test_restart
   implicit none
   character(len=*), parameter :: dir = 'out/test_restart'
   integer :: status, rank, nranks
+  !> &run sort_every of the scene (0: the points are never sorted)
+  integer :: sort_interval = 0
   call start_mpi()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   am_root = rank == 0
   call test_restart_continues_the_run_exactly()
+  call test_restart_with_sorted_points_continues_exactly()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -42,6 +45,7 @@ contains
     cfg%drag = 'implicit'
     cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     cfg%output_dir = dir
+    cfg%sort_every = sort_interval
     allocate (cfg%materials(3), cfg%regions(2), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
                                       youngs_modulus=1.0e6_wp, poisson_ratio=0.3_wp, &
@@ -94,13 +98,30 @@ contains
   !> points to the last bit, the same time, energy balance and monitor. From the same
   !> checkpoint on one rank (when the test runs on more): the same to round-off.
   subroutine test_restart_continues_the_run_exactly()
+    call begin_test('restart_continues_the_run_exactly')
+    sort_interval = 0
+    call restart_matches_one_go()
+  end subroutine test_restart_continues_the_run_exactly
+
+  !> The same with the points sorted by cell every 7 steps (&run sort_every): the
+  !> checkpoint keeps each rank's order, so the restarted run sorts at the same steps
+  !> from the same order.
+  subroutine test_restart_with_sorted_points_continues_exactly()
+    call begin_test('restart_with_sorted_points_continues_exactly')
+    sort_interval = 7
+    call restart_matches_one_go()
+    sort_interval = 0
+  end subroutine test_restart_with_sorted_points_continues_exactly
+
+  !> The scene run to step 40 in one go and to step 20 with a checkpoint, then restarted
+  !> from it to step 40: the same points to the bit.
+  subroutine restart_matches_one_go()
     type(config_t) :: cfg
     real(wp), allocatable :: ax(:, :), av(:, :), as(:, :), afx(:, :), afv(:, :), afs(:, :)
     real(wp), allocatable :: bx(:, :), bv(:, :), bs(:, :), bfx(:, :), bfv(:, :), bfs(:, :)
     real(wp) :: ta, tb, da, db, dev, ma(2), mb(2)
     integer(i8) :: na, nb
     logical :: exists, tmp_left
-    call begin_test('restart_continues_the_run_exactly')
     call run(scene(40), .false., ax, av, as, afx, afv, afs, ta, na, da, ma)
     cfg = scene(20)
     cfg%checkpoint_every = 20
@@ -135,6 +156,6 @@ contains
       end if
       call MPI_Barrier(MPI_COMM_WORLD)
     end if
-  end subroutine test_restart_continues_the_run_exactly
+  end subroutine restart_matches_one_go
 
 end program test_restart

@@ -50,6 +50,8 @@ contains
       'progress_seconds', rtoa(cfg%progress_seconds), 'must be > 0 (s)')
     if (.not. real_ok(cfg%max_wall_time, ge=0.0_wp)) call add_value(pb, g_run, 1, &
       'max_wall_time', rtoa(cfg%max_wall_time), 'must be >= 0 (s of wall time; 0 = no limit)')
+    if (cfg%sort_every < 0) call add_value(pb, g_run, 1, 'sort_every', itoa(cfg%sort_every), &
+                                           'must be >= 0 (steps; 0 = the points are never sorted)')
     if (len_trim(cfg%restart) > 0) then
       inquire (file=trim(cfg%restart), exist=exists)
       if (.not. exists) call add_value(pb, g_run, 1, 'restart', quote(cfg%restart), &

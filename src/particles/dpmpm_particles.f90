@@ -43,6 +43,7 @@ module dpmpm_particles
     procedure :: pack_points => ps_pack
     procedure :: unpack_points => ps_unpack
     procedure :: remove => ps_remove
+    procedure :: permute => ps_permute
     procedure :: free => ps_free
     procedure :: bytes_per_point => ps_bytes_per_point
   end type particle_set_t
@@ -258,6 +259,19 @@ contains
     end do
     self%n = self%n + size(buf, 2)
   end subroutine ps_unpack
+
+  !> Reorder the points: the k-th point becomes the one at order(k) before (order a
+  !> permutation of 1..n). Every field goes along, through the packed form that
+  !> migration sends.
+  subroutine ps_permute(self, order)
+    class(particle_set_t), intent(inout) :: self
+    integer, intent(in) :: order(:)
+    real(wp), allocatable :: buf(:, :)
+    allocate (buf(self%nreal_packed(), self%n))
+    call self%pack_points(order, buf)
+    self%n = 0
+    call self%unpack_points(buf)
+  end subroutine ps_permute
 
   !> Remove the points flagged in gone(1:n), keeping the order of the others.
   subroutine ps_remove(self, gone)

@@ -14,6 +14,7 @@ module dpmpm_step
   use dpmpm_materials, only: stress_update, model_fluid
   use dpmpm_benchmarks, only: benchmark_body_force
   use dpmpm_migrate, only: migrate
+  use dpmpm_cell_order, only: sort_by_cell
   use dpmpm_mirror, only: mirror_sign
   use dpmpm_particles, only: particle_set_t
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
@@ -397,6 +398,15 @@ contains
                                 'migrate')
     end do
     if (coupled) call refill_inflow(self, self%phase(fluid_phase)%pts, self%phase(solid_phase)%pts)
+    ! Every sort_every steps (counted from the run's start, as a restart counts them)
+    ! the points of each set in the order of their cells.
+    if (self%cfg%sort_every > 0) then
+      if (mod(self%step + 1, int(self%cfg%sort_every, i8)) == 0) then
+        do ip = 1, self%nph
+          call sort_by_cell(self%phase(ip)%pts, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi)
+        end do
+      end if
+    end if
     call self%timers%toc(t_migrate)
   end subroutine advance
 

@@ -78,7 +78,7 @@ contains
     call check(carried, 'every field goes with its point')
     ! The same points in reverse order sort to the same order.
     call make_points(dec, b, 400)
-    rev = [(b%n + 1 - k, k = 1, b%n)]
+    rev = [(b%n + 1 - k, k=1, b%n)]
     call b%permute(rev)
     order = cell_order(b, origin, h, dec%clo, dec%chi)
     call check(all(b%id(order) == a%id(1:a%n)), 'the order does not depend on the order before')

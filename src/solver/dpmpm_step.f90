@@ -439,6 +439,8 @@ contains
       sg = merge(1.0_wp, -1.0_wp, side == 1)   ! +1: away from the face is +x_d
       cb = merge(0, self%grid%ncells(d) - 1, side == 1)
       if (cb < self%dec%clo(d) .or. cb > self%dec%chi(d)) cycle
+      ! Most points are far from the face: a comparison with the layer widened by a cell
+      ! on each side (no division) passes over them before the exact cell test.
       xwide = self%grid%origin(d) + [cb - 1, cb + 2]*self%grid%h(d)
       ! Per cell of this rank's boundary layer. Fluid: count, volume, mass, mass x normal
       ! velocity, mass x porosity, mass x 1/k, momentum. Skeleton: volume, mass, mass x
@@ -448,6 +450,7 @@ contains
       sacc = 0.0_wp
       first = 0
       do p = 1, ps%n
+        if (ps%x(d, p) < xwide(1) .or. ps%x(d, p) >= xwide(2)) cycle
         ic = boundary_cell(ps%x(:, p))
         if (ic == 0) cycle
         if (first(ic) == 0) first(ic) = p
@@ -460,6 +463,7 @@ contains
         acc(7:6 + self%nd, ic) = acc(7:6 + self%nd, ic) + ps%mass(p)*ps%v(:, p)
       end do
       do p = 1, sol%n
+        if (sol%x(d, p) < xwide(1) .or. sol%x(d, p) >= xwide(2)) cycle
         ic = boundary_cell(sol%x(:, p))
         if (ic == 0) cycle
         sacc(1, ic) = sacc(1, ic) + sol%vol(p)
@@ -506,9 +510,6 @@ contains
       real(wp), intent(in) :: xp(:)
       integer :: cc(3)
       ic = 0
-      ! Most points are far from the face: a comparison with the layer widened by a
-      ! cell on each side (no division) decides first.
-      if (xp(d) < xwide(1) .or. xp(d) >= xwide(2)) return
       cc = local_cell(self%nd, xp, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi)
       if (cc(d) + self%dec%clo(d) == cb) ic = 1 + cc(1) + w(1)*(cc(2) + w(2)*cc(3))
     end function boundary_cell

@@ -597,6 +597,12 @@ contains
     real(wp) :: nn
     hi = huge(1)
     hi(1:nd) = ncells(1:nd)
+    ! Where the fluid fills every node inside the grid that this rank stores (a
+    ! saturated body that fills the grid), no point reaches a thin one.
+    if (.not. any_thin_node(nd, lo, f, hi, vmin)) then
+      flag(1:n) = .false.
+      return
+    end if
     if (nd == 2) then
       select case (nw(1))
       case (2)
@@ -618,5 +624,27 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine reaches_thin_node
+
+  !> Whether a node of f (stored from lo) inside the grid (0 < index < hi on each axis of
+  !> nd) has f(1) < vmin.
+  logical function any_thin_node(nd, lo, f, hi, vmin) result(thin)
+    integer, intent(in) :: nd, lo(3), hi(3)
+    real(wp), contiguous, intent(in) :: f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: vmin
+    integer :: a(3), b(3), i, j, k
+    a = [lbound(f, 2), lbound(f, 3), lbound(f, 4)]
+    b = [ubound(f, 2), ubound(f, 3), ubound(f, 4)]
+    a(1:nd) = max(a(1:nd), 1)
+    b(1:nd) = min(b(1:nd), hi(1:nd) - 1)
+    thin = .false.
+    do k = a(3), b(3)
+      do j = a(2), b(2)
+        do i = a(1), b(1)
+          if (f(1, i, j, k) < vmin) thin = .true.
+        end do
+      end do
+      if (thin) return
+    end do
+  end function any_thin_node
 
 end module dpmpm_transfer

@@ -129,13 +129,16 @@ contains
     real(wp), intent(in) :: dt
     real(wp), intent(in) :: wstep(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k, c
-    logical :: free(3)
+    integer :: i, j, k, c, ilo(3), ihi(3)
+    logical :: free(3), row_near
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
           if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
-          free = free_components(faces, mbc, [i, j, k])
+          free = .true.
+          if (row_near .or. i < ilo(1) .or. i > ihi(1)) free = free_components(faces, mbc, [i, j, k])
           do c = 1, nd
             if (.not. free(c)) cycle
             call drag_relax(node_s(1, i, j, k), node_f(1, i, j, k), &
@@ -173,19 +176,22 @@ contains
     real(wp), intent(in) :: ndrag(:, lo(1):, lo(2):, lo(3):), dt
     real(wp), intent(in) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(out) :: c(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k
+    integer :: i, j, k, ilo(3), ihi(3)
     real(wp) :: ms, mf, f
-    logical :: free(3)
+    logical :: free(3), row_near
     c = 0.0_wp
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
           ms = node_s(1, i, j, k); mf = node_f(1, i, j, k)
           if (ms <= 0.0_wp .or. mf <= 0.0_wp .or. ndrag(1, i, j, k) <= 0.0_wp) cycle
-          free = free_components(faces, mbc, [i, j, k])
           f = ms*mf/(ms*mf + dt*ndrag(1, i, j, k)*(ms + mf))
           c(:, i, j, k) = (1.0_wp - f)*(ms*(nvel_s(nd + 1:2*nd, i, j, k) - nvel_s(1:nd, i, j, k)) + &
                                         mf*(nvel_f(nd + 1:2*nd, i, j, k) - nvel_f(1:nd, i, j, k)))/(ms + mf)
+          if (.not. (row_near .or. i < ilo(1) .or. i > ihi(1))) cycle
+          free = free_components(faces, mbc, [i, j, k])
           where (.not. free(1:nd)) c(:, i, j, k) = 0.0_wp
         end do
       end do
@@ -206,17 +212,21 @@ contains
     real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: ps(:, lo(1):, lo(2):, lo(3):), pf(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k
+    integer :: i, j, k, ilo(3), ihi(3)
     real(wp) :: ms, mf, split(3)
-    logical :: free(3)
+    logical :: free(3), row_near
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
           ms = node_s(1, i, j, k); mf = node_f(1, i, j, k)
           if (ms <= 0.0_wp .or. mf <= 0.0_wp) cycle
-          free = free_components(faces, mbc, [i, j, k])
           split(1:nd) = pf(1:nd, i, j, k)/mf - ps(1:nd, i, j, k)/ms
-          where (.not. free(1:nd)) split(1:nd) = 0.0_wp
+          if (row_near .or. i < ilo(1) .or. i > ihi(1)) then
+            free = free_components(faces, mbc, [i, j, k])
+            where (.not. free(1:nd)) split(1:nd) = 0.0_wp
+          end if
           nvel_s(nd + 1:2*nd, i, j, k) = nvel_s(nd + 1:2*nd, i, j, k) + mf/(ms + mf)*split(1:nd)
           nvel_f(nd + 1:2*nd, i, j, k) = nvel_f(nd + 1:2*nd, i, j, k) - ms/(ms + mf)*split(1:nd)
         end do

@@ -416,17 +416,21 @@ contains
     integer, intent(in) :: bc(6)
     real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
     logical, intent(in) :: walls   !< rough walls let go of nodes moving away (nodal_update)
-    integer :: i, j, k
+    integer :: i, j, k, ilo(3), ihi(3)
     real(wp) :: m, v(3)
-    logical :: fix(3)
+    logical :: fix(3), row_free
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
+    ! Inside the box of free nodes no component is held.
+    call grid%free_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_free = j >= ilo(2) .and. j <= ihi(2) .and. k >= ilo(3) .and. k <= ihi(3)
         do i = olo(1), ohi(1)
           m = node(1, i, j, k)
           if (m <= 0.0_wp) cycle
-          fix = grid%constrained([i, j, k], bc)
           nvel(nd + 1:2*nd, i, j, k) = node(2:1 + nd, i, j, k)/m
+          if (row_free .and. i >= ilo(1) .and. i <= ihi(1)) cycle
+          fix = grid%constrained([i, j, k], bc)
           if (walls .and. any(fix)) then
             ! As in the update: a rough wall holds only a node that runs into it.
             v = 0.0_wp
@@ -447,11 +451,15 @@ contains
     real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: nvel_s(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: nvel_f(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k
-    logical :: tie(3)
+    integer :: i, j, k, ilo(3), ihi(3)
+    logical :: tie(3), row_near
+    ! Only nodes near a face are tied.
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
+          if (.not. (row_near .or. i < ilo(1) .or. i > ihi(1))) cycle
           tie = faces%fluid_ties([i, j, k])
           if (.not. any(tie)) cycle
           if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle

@@ -1,14 +1,14 @@
 !> The drag between the phases (doc/theory.md 4.2 and 7.2): the coefficient's gravity, the
-!> per-node solve of the coupled accelerations (explicit Euler or the implicit
-!> 2x2 system), the relaxation of a MUSL-remapped pair, and the explicit-drag
-!> time-step limit. The coefficient itself is carried to the nodes by fluid_p2g
-!> (dpmpm_transfer); its dissipation is booked by the nodal update.
+!> relaxation of a MUSL-remapped pair, and the explicit-drag time-step limit. The
+!> coefficient itself is carried to the nodes by fluid_p2g (dpmpm_transfer); the per-node
+!> solve of the coupled accelerations (drag_solve) and the dissipation are in the nodal
+!> update (dpmpm_nodal_update).
 module dpmpm_drag
   use dpmpm_kinds, only: wp
   use dpmpm_face_loads, only: face_loads_t
   implicit none
   private
-  public :: gravity_drag, drag_solve, drag_relax, drag_limit, nodal_drag_limit, relax_remapped, sliver_node
+  public :: gravity_drag, drag_relax, drag_limit, nodal_drag_limit, relax_remapped, sliver_node
   public :: locked_velocity, remove_split
 
   !> Gravity in the drag coefficient n_f^2 rho_f g / k (k is a hydraulic conductivity,
@@ -21,32 +21,6 @@ module dpmpm_drag
   real(wp), parameter :: sliver_fraction = 1.0e-2_wp
 
 contains
-
-  !> Accelerations of one velocity component at a node with both phases, masses
-  !> ms, mf, forces fs, ff (everything but drag), drag coefficient d and the
-  !> velocities vs, vf at the start of the step. Explicit: forward Euler on the
-  !> drag, m_s a_s = f_s + d (v_f - v_s), m_f a_f = f_f - d (v_f - v_s). Implicit
-  !> (doc/theory.md 4.2): the drag at the new velocities, the 2x2 system
-  !> [ms + dt d, -dt d; -dt d, mf + dt d] (a_s, a_f) = (f_s + d w, f_f - d w),
-  !> w = v_f - v_s, determinant ms mf + dt d (ms + mf) > 0.
-  pure subroutine drag_solve(ms, mf, d, fs, ff, vs, vf, dt, implicit, as, af)
-    real(wp), intent(in) :: ms, mf, d, fs, ff, vs, vf, dt
-    logical, intent(in) :: implicit
-    real(wp), intent(out) :: as, af
-    real(wp) :: w, r1, r2, det, e
-    w = vf - vs
-    r1 = fs + d*w
-    r2 = ff - d*w
-    if (.not. implicit) then
-      as = r1/ms
-      af = r2/mf
-      return
-    end if
-    e = dt*d
-    det = ms*mf + e*(ms + mf)
-    as = ((mf + e)*r1 + e*r2)/det
-    af = (e*r1 + (ms + e)*r2)/det
-  end subroutine drag_solve
 
   !> Relative velocity of a MUSL-remapped pair made consistent with the step's
   !> implicit drag. vs, vf are the remapped nodal velocities (each phase projected

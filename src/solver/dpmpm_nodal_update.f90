@@ -1,16 +1,18 @@
 !> The nodal update (doc/theory.md 4.2): nodal velocities before and
 !> after the step from the summed node fields, with gravity, face loads and the
 !> boundary conditions, for one phase alone or for the two phases coupled by the
-!> drag (dpmpm_drag), the dashpots of absorbing faces, and the nodal half of the MUSL remap. Work of the external
-!> forces and the drag dissipation are booked here for the energy balance.
+!> drag (drag_solve: here, beside its caller, so that the compiler inlines it; the
+!> drag's other parts are in dpmpm_drag), the dashpots of absorbing faces, and the
+!> nodal half of the MUSL remap. Work of the external forces and the drag dissipation
+!> are booked here for the energy balance.
 module dpmpm_nodal_update
   use dpmpm_kinds, only: wp
   use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
-  use dpmpm_drag, only: drag_solve, sliver_node
+  use dpmpm_drag, only: sliver_node
   implicit none
   private
-  public :: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
+  public :: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid, drag_solve
 
 contains
 
@@ -404,6 +406,32 @@ contains
     end subroutine solve_component
 
   end subroutine nodal_update_coupled
+
+  !> Accelerations of one velocity component at a node with both phases, masses
+  !> ms, mf, forces fs, ff (everything but drag), drag coefficient d and the
+  !> velocities vs, vf at the start of the step. Explicit: forward Euler on the
+  !> drag, m_s a_s = f_s + d (v_f - v_s), m_f a_f = f_f - d (v_f - v_s). Implicit
+  !> (doc/theory.md 4.2): the drag at the new velocities, the 2x2 system
+  !> [ms + dt d, -dt d; -dt d, mf + dt d] (a_s, a_f) = (f_s + d w, f_f - d w),
+  !> w = v_f - v_s, determinant ms mf + dt d (ms + mf) > 0.
+  pure subroutine drag_solve(ms, mf, d, fs, ff, vs, vf, dt, implicit, as, af)
+    real(wp), intent(in) :: ms, mf, d, fs, ff, vs, vf, dt
+    logical, intent(in) :: implicit
+    real(wp), intent(out) :: as, af
+    real(wp) :: w, r1, r2, det, e
+    w = vf - vs
+    r1 = fs + d*w
+    r2 = ff - d*w
+    if (.not. implicit) then
+      as = r1/ms
+      af = r2/mf
+      return
+    end if
+    e = dt*d
+    det = ms*mf + e*(ms + mf)
+    as = ((mf + e)*r1 + e*r2)/det
+    af = (e*r1 + (ms + e)*r2)/det
+  end subroutine drag_solve
 
   !> MUSL remap, at the nodes olo..ohi: the new-velocity slots of nvel (cleared first)
   !> from the remapped momenta node(2:1+nd) over the step's masses node(1); components

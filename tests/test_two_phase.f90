@@ -7,7 +7,8 @@ program test_two_phase
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_drag, only: drag_solve, drag_limit
+  use dpmpm_drag, only: drag_limit
+  use dpmpm_nodal_update, only: drag_solve
   use dpmpm_biot_column, only: biot_column_t, biot_column_solve
   use dpmpm_terzaghi, only: terzaghi_t, terzaghi_cv, terzaghi_pressure, terzaghi_settlement, &
                             terzaghi_p0

@@ -1,14 +1,14 @@
 !> The drag between the phases (doc/theory.md 4.2 and 7.2): the coefficient's gravity, the
-!> per-node solve of the coupled accelerations (explicit Euler or the implicit
-!> 2x2 system), the relaxation of a MUSL-remapped pair, and the explicit-drag
-!> time-step limit. The coefficient itself is carried to the nodes by fluid_p2g
-!> (dpmpm_transfer); its dissipation is booked by the nodal update.
+!> relaxation of a MUSL-remapped pair, and the explicit-drag time-step limit. The
+!> coefficient itself is carried to the nodes by fluid_p2g (dpmpm_transfer); the per-node
+!> solve of the coupled accelerations (drag_solve) and the dissipation are in the nodal
+!> update (dpmpm_nodal_update).
 module dpmpm_drag
   use dpmpm_kinds, only: wp
   use dpmpm_face_loads, only: face_loads_t
   implicit none
   private
-  public :: gravity_drag, drag_solve, drag_relax, drag_limit, nodal_drag_limit, relax_remapped, sliver_node
+  public :: gravity_drag, drag_relax, drag_limit, nodal_drag_limit, relax_remapped, sliver_node
   public :: locked_velocity, remove_split
 
   !> Gravity in the drag coefficient n_f^2 rho_f g / k (k is a hydraulic conductivity,
@@ -21,32 +21,6 @@ module dpmpm_drag
   real(wp), parameter :: sliver_fraction = 1.0e-2_wp
 
 contains
-
-  !> Accelerations of one velocity component at a node with both phases, masses
-  !> ms, mf, forces fs, ff (everything but drag), drag coefficient d and the
-  !> velocities vs, vf at the start of the step. Explicit: forward Euler on the
-  !> drag, m_s a_s = f_s + d (v_f - v_s), m_f a_f = f_f - d (v_f - v_s). Implicit
-  !> (doc/theory.md 4.2): the drag at the new velocities, the 2x2 system
-  !> [ms + dt d, -dt d; -dt d, mf + dt d] (a_s, a_f) = (f_s + d w, f_f - d w),
-  !> w = v_f - v_s, determinant ms mf + dt d (ms + mf) > 0.
-  pure subroutine drag_solve(ms, mf, d, fs, ff, vs, vf, dt, implicit, as, af)
-    real(wp), intent(in) :: ms, mf, d, fs, ff, vs, vf, dt
-    logical, intent(in) :: implicit
-    real(wp), intent(out) :: as, af
-    real(wp) :: w, r1, r2, det, e
-    w = vf - vs
-    r1 = fs + d*w
-    r2 = ff - d*w
-    if (.not. implicit) then
-      as = r1/ms
-      af = r2/mf
-      return
-    end if
-    e = dt*d
-    det = ms*mf + e*(ms + mf)
-    as = ((mf + e)*r1 + e*r2)/det
-    af = (e*r1 + (ms + e)*r2)/det
-  end subroutine drag_solve
 
   !> Relative velocity of a MUSL-remapped pair made consistent with the step's
   !> implicit drag. vs, vf are the remapped nodal velocities (each phase projected
@@ -129,13 +103,16 @@ contains
     real(wp), intent(in) :: dt
     real(wp), intent(in) :: wstep(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k, c
-    logical :: free(3)
+    integer :: i, j, k, c, ilo(3), ihi(3)
+    logical :: free(3), row_near
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
           if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
-          free = free_components(faces, mbc, [i, j, k])
+          free = .true.
+          if (row_near .or. i < ilo(1) .or. i > ihi(1)) free = free_components(faces, mbc, [i, j, k])
           do c = 1, nd
             if (.not. free(c)) cycle
             call drag_relax(node_s(1, i, j, k), node_f(1, i, j, k), &
@@ -173,19 +150,22 @@ contains
     real(wp), intent(in) :: ndrag(:, lo(1):, lo(2):, lo(3):), dt
     real(wp), intent(in) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(out) :: c(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k
+    integer :: i, j, k, ilo(3), ihi(3)
     real(wp) :: ms, mf, f
-    logical :: free(3)
+    logical :: free(3), row_near
     c = 0.0_wp
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
           ms = node_s(1, i, j, k); mf = node_f(1, i, j, k)
           if (ms <= 0.0_wp .or. mf <= 0.0_wp .or. ndrag(1, i, j, k) <= 0.0_wp) cycle
-          free = free_components(faces, mbc, [i, j, k])
           f = ms*mf/(ms*mf + dt*ndrag(1, i, j, k)*(ms + mf))
           c(:, i, j, k) = (1.0_wp - f)*(ms*(nvel_s(nd + 1:2*nd, i, j, k) - nvel_s(1:nd, i, j, k)) + &
                                         mf*(nvel_f(nd + 1:2*nd, i, j, k) - nvel_f(1:nd, i, j, k)))/(ms + mf)
+          if (.not. (row_near .or. i < ilo(1) .or. i > ihi(1))) cycle
+          free = free_components(faces, mbc, [i, j, k])
           where (.not. free(1:nd)) c(:, i, j, k) = 0.0_wp
         end do
       end do
@@ -206,17 +186,21 @@ contains
     real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: ps(:, lo(1):, lo(2):, lo(3):), pf(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: nvel_s(:, lo(1):, lo(2):, lo(3):), nvel_f(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k
+    integer :: i, j, k, ilo(3), ihi(3)
     real(wp) :: ms, mf, split(3)
-    logical :: free(3)
+    logical :: free(3), row_near
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
           ms = node_s(1, i, j, k); mf = node_f(1, i, j, k)
           if (ms <= 0.0_wp .or. mf <= 0.0_wp) cycle
-          free = free_components(faces, mbc, [i, j, k])
           split(1:nd) = pf(1:nd, i, j, k)/mf - ps(1:nd, i, j, k)/ms
-          where (.not. free(1:nd)) split(1:nd) = 0.0_wp
+          if (row_near .or. i < ilo(1) .or. i > ihi(1)) then
+            free = free_components(faces, mbc, [i, j, k])
+            where (.not. free(1:nd)) split(1:nd) = 0.0_wp
+          end if
           nvel_s(nd + 1:2*nd, i, j, k) = nvel_s(nd + 1:2*nd, i, j, k) + mf/(ms + mf)*split(1:nd)
           nvel_f(nd + 1:2*nd, i, j, k) = nvel_f(nd + 1:2*nd, i, j, k) - ms/(ms + mf)*split(1:nd)
         end do

@@ -38,6 +38,7 @@ module dpmpm_face_loads
     procedure :: dashpot
     procedure :: absorbing_static
     procedure :: near_face
+    procedure :: inner_nodes
   end type face_loads_t
 
 contains
@@ -410,12 +411,23 @@ contains
   pure logical function near_face(self, idx)
     class(face_loads_t), intent(in) :: self
     integer, intent(in) :: idx(3)
-    integer :: d
-    near_face = .false.
-    do d = 1, self%nd
-      if (idx(d) < 2 .or. idx(d) > self%grid%ncells(d) - 2) near_face = .true.
-    end do
+    integer :: ilo(3), ihi(3)
+    call self%inner_nodes(ilo, ihi)
+    near_face = any(idx < ilo .or. idx > ihi)
   end function near_face
+
+  !> The nodes that no face condition reaches (near_face false): the box ilo..ihi,
+  !> unbounded along the unused axes. Node loops test it inline instead of calling
+  !> near_face at every node.
+  pure subroutine inner_nodes(self, ilo, ihi)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(out) :: ilo(3), ihi(3)
+    integer :: d
+    ilo = -huge(1); ihi = huge(1)
+    do d = 1, self%nd
+      ilo(d) = 2; ihi(d) = self%grid%ncells(d) - 2
+    end do
+  end subroutine inner_nodes
 
   !> Factor of a load ramped linearly from 0 over t_ramp (1 at once when t_ramp = 0).
   pure real(wp) function ramp_factor(t, t_ramp) result(r)

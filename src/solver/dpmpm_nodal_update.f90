@@ -1,16 +1,18 @@
 !> The nodal update (doc/theory.md 4.2): nodal velocities before and
 !> after the step from the summed node fields, with gravity, face loads and the
 !> boundary conditions, for one phase alone or for the two phases coupled by the
-!> drag (dpmpm_drag), the dashpots of absorbing faces, and the nodal half of the MUSL remap. Work of the external
-!> forces and the drag dissipation are booked here for the energy balance.
+!> drag (drag_solve: here, beside its caller, so that the compiler inlines it; the
+!> drag's other parts are in dpmpm_drag), the dashpots of absorbing faces, and the
+!> nodal half of the MUSL remap. Work of the external forces and the drag dissipation
+!> are booked here for the energy balance.
 module dpmpm_nodal_update
   use dpmpm_kinds, only: wp
   use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
-  use dpmpm_drag, only: drag_solve, sliver_node
+  use dpmpm_drag, only: sliver_node
   implicit none
   private
-  public :: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid
+  public :: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid, drag_solve
 
 contains
 
@@ -137,11 +139,14 @@ contains
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
     real(wp) :: cs(3), cf(3), ts(3), tf(3), fds(3), fdf(3), vr(3)
     real(wp) :: pushs(3), pushf(3), dve(3), vt(3), rp, meff, ffr(3), vs0(3), vf0(3)
-    logical :: sfix(3), ffix(3), tie(3), near, rigid(3), imp, rough
+    logical :: sfix(3), ffix(3), tie(3), near, rigid(3), imp, rough, row_near, plain
+    integer :: ilo(3), ihi(3)
     nvel_s(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     nvel_f(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
           ms = node_s(1, i, j, k)
           mf = node_f(1, i, j, k)
@@ -151,8 +156,16 @@ contains
           ! Explicit drag except at a node that one phase barely reaches (sliver_node):
           ! there it is implicit, which is stable at any step.
           imp = implicit .or. sliver_node(ms, mf)
+          near = row_near .or. i < ilo(1) .or. i > ihi(1)
+          ! A node that no face condition reaches, without damping or a rigid body, takes
+          ! the plain update (update_plain, the same arithmetic without the zero terms).
+          plain = .not. (near .or. damping > 0.0_wp)
+          if (plain .and. present(rnode)) plain = rnode(1, i, j, k) <= 0.0_wp
+          if (plain) then
+            call update_plain()
+            cycle
+          end if
           vs = 0.0_wp; vf = 0.0_wp; fs = 0.0_wp; ff = 0.0_wp
-          near = faces%near_face([i, j, k])
           tr = 0.0_wp; ts = 0.0_wp; tf = 0.0_wp; fps = 0.0_wp; fpf = 0.0_wp
           if (near) then
             tr = faces%traction(time, [i, j, k])
@@ -278,6 +291,49 @@ contains
     end do
   contains
 
+    !> The update at the node (i, j, k) of the loop where no face condition, damping,
+    !> rigid body or wall friction acts: the general update above with its zero loads,
+    !> dashpots and constraints left out, the remaining operations in the same order
+    !> (so the same results: a zero load added turns a -0 force into +0, hence the
+    !> "+ 0.0_wp", and zero terms of the work sums leave them unchanged).
+    subroutine update_plain()
+      integer :: c
+      real(wp) :: as, af, w
+      real(wp) :: us(3), uf(3), usn(3), ufn(3)
+      us = 0.0_wp; uf = 0.0_wp; usn = 0.0_wp; ufn = 0.0_wp
+      if (ms > 0.0_wp .and. mf > 0.0_wp) then
+        do c = 1, nd
+          us(c) = node_s(1 + c, i, j, k)/ms
+          uf(c) = node_f(1 + c, i, j, k)/mf
+          call drag_solve(ms, mf, dn, node_s(1 + nd + c, i, j, k) + ms*gravity(c) + 0.0_wp, &
+                          node_f(1 + nd + c, i, j, k) + mf*gravity(c) + 0.0_wp, us(c), uf(c), dt, imp, as, af)
+          usn(c) = us(c) + dt*as
+          ufn(c) = uf(c) + dt*af
+        end do
+      else if (ms > 0.0_wp) then
+        do c = 1, nd
+          us(c) = node_s(1 + c, i, j, k)/ms
+          usn(c) = us(c) + dt*(node_s(1 + nd + c, i, j, k) + ms*gravity(c) + 0.0_wp)/ms
+        end do
+      else
+        do c = 1, nd
+          uf(c) = node_f(1 + c, i, j, k)/mf
+          ufn(c) = uf(c) + dt*(node_f(1 + nd + c, i, j, k) + mf*gravity(c) + 0.0_wp)/mf
+        end do
+      end if
+      do c = 1, nd
+        w = dt*dn*merge(ufn(c) - usn(c), uf(c) - us(c), imp)*0.5_wp*(uf(c) + ufn(c) - us(c) - usn(c))
+        ext_work = ext_work - w
+        drag_loss = drag_loss + w
+      end do
+      nvel_s(1:nd, i, j, k) = us(1:nd)
+      nvel_s(nd + 1:2*nd, i, j, k) = usn(1:nd)
+      nvel_f(1:nd, i, j, k) = uf(1:nd)
+      nvel_f(nd + 1:2*nd, i, j, k) = ufn(1:nd)
+      if (ms > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product(ms*gravity(1:nd), us(1:nd) + usn(1:nd))
+      if (mf > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product(mf*gravity(1:nd), uf(1:nd) + ufn(1:nd))
+    end subroutine update_plain
+
     !> The update of component c at the node (i, j, k) of the loop, with the extra force
     !> fadd on the skeleton: the new velocities vsn(c), vfn(c) (vs(c), vf(c) constrained
     !> as the conditions ask), the rigid drive's reaction, and what each phase pushes
@@ -351,6 +407,32 @@ contains
 
   end subroutine nodal_update_coupled
 
+  !> Accelerations of one velocity component at a node with both phases, masses
+  !> ms, mf, forces fs, ff (everything but drag), drag coefficient d and the
+  !> velocities vs, vf at the start of the step. Explicit: forward Euler on the
+  !> drag, m_s a_s = f_s + d (v_f - v_s), m_f a_f = f_f - d (v_f - v_s). Implicit
+  !> (doc/theory.md 4.2): the drag at the new velocities, the 2x2 system
+  !> [ms + dt d, -dt d; -dt d, mf + dt d] (a_s, a_f) = (f_s + d w, f_f - d w),
+  !> w = v_f - v_s, determinant ms mf + dt d (ms + mf) > 0.
+  pure subroutine drag_solve(ms, mf, d, fs, ff, vs, vf, dt, implicit, as, af)
+    real(wp), intent(in) :: ms, mf, d, fs, ff, vs, vf, dt
+    logical, intent(in) :: implicit
+    real(wp), intent(out) :: as, af
+    real(wp) :: w, r1, r2, det, e
+    w = vf - vs
+    r1 = fs + d*w
+    r2 = ff - d*w
+    if (.not. implicit) then
+      as = r1/ms
+      af = r2/mf
+      return
+    end if
+    e = dt*d
+    det = ms*mf + e*(ms + mf)
+    as = ((mf + e)*r1 + e*r2)/det
+    af = (e*r1 + (ms + e)*r2)/det
+  end subroutine drag_solve
+
   !> MUSL remap, at the nodes olo..ohi: the new-velocity slots of nvel (cleared first)
   !> from the remapped momenta node(2:1+nd) over the step's masses node(1); components
   !> held by the face conditions bc of grid are zero (with walls, not those of a node that
@@ -362,17 +444,21 @@ contains
     integer, intent(in) :: bc(6)
     real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
     logical, intent(in) :: walls   !< rough walls let go of nodes moving away (nodal_update)
-    integer :: i, j, k
+    integer :: i, j, k, ilo(3), ihi(3)
     real(wp) :: m, v(3)
-    logical :: fix(3)
+    logical :: fix(3), row_free
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
+    ! Inside the box of free nodes no component is held.
+    call grid%free_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_free = j >= ilo(2) .and. j <= ihi(2) .and. k >= ilo(3) .and. k <= ihi(3)
         do i = olo(1), ohi(1)
           m = node(1, i, j, k)
           if (m <= 0.0_wp) cycle
-          fix = grid%constrained([i, j, k], bc)
           nvel(nd + 1:2*nd, i, j, k) = node(2:1 + nd, i, j, k)/m
+          if (row_free .and. i >= ilo(1) .and. i <= ihi(1)) cycle
+          fix = grid%constrained([i, j, k], bc)
           if (walls .and. any(fix)) then
             ! As in the update: a rough wall holds only a node that runs into it.
             v = 0.0_wp
@@ -393,11 +479,15 @@ contains
     real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: nvel_s(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: nvel_f(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k
-    logical :: tie(3)
+    integer :: i, j, k, ilo(3), ihi(3)
+    logical :: tie(3), row_near
+    ! Only nodes near a face are tied.
+    call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
         do i = olo(1), ohi(1)
+          if (.not. (row_near .or. i < ilo(1) .or. i > ihi(1))) cycle
           tie = faces%fluid_ties([i, j, k])
           if (.not. any(tie)) cycle
           if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle

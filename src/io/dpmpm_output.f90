@@ -178,15 +178,22 @@ contains
     integer :: err, e2, k, nkeep
     call start(self, cfg, comm)
     ok = .false.
+    ! Each question about the file is answered by every rank before any rank acts on it
+    ! (salvage renames the file): one rank must not find the file gone that another
+    ! is about to rebuild.
     inquire (file=self%h5_path, exist=exists)
-    if (.not. exists) then
+    k = merge(1, 0, exists)
+    call MPI_Allreduce(MPI_IN_PLACE, k, 1, MPI_INTEGER, MPI_MIN, self%comm)
+    if (k == 0) then
       why = 'no file '//self%h5_path
       call MPI_Comm_free(self%comm)
       return
     end if
     ! A file torn by a kill (HDF5 cannot open it, or a group or frame header is damaged):
     ! its readable frames and diagnostics go into a new file of the same name.
-    if (.not. file_sound(self%h5_path, nframes)) then
+    k = merge(1, 0, file_sound(self%h5_path, nframes))
+    call MPI_Allreduce(MPI_IN_PLACE, k, 1, MPI_INTEGER, MPI_MIN, self%comm)
+    if (k == 0) then
       call salvage(self, cfg, comm, nframes, step, why)
       ok = .true.
       return

@@ -179,48 +179,38 @@ contains
     subroutine g2p_fixed(vg)
       real(wp), contiguous, intent(inout) :: vg(:, :)
       ! (Without gf the kernels get nvel and a dummy they do not touch.)
-      if (nd == 2) then
-        if (gather) then
-          select case (nw(1))
-          case (2)
-            call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
-          case (3)
-            call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
-          case default
-            call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
-          end select
-        else
-          select case (nw(1))
-          case (2)
-            call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
-          case (3)
-            call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
-          case default
-            call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
-          end select
-        end if
+      if (gather) then
+        call g2p_by_width(vg, gf, gv)
       else
-        if (gather) then
-          select case (nw(1))
-          case (2)
-            call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
-          case (3)
-            call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
-          case default
-            call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gf, gv, .true.)
-          end select
-        else
-          select case (nw(1))
-          case (2)
-            call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
-          case (3)
-            call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
-          case default
-            call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, nvel, none, .false.)
-          end select
-        end if
+        call g2p_by_width(vg, nvel, none)
       end if
     end subroutine g2p_fixed
+
+    !> The kernel of the dimension and stencil width, gfa and gva as its gf and gv.
+    subroutine g2p_by_width(vg, gfa, gva)
+      real(wp), contiguous, intent(inout) :: vg(:, :)
+      real(wp), contiguous, intent(in) :: gfa(:, lo(1):, lo(2):, lo(3):)
+      real(wp), contiguous, intent(inout) :: gva(:, :)
+      if (nd == 2) then
+        select case (nw(1))
+        case (2)
+          call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
+        case (3)
+          call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
+        case default
+          call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
+        end select
+      else
+        select case (nw(1))
+        case (2)
+          call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
+        case (3)
+          call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
+        case default
+          call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
+        end select
+      end if
+    end subroutine g2p_by_width
 
   end subroutine g2p
 

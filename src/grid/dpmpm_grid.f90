@@ -28,7 +28,7 @@ module dpmpm_grid
   contains
     procedure :: init => grid_init
     procedure :: constrained => grid_constrained
-    procedure :: free_nodes
+    procedure :: interior_nodes
     procedure :: wall_friction
     procedure :: wall_contact
     procedure :: inside => grid_inside
@@ -160,17 +160,19 @@ contains
     end do
   end function grid_constrained
 
-  !> The nodes that no face condition holds, whatever the conditions (constrained all
-  !> false): the box ilo..ihi inside the boundary faces, unbounded along the unused axes.
-  pure subroutine free_nodes(self, ilo, ihi)
+  !> The nodes at least margin nodes inside the boundary faces: the box ilo..ihi,
+  !> unbounded along the unused axes. With margin 1, the nodes that no face condition
+  !> holds, whatever the conditions (constrained all false).
+  pure subroutine interior_nodes(self, margin, ilo, ihi)
     class(grid_t), intent(in) :: self
+    integer, intent(in) :: margin
     integer, intent(out) :: ilo(3), ihi(3)
     integer :: d
     ilo = -huge(1); ihi = huge(1)
     do d = 1, self%ndim
-      ilo(d) = 1; ihi(d) = self%ncells(d) - 1
+      ilo(d) = margin; ihi(d) = self%ncells(d) - margin
     end do
-  end subroutine free_nodes
+  end subroutine interior_nodes
 
   !> Integer cell (0-based, per axis) holding position x: floor((x - origin)/h)
   !> on the axes 1..ndim, 0 on the unused axes. NaN maps far below the grid.

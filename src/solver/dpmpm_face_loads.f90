@@ -422,11 +422,7 @@ contains
   pure subroutine inner_nodes(self, ilo, ihi)
     class(face_loads_t), intent(in) :: self
     integer, intent(out) :: ilo(3), ihi(3)
-    integer :: d
-    ilo = -huge(1); ihi = huge(1)
-    do d = 1, self%nd
-      ilo(d) = 2; ihi(d) = self%grid%ncells(d) - 2
-    end do
+    call self%grid%interior_nodes(2, ilo, ihi)
   end subroutine inner_nodes
 
   !> Factor of a load ramped linearly from 0 over t_ramp (1 at once when t_ramp = 0).

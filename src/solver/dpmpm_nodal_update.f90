@@ -449,7 +449,7 @@ contains
     logical :: fix(3), row_free
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     ! Inside the box of free nodes no component is held.
-    call grid%free_nodes(ilo, ihi)
+    call grid%interior_nodes(1, ilo, ihi)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         row_free = j >= ilo(2) .and. j <= ihi(2) .and. k >= ilo(3) .and. k <= ihi(3)

@@ -6,9 +6,10 @@
 !> force, mixture flux). Every kernel works on plain arrays: a point's stencil is
 !> its first node i0(:, p) and its weights sw(:, axis, p) and derivatives
 !> sdw(:, axis, p) per axis (tensor products), nodes are addressed from lo.
-!> In 2D, and in 3D for p2g and g2p, each public kernel calls its form of fixed
-!> stencil width (dpmpm_transfer_w2, _w3, _w4 by nw(1)); the loops here, with the
-!> width read at run time, serve 1D and the general form with a third axis of one node.
+!> In 2D, and in 3D for p2g, g2p, the point gradients and divergences and the momentum
+!> remap, each public kernel calls its form of fixed stencil width (dpmpm_transfer_w2,
+!> _w3, _w4 by nw(1)); the loops here, with the width read at run time, serve 1D and the
+!> general form with a third axis of one node.
 module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: voigt_to_tensor
@@ -18,19 +19,25 @@ module dpmpm_transfer
     point_divergences_2d_w2 => point_divergences_2d, momentum_project_p2g_2d_w2 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w2 => momentum_p2g_2d, interp_two_values_2d_w2 => interp_two_values_2d, &
     fluid_p2g_2d_w2 => fluid_p2g_2d, solid_porosity_p2g_2d_w2 => solid_porosity_p2g_2d, &
-    reaches_thin_node_2d_w2 => reaches_thin_node_2d
+    reaches_thin_node_2d_w2 => reaches_thin_node_2d, point_gradient_3d_w2 => point_gradient_3d, &
+    point_divergences_3d_w2 => point_divergences_3d, momentum_project_p2g_3d_w2 => momentum_project_p2g_3d, &
+    momentum_p2g_3d_w2 => momentum_p2g_3d
   use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, g2p_2d_w3 => g2p_2d, &
     g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
     point_divergences_2d_w3 => point_divergences_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w3 => momentum_p2g_2d, interp_two_values_2d_w3 => interp_two_values_2d, &
     fluid_p2g_2d_w3 => fluid_p2g_2d, solid_porosity_p2g_2d_w3 => solid_porosity_p2g_2d, &
-    reaches_thin_node_2d_w3 => reaches_thin_node_2d
+    reaches_thin_node_2d_w3 => reaches_thin_node_2d, point_gradient_3d_w3 => point_gradient_3d, &
+    point_divergences_3d_w3 => point_divergences_3d, momentum_project_p2g_3d_w3 => momentum_project_p2g_3d, &
+    momentum_p2g_3d_w3 => momentum_p2g_3d
   use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, g2p_2d_w4 => g2p_2d, &
     g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
     point_divergences_2d_w4 => point_divergences_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w4 => momentum_p2g_2d, interp_two_values_2d_w4 => interp_two_values_2d, &
     fluid_p2g_2d_w4 => fluid_p2g_2d, solid_porosity_p2g_2d_w4 => solid_porosity_p2g_2d, &
-    reaches_thin_node_2d_w4 => reaches_thin_node_2d
+    reaches_thin_node_2d_w4 => reaches_thin_node_2d, point_gradient_3d_w4 => point_gradient_3d, &
+    point_divergences_3d_w4 => point_divergences_3d, momentum_project_p2g_3d_w4 => momentum_project_p2g_3d, &
+    momentum_p2g_3d_w4 => momentum_p2g_3d
   implicit none
   private
   public :: p2g, g2p, point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
@@ -259,6 +266,17 @@ contains
       end select
       return
     end if
+    if (nd == 3) then
+      select case (nw(1))
+      case (2)
+        call point_gradient_3d_w2(n, i0, sw, sdw, lo, nvel, vgrad)
+      case (3)
+        call point_gradient_3d_w3(n, i0, sw, sdw, lo, nvel, vgrad)
+      case default
+        call point_gradient_3d_w4(n, i0, sw, sdw, lo, nvel, vgrad)
+      end select
+      return
+    end if
     do p = 1, n
       lg = 0.0_wp
 #include "dpmpm_stencil_do_3d.inc"
@@ -295,6 +313,17 @@ contains
         call point_divergences_2d_w3(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
       case default
         call point_divergences_2d_w4(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
+      end select
+      return
+    end if
+    if (nd == 3) then
+      select case (nw(1))
+      case (2)
+        call point_divergences_3d_w2(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
+      case (3)
+        call point_divergences_3d_w3(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
+      case default
+        call point_divergences_3d_w4(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
       end select
       return
     end if
@@ -337,6 +366,17 @@ contains
       end select
       return
     end if
+    if (nd == 3) then
+      select case (nw(1))
+      case (2)
+        call momentum_project_p2g_3d_w2(n, i0, sw, mass, v, lo, fp, node, proj)
+      case (3)
+        call momentum_project_p2g_3d_w3(n, i0, sw, mass, v, lo, fp, node, proj)
+      case default
+        call momentum_project_p2g_3d_w4(n, i0, sw, mass, v, lo, fp, node, proj)
+      end select
+      return
+    end if
     do p = 1, n
       vc(1:nd) = mass(p)*fp(1:nd, p)
 #include "dpmpm_stencil_do_3d.inc"
@@ -364,6 +404,17 @@ contains
         call momentum_p2g_2d_w3(n, i0, sw, mass, v, lo, node)
       case default
         call momentum_p2g_2d_w4(n, i0, sw, mass, v, lo, node)
+      end select
+      return
+    end if
+    if (nd == 3) then
+      select case (nw(1))
+      case (2)
+        call momentum_p2g_3d_w2(n, i0, sw, mass, v, lo, node)
+      case (3)
+        call momentum_p2g_3d_w3(n, i0, sw, mass, v, lo, node)
+      case default
+        call momentum_p2g_3d_w4(n, i0, sw, mass, v, lo, node)
       end select
       return
     end if

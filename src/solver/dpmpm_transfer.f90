@@ -6,10 +6,10 @@
 !> force, mixture flux). Every kernel works on plain arrays: a point's stencil is
 !> its first node i0(:, p) and its weights sw(:, axis, p) and derivatives
 !> sdw(:, axis, p) per axis (tensor products), nodes are addressed from lo.
-!> In 2D, and in 3D for p2g, g2p, the point gradients and divergences and the momentum
-!> remap, each public kernel calls its form of fixed stencil width (dpmpm_transfer_w2,
-!> _w3, _w4 by nw(1)); the loops here, with the width read at run time, serve 1D and the
-!> general form with a third axis of one node.
+!> In 2D, and in 3D for p2g, g2p, the point gradients and divergences, the momentum
+!> remap and the two-phase sums, each public kernel calls its form of fixed stencil
+!> width (dpmpm_transfer_w2, _w3, _w4 by nw(1)); the loops here, with the width read at
+!> run time, serve 1D and the general form with a third axis of one node.
 module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: voigt_to_tensor
@@ -21,7 +21,8 @@ module dpmpm_transfer
     fluid_p2g_2d_w2 => fluid_p2g_2d, solid_porosity_p2g_2d_w2 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w2 => reaches_thin_node_2d, point_gradient_3d_w2 => point_gradient_3d, &
     point_divergences_3d_w2 => point_divergences_3d, momentum_project_p2g_3d_w2 => momentum_project_p2g_3d, &
-    momentum_p2g_3d_w2 => momentum_p2g_3d
+    momentum_p2g_3d_w2 => momentum_p2g_3d, fluid_p2g_3d_w2 => fluid_p2g_3d, &
+    solid_porosity_p2g_3d_w2 => solid_porosity_p2g_3d
   use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, g2p_2d_w3 => g2p_2d, &
     g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
     point_divergences_2d_w3 => point_divergences_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
@@ -29,7 +30,8 @@ module dpmpm_transfer
     fluid_p2g_2d_w3 => fluid_p2g_2d, solid_porosity_p2g_2d_w3 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w3 => reaches_thin_node_2d, point_gradient_3d_w3 => point_gradient_3d, &
     point_divergences_3d_w3 => point_divergences_3d, momentum_project_p2g_3d_w3 => momentum_project_p2g_3d, &
-    momentum_p2g_3d_w3 => momentum_p2g_3d
+    momentum_p2g_3d_w3 => momentum_p2g_3d, fluid_p2g_3d_w3 => fluid_p2g_3d, &
+    solid_porosity_p2g_3d_w3 => solid_porosity_p2g_3d
   use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, g2p_2d_w4 => g2p_2d, &
     g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
     point_divergences_2d_w4 => point_divergences_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
@@ -37,7 +39,8 @@ module dpmpm_transfer
     fluid_p2g_2d_w4 => fluid_p2g_2d, solid_porosity_p2g_2d_w4 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w4 => reaches_thin_node_2d, point_gradient_3d_w4 => point_gradient_3d, &
     point_divergences_3d_w4 => point_divergences_3d, momentum_project_p2g_3d_w4 => momentum_project_p2g_3d, &
-    momentum_p2g_3d_w4 => momentum_p2g_3d
+    momentum_p2g_3d_w4 => momentum_p2g_3d, fluid_p2g_3d_w4 => fluid_p2g_3d, &
+    solid_porosity_p2g_3d_w4 => solid_porosity_p2g_3d
   implicit none
   private
   public :: p2g, g2p, point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
@@ -494,6 +497,8 @@ contains
       end select
       return
     end if
+    ! (3D keeps the loop of run-time width: a kernel of fixed width gave sums that
+    ! differ at round-off, and the outputs are kept bit for bit.)
     do p = 1, n
       val(p) = 0.0_wp
       val2(p) = 0.0_wp
@@ -536,6 +541,20 @@ contains
       case default
         call fluid_p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
                                 node_s, node_f, drag, fvol)
+      end select
+      return
+    end if
+    if (nd == 3) then
+      select case (nw(1))
+      case (2)
+        call fluid_p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
+                            node_s, node_f, drag, fvol)
+      case (3)
+        call fluid_p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
+                            node_s, node_f, drag, fvol)
+      case default
+        call fluid_p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
+                            node_s, node_f, drag, fvol)
       end select
       return
     end if
@@ -609,6 +628,17 @@ contains
         call solid_porosity_p2g_2d_w3(n, i0, sw, mass, poro, kinv, lo, sporo)
       case default
         call solid_porosity_p2g_2d_w4(n, i0, sw, mass, poro, kinv, lo, sporo)
+      end select
+      return
+    end if
+    if (nw(3) > 1) then
+      select case (nw(1))
+      case (2)
+        call solid_porosity_p2g_3d_w2(n, i0, sw, mass, poro, kinv, lo, sporo)
+      case (3)
+        call solid_porosity_p2g_3d_w3(n, i0, sw, mass, poro, kinv, lo, sporo)
+      case default
+        call solid_porosity_p2g_3d_w4(n, i0, sw, mass, poro, kinv, lo, sporo)
       end select
       return
     end if

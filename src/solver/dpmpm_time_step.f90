@@ -71,7 +71,7 @@ contains
     integer, parameter :: chunk = 256
     real(wp), parameter :: bound_tol = 1.0e-12_wp
     real(wp) :: c(chunk), s(chunk), pw(chunk), nfs(chunk), cu(chunk), kf, rhof, cf(size(self%mats))
-    integer :: p0, m, k, p
+    integer :: p0, m, k
     logical :: drained
     if (is == 2) then
       do k = 1, size(self%mats)

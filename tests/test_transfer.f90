@@ -20,7 +20,8 @@ program test_transfer
   use dpmpm_stencil, only: psi_stencil, tensor_weights, stencil_offsets
   use dpmpm_materials, only: voigt_to_tensor
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, fluid_p2g, point_divergences, &
-                            momentum_project_p2g, interp_two_values
+                            momentum_project_p2g, interp_two_values, solid_porosity_p2g
+  use dpmpm_drag, only: gravity_drag
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests
   implicit none
   integer, parameter :: npt = 40         !< points of a test set
@@ -39,6 +40,7 @@ program test_transfer
   call test_projection_is_interpolation_then_momentum_map()
   call test_fused_passes_match_separate_kernels()
   call test_three_d_forms_match_direct_sums()
+  call test_three_d_remap_and_two_phase_forms_match_direct_sums()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -671,5 +673,138 @@ contains
       end do
     end do
   end subroutine test_three_d_forms_match_direct_sums
+
+  !> In 3D, the point gradient, the two divergences, the momentum remap (with and without
+  !> the projection of a point field), the fluid's p2g (momentum, drag, fluid volume,
+  !> pressure forces on both phases) and the skeleton's porosity sums against the same
+  !> sums written out node by node from tensor_weights, for each stencil width (the
+  !> kernels run their forms of fixed width, dpmpm_transfer_w2/3/4).
+  subroutine test_three_d_remap_and_two_phase_forms_match_direct_sums()
+    integer, parameter :: nd = 3
+    integer :: kernel, p, lo(3), nw(3), i0(3, npt), m, nq, c, i, j, k
+    integer, allocatable :: off(:, :)
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
+    real(wp) :: v(3, npt), fp(3, npt), poro(npt), pres(npt), kinv(npt), w(64), dw(3, 64)
+    real(wp) :: vgrad(9, npt), div(npt), div2(npt), lg(3, 3), d1, d2
+    real(wp), allocatable :: nvel(:, :, :, :), nvel2(:, :, :, :), node(:, :, :, :), ref(:, :, :, :)
+    real(wp), allocatable :: proj(:, :, :, :), rproj(:, :, :, :), ns(:, :, :, :), rs(:, :, :, :)
+    real(wp), allocatable :: drag(:, :, :, :), rdrag(:, :, :, :), fvol(:, :, :, :), rfvol(:, :, :, :)
+    character(len=32) :: tag
+    call begin_test('three_d_remap_and_two_phase_forms_match_direct_sums')
+    do kernel = 1, ngrid_kernels
+      tag = trim(kernel_names(kernel))//' 3D'
+      call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+      call stencil_offsets(nw, nq, off)
+      do p = 1, npt
+        mass(p) = 1.0_wp + 0.1_wp*real(mod(p, 7), wp)
+        vol(p) = 0.01_wp + 1.0e-4_wp*real(mod(p, 5), wp)
+        v(:, p) = [0.3_wp, -1.2_wp, 0.7_wp] + 0.05_wp*real(p, wp)
+        fp(:, p) = [-0.4_wp, 0.9_wp, 0.2_wp] - 0.03_wp*real(p, wp)
+        poro(p) = 0.3_wp + 0.01_wp*real(mod(p, 9), wp)
+        pres(p) = 1.0e4_wp*(1.0_wp + 0.02_wp*real(p, wp))
+        kinv(p) = 1.0e5_wp*(1.0_wp + 0.1_wp*real(mod(p, 4), wp))
+      end do
+      ! gradient and divergences of nodal velocities of no particular form
+      call make_nodes(nd, 2*nd, lo, nvel)
+      call make_nodes(nd, 2*nd, lo, nvel2)
+      do k = lbound(nvel, 4), ubound(nvel, 4)
+        do j = lbound(nvel, 3), ubound(nvel, 3)
+          do i = lbound(nvel, 2), ubound(nvel, 2)
+            do c = 1, 2*nd
+              nvel(c, i, j, k) = sin(0.7_wp*real(i, wp) + 1.3_wp*real(j, wp) - 0.4_wp*real(k, wp) + real(c, wp))
+              nvel2(c, i, j, k) = cos(0.3_wp*real(i, wp) - 0.8_wp*real(j, wp) + 1.1_wp*real(k, wp) + real(c, wp))
+            end do
+          end do
+        end do
+      end do
+      call point_gradient(nd, nw, npt, i0, sw, sdw, lo, nvel, vgrad)
+      call point_divergences(nd, nw, npt, i0, sw, sdw, lo, nvel, nvel2, div, div2)
+      do p = 1, npt
+        call tensor_weights(nw, sw(:, :, p), sdw(:, :, p), w(1:nq), dw(:, 1:nq))
+        lg = 0.0_wp; d1 = 0.0_wp; d2 = 0.0_wp
+        do m = 1, nq
+          i = i0(1, p) + off(1, m); j = i0(2, p) + off(2, m); k = i0(3, p) + off(3, m)
+          do c = 1, 3
+            lg(:, c) = lg(:, c) + nvel(4:6, i, j, k)*dw(c, m)
+          end do
+          d1 = d1 + dot_product(nvel(4:6, i, j, k), dw(:, m))
+          d2 = d2 + dot_product(nvel2(4:6, i, j, k), dw(:, m))
+        end do
+        call check_close(maxval(abs(vgrad(:, p) - reshape(lg, [9]))), 0.0_wp, 0.0_wp, 1.0e-12_wp, &
+                         trim(tag)//' point gradient')
+        call check_close(div(p), d1, 1.0e-12_wp, 1.0e-12_wp, trim(tag)//' divergence of nvel')
+        call check_close(div2(p), d2, 1.0e-12_wp, 1.0e-12_wp, trim(tag)//' divergence of nvel2')
+      end do
+      ! the momentum remap, alone and with the projection of fp
+      call make_nodes(nd, 1 + 2*nd, lo, node)
+      call make_nodes(nd, 1 + 2*nd, lo, ref)
+      call make_nodes(nd, nd, lo, proj)
+      call make_nodes(nd, nd, lo, rproj)
+      call momentum_p2g(nd, nw, npt, i0, sw, mass, v, lo, node)
+      do p = 1, npt
+        call tensor_weights(nw, sw(:, :, p), sdw(:, :, p), w(1:nq), dw(:, 1:nq))
+        do m = 1, nq
+          i = i0(1, p) + off(1, m); j = i0(2, p) + off(2, m); k = i0(3, p) + off(3, m)
+          ref(2:4, i, j, k) = ref(2:4, i, j, k) + w(m)*mass(p)*v(:, p)
+          rproj(:, i, j, k) = rproj(:, i, j, k) + w(m)*mass(p)*fp(:, p)
+        end do
+      end do
+      call same_slots(node(2:4, :, :, :), ref(2:4, :, :, :), trim(tag)//' momentum remap')
+      node = 0.0_wp
+      call momentum_project_p2g(nd, nw, npt, i0, sw, mass, v, lo, fp, node, proj)
+      call same_slots(node(2:4, :, :, :), ref(2:4, :, :, :), trim(tag)//' remap with projection: momentum')
+      call same_slots(proj, rproj, trim(tag)//' remap with projection: projection')
+      ! the fluid's p2g and the skeleton's porosity sums
+      call make_nodes(nd, 1 + 2*nd, lo, ns)
+      call make_nodes(nd, 1 + 2*nd, lo, rs)
+      call make_nodes(nd, 3, lo, drag)
+      call make_nodes(nd, 3, lo, rdrag)
+      call make_nodes(nd, 1, lo, fvol)
+      call make_nodes(nd, 1, lo, rfvol)
+      node = 0.0_wp
+      ref = 0.0_wp
+      call fluid_p2g(nd, nw, npt, i0, sw, sdw, mass, v, vol, poro, pres, kinv, .true., .true., lo, ns, node, &
+                     drag, fvol)
+      do p = 1, npt
+        call tensor_weights(nw, sw(:, :, p), sdw(:, :, p), w(1:nq), dw(:, 1:nq))
+        do m = 1, nq
+          i = i0(1, p) + off(1, m); j = i0(2, p) + off(2, m); k = i0(3, p) + off(3, m)
+          ref(1, i, j, k) = ref(1, i, j, k) + w(m)*mass(p)
+          ref(2:4, i, j, k) = ref(2:4, i, j, k) + w(m)*mass(p)*v(:, p)
+          ref(5:7, i, j, k) = ref(5:7, i, j, k) + vol(p)*pres(p)*poro(p)*dw(:, m)
+          rs(5:7, i, j, k) = rs(5:7, i, j, k) + vol(p)*pres(p)*(1.0_wp - poro(p))*dw(:, m)
+          rdrag(1, i, j, k) = rdrag(1, i, j, k) + w(m)*mass(p)*poro(p)*gravity_drag*kinv(p)
+          rfvol(1, i, j, k) = rfvol(1, i, j, k) + w(m)*vol(p)
+        end do
+      end do
+      call same_slots(node, ref, trim(tag)//' fluid p2g: fluid')
+      call same_slots(ns(5:7, :, :, :), rs(5:7, :, :, :), trim(tag)//' fluid p2g: skeleton force')
+      call same_slots(drag(1:1, :, :, :), rdrag(1:1, :, :, :), trim(tag)//' fluid p2g: drag')
+      call same_slots(fvol, rfvol, trim(tag)//' fluid p2g: fluid volume')
+      drag = 0.0_wp
+      rdrag = 0.0_wp
+      call solid_porosity_p2g(nw, npt, i0, sw, mass, poro, kinv, lo, drag)
+      do p = 1, npt
+        call tensor_weights(nw, sw(:, :, p), sdw(:, :, p), w(1:nq), dw(:, 1:nq))
+        do m = 1, nq
+          i = i0(1, p) + off(1, m); j = i0(2, p) + off(2, m); k = i0(3, p) + off(3, m)
+          rdrag(:, i, j, k) = rdrag(:, i, j, k) + w(m)*mass(p)*[poro(p), 1.0_wp, kinv(p)]
+        end do
+      end do
+      call same_slots(drag, rdrag, trim(tag)//' porosity sums')
+    end do
+  end subroutine test_three_d_remap_and_two_phase_forms_match_direct_sums
+
+  !> Node fields b against a slot by slot, relative to each slot's largest |a|.
+  subroutine same_slots(b, a, label)
+    real(wp), intent(in) :: b(:, :, :, :), a(:, :, :, :)
+    character(len=*), intent(in) :: label
+    integer :: c
+    do c = 1, size(a, 1)
+      call check(maxval(abs(a(c, :, :, :))) > 0.0_wp, label//' nonzero')
+      call check_close(maxval(abs(b(c, :, :, :) - a(c, :, :, :)))/max(maxval(abs(a(c, :, :, :))), tiny(1.0_wp)), &
+                       0.0_wp, 0.0_wp, 1.0e-13_wp, label//' (relative)')
+    end do
+  end subroutine same_slots
 
 end program test_transfer

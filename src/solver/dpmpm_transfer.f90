@@ -269,7 +269,7 @@ contains
       end select
       return
     end if
-    if (nd == 3) then
+    if (nd == 3 .and. all(nw == nw(1))) then
       select case (nw(1))
       case (2)
         call point_gradient_3d_w2(n, i0, sw, sdw, lo, nvel, vgrad)
@@ -319,7 +319,7 @@ contains
       end select
       return
     end if
-    if (nd == 3) then
+    if (nd == 3 .and. all(nw == nw(1))) then
       select case (nw(1))
       case (2)
         call point_divergences_3d_w2(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
@@ -369,7 +369,7 @@ contains
       end select
       return
     end if
-    if (nd == 3) then
+    if (nd == 3 .and. all(nw == nw(1))) then
       select case (nw(1))
       case (2)
         call momentum_project_p2g_3d_w2(n, i0, sw, mass, v, lo, fp, node, proj)
@@ -410,7 +410,7 @@ contains
       end select
       return
     end if
-    if (nd == 3) then
+    if (nd == 3 .and. all(nw == nw(1))) then
       select case (nw(1))
       case (2)
         call momentum_p2g_3d_w2(n, i0, sw, mass, v, lo, node)
@@ -544,7 +544,7 @@ contains
       end select
       return
     end if
-    if (nd == 3) then
+    if (nd == 3 .and. all(nw == nw(1))) then
       select case (nw(1))
       case (2)
         call fluid_p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
@@ -631,7 +631,7 @@ contains
       end select
       return
     end if
-    if (nw(3) > 1) then
+    if (nw(3) > 1 .and. all(nw == nw(1))) then
       select case (nw(1))
       case (2)
         call solid_porosity_p2g_3d_w2(n, i0, sw, mass, poro, kinv, lo, sporo)

@@ -4,7 +4,7 @@
 module dpmpm_materials
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t
-  use dpmpm_plasticity, only: plastic_params_t, plastic_setup, plastic_return, dp_match_names, &
+  use dpmpm_plasticity, only: plastic_params_t, plastic_setup, plastic_returns, dp_match_names, &
                               dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
   implicit none
   private
@@ -175,9 +175,10 @@ contains
     real(wp), intent(inout), optional :: dissipation
     logical, intent(in), optional :: plane
     real(wp) :: lg(3, 3), dmat(3, 3), wmat(3, 3), s(3, 3), f(3, 3), b(3, 3), ident(3, 3), tr, jac
-    real(wp) :: sv(6), sv0(6), deps(6), dsig(6), dep(6)
-    integer :: p, k
+    integer, parameter :: nb = 64
+    real(wp) :: dsig(6), dep(6), sr(6, nb), sn(6, nb), de(6, nb), jb(nb), ep(nb), wsum
     real(wp) :: rcp_youngs, rcp_mu
+    integer :: p, k, q, nk, idx(nb)
     logical :: flat
     if (present(plane)) then
       if (plane .and. mat%model == model_neo_hookean) then
@@ -222,23 +223,40 @@ contains
       if (present(plane)) flat = plane
       rcp_youngs = 1.0_wp/mat%youngs
       rcp_mu = 1.0_wp/mat%mu
-      do p = 1, n
-        if (pmat(p) /= m) cycle
-        call jaumann_strain(dt, vgrad(:, p), stress(:, p), flat, sv, deps, jac)
-        sv0 = sv
-        call plastic_return(mat%plastic, deps, sv, epsp(p))
-        stress(:, p) = sv
-        if (present(dissipation)) then
-          dsig = sv - sv0
-          dep(1:3) = deps(1:3) - ((1.0_wp + mat%poisson)*dsig(1:3) - mat%poisson*sum(dsig(1:3))) &
-                     *rcp_youngs
-          dep(4:6) = deps(4:6) - dsig(4:6)*rcp_mu
-          dissipation = dissipation + 0.5_wp*vol(p)*dot_product(sv0 + sv, dep)
-        end if
-        vol(p) = vol(p)*jac
-        ! Grains that have moved apart: the volume stays at the bound (doc/theory.md 5.4).
-        if (mat%max_dilation > 0.0_wp) vol(p) = min(vol(p), mat%max_dilation*vol0(p))
+      wsum = 0.0_wp
+      if (present(dissipation)) wsum = dissipation
+      ! In blocks of up to nb points of the material: rotation and strain increment, the
+      ! returns in one call, then the plastic work and the volume.
+      p = 0
+      do while (p < n)
+        nk = 0
+        do while (p < n .and. nk < nb)
+          p = p + 1
+          if (pmat(p) /= m) cycle
+          nk = nk + 1
+          idx(nk) = p
+          call jaumann_strain(dt, vgrad(:, p), stress(:, p), flat, sr(:, nk), de(:, nk), jb(nk))
+          ep(nk) = epsp(p)
+        end do
+        sn(:, 1:nk) = sr(:, 1:nk)
+        call plastic_returns(mat%plastic, nk, de, sn, ep)
+        do k = 1, nk
+          q = idx(k)
+          stress(:, q) = sn(:, k)
+          epsp(q) = ep(k)
+          if (present(dissipation)) then
+            dsig = sn(:, k) - sr(:, k)
+            dep(1:3) = de(1:3, k) - ((1.0_wp + mat%poisson)*dsig(1:3) - mat%poisson*sum(dsig(1:3))) &
+                       *rcp_youngs
+            dep(4:6) = de(4:6, k) - dsig(4:6)*rcp_mu
+            wsum = wsum + 0.5_wp*vol(q)*dot_product(sr(:, k) + sn(:, k), dep)
+          end if
+          vol(q) = vol(q)*jb(k)
+          ! Grains that have moved apart: the volume stays at the bound (doc/theory.md 5.4).
+          if (mat%max_dilation > 0.0_wp) vol(q) = min(vol(q), mat%max_dilation*vol0(q))
+        end do
       end do
+      if (present(dissipation)) dissipation = wsum
     end select
   end subroutine stress_update
 

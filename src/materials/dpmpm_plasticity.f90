@@ -23,7 +23,7 @@ module dpmpm_plasticity
   use dpmpm_kinds, only: wp
   implicit none
   private
-  public :: plastic_params_t, plastic_setup, plastic_return, principal_stresses
+  public :: plastic_params_t, plastic_setup, plastic_return, plastic_returns, principal_stresses
   public :: mc_yield, mc_potential, dp_yield, dp_potential, dp_constants, cohesion_at
   public :: softening_limit, elastic_trial
   public :: surface_mohr_coulomb, surface_drucker_prager
@@ -209,6 +209,19 @@ contains
     if (present(cut)) cut = cutoff
   end subroutine plastic_return
 
+  !> plastic_return of n points, deps(:, k) on stress(:, k) and epsp(k): the returns of a
+  !> block of points in one loop, without a call per point from another module.
+  pure subroutine plastic_returns(par, n, deps, stress, epsp)
+    type(plastic_params_t), intent(in) :: par
+    integer, intent(in) :: n
+    real(wp), intent(in) :: deps(6, n)
+    real(wp), intent(inout) :: stress(6, n), epsp(n)
+    integer :: k
+    do k = 1, n
+      call plastic_return(par, deps(:, k), stress(:, k), epsp(k))
+    end do
+  end subroutine plastic_returns
+
   !> Mohr-Coulomb return in principal stresses (de Souza Neto et al. 2008, ch. 8):
   !> main plane, then the edge the trial state points to, then the apex; the stress is
   !> rebuilt with the eigenvectors of the trial stress (they do not change in an
@@ -328,6 +341,17 @@ contains
     dv = 2.0_wp*(par%bulk - 2.0_wp*par%shear/3.0_wp)*par%sin_psi
     np = 2.0_wp*par%shear*(1.0_wp + par%sin_psi)
     nm = 2.0_wp*par%shear*(1.0_wp - par%sin_psi)
+    if (m == 1 .and. pl(1, 1) == 1 .and. pl(2, 1) == 3) then
+      ! the main plane alone, (i, j) = (1, 3)
+      dgam(1) = (gp*st(1) - gm*st(3) - 2.0_wp*cb*par%cos_phi) &
+                /(gp*(dv + np) - gm*(dv - nm) - k4)
+      dgam(2) = 0.0_wp
+      sig(1) = st(1) - (dv + np)*dgam(1)
+      sig(2) = st(2) - dv*dgam(1)
+      sig(3) = st(3) - (dv - nm)*dgam(1)
+      dep = 2.0_wp*par%cos_phi*dgam(1)
+      return
+    end if
     do l = 1, m
       dn(:, l) = dv
       dn(pl(1, l), l) = dv + np
@@ -492,11 +516,20 @@ contains
         end if
       end do
     end if
+    ! sort descending (three elements): (1, 2), (1, 3), (2, 3) swapped when out of order
+    if (a22 > a11) then
+      t = a11; a11 = a22; a22 = t
+      call swap_columns(vec(:, 1), vec(:, 2))
+    end if
+    if (a33 > a11) then
+      t = a11; a11 = a33; a33 = t
+      call swap_columns(vec(:, 1), vec(:, 3))
+    end if
+    if (a33 > a22) then
+      t = a22; a22 = a33; a33 = t
+      call swap_columns(vec(:, 2), vec(:, 3))
+    end if
     sig(1) = a11; sig(2) = a22; sig(3) = a33
-    ! sort descending (three elements)
-    call order_pair(sig, vec, 1, 2)
-    call order_pair(sig, vec, 1, 3)
-    call order_pair(sig, vec, 2, 3)
   end subroutine principal_stresses
 
   !> The Jacobi rotation that zeroes apq: tangent t, cosine c, sine s (rotation with
@@ -566,16 +599,14 @@ contains
     end do
   end subroutine rotate_columns
 
-  !> Swaps sig(i), sig(j) and their eigenvectors when sig(j) > sig(i).
-  pure subroutine order_pair(sig, vec, i, j)
-    real(wp), intent(inout) :: sig(3), vec(3, 3)
-    integer, intent(in) :: i, j
-    real(wp) :: t, tmp(3)
-    if (sig(j) > sig(i)) then
-      t = sig(i); sig(i) = sig(j); sig(j) = t
-      tmp = vec(:, i); vec(:, i) = vec(:, j); vec(:, j) = tmp
-    end if
-  end subroutine order_pair
+  !> Swaps two eigenvector columns.
+  pure subroutine swap_columns(u, v)
+    real(wp), intent(inout) :: u(3), v(3)
+    real(wp) :: tmp(3)
+    tmp = u
+    u = v
+    v = tmp
+  end subroutine swap_columns
 
   !> Voigt stress sum_i sig_i v_i v_i^T from principal values and eigenvectors.
   pure function rebuild(sig, vec) result(sv)

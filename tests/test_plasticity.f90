@@ -29,6 +29,8 @@ program test_plasticity
   integer(int64) :: seed = 12345_int64
   call MPI_Init()
   call test_principal_stresses_reconstruct()
+  call test_principal_stresses_plane()
+  call test_principal_stresses_repeated()
   call test_mc_random_states_on_surface()
   call test_dp_random_states_on_surface()
   call test_mc_main_plane_closed_form()
@@ -169,27 +171,100 @@ contains
   end function potential_gradient
 
   subroutine test_principal_stresses_reconstruct()
-    real(wp) :: sv(6), sig(3), vec(3, 3), back(3, 3), ident(3, 3)
-    integer :: k, i
+    real(wp) :: sv(6), sig(3), vec(3, 3)
+    integer :: k
     call begin_test('principal_stresses_reconstruct')
-    ident = 0.0_wp
-    do i = 1, 3
-      ident(i, i) = 1.0_wp
-    end do
     do k = 1, 200
       sv = random_stress(1.0e5_wp)
       if (k == 1) sv = [1.0_wp, 1.0_wp, -2.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]*1.0e4_wp
       call principal_stresses(sv, sig, vec)
-      back = matmul(vec, matmul(reshape([sig(1), 0.0_wp, 0.0_wp, 0.0_wp, sig(2), 0.0_wp, &
-                                         0.0_wp, 0.0_wp, sig(3)], [3, 3]), transpose(vec)))
-      call check(maxval(abs(to_voigt(back) - sv)) <= 1.0e-13_wp*maxval(abs(sv)), &
-                 'V diag(sigma) V^T equals the stress')
-      call check(maxval(abs(matmul(transpose(vec), vec) - ident)) <= 1.0e-13_wp, &
-                 'eigenvectors orthonormal')
-      call check(sig(1) >= sig(2) .and. sig(2) >= sig(3), 'principal stresses descending')
-      call check_close(sum(sig), sv(1) + sv(2) + sv(3), 1.0e-13_wp, 1.0e-9_wp, 'trace kept')
+      call check_reconstruct(sv, sig, vec)
     end do
   end subroutine test_principal_stresses_reconstruct
+
+  !> Plane states (sv(4) = sv(5) = 0): z stays a principal direction with the value sv(3)
+  !> exactly, the in-plane pair is m +- sqrt(d^2 + sxy^2) (m, d the mean and half difference
+  !> of sxx, syy), and V diag(sigma) V^T gives the stress back.
+  subroutine test_principal_stresses_plane()
+    real(wp) :: sv(6), sig(3), vec(3, 3), m, d, r, lo, hi
+    integer :: k, kz
+    call begin_test('principal_stresses_plane')
+    do k = 1, 300
+      sv = 1.0e5_wp*[3.0_wp*urand() - 2.0_wp, 3.0_wp*urand() - 2.0_wp, 3.0_wp*urand() - 2.0_wp, &
+                     0.0_wp, 0.0_wp, urand() - 0.5_wp]
+      ! shear far below and far above the normal stresses, and none at all
+      if (k == 1) sv(6) = 1.0e-12_wp*sv(6)
+      if (k == 2) sv(1:2) = 1.0e-9_wp*sv(1:2)
+      if (k == 3) sv(6) = 0.0_wp
+      call principal_stresses(sv, sig, vec)
+      call check_reconstruct(sv, sig, vec)
+      kz = findloc(abs(vec(3, :)), 1.0_wp, dim=1)
+      call check(kz > 0, 'one eigenvector is e_z')
+      if (kz == 0) cycle
+      call check(sig(kz) == sv(3), 'its principal value is sigma_zz exactly')
+      call check(all(vec(1:2, kz) == 0.0_wp) .and. all(pack(vec(3, :), [1, 2, 3] /= kz) == 0.0_wp), &
+                 'the other eigenvectors lie in the plane')
+      m = 0.5_wp*(sv(1) + sv(2)); d = 0.5_wp*(sv(1) - sv(2)); r = sqrt(d*d + sv(6)**2)
+      hi = maxval(sig, mask=[1, 2, 3] /= kz); lo = minval(sig, mask=[1, 2, 3] /= kz)
+      call check_close(hi, m + r, 1.0e-13_wp, 1.0e-13_wp*maxval(abs(sv)), 'larger in-plane value')
+      call check_close(lo, m - r, 1.0e-13_wp, 1.0e-13_wp*maxval(abs(sv)), 'smaller in-plane value')
+    end do
+  end subroutine test_principal_stresses_plane
+
+  !> Repeated principal values, in the plane and rotated in 3D: two equal, all three
+  !> equal, an in-plane value equal to sigma_zz.
+  subroutine test_principal_stresses_repeated()
+    real(wp) :: sv(6), sig(3), vec(3, 3), want(3)
+    real(wp), parameter :: wants(3, 3) = reshape([1.0_wp, 1.0_wp, -2.0_wp, 3.0_wp, -0.5_wp, -0.5_wp, &
+                                                  -1.0_wp, -1.0_wp, -1.0_wp], [3, 3])
+    integer :: k
+    call begin_test('principal_stresses_repeated')
+    ! plane: sxx = syy without shear; sxx = syy with shear; in-plane values 1 and 0 with
+    ! szz = 1; isotropic
+    call check_plane([2.0_wp, 2.0_wp, -1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], [2.0_wp, 2.0_wp, -1.0_wp])
+    call check_plane([-1.0_wp, -1.0_wp, -3.0_wp, 0.0_wp, 0.0_wp, 0.5_wp], [-0.5_wp, -1.5_wp, &
+                                                                            -3.0_wp])
+    call check_plane([0.5_wp, 0.5_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.5_wp], [1.0_wp, 1.0_wp, 0.0_wp])
+    call check_plane([-4.0_wp, -4.0_wp, -4.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], [-4.0_wp, -4.0_wp, &
+                                                                            -4.0_wp])
+    ! 3D: two equal values (both orders) and three, in random axes
+    do k = 1, 60
+      want = wants(:, mod(k, 3) + 1)
+      sv = stress_in_axes(1.0e4_wp*want, random_axis(), 2.0_wp*pi*urand())
+      call principal_stresses(sv, sig, vec)
+      call check_reconstruct(sv, sig, vec)
+      call check(maxval(abs(sig - 1.0e4_wp*want)) <= 1.0e-12_wp*1.0e4_wp*maxval(abs(want)), &
+                 'repeated values found')
+    end do
+  end subroutine test_principal_stresses_repeated
+
+  !> principal_stresses of the plane state sv gives the values want.
+  subroutine check_plane(sv, want)
+    real(wp), intent(in) :: sv(6), want(3)
+    real(wp) :: sig(3), vec(3, 3)
+    call principal_stresses(sv, sig, vec)
+    call check_reconstruct(sv, sig, vec)
+    call check(maxval(abs(sig - want)) <= 1.0e-15_wp*maxval(abs(want)), 'plane repeated values')
+  end subroutine check_plane
+
+  !> V diag(sigma) V^T = sv, V orthonormal, sigma descending with the trace of sv.
+  subroutine check_reconstruct(sv, sig, vec)
+    real(wp), intent(in) :: sv(6), sig(3), vec(3, 3)
+    real(wp) :: back(3, 3), ident(3, 3)
+    integer :: i
+    ident = 0.0_wp
+    do i = 1, 3
+      ident(i, i) = 1.0_wp
+    end do
+    back = matmul(vec, matmul(reshape([sig(1), 0.0_wp, 0.0_wp, 0.0_wp, sig(2), 0.0_wp, 0.0_wp, &
+                                       0.0_wp, sig(3)], [3, 3]), transpose(vec)))
+    call check(maxval(abs(to_voigt(back) - sv)) <= 1.0e-13_wp*maxval(abs(sv)), &
+               'V diag(sigma) V^T equals the stress')
+    call check(maxval(abs(matmul(transpose(vec), vec) - ident)) <= 1.0e-13_wp, &
+               'eigenvectors orthonormal')
+    call check(sig(1) >= sig(2) .and. sig(2) >= sig(3), 'principal stresses descending')
+    call check_close(sum(sig), sv(1) + sv(2) + sv(3), 1.0e-13_wp, 1.0e-9_wp, 'trace kept')
+  end subroutine check_reconstruct
 
   !> Many random trial states: elastic ones come back unchanged, plastic ones lie on the
   !> yield surface; all four MC returns occur.

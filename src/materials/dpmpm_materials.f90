@@ -4,7 +4,7 @@
 module dpmpm_materials
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t
-  use dpmpm_plasticity, only: plastic_params_t, plastic_setup, plastic_return, dp_match_names, &
+  use dpmpm_plasticity, only: plastic_params_t, plastic_setup, plastic_returns, dp_match_names, &
                               dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
   implicit none
   private
@@ -175,8 +175,11 @@ contains
     real(wp), intent(inout), optional :: dissipation
     logical, intent(in), optional :: plane
     real(wp) :: lg(3, 3), dmat(3, 3), wmat(3, 3), s(3, 3), f(3, 3), b(3, 3), ident(3, 3), tr, jac
-    real(wp) :: sv(6), sv0(6), deps(6), dsig(6), dep(6)
-    integer :: p, k
+    integer, parameter :: nb = 64
+    real(wp) :: dsig(6), dep(6), sr(6, nb), sn(6, nb), de(6, nb), jb(nb), ep(nb), wsum
+    real(wp) :: rcp_youngs, rcp_mu
+    integer :: p, k, q, nk, idx(nb)
+    logical :: flat
     if (present(plane)) then
       if (plane .and. mat%model == model_neo_hookean) then
         call neo_hookean_plane(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad)
@@ -216,31 +219,93 @@ contains
         vol(p) = vol0(p)*jac
       end do
     case (model_mohr_coulomb, model_drucker_prager)
-      do p = 1, n
-        if (pmat(p) /= m) cycle
-        lg = as_3x3(vgrad(:, p))
-        dmat = 0.5_wp*(lg + transpose(lg))
-        wmat = 0.5_wp*(lg - transpose(lg))
-        s = voigt_to_tensor(stress(:, p))
-        sv = tensor_to_voigt(s + dt*(matmul(wmat, s) - matmul(s, wmat)))
-        deps = dt*[dmat(1, 1), dmat(2, 2), dmat(3, 3), 2.0_wp*dmat(2, 3), 2.0_wp*dmat(1, 3), &
-                   2.0_wp*dmat(1, 2)]
-        sv0 = sv
-        call plastic_return(mat%plastic, deps, sv, epsp(p))
-        stress(:, p) = sv
-        if (present(dissipation)) then
-          dsig = sv - sv0
-          dep(1:3) = deps(1:3) - ((1.0_wp + mat%poisson)*dsig(1:3) - mat%poisson*sum(dsig(1:3))) &
-                     /mat%youngs
-          dep(4:6) = deps(4:6) - dsig(4:6)/mat%mu
-          dissipation = dissipation + 0.5_wp*vol(p)*dot_product(sv0 + sv, dep)
-        end if
-        vol(p) = vol(p)*det3(ident + dt*lg)
-        ! Grains that have moved apart: the volume stays at the bound (doc/theory.md 5.4).
-        if (mat%max_dilation > 0.0_wp) vol(p) = min(vol(p), mat%max_dilation*vol0(p))
+      flat = .false.
+      if (present(plane)) flat = plane
+      rcp_youngs = 1.0_wp/mat%youngs
+      rcp_mu = 1.0_wp/mat%mu
+      wsum = 0.0_wp
+      if (present(dissipation)) wsum = dissipation
+      ! In blocks of up to nb points of the material: rotation and strain increment, the
+      ! returns in one call, then the plastic work and the volume.
+      p = 0
+      do while (p < n)
+        nk = 0
+        do while (p < n .and. nk < nb)
+          p = p + 1
+          if (pmat(p) /= m) cycle
+          nk = nk + 1
+          idx(nk) = p
+          call jaumann_strain(dt, vgrad(:, p), stress(:, p), flat, sr(:, nk), de(:, nk), jb(nk))
+          ep(nk) = epsp(p)
+        end do
+        sn(:, 1:nk) = sr(:, 1:nk)
+        call plastic_returns(mat%plastic, nk, de, sn, ep)
+        do k = 1, nk
+          q = idx(k)
+          stress(:, q) = sn(:, k)
+          epsp(q) = ep(k)
+          if (present(dissipation)) then
+            dsig = sn(:, k) - sr(:, k)
+            dep(1:3) = de(1:3, k) - ((1.0_wp + mat%poisson)*dsig(1:3) - mat%poisson*sum(dsig(1:3))) &
+                       *rcp_youngs
+            dep(4:6) = de(4:6, k) - dsig(4:6)*rcp_mu
+            wsum = wsum + 0.5_wp*vol(q)*dot_product(sr(:, k) + sn(:, k), dep)
+          end if
+          vol(q) = vol(q)*jb(k)
+          ! Grains that have moved apart: the volume stays at the bound (doc/theory.md 5.4).
+          if (mat%max_dilation > 0.0_wp) vol(q) = min(vol(q), mat%max_dilation*vol0(q))
+        end do
       end do
+      if (present(dissipation)) dissipation = wsum
     end select
   end subroutine stress_update
+
+  !> The elastic predictor's kinematics of the plastic soils for one point with velocity
+  !> gradient lv (3x3 column-major): the stress s rotated with the spin W = (L - L^T)/2,
+  !> sr = s + dt (W s - s W), the strain increment deps = dt D (engineering shears) and
+  !> jac = det(I + dt L). W s - s W = Z + Z^T with Z = W s is written out for its few
+  !> terms; plane (2D) leaves out the third row and column of L, which are zero there.
+  pure subroutine jaumann_strain(dt, lv, s, plane, sr, deps, jac)
+    real(wp), intent(in) :: dt, lv(9), s(6)
+    logical, intent(in) :: plane
+    real(wp), intent(out) :: sr(6), deps(6), jac
+    real(wp) :: w12, w13, w23, a11, a22, a33
+    w12 = 0.5_wp*dt*(lv(4) - lv(2))
+    a11 = 1.0_wp + dt*lv(1)
+    a22 = 1.0_wp + dt*lv(5)
+    if (plane) then
+      ! only w12: the in-plane block turns, s13 and s23 turn into each other
+      sr(1) = s(1) + 2.0_wp*w12*s(6)
+      sr(2) = s(2) - 2.0_wp*w12*s(6)
+      sr(3) = s(3)
+      sr(4) = s(4) - w12*s(5)
+      sr(5) = s(5) + w12*s(4)
+      sr(6) = s(6) + w12*(s(2) - s(1))
+      deps = 0.0_wp
+      deps(1) = dt*lv(1)
+      deps(2) = dt*lv(5)
+      deps(6) = dt*(lv(4) + lv(2))
+      jac = a11*a22 - dt*dt*lv(4)*lv(2)
+    else
+      w13 = 0.5_wp*dt*(lv(7) - lv(3))
+      w23 = 0.5_wp*dt*(lv(8) - lv(6))
+      sr(1) = s(1) + 2.0_wp*(w12*s(6) + w13*s(5))
+      sr(2) = s(2) + 2.0_wp*(w23*s(4) - w12*s(6))
+      sr(3) = s(3) - 2.0_wp*(w13*s(5) + w23*s(4))
+      sr(4) = s(4) - w12*s(5) - w13*s(6) + w23*(s(3) - s(2))
+      sr(5) = s(5) + w12*s(4) + w13*(s(3) - s(1)) - w23*s(6)
+      sr(6) = s(6) + w12*(s(2) - s(1)) + w13*s(4) + w23*s(5)
+      deps(1) = dt*lv(1)
+      deps(2) = dt*lv(5)
+      deps(3) = dt*lv(9)
+      deps(4) = dt*(lv(8) + lv(6))
+      deps(5) = dt*(lv(7) + lv(3))
+      deps(6) = dt*(lv(4) + lv(2))
+      a33 = 1.0_wp + dt*lv(9)
+      jac = a11*(a22*a33 - dt*dt*lv(8)*lv(6)) - dt*lv(4)*(dt*lv(2)*a33 - dt*dt*lv(8)*lv(3)) &
+            + dt*lv(7)*(dt*dt*lv(2)*lv(6) - a22*dt*lv(3))
+    end if
+  end subroutine jaumann_strain
 
   !> The neo-Hookean update of stress_update in plane strain: F33 = 1 and the
   !> in-plane 2x2 block of F carries the motion.

@@ -23,7 +23,7 @@ module dpmpm_plasticity
   use dpmpm_kinds, only: wp
   implicit none
   private
-  public :: plastic_params_t, plastic_setup, plastic_return, principal_stresses
+  public :: plastic_params_t, plastic_setup, plastic_return, plastic_returns, principal_stresses
   public :: mc_yield, mc_potential, dp_yield, dp_potential, dp_constants, cohesion_at
   public :: softening_limit, elastic_trial
   public :: surface_mohr_coulomb, surface_drucker_prager
@@ -209,6 +209,19 @@ contains
     if (present(cut)) cut = cutoff
   end subroutine plastic_return
 
+  !> plastic_return of n points, deps(:, k) on stress(:, k) and epsp(k): the returns of a
+  !> block of points in one loop, without a call per point from another module.
+  pure subroutine plastic_returns(par, n, deps, stress, epsp)
+    type(plastic_params_t), intent(in) :: par
+    integer, intent(in) :: n
+    real(wp), intent(in) :: deps(6, n)
+    real(wp), intent(inout) :: stress(6, n), epsp(n)
+    integer :: k
+    do k = 1, n
+      call plastic_return(par, deps(:, k), stress(:, k), epsp(k))
+    end do
+  end subroutine plastic_returns
+
   !> Mohr-Coulomb return in principal stresses (de Souza Neto et al. 2008, ch. 8):
   !> main plane, then the edge the trial state points to, then the apex; the stress is
   !> rebuilt with the eigenvectors of the trial stress (they do not change in an
@@ -222,11 +235,12 @@ contains
     logical, intent(out) :: cutoff
     real(wp) :: st(3), vec(3, 3), sig(3), dgam(2), cn, f, scale, tol, pa, cot, lam, dep
     integer :: pl(2, 2)
-    logical :: ok
+    logical :: ok, plane
     kind = ret_elastic
+    cn = cohesion_at(par, epsp)
+    plane = trial(4) == 0.0_wp .and. trial(5) == 0.0_wp
     call principal_stresses(trial, st, vec)
     sig = st
-    cn = cohesion_at(par, epsp)
     f = (st(1) - st(3)) + (st(1) + st(3))*par%sin_phi - 2.0_wp*cn*par%cos_phi
     scale = abs(st(1)) + abs(st(3)) + cn
     dep = 0.0_wp
@@ -270,6 +284,8 @@ contains
     end if
     if (kind == ret_elastic .and. .not. cutoff) then
       stress = trial
+    else if (plane) then
+      stress = rebuild_plane(sig, vec)
     else
       stress = rebuild(sig, vec)
     end if
@@ -299,30 +315,49 @@ contains
     integer, intent(in) :: m, pl(2, m)
     real(wp), intent(in) :: st(3), cb, hb
     real(wp), intent(out) :: sig(3), dgam(2), dep
-    real(wp) :: dmat(3, 3), dn(3, 2), grad(3, 2), a(2, 2), r(2), det, k4
+    real(wp) :: dn(3, 2), a(2, 2), r(2), det, k4, gp, gm, dv, np, nm
     integer :: i, l
-    dmat = principal_elasticity(par)
     k4 = 4.0_wp*par%cos_phi**2*hb
+    ! grad f_ij = gp e_i - gm e_j; D N_ij with N_ij = (1 + sin psi) e_i - (1 - sin psi) e_j
+    ! is lambda tr(N) = 2 lambda sin psi on every component plus 2 G N.
+    gp = 1.0_wp + par%sin_phi
+    gm = 1.0_wp - par%sin_phi
+    dv = 2.0_wp*(par%bulk - 2.0_wp*par%shear/3.0_wp)*par%sin_psi
+    np = 2.0_wp*par%shear*(1.0_wp + par%sin_psi)
+    nm = 2.0_wp*par%shear*(1.0_wp - par%sin_psi)
+    if (m == 1 .and. pl(1, 1) == 1 .and. pl(2, 1) == 3) then
+      ! the main plane alone, (i, j) = (1, 3)
+      dgam(1) = (gp*st(1) - gm*st(3) - 2.0_wp*cb*par%cos_phi) &
+                /(gp*(dv + np) - gm*(dv - nm) - k4)
+      dgam(2) = 0.0_wp
+      sig(1) = st(1) - (dv + np)*dgam(1)
+      sig(2) = st(2) - dv*dgam(1)
+      sig(3) = st(3) - (dv - nm)*dgam(1)
+      dep = 2.0_wp*par%cos_phi*dgam(1)
+      return
+    end if
     do l = 1, m
-      grad(:, l) = plane_vector(pl(1, l), pl(2, l), par%sin_phi)
-      dn(:, l) = matmul(dmat, plane_vector(pl(1, l), pl(2, l), par%sin_psi))
+      dn(:, l) = dv
+      dn(pl(1, l), l) = dv + np
+      dn(pl(2, l), l) = dv - nm
     end do
     do i = 1, m
-      r(i) = dot_product(grad(:, i), st) - 2.0_wp*cb*par%cos_phi
+      r(i) = gp*st(pl(1, i)) - gm*st(pl(2, i)) - 2.0_wp*cb*par%cos_phi
       do l = 1, m
-        a(i, l) = dot_product(grad(:, i), dn(:, l)) - k4
+        a(i, l) = gp*dn(pl(1, i), l) - gm*dn(pl(2, i), l) - k4
       end do
     end do
-    dgam = 0.0_wp
     if (m == 1) then
       dgam(1) = r(1)/a(1, 1)
+      dgam(2) = 0.0_wp
+      sig = st - dn(:, 1)*dgam(1)
     else
       det = a(1, 1)*a(2, 2) - a(1, 2)*a(2, 1)
       dgam(1) = (a(2, 2)*r(1) - a(1, 2)*r(2))/det
       dgam(2) = (a(1, 1)*r(2) - a(2, 1)*r(1))/det
+      sig = st - dn(:, 1)*dgam(1) - dn(:, 2)*dgam(2)
     end if
-    sig = st - matmul(dn(:, 1:m), dgam(1:m))
-    dep = 2.0_wp*par%cos_phi*sum(dgam(1:m))
+    dep = 2.0_wp*par%cos_phi*(dgam(1) + dgam(2))
   end subroutine mc_planes_solve
 
   !> Apex return of a hydrostatic state: p = c(epsp + alpha d eps_v) * ratio with
@@ -419,59 +454,158 @@ contains
   end subroutine dp_return
 
   !> Eigenvalues of the symmetric stress sv (Voigt), descending, and the eigenvectors as
-  !> the columns of vec, by cyclic Jacobi rotations (exact to round-off for 3 x 3).
+  !> the columns of vec, by cyclic Jacobi rotations (exact to round-off for 3 x 3). Each
+  !> rotation updates only the rows and columns p, q it mixes. With sv(4) = sv(5) = 0
+  !> (plane strain) z is a principal direction and the one rotation of the xy block is
+  !> the whole decomposition.
   pure subroutine principal_stresses(sv, sig, vec)
     real(wp), intent(in) :: sv(6)
     real(wp), intent(out) :: sig(3), vec(3, 3)
-    real(wp) :: a(3, 3), rot(3, 3), off, nrm, theta, t, c, s, tmp(3)
-    integer :: sweep, p, q, k, i, j
-    integer, parameter :: pairs(2, 3) = reshape([1, 2, 1, 3, 2, 3], [2, 3])
-    a = reshape([sv(1), sv(6), sv(5), sv(6), sv(2), sv(4), sv(5), sv(4), sv(3)], [3, 3])
+    real(wp) :: a11, a22, a33, a23, a13, a12, off, nrm, tiny2, t, c, s, tau
+    integer :: sweep
     vec = 0.0_wp
-    do k = 1, 3
-      vec(k, k) = 1.0_wp
-    end do
-    nrm = sum(a**2)
-    do sweep = 1, 50
-      off = a(1, 2)**2 + a(1, 3)**2 + a(2, 3)**2
-      if (off <= 1.0e-34_wp*nrm .or. off == 0.0_wp) exit
-      do k = 1, 3
-        p = pairs(1, k)
-        q = pairs(2, k)
-        if (a(p, q) == 0.0_wp) cycle
-        theta = (a(q, q) - a(p, p))/(2.0_wp*a(p, q))
-        if (abs(theta) > 1.0e100_wp) then
-          t = 0.5_wp/theta
-        else
-          t = sign(1.0_wp, theta)/(abs(theta) + sqrt(theta*theta + 1.0_wp))
+    vec(1, 1) = 1.0_wp
+    vec(2, 2) = 1.0_wp
+    vec(3, 3) = 1.0_wp
+    a11 = sv(1); a22 = sv(2); a33 = sv(3); a23 = sv(4); a13 = sv(5); a12 = sv(6)
+    if (a23 == 0.0_wp .and. a13 == 0.0_wp) then
+      if (a12 /= 0.0_wp) then
+        call plane_angle(a11, a22, a12, c, s)
+        vec(1, 1) = c; vec(2, 1) = -s
+        vec(1, 2) = s; vec(2, 2) = c
+      end if
+    else
+      nrm = a11**2 + a22**2 + a33**2 + 2.0_wp*(a23**2 + a13**2 + a12**2)
+      tiny2 = epsilon(1.0_wp)**2*nrm
+      do sweep = 1, 50
+        off = a12**2 + a13**2 + a23**2
+        if (off <= 1.0e-34_wp*nrm .or. off == 0.0_wp) exit
+        ! (p, q) = (1, 2), (1, 3), (2, 3); r is the third index, a_rp and a_rq its entries.
+        ! An entry below one unit of round-off of the norm is set to zero instead of
+        ! rotated (a state whose shear is round-off, as in a flow between walls).
+        call drop_negligible(tiny2, a12)
+        if (a12 /= 0.0_wp) then
+          call jacobi_angle(a11, a22, a12, t, c, s)
+          tau = s/(1.0_wp + c)
+          call rotate_pair(s, tau, a13, a23)
+          call rotate_columns(s, tau, vec(:, 1), vec(:, 2))
         end if
-        c = 1.0_wp/sqrt(t*t + 1.0_wp)
-        s = t*c
-        rot = 0.0_wp
-        do i = 1, 3
-          rot(i, i) = 1.0_wp
-        end do
-        rot(p, p) = c
-        rot(q, q) = c
-        rot(p, q) = s
-        rot(q, p) = -s
-        a = matmul(transpose(rot), matmul(a, rot))
-        a(p, q) = 0.0_wp
-        a(q, p) = 0.0_wp
-        vec = matmul(vec, rot)
-      end do
-    end do
-    sig = [a(1, 1), a(2, 2), a(3, 3)]
-    ! sort descending (three elements)
-    do i = 1, 2
-      do j = i + 1, 3
-        if (sig(j) > sig(i)) then
-          t = sig(i); sig(i) = sig(j); sig(j) = t
-          tmp = vec(:, i); vec(:, i) = vec(:, j); vec(:, j) = tmp
+        call drop_negligible(tiny2, a13)
+        if (a13 /= 0.0_wp) then
+          call jacobi_angle(a11, a33, a13, t, c, s)
+          tau = s/(1.0_wp + c)
+          call rotate_pair(s, tau, a12, a23)
+          call rotate_columns(s, tau, vec(:, 1), vec(:, 3))
+        end if
+        call drop_negligible(tiny2, a23)
+        if (a23 /= 0.0_wp) then
+          call jacobi_angle(a22, a33, a23, t, c, s)
+          tau = s/(1.0_wp + c)
+          call rotate_pair(s, tau, a12, a13)
+          call rotate_columns(s, tau, vec(:, 2), vec(:, 3))
         end if
       end do
-    end do
+    end if
+    ! sort descending (three elements): (1, 2), (1, 3), (2, 3) swapped when out of order
+    if (a22 > a11) then
+      t = a11; a11 = a22; a22 = t
+      call swap_columns(vec(:, 1), vec(:, 2))
+    end if
+    if (a33 > a11) then
+      t = a11; a11 = a33; a33 = t
+      call swap_columns(vec(:, 1), vec(:, 3))
+    end if
+    if (a33 > a22) then
+      t = a22; a22 = a33; a33 = t
+      call swap_columns(vec(:, 2), vec(:, 3))
+    end if
+    sig(1) = a11; sig(2) = a22; sig(3) = a33
   end subroutine principal_stresses
+
+  !> The Jacobi rotation that zeroes apq: tangent t, cosine c, sine s (rotation with
+  !> R_pp = R_qq = c, R_pq = s, R_qp = -s, A <- R^T A R); app and aqq are updated in the
+  !> stable form app - t apq, aqq + t apq, and apq becomes 0.
+  pure subroutine jacobi_angle(app, aqq, apq, t, c, s)
+    real(wp), intent(inout) :: app, aqq, apq
+    real(wp), intent(out) :: t, c, s
+    real(wp) :: theta
+    theta = (aqq - app)/(2.0_wp*apq)
+    if (abs(theta) > 1.0e100_wp) then
+      t = 0.5_wp/theta
+    else
+      t = sign(1.0_wp, theta)/(abs(theta) + sqrt(theta*theta + 1.0_wp))
+    end if
+    c = 1.0_wp/sqrt(t*t + 1.0_wp)
+    s = t*c
+    app = app - t*apq
+    aqq = aqq + t*apq
+    apq = 0.0_wp
+  end subroutine jacobi_angle
+
+  !> apq = 0 when apq^2 <= tiny2 (the square of one unit of round-off of the norm of the
+  !> matrix): its rotation would move the principal values and the rebuilt stress by less
+  !> than their own round-off.
+  pure subroutine drop_negligible(tiny2, apq)
+    real(wp), intent(in) :: tiny2
+    real(wp), intent(inout) :: apq
+    if (apq*apq <= tiny2) apq = 0.0_wp
+  end subroutine drop_negligible
+
+  !> The rotation of jacobi_angle for the 2 x 2 block alone, in closed form with two
+  !> square roots and no chain of divisions: with d = (aqq - app)/2 and r = sqrt(d^2 + apq^2),
+  !> t = sign(d) apq/(r + |d|), c = sqrt((r + |d|)/(2 r)) and s = t c. app and aqq are
+  !> updated as app - t apq, aqq + t apq (stable: no difference of large terms).
+  pure subroutine plane_angle(app, aqq, apq, c, s)
+    real(wp), intent(inout) :: app, aqq
+    real(wp), intent(in) :: apq
+    real(wp), intent(out) :: c, s
+    real(wp) :: d, r, e, t, rw, sa
+    d = 0.5_wp*(aqq - app)
+    r = sqrt(d*d + apq*apq)
+    e = r + abs(d)
+    sa = sign(1.0_wp, d)*apq
+    t = sa/e
+    rw = 1.0_wp/sqrt(2.0_wp*r*e)
+    c = e*rw
+    s = sa*rw
+    app = app - t*apq
+    aqq = aqq + t*apq
+  end subroutine plane_angle
+
+  !> The entries a_rp, a_rq of the third row under the rotation of jacobi_angle
+  !> (tau = s/(1 + c)).
+  pure subroutine rotate_pair(s, tau, arp, arq)
+    real(wp), intent(in) :: s, tau
+    real(wp), intent(inout) :: arp, arq
+    real(wp) :: g, h
+    g = arp
+    h = arq
+    arp = g - s*(h + tau*g)
+    arq = h + s*(g - tau*h)
+  end subroutine rotate_pair
+
+  !> Eigenvector columns vp, vq under the same rotation (V <- V R).
+  pure subroutine rotate_columns(s, tau, vp, vq)
+    real(wp), intent(in) :: s, tau
+    real(wp), intent(inout) :: vp(3), vq(3)
+    real(wp) :: g, h
+    integer :: i
+    do i = 1, 3
+      g = vp(i)
+      h = vq(i)
+      vp(i) = g - s*(h + tau*g)
+      vq(i) = h + s*(g - tau*h)
+    end do
+  end subroutine rotate_columns
+
+  !> Swaps two eigenvector columns.
+  pure subroutine swap_columns(u, v)
+    real(wp), intent(inout) :: u(3), v(3)
+    real(wp) :: tmp(3)
+    tmp = u
+    u = v
+    v = tmp
+  end subroutine swap_columns
 
   !> Voigt stress sum_i sig_i v_i v_i^T from principal values and eigenvectors.
   pure function rebuild(sig, vec) result(sv)
@@ -480,10 +614,29 @@ contains
     integer :: i
     sv = 0.0_wp
     do i = 1, 3
-      sv = sv + sig(i)*[vec(1, i)**2, vec(2, i)**2, vec(3, i)**2, vec(2, i)*vec(3, i), &
-                        vec(1, i)*vec(3, i), vec(1, i)*vec(2, i)]
+      sv(1) = sv(1) + sig(i)*vec(1, i)**2
+      sv(2) = sv(2) + sig(i)*vec(2, i)**2
+      sv(3) = sv(3) + sig(i)*vec(3, i)**2
+      sv(4) = sv(4) + sig(i)*vec(2, i)*vec(3, i)
+      sv(5) = sv(5) + sig(i)*vec(1, i)*vec(3, i)
+      sv(6) = sv(6) + sig(i)*vec(1, i)*vec(2, i)
     end do
   end function rebuild
+
+  !> rebuild of a plane state, whose eigenvectors have no z part except the one that is
+  !> e_z: no out-of-plane shear.
+  pure function rebuild_plane(sig, vec) result(sv)
+    real(wp), intent(in) :: sig(3), vec(3, 3)
+    real(wp) :: sv(6)
+    integer :: i
+    sv = 0.0_wp
+    do i = 1, 3
+      sv(1) = sv(1) + sig(i)*vec(1, i)**2
+      sv(2) = sv(2) + sig(i)*vec(2, i)**2
+      sv(3) = sv(3) + sig(i)*vec(3, i)**2
+      sv(6) = sv(6) + sig(i)*vec(1, i)*vec(2, i)
+    end do
+  end function rebuild_plane
 
   !> Second invariant of the deviatoric part of the Voigt stress sv.
   pure real(wp) function j2_of(sv) result(j2)

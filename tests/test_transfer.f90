@@ -614,10 +614,8 @@ contains
       tag = trim(kernel_names(kernel))//' 3D'
       call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
       call stencil_offsets(nw, nq, off)
+      call point_data(mass, vol, v)
       do p = 1, npt
-        mass(p) = 1.0_wp + 0.1_wp*real(mod(p, 7), wp)
-        vol(p) = 0.01_wp + 1.0e-4_wp*real(mod(p, 5), wp)
-        v(:, p) = [0.3_wp, -1.2_wp, 0.7_wp] + 0.05_wp*real(p, wp)
         bacc(:, p) = [1.5_wp, -9.8_wp, 0.4_wp] - 0.02_wp*real(p, wp)
         stress(:, p) = [-3.0_wp, -5.0_wp, -4.0_wp, 0.7_wp, -0.3_wp, 1.1_wp]*(1.0_wp + 0.03_wp*real(p, wp))
       end do
@@ -695,10 +693,8 @@ contains
       tag = trim(kernel_names(kernel))//' 3D'
       call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
       call stencil_offsets(nw, nq, off)
+      call point_data(mass, vol, v)
       do p = 1, npt
-        mass(p) = 1.0_wp + 0.1_wp*real(mod(p, 7), wp)
-        vol(p) = 0.01_wp + 1.0e-4_wp*real(mod(p, 5), wp)
-        v(:, p) = [0.3_wp, -1.2_wp, 0.7_wp] + 0.05_wp*real(p, wp)
         fp(:, p) = [-0.4_wp, 0.9_wp, 0.2_wp] - 0.03_wp*real(p, wp)
         poro(p) = 0.3_wp + 0.01_wp*real(mod(p, 9), wp)
         pres(p) = 1.0e4_wp*(1.0_wp + 0.02_wp*real(p, wp))
@@ -794,6 +790,17 @@ contains
       call same_slots(drag, rdrag, trim(tag)//' porosity sums')
     end do
   end subroutine test_three_d_remap_and_two_phase_forms_match_direct_sums
+
+  !> Masses, volumes and velocities of the npt points of the 3D tests, varied from point to point.
+  subroutine point_data(mass, vol, v)
+    real(wp), intent(out) :: mass(npt), vol(npt), v(3, npt)
+    integer :: p
+    do p = 1, npt
+      mass(p) = 1.0_wp + 0.1_wp*real(mod(p, 7), wp)
+      vol(p) = 0.01_wp + 1.0e-4_wp*real(mod(p, 5), wp)
+      v(:, p) = [0.3_wp, -1.2_wp, 0.7_wp] + 0.05_wp*real(p, wp)
+    end do
+  end subroutine point_data
 
   !> Node fields b against a slot by slot, relative to each slot's largest |a|.
   subroutine same_slots(b, a, label)

@@ -461,7 +461,7 @@ contains
   pure subroutine principal_stresses(sv, sig, vec)
     real(wp), intent(in) :: sv(6)
     real(wp), intent(out) :: sig(3), vec(3, 3)
-    real(wp) :: a11, a22, a33, a23, a13, a12, off, nrm, tiny2, t, c, s, tau
+    real(wp) :: a11, a22, a33, a23, a13, a12, off, nrm, tiny2, c, s
     integer :: sweep
     vec = 0.0_wp
     vec(1, 1) = 1.0_wp
@@ -483,43 +483,39 @@ contains
         ! (p, q) = (1, 2), (1, 3), (2, 3); r is the third index, a_rp and a_rq its entries.
         ! An entry below one unit of round-off of the norm is set to zero instead of
         ! rotated (a state whose shear is round-off, as in a flow between walls).
-        call drop_negligible(tiny2, a12)
-        if (a12 /= 0.0_wp) then
-          call jacobi_angle(a11, a22, a12, t, c, s)
-          tau = s/(1.0_wp + c)
-          call rotate_pair(s, tau, a13, a23)
-          call rotate_columns(s, tau, vec(:, 1), vec(:, 2))
-        end if
-        call drop_negligible(tiny2, a13)
-        if (a13 /= 0.0_wp) then
-          call jacobi_angle(a11, a33, a13, t, c, s)
-          tau = s/(1.0_wp + c)
-          call rotate_pair(s, tau, a12, a23)
-          call rotate_columns(s, tau, vec(:, 1), vec(:, 3))
-        end if
-        call drop_negligible(tiny2, a23)
-        if (a23 /= 0.0_wp) then
-          call jacobi_angle(a22, a33, a23, t, c, s)
-          tau = s/(1.0_wp + c)
-          call rotate_pair(s, tau, a12, a13)
-          call rotate_columns(s, tau, vec(:, 2), vec(:, 3))
-        end if
+        call rotate(a11, a22, a12, a13, a23, vec(:, 1), vec(:, 2))
+        call rotate(a11, a33, a13, a12, a23, vec(:, 1), vec(:, 3))
+        call rotate(a22, a33, a23, a12, a13, vec(:, 2), vec(:, 3))
       end do
     end if
     ! sort descending (three elements): (1, 2), (1, 3), (2, 3) swapped when out of order
-    if (a22 > a11) then
-      t = a11; a11 = a22; a22 = t
-      call swap_columns(vec(:, 1), vec(:, 2))
-    end if
-    if (a33 > a11) then
-      t = a11; a11 = a33; a33 = t
-      call swap_columns(vec(:, 1), vec(:, 3))
-    end if
-    if (a33 > a22) then
-      t = a22; a22 = a33; a33 = t
-      call swap_columns(vec(:, 2), vec(:, 3))
-    end if
+    call order(a11, a22, vec(:, 1), vec(:, 2))
+    call order(a11, a33, vec(:, 1), vec(:, 3))
+    call order(a22, a33, vec(:, 2), vec(:, 3))
     sig(1) = a11; sig(2) = a22; sig(3) = a33
+  contains
+    !> One rotation in the plane (p, q), unless apq is negligible: arp and arq are the
+    !> entries of the third row r, vp and vq the eigenvector columns p and q.
+    pure subroutine rotate(app, aqq, apq, arp, arq, vp, vq)
+      real(wp), intent(inout) :: app, aqq, apq, arp, arq, vp(3), vq(3)
+      real(wp) :: tr, cr, sr, taur
+      call drop_negligible(tiny2, apq)
+      if (apq == 0.0_wp) return
+      call jacobi_angle(app, aqq, apq, tr, cr, sr)
+      taur = sr/(1.0_wp + cr)
+      call rotate_pair(sr, taur, arp, arq)
+      call rotate_columns(sr, taur, vp, vq)
+    end subroutine rotate
+
+    !> ai >= aj afterwards, their eigenvector columns vi and vj swapped with them.
+    pure subroutine order(ai, aj, vi, vj)
+      real(wp), intent(inout) :: ai, aj, vi(3), vj(3)
+      real(wp) :: tmp
+      if (aj > ai) then
+        tmp = ai; ai = aj; aj = tmp
+        call swap_columns(vi, vj)
+      end if
+    end subroutine order
   end subroutine principal_stresses
 
   !> The Jacobi rotation that zeroes apq: tangent t, cosine c, sine s (rotation with

@@ -108,22 +108,22 @@ contains
             c(k) = cf(ps%mat(p0 + k - 1))
           end do
         end if
-        ! wave plus point speed: first a bound with the root of the sum of squares (a
-        ! loop the compiler vectorises), then norm2 only where the bound reaches rate
-        ! (the two norms agree to a few ulps; the absolute margin covers underflow; a NaN
-        ! takes the exact path, as before)
+        ! wave plus point speed: first a bound with the sum of the absolute components (an
+        ! upper bound of the norm without squares, which could overflow; a loop the
+        ! compiler vectorises), then norm2 only where the bound reaches rate (a NaN takes
+        ! the exact path, as before)
         select case (size(ps%v, 1))
         case (1)
           s(1:m) = c(1:m) + abs(ps%v(1, p0:p0 + m - 1))
         case (2)
-          s(1:m) = c(1:m) + sqrt(ps%v(1, p0:p0 + m - 1)**2 + ps%v(2, p0:p0 + m - 1)**2)
+          s(1:m) = c(1:m) + (abs(ps%v(1, p0:p0 + m - 1)) + abs(ps%v(2, p0:p0 + m - 1)))
         case default
-          s(1:m) = c(1:m) + sqrt(ps%v(1, p0:p0 + m - 1)**2 + ps%v(2, p0:p0 + m - 1)**2 + &
-                                 ps%v(3, p0:p0 + m - 1)**2)
+          s(1:m) = c(1:m) + (abs(ps%v(1, p0:p0 + m - 1)) + abs(ps%v(2, p0:p0 + m - 1)) + &
+                             abs(ps%v(3, p0:p0 + m - 1)))
         end select
-        if (any(.not. (s(1:m)*(1.0_wp + bound_tol) + 1.0e-150_wp < rate))) then
+        if (any(.not. (s(1:m)*(1.0_wp + bound_tol) < rate))) then
           do k = 1, m
-            if (.not. s(k)*(1.0_wp + bound_tol) + 1.0e-150_wp < rate) &
+            if (.not. s(k)*(1.0_wp + bound_tol) < rate) &
               rate = max(rate, c(k) + norm2(ps%v(:, p0 + k - 1)))
           end do
         end if

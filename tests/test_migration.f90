@@ -13,7 +13,10 @@ program test_migration
   use dpmpm_particles, only: particle_set_t
   use dpmpm_migrate, only: migrate, check_owned
   use dpmpm_cell_order, only: cell_order, sort_by_cell
-  use dpmpm_grid, only: cell_of
+  use dpmpm_grid, only: cell_of, axis_cells_of
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+  use, intrinsic :: ieee_exceptions, only: ieee_get_halting_mode, ieee_set_halting_mode, ieee_invalid, &
+                                           ieee_set_flag
   use dpmpm_test_layouts, only: layouts_for
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
   implicit none
@@ -32,6 +35,7 @@ program test_migration
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = (rank == 0)
   call test_cell_of()
+  call test_axis_cells_match_cell_of()
   call test_owner_coord_matches_split()
   call test_random_moves_1d()
   call test_random_moves_2d()
@@ -94,6 +98,46 @@ contains
     c = cell_of(origin, h, [1.0e300_wp, -1.0e300_wp, 0.7_wp + 0.2_wp*8.5_wp], 3)
     call check(c(1) > ncells(1) .and. c(2) < 0 .and. c(3) == 8, 'far positions clamp, no overflow')
   end subroutine test_cell_of
+
+  !> axis_cells_of, the binning of a migration sweep, gives floor((x - origin) / h), as
+  !> cell_of does, along its axis for 64 positions (long enough for the loop's vector path): inside, on the
+  !> faces of cells, below the origin, far away (clamped) and NaN (the lowest clamp).
+  subroutine test_axis_cells_match_cell_of()
+    real(wp) :: x(2, 64)
+    integer :: c(64), k, want(3), nbad
+    logical :: halt
+    call begin_test('axis_cells_match_cell_of')
+    ! (a comparison with NaN raises the invalid flag, which the debug build traps)
+    call ieee_get_halting_mode(ieee_invalid, halt)
+    call ieee_set_halting_mode(ieee_invalid, .false.)
+    do k = 1, 64
+      x(1, k) = 0.0_wp
+      x(2, k) = origin(2) + h(2)*real(k - 20, wp)*0.37_wp
+    end do
+    ! on a cell face, just below one, and far away
+    x(2, 7) = origin(2) + 3.0_wp*h(2)
+    x(2, 8) = origin(2) + 3.0_wp*h(2) - 1.0e-12_wp
+    x(2, 11) = origin(2) - 2.0_wp*h(2)
+    x(2, 30) = 1.0e300_wp
+    x(2, 31) = -1.0e300_wp
+    x(2, 40:64:9) = ieee_value(1.0_wp, ieee_quiet_nan)
+    call axis_cells_of(origin, h, x, 64, 2, c)
+    nbad = 0
+    do k = 1, 64
+      if (abs(x(2, k)) < 1.0e6_wp) then
+        want(1) = floor((x(2, k) - origin(2))/h(2))
+        if (c(k) /= want(1)) nbad = nbad + 1
+      end if
+      want = cell_of(origin, h, [0.0_wp, x(2, k), 0.0_wp], 2)
+      if (c(k) /= want(2)) nbad = nbad + 1
+    end do
+    call check_equal_int(nbad, 0, 'cells along the axis: floor of the position in cells, as cell_of')
+    call check(all(c([7, 8, 11]) == [3, 2, -2]), 'a face belongs to the cell above it')
+    call check(c(30) > ncells(2) .and. c(31) < 0 .and. all(c(40:64:9) == c(31)), &
+               'far positions clamp; NaN takes the lowest clamp')
+    call ieee_set_flag(ieee_invalid, .false.)
+    call ieee_set_halting_mode(ieee_invalid, halt)
+  end subroutine test_axis_cells_match_cell_of
 
   !> owner_coord (used to find a cell's rank) agrees with the split of the cells
   !> for many cell and rank counts; cells outside the grid map to the end ranks.
@@ -264,7 +308,9 @@ contains
           ps%x(d, k) = max(lo, min(hi, ps%x(d, k) + 0.9_wp*h(d)*(2.0_wp*uniform() - 1.0_wp)))
         end do
       end do
-      call migrate(dec, origin, h, ps, nlost)
+      ! (every other round as the step calls it, with the points inside the grid: only
+      ! the arrivals are then checked for ownership)
+      call migrate(dec, origin, h, ps, nlost, in_grid=mod(round, 2) == 0)
       call check_round(dec, ps, tag, round, n0, m0, p0, pscale, ids0, nlost)
     end do
     call ps%free()

@@ -193,10 +193,11 @@ contains
   pure integer function clamped_floor(s) result(c)
     real(wp), intent(in) :: s
     real(wp) :: t
-    t = s
-    if (t > cell_clamp) t = cell_clamp
-    if (.not. (t > -cell_clamp)) t = -cell_clamp   ! also catches NaN
-    c = floor(t)
+    ! (min and max instead of branches, and floor as the truncation less one where it
+    ! lies above t, so that loops over points vectorise; max takes -cell_clamp for NaN)
+    t = min(max(s, -cell_clamp), cell_clamp)
+    c = int(t)
+    c = c - merge(1, 0, real(c, wp) > t)
   end function clamped_floor
 
   !> cell_of of the points x(:, 1:n) at once: c(:, k) is the cell of x(:, k). One call
@@ -239,20 +240,25 @@ contains
     end do
   end subroutine axis_cells_of
 
-  !> True when every point x(:, 1:n) lies inside the grid (grid_inside of each, in one
-  !> loop inside this module instead of one call per point).
+  !> True when every point x(:, 1:n) lies inside the grid (grid_inside of each, inside
+  !> this module instead of one call per point).
   pure logical function grid_all_inside(self, x, n) result(yes)
     class(grid_t), intent(in) :: self
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: n
-    integer :: k
-    yes = .true.
-    do k = 1, n
-      if (.not. grid_inside(self, x(:, k))) then
-        yes = .false.
-        return
-      end if
+    integer :: k, d, nout
+    real(wp) :: lo, hi
+    ! (the points outside counted axis by axis, in loops without a branch that the
+    ! compiler vectorises; the test of grid_inside)
+    nout = 0
+    do d = 1, self%ndim
+      lo = self%origin(d)
+      hi = self%origin(d) + self%h(d)*self%ncells(d)
+      do k = 1, n
+        nout = nout + merge(1, 0, x(d, k) < lo) + merge(1, 0, x(d, k) >= hi)
+      end do
     end do
+    yes = nout == 0
   end function grid_all_inside
 
   !> True when x lies inside the grid (lower faces included, upper excluded).

@@ -46,29 +46,38 @@ contains
     integer, intent(out) :: nlost
     integer, allocatable, intent(out), optional :: lost(:)
     logical, intent(in), optional :: in_grid
-    integer :: d
+    integer :: d, nkept
     logical, allocatable :: gone(:)
+    logical :: inside
     ! The points that leave are flagged on each sweep and removed once after the last:
     ! the order of the others is the same as with a removal per sweep (the survivors
     ! keep their order, the arrivals follow in the order they came), and the set is
     ! compacted once instead of once per split axis.
     ! An axis held by one rank has no neighbour on it (the same on every rank); with
     ! none split, no point leaves and there is nothing to flag.
+    inside = .false.
+    if (present(in_grid)) inside = in_grid
+    nkept = 0
     if (any(dec%dims(1:dec%ndim) > 1)) then
       allocate (gone(ps%n))
       gone = .false.
+      nkept = ps%n
       do d = 1, dec%ndim
         if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d, gone)
       end do
+      ! (the points of the set before the sweeps that none of them sent away)
+      nkept = count(.not. gone(1:nkept))
       if (any(gone(1:ps%n))) call ps%remove(gone)
-    else if (present(in_grid)) then
-      if (in_grid) then
-        nlost = 0
-        if (present(lost)) allocate (lost(0))
-        return
-      end if
+    else if (inside) then
+      nlost = 0
+      if (present(lost)) allocate (lost(0))
+      return
     end if
-    call find_unowned(dec, origin, h, ps, nlost, lost)
+    ! A point that stayed through the sweeps lies in this rank's cells along every split
+    ! axis; inside the grid (in_grid), it lies in them along the others as well, so that
+    ! only the arrivals, which follow the kept points, can be unowned.
+    if (.not. inside) nkept = 0
+    call find_unowned(dec, origin, h, ps, nlost, lost, nkept)
   end subroutine migrate
 
   !> Count (globally, on every rank) the points held by ranks that do not own
@@ -79,27 +88,30 @@ contains
     type(particle_set_t), intent(in) :: ps
     integer, intent(out) :: nbad
     integer, allocatable, intent(out), optional :: bad(:)
-    call find_unowned(dec, origin, h, ps, nbad, bad)
+    call find_unowned(dec, origin, h, ps, nbad, bad, 0)
   end subroutine check_owned
 
-  !> Local indices and global count of the points not in an owned cell.
-  subroutine find_unowned(dec, origin, h, ps, nglobal, idx)
+  !> Local indices and global count of the points not in an owned cell, among the
+  !> points after the first nskip of the set (which the caller knows to be owned).
+  subroutine find_unowned(dec, origin, h, ps, nglobal, idx, nskip)
     type(decomp_t), intent(in) :: dec
     real(wp), intent(in) :: origin(3), h(3)
     type(particle_set_t), intent(in) :: ps
     integer, intent(out) :: nglobal
     integer, allocatable, intent(out), optional :: idx(:)
+    integer, intent(in) :: nskip
     logical, allocatable :: bad(:)
     integer, allocatable :: cells(:, :)
     integer :: k
     ! The count first, in one pass; the list only when asked for and not empty.
-    nglobal = count_cells_outside(origin, h, ps%x, ps%n, dec%ndim, dec%clo, dec%chi)
+    nglobal = count_cells_outside(origin, h, ps%x(:, nskip + 1:ps%n), ps%n - nskip, dec%ndim, &
+                                  dec%clo, dec%chi)
     if (present(idx)) then
       if (nglobal > 0) then
         allocate (bad(ps%n), cells(3, ps%n))
         call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
         do k = 1, ps%n
-          bad(k) = .not. owns_cell(dec, cells(:, k))
+          bad(k) = k > nskip .and. .not. owns_cell(dec, cells(:, k))
         end do
         idx = pack([(k, k=1, ps%n)], bad)
       else
@@ -125,21 +137,23 @@ contains
     real(wp), allocatable :: slo(:, :), shi(:, :), rlo(:, :), rhi(:, :)
     integer :: k, m, nfrom_lo, nfrom_hi, n0, nlo, nhi
     integer, allocatable :: dest(:), cell(:)
+    integer :: go_lo, go_hi
     m = ps%nreal_packed()
     allocate (dest(ps%n), cell(ps%n))
     ! the cells along d only
     call axis_cells_of(origin, h, ps%x, ps%n, d, cell)
-    ! dest: -1 lower neighbour, +1 upper neighbour, 0 stays.
-    nlo = 0
-    nhi = 0
+    ! dest: -1 lower neighbour, +1 upper neighbour, 0 stays (in a loop without a branch)
+    go_lo = merge(-1, 0, dec%nbr_lo(d) /= MPI_PROC_NULL)
+    go_hi = merge(1, 0, dec%nbr_hi(d) /= MPI_PROC_NULL)
     do k = 1, ps%n
-      dest(k) = 0
-      if (gone(k)) cycle
-      if (cell(k) < dec%clo(d) .and. dec%nbr_lo(d) /= MPI_PROC_NULL) dest(k) = -1
-      if (cell(k) > dec%chi(d) .and. dec%nbr_hi(d) /= MPI_PROC_NULL) dest(k) = 1
-      if (dest(k) == -1) nlo = nlo + 1
-      if (dest(k) == 1) nhi = nhi + 1
+      dest(k) = merge(go_lo, 0, cell(k) < dec%clo(d)) + merge(go_hi, 0, cell(k) > dec%chi(d))
     end do
+    ! (the points sent on an earlier sweep stay where the set holds them until the end)
+    if (any(gone(1:ps%n))) then
+      where (gone(1:ps%n)) dest(1:ps%n) = 0
+    end if
+    nlo = count(dest(1:ps%n) == -1)
+    nhi = count(dest(1:ps%n) == 1)
     ! the points leaving, in the order of the set
     allocate (to_lo(nlo), to_hi(nhi))
     nlo = 0

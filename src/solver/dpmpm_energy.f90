@@ -398,17 +398,21 @@ contains
   logical function set_valid(ps) result(ok)
     type(particle_set_t), intent(in) :: ps
     integer :: p, n, nb
+    real(wp) :: d
     n = ps%n
     nb = count_nonfinite(size(ps%x, 1)*n, ps%x) + count_nonfinite(size(ps%v, 1)*n, ps%v) + &
          count_nonfinite(size(ps%stress, 1)*n, ps%stress)
+    ! (positive and finite: 0 < v <= huge, false for NaN; two selects instead of .and.,
+    ! which would branch)
     do p = 1, n
-      nb = nb + merge(0, 1, ps%vol(p) > 0.0_wp .and. ieee_is_finite(ps%vol(p)))
+      nb = nb + 1 - merge(1, 0, ps%vol(p) > 0.0_wp)*merge(1, 0, ps%vol(p) <= huge(1.0_wp))
     end do
     if (ps%has_pressure) nb = nb + count_nonfinite(n, ps%pressure)
     if (ps%has_porosity) nb = nb + count_nonfinite(n, ps%porosity)
     if (allocated(ps%defgrad)) then
       do p = 1, min(n, size(ps%defgrad, 2))
-        nb = nb + merge(0, 1, det3(ps%defgrad(:, p)) > 0.0_wp .and. ieee_is_finite(det3(ps%defgrad(:, p))))
+        d = det3(ps%defgrad(:, p))
+        nb = nb + 1 - merge(1, 0, d > 0.0_wp)*merge(1, 0, d <= huge(1.0_wp))
       end do
     end if
     ok = nb == 0

@@ -247,17 +247,31 @@ contains
     real(wp), intent(in) :: x(:, :)
     integer, intent(in) :: n
     integer :: k, d, nout
-    real(wp) :: lo, hi
-    ! (the points outside counted axis by axis, in loops without a branch that the
-    ! compiler vectorises; the test of grid_inside)
-    nout = 0
-    do d = 1, self%ndim
-      lo = self%origin(d)
-      hi = self%origin(d) + self%h(d)*self%ncells(d)
-      do k = 1, n
-        nout = nout + merge(1, 0, x(d, k) < lo) + merge(1, 0, x(d, k) >= hi)
-      end do
+    real(wp) :: lo(3), hi(3)
+    ! (the points outside counted in one pass over the positions, in a loop without a
+    ! branch that the compiler vectorises; the test of grid_inside)
+    do d = 1, 3
+      lo(d) = self%origin(d)
+      hi(d) = self%origin(d) + self%h(d)*self%ncells(d)
     end do
+    nout = 0
+    select case (self%ndim)
+    case (1)
+      do k = 1, n
+        nout = nout + merge(1, 0, x(1, k) < lo(1)) + merge(1, 0, x(1, k) >= hi(1))
+      end do
+    case (2)
+      do k = 1, n
+        nout = nout + merge(1, 0, x(1, k) < lo(1)) + merge(1, 0, x(1, k) >= hi(1)) + &
+               merge(1, 0, x(2, k) < lo(2)) + merge(1, 0, x(2, k) >= hi(2))
+      end do
+    case default
+      do k = 1, n
+        nout = nout + merge(1, 0, x(1, k) < lo(1)) + merge(1, 0, x(1, k) >= hi(1)) + &
+               merge(1, 0, x(2, k) < lo(2)) + merge(1, 0, x(2, k) >= hi(2)) + &
+               merge(1, 0, x(3, k) < lo(3)) + merge(1, 0, x(3, k) >= hi(3))
+      end do
+    end select
     yes = nout == 0
   end function grid_all_inside
 

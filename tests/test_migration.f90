@@ -6,12 +6,12 @@
 program test_migration
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Comm_rank, &
-                     MPI_Allreduce, MPI_Gather, MPI_Gatherv, MPI_IN_PLACE, MPI_SUM, &
+                     MPI_Allreduce, MPI_Gather, MPI_Gatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, MPI_MIN, &
                      MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_INTEGER8
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_decomp, only: decomp_t, split_extent
+  use dpmpm_decomp, only: decomp_t, split_extent, balanced_cuts
   use dpmpm_particles, only: particle_set_t
-  use dpmpm_migrate, only: migrate, check_owned
+  use dpmpm_migrate, only: migrate, check_owned, balance_by_points
   use dpmpm_cell_order, only: cell_order, sort_by_cell
   use dpmpm_grid, only: grid_t, cell_of, axis_cells_of
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
@@ -38,6 +38,8 @@ program test_migration
   call test_axis_cells_match_cell_of()
   call test_all_inside_agrees_with_inside()
   call test_owner_coord_matches_split()
+  call test_balanced_cuts_share_the_weight()
+  call test_balance_by_points_spreads_a_corner()
   call test_random_moves_1d()
   call test_random_moves_2d()
   call test_random_moves_3d()
@@ -199,6 +201,9 @@ contains
       do p = 1, min(n, 7)
         dec%ncells(1) = n
         dec%dims(1) = p
+        if (allocated(dec%cut)) deallocate (dec%cut)
+        allocate (dec%cut(0:p, 3))
+        dec%cut(:, 1) = [(split_extent(n, p, c), c=0, p)]
         do c = -3, n + 2
           k = 0
           do while (k < p - 1)
@@ -211,6 +216,85 @@ contains
     end do
     call check_equal_int(nwrong, 0, 'cells whose owner differs from the split')
   end subroutine test_owner_coord_matches_split
+
+  !> balanced_cuts: even weights give split_extent's cuts; a weight in the first tenth of
+  !> the cells puts the cuts inside that tenth; no weight splits evenly; every part keeps
+  !> minw cells, also where all the weight lies in one cell.
+  subroutine test_balanced_cuts_share_the_weight()
+    real(wp) :: w(0:99)
+    integer :: c
+    call begin_test('balanced_cuts_share_the_weight')
+    w = 1.0_wp
+    call check(all(balanced_cuts(12, 3, w, 1) == [0, 4, 8, 12]), 'even weights: even cuts')
+    call check(all(balanced_cuts(100, 4, w, 1) == [(split_extent(100, 4, c), c=0, 4)]), &
+               'even weights: the cuts of split_extent')
+    w = 0.0_wp
+    w(0:9) = 3.0_wp
+    call check(all(balanced_cuts(100, 2, w, 1) == [0, 5, 100]), 'weight in cells 0-9: cut at 5')
+    call check(all(balanced_cuts(100, 2, w, 8) == [0, 8, 100]), 'the same, at least 8 cells a part')
+    call check(all(balanced_cuts(100, 4, w, 2) == [0, 2, 5, 7, 100]), &
+               'four parts of 30: cuts nearest 7.5, 15, 22.5 (6, 9, 6, 9 and the empty rest)')
+    w = 0.0_wp
+    call check(all(balanced_cuts(10, 3, w, 2) == [(split_extent(10, 3, c), c=0, 3)]), &
+               'no weight: even cuts')
+    w(0) = 1.0_wp
+    call check(all(balanced_cuts(10, 3, w, 2) == [0, 2, 4, 10]), 'all in cell 0: parts of minw cells')
+  end subroutine test_balanced_cuts_share_the_weight
+
+  !> A box of points in the lower corner of the grid, each on the rank owning it under the
+  !> even split (there: on one or few ranks): after balance_by_points every point is on the
+  !> rank owning its cell, none is lost or doubled, and the ranks hold about as many (the
+  !> box is a product of uniform spacings, so that balanced slabs balance the ranks).
+  subroutine test_balance_by_points_spreads_a_corner()
+    type(decomp_t) :: dec
+    type(particle_set_t) :: ps
+    integer :: il, nd, i, j, k, nlost, nbad, nmax, nmin, c(3), nx(3)
+    integer(i8) :: n0, id
+    integer, allocatable :: layouts(:, :)
+    real(wp) :: x(3)
+    real(wp), parameter :: zero(6) = 0.0_wp
+    character(len=80) :: tag
+    logical :: changed
+    call begin_test('balance_by_points_spreads_a_corner')
+    do nd = 2, 3
+      call layouts_for(nd, nranks, layouts)
+      do il = 1, size(layouts, 2)
+        call dec%init(MPI_COMM_WORLD, nd, ncells, 1, layouts(:, il))
+        write (tag, '(a,i0,a,3(1x,i0))') 'ndim=', nd, ' dims=', dec%dims
+        call ps%init('solid', nd, .true.)
+        ! 12 x 12 (x 12) points over the lower 5 (and 4, 4) cells of each axis
+        nx = 1
+        nx(1:nd) = 12
+        id = 0
+        do k = 1, nx(3)
+          do j = 1, nx(2)
+            do i = 1, nx(1)
+              id = id + 1
+              x = origin + ([i, j, k] - 0.5_wp)/12.0_wp*[5.0_wp, 4.0_wp, 4.0_wp]*h
+              c = cell_of(origin, h, x, nd)
+              if (any(c(1:nd) < dec%clo(1:nd) .or. c(1:nd) > dec%chi(1:nd))) cycle
+              call ps%append(id, 1, x, zero(1:3), 1.0_wp, 0.01_wp, zero)
+            end do
+          end do
+        end do
+        n0 = global_count(dec, ps)
+        call balance_by_points(dec, origin, h, 1, ps, nlost=nlost, changed=changed)
+        call check_equal_int(nlost, 0, trim(tag)//': no point lost')
+        call check(changed .eqv. nranks > 1, trim(tag)//': the cuts moved (on more than one rank)')
+        call check(global_count(dec, ps) == n0, trim(tag)//': every point kept once')
+        call check_owned(dec, origin, h, ps, nbad)
+        call check_equal_int(nbad, 0, trim(tag)//': every point on its owner')
+        call MPI_Allreduce(ps%n, nmax, 1, MPI_INTEGER, MPI_MAX, dec%comm)
+        call MPI_Allreduce(ps%n, nmin, 1, MPI_INTEGER, MPI_MIN, dec%comm)
+        ! a cell of the box holds at most 3 points per axis: a part is off by a slab at most
+        call check(real(nmax, wp) <= real(n0, wp)/nranks + real(3*product(nx(2:nd)), wp) .and. &
+                   real(nmin, wp) >= real(n0, wp)/nranks - real(3*product(nx(2:nd)), wp), &
+                   trim(tag)//': the ranks hold about as many points')
+        call ps%free()
+        call dec%free()
+      end do
+    end do
+  end subroutine test_balance_by_points_spreads_a_corner
 
   subroutine test_random_moves_1d()
     call begin_test('random_moves_1d')

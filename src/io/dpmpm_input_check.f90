@@ -108,6 +108,16 @@ contains
         grid_ok = .false.
       end if
     end do
+    if (cfg%balance_every < 0) call add_value(pb, g_grid, 1, 'balance_every', itoa(cfg%balance_every), &
+                                              'must be >= 0 (steps; 0 = the split by points at the '// &
+                                              'start only)')
+    if (.not. real_ok(cfg%balance_tolerance, ge=0.0_wp)) call add_value(pb, g_grid, 1, 'balance_tolerance', &
+      rtoa(cfg%balance_tolerance), 'must be >= 0 (the busiest rank''s points above the mean, as a '// &
+      'fraction, beyond which the grid is split again)')
+    if (.not. any(cfg%balance == [character(len=6) :: 'cells', 'points'])) &
+      call add_value(pb, g_grid, 1, 'balance', quote(cfg%balance), 'the choices are cells (equal '// &
+                     'numbers of cells per rank along each axis) and points (the split along each '// &
+                     'axis chosen at the start for equal numbers of points)')
 
     ! &shape
     if (.not. is_grid_kernel(kernel_from_name(cfg%kernel))) call add_value(pb, g_shape, 1, &

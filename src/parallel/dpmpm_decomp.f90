@@ -15,7 +15,7 @@ module dpmpm_decomp
                      MPI_DOUBLE_PRECISION, operator(/=)
   implicit none
   private
-  public :: decomp_t, split_extent
+  public :: decomp_t, split_extent, balanced_cuts
 
   !> Decomposition of the grid over the ranks of one communicator.
   type :: decomp_t
@@ -28,9 +28,12 @@ module dpmpm_decomp
     integer :: olo(3) = 0, ohi(3) = 0       !< owned nodes, exterior nodes included
     integer :: alo(3) = 0, ahi(3) = 0       !< stored nodes (owned + ghosts)
     integer :: nbr_lo(3), nbr_hi(3)         !< neighbour ranks, MPI_PROC_NULL at the grid faces
+    !> cut(c, d): first cell of part c along axis d (c = 0 .. dims(d); cut(dims(d), d) = ncells(d))
+    integer, allocatable :: cut(:, :)
   contains
     procedure :: init => decomp_init
     procedure :: free => decomp_free
+    procedure :: recut => decomp_recut
     procedure :: owner_coord => decomp_owner_coord
     procedure :: halo_sum => decomp_halo_sum
     procedure :: halo_copy => decomp_halo_copy
@@ -44,15 +47,55 @@ contains
     first = c*(n/p) + min(c, mod(n, p))
   end function split_extent
 
+  !> Cuts of n cells into p parts of about equal weight: first(c) is the first cell of
+  !> part c (first(0) = 0, first(p) = n), w(k) the weight of cell k (0-based; the points
+  !> in the cells of a slab across the grid). Part c starts at the cell where the running
+  !> sum of the weights first reaches c/p of the total, then every part is widened to at
+  !> least minw cells (n >= p minw). With no weight at all the cells are split evenly.
+  pure function balanced_cuts(n, p, w, minw) result(first)
+    integer, intent(in) :: n, p, minw
+    real(wp), intent(in) :: w(0:)
+    integer :: first(0:p)
+    real(wp) :: total, run
+    integer :: c, k
+    total = sum(w(0:n - 1))
+    do c = 0, p
+      first(c) = split_extent(n, p, c)
+    end do
+    if (total > 0.0_wp) then
+      k = 0
+      run = 0.0_wp
+      do c = 1, p - 1
+        do while (k < n .and. run + 0.5_wp*w(min(k, n - 1)) < total*real(c, wp)/real(p, wp))
+          run = run + w(k)
+          k = k + 1
+        end do
+        first(c) = k
+      end do
+    end if
+    ! at least minw cells per part, from the lower end, then from the upper one
+    do c = 1, p - 1
+      first(c) = max(first(c), first(c - 1) + minw)
+    end do
+    do c = p - 1, 1, -1
+      first(c) = min(first(c), first(c + 1) - minw)
+    end do
+  end function balanced_cuts
+
   !> Build the decomposition. dims_in(d) = 0 lets MPI_Dims_create choose.
-  !> The caller has checked that every rank gets at least gw cells per axis.
-  subroutine decomp_init(self, comm, ndim, ncells, gw, dims_in)
+  !> The caller has checked that every rank gets at least gw cells per axis. cuts, when
+  !> present, gives the first cell of each part along each axis (cuts(c, d), c = 0 ..
+  !> dims(d), as balanced_cuts returns them, for dims_in without zeros); otherwise the
+  !> cells are split evenly (split_extent).
+  subroutine decomp_init(self, comm, ndim, ncells, gw, dims_in, cuts)
     class(decomp_t), intent(inout) :: self
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: ndim, ncells(3), gw
     integer, intent(in) :: dims_in(3)
+    integer, intent(in), optional :: cuts(0:, :)
     logical :: periods(3)
-    integer :: d
+    integer :: d, c
+    integer, allocatable :: first(:, :)
     call self%free()
     self%ndim = ndim
     call MPI_Comm_size(comm, self%nranks)
@@ -71,10 +114,38 @@ contains
     self%nbr_lo = MPI_PROC_NULL
     self%nbr_hi = MPI_PROC_NULL
     do d = 1, 3
-      if (d <= ndim) then
-        self%clo(d) = split_extent(self%ncells(d), self%dims(d), self%coords(d))
-        self%chi(d) = split_extent(self%ncells(d), self%dims(d), self%coords(d) + 1) - 1
-        call MPI_Cart_shift(self%comm, d - 1, 1, self%nbr_lo(d), self%nbr_hi(d))
+      if (d <= ndim) call MPI_Cart_shift(self%comm, d - 1, 1, self%nbr_lo(d), self%nbr_hi(d))
+    end do
+    if (allocated(self%cut)) deallocate (self%cut)
+    allocate (self%cut(0:maxval(self%dims), 3), first(0:maxval(self%dims), 3))
+    first = 0
+    do d = 1, 3
+      do c = 0, self%dims(d)
+        first(c, d) = split_extent(self%ncells(d), self%dims(d), c)
+        if (present(cuts) .and. d <= ndim) first(c, d) = cuts(c, d)
+      end do
+    end do
+    self%cut = first
+    call self%recut(first)
+  end subroutine decomp_init
+
+  !> The owned and stored ranges from new cuts (cuts(c, d), c = 0 .. dims(d), the first
+  !> cell of part c along axis d; axes beyond ndim are left one cell), with the same rank
+  !> layout and communicator. Every node field sized by the old ranges must be allocated
+  !> again, and every point migrated (balance_by_points).
+  subroutine decomp_recut(self, cuts)
+    class(decomp_t), intent(inout) :: self
+    integer, intent(in) :: cuts(0:, :)
+    integer :: d, c
+    do d = 1, self%ndim
+      do c = 0, self%dims(d)
+        self%cut(c, d) = cuts(c, d)
+      end do
+    end do
+    do d = 1, 3
+      if (d <= self%ndim) then
+        self%clo(d) = self%cut(self%coords(d), d)
+        self%chi(d) = self%cut(self%coords(d) + 1, d) - 1
       else
         self%clo(d) = 0
         self%chi(d) = 0
@@ -86,7 +157,7 @@ contains
       if (self%coords(d) == 0) self%olo(d) = self%alo(d)
       if (self%coords(d) == self%dims(d) - 1) self%ohi(d) = self%ahi(d)
     end do
-  end subroutine decomp_init
+  end subroutine decomp_recut
 
   !> Release the Cartesian communicator.
   subroutine decomp_free(self)
@@ -95,20 +166,12 @@ contains
     self%comm = MPI_COMM_NULL
   end subroutine decomp_free
 
-  !> Coordinate along axis d of the rank owning global cell c.
+  !> Coordinate along axis d of the rank owning global cell c (cells outside the grid
+  !> map to the end ranks).
   pure integer function decomp_owner_coord(self, d, c) result(k)
     class(decomp_t), intent(in) :: self
     integer, intent(in) :: d, c
-    integer :: q, r, big
-    q = self%ncells(d)/self%dims(d)
-    r = mod(self%ncells(d), self%dims(d))
-    big = r*(q + 1)
-    if (c < big) then
-      k = c/(q + 1)
-    else
-      k = r + (c - big)/q
-    end if
-    k = max(0, min(self%dims(d) - 1, k))
+    k = count(self%cut(1:self%dims(d) - 1, d) <= c)
   end function decomp_owner_coord
 
   !> Ghost -> owner: add every ghost node's value into its owner, then zero the ghosts.

@@ -11,14 +11,14 @@
 !> report its id and position and stop.
 module dpmpm_migrate
   use dpmpm_kinds, only: wp
-  use dpmpm_decomp, only: decomp_t
+  use dpmpm_decomp, only: decomp_t, balanced_cuts
   use dpmpm_grid, only: cells_of, axis_cells_of, count_cells_outside
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Sendrecv, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
                      MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL
   implicit none
   private
-  public :: migrate, check_owned
+  public :: migrate, check_owned, balance_by_points
 
   integer, parameter :: tag_count = 21, tag_data = 23
 
@@ -79,6 +79,71 @@ contains
     if (.not. inside) nkept = 0
     call find_unowned(dec, origin, h, ps, nlost, lost, nkept)
   end subroutine migrate
+
+  !> Split the grid again so that each rank holds about as many points: along each split
+  !> axis, the cuts that share out the points of the slabs across the grid evenly
+  !> (balanced_cuts, at least gw cells per rank), the same rank layout and communicator
+  !> (decomp_recut); then every point moves to its new owner (migrate until none is left
+  !> over, as a point may have to pass several ranks). The points of ps and, when
+  !> present, ps2 count alike. changed: the cuts moved (the node fields sized by the
+  !> ranges must then be allocated again). Collective; nlost > 0 (points left on ranks
+  !> that do not own their cells, or outside the grid) is for the caller to report.
+  subroutine balance_by_points(dec, origin, h, gw, ps, ps2, nlost, changed)
+    type(decomp_t), intent(inout) :: dec
+    real(wp), intent(in) :: origin(3), h(3)
+    integer, intent(in) :: gw
+    type(particle_set_t), intent(inout) :: ps
+    type(particle_set_t), intent(inout), optional :: ps2
+    integer, intent(out) :: nlost
+    logical, intent(out) :: changed
+    integer, allocatable :: cuts(:, :), cell(:)
+    real(wp), allocatable :: w(:)
+    integer :: d, k, pass, n, dims(3), ncells(3), nlost2
+    dims = dec%dims
+    ncells = dec%ncells
+    allocate (cuts(0:maxval(dims), 3))
+    cuts = 0
+    do d = 1, dec%ndim
+      n = ncells(d)
+      cuts(0:1, d) = [0, n]
+      if (dims(d) == 1) cycle
+      allocate (w(0:n - 1))
+      w = 0.0_wp
+      allocate (cell(ps%n))
+      call axis_cells_of(origin, h, ps%x, ps%n, d, cell)
+      do k = 1, ps%n
+        w(min(max(cell(k), 0), n - 1)) = w(min(max(cell(k), 0), n - 1)) + 1.0_wp
+      end do
+      deallocate (cell)
+      if (present(ps2)) then
+        allocate (cell(ps2%n))
+        call axis_cells_of(origin, h, ps2%x, ps2%n, d, cell)
+        do k = 1, ps2%n
+          w(min(max(cell(k), 0), n - 1)) = w(min(max(cell(k), 0), n - 1)) + 1.0_wp
+        end do
+        deallocate (cell)
+      end if
+      call MPI_Allreduce(MPI_IN_PLACE, w, n, MPI_DOUBLE_PRECISION, MPI_SUM, dec%comm)
+      cuts(0:dims(d), d) = balanced_cuts(n, dims(d), w, max(gw, 1))
+      deallocate (w)
+    end do
+    nlost = 0
+    changed = .false.
+    do d = 1, dec%ndim
+      changed = changed .or. any(cuts(0:dims(d), d) /= dec%cut(0:dims(d), d))
+    end do
+    if (.not. changed) return
+    call dec%recut(cuts)
+    ! A point moves one rank along each axis per call of migrate.
+    do pass = 1, maxval(dims)
+      call migrate(dec, origin, h, ps, nlost)
+      if (present(ps2)) then
+        call migrate(dec, origin, h, ps2, nlost2)
+        nlost = nlost + nlost2
+      end if
+      if (nlost == 0) exit
+    end do
+  end subroutine balance_by_points
 
   !> Count (globally, on every rank) the points held by ranks that do not own
   !> their cells; bad, when present, returns the local indices on this rank.

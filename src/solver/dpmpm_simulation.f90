@@ -21,6 +21,8 @@ module dpmpm_simulation
   use dpmpm_benchmarks, only: benchmark_setup, nbench_err
   use dpmpm_mirror, only: fluid_mirror_bc
   use dpmpm_gather, only: gather_points
+  use dpmpm_migrate, only: balance_by_points
+  use dpmpm_error, only: fatal
   use dpmpm_phase, only: solid_phase, fluid_phase
   use dpmpm_state, only: state_t, exit_bad_input, exit_stopped
   use dpmpm_step, only: advance
@@ -72,6 +74,7 @@ contains
     type(MPI_Comm), intent(in) :: comm
     logical, intent(in), optional :: write_output
     integer :: nmin, nmax, nb, status
+    logical :: changed
     integer(i8) :: ntot, nfl
     integer(i8), allocatable :: counts(:), fcounts(:)
     character(len=256) :: line
@@ -147,6 +150,20 @@ contains
         return
       end if
     end if
+    ! The grid split for equal numbers of points per rank (the cuts are those of the points
+    ! made or read now; the rank layout stays).
+    self%nrebalance = 0
+    if (cfg%balance == 'points' .and. self%dec%nranks > 1) then
+      if (self%two_phase) then
+        call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
+                               self%phase(1)%pts, self%phase(2)%pts, nb, changed)
+      else
+        call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
+                               self%phase(1)%pts, nlost=nb, changed=changed)
+      end if
+      if (nb > 0) call fatal('points outside the grid or the cells of their ranks after the '// &
+                             'split by points (&grid balance)', 'init')
+    end if
     self%fbc = 0
     if (self%two_phase) call init_two_phase(self)
     call self%faces%init(cfg, self%grid, self%kernel, self%fbc)
@@ -155,16 +172,9 @@ contains
     if (self%two_phase) self%phase(2)%bc = fluid_mirror_bc(self%nd, self%fbc, self%grid%bc)
     self%has_surface_loads = .false.
     if (allocated(cfg%loads)) self%has_surface_loads = any(cfg%loads%surface)
-    if (self%has_surface_loads) then
-      allocate (self%sforce(self%nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
-                            self%dec%alo(3):self%dec%ahi(3)))
-      self%sforce = 0.0_wp
-    end if
     self%has_rigid = any(self%mats%model == model_rigid)
     if (self%has_rigid) then
-      allocate (self%rnode(1 + self%nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
-                           self%dec%alo(3):self%dec%ahi(3)), self%drive_hist(4, 64))
-      self%rnode = 0.0_wp
+      allocate (self%drive_hist(4, 64))
       ! the drive's first interval begins at the start (a restart: at its time)
       self%drive_t0 = merge(self%time, 0.0_wp, len_trim(cfg%restart) > 0)
       ! Rigid bodies move at their velocity from the start (a restart keeps the stored one).
@@ -194,51 +204,29 @@ contains
       call self%log%info(trim(line))
       ntot = ntot + nfl
     end if
+    ! How evenly the points are spread over the ranks, with a hint where they are not.
+    if (self%dec%nranks > 1) then
+      nb = self%phase(1)%pts%n
+      if (self%two_phase) nb = nb + self%phase(2)%pts%n
+      call MPI_Allreduce(MPI_IN_PLACE, nb, 1, MPI_INTEGER, MPI_MAX, self%dec%comm)
+      if (real(nb, wp) > 1.5_wp*real(ntot, wp)/real(self%dec%nranks, wp)) then
+        write (line, '(a,i0,a,i0)') 'dpmpm: the busiest rank holds ', nb, ' points, the mean is ', &
+          ntot/self%dec%nranks
+        if (cfg%balance == 'points') then
+          line = trim(line)//' (the grid is split by the points at the start)'
+        else
+          line = trim(line)//'; &grid balance = ''points'' splits the grid for equal numbers'
+        end if
+        call self%log%info(trim(line))
+      end if
+    end if
     if (ntot == 0) then
       call self%log%error('the regions produced no points')
       self%exit_code = exit_bad_input
       return
     end if
 
-    associate (lo => self%dec%alo, hi => self%dec%ahi)
-      allocate (self%phase(1)%node(1 + 2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-      allocate (self%phase(1)%nvel(2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-      if (self%plan%velocity_mls) then
-        nb = basis_size(self%plan%velocity_basis, self%nd)
-        allocate (self%phase(1)%vacc(1 + packed_size(nb) + nb*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        if (self%two_phase) allocate (self%phase(2)%vacc, mold=self%phase(1)%vacc)
-      end if
-      if (self%plan%gauss) then
-        associate (ng => self%plan%ngauss, basis => self%plan%field_basis, nd => self%nd)
-          allocate (self%phase(1)%gacc(gauss_cell_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), &
-                              lo(3):hi(3)))
-          allocate (self%phase(1)%gsol(gauss_solution_components(nd, ng, basis), lo(1):hi(1), &
-                              lo(2):hi(2), lo(3):hi(3)))
-          allocate (self%phase(1)%glg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-          allocate (self%phase(1)%nvol(2, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        end associate
-        allocate (self%occ(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        allocate (self%occ2, mold=self%occ)
-        self%fill = max(1, min(floor(kernel_reach(self%plan%field_kernel, self%plan%field_radius, &
-                                                  self%plan%field_radial) + 1.0e-9_wp), &
-                               minval(self%dec%gw(1:self%nd))))
-      end if
-      if (self%two_phase) then
-        allocate (self%phase(2)%node, mold=self%phase(1)%node)
-        allocate (self%phase(2)%nvel, mold=self%phase(1)%nvel)
-        allocate (self%nporo(3, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        allocate (self%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        if (self%plan%gauss) then
-          allocate (self%phase(2)%gacc, mold=self%phase(1)%gacc)
-          allocate (self%phase(2)%gsol, mold=self%phase(1)%gsol)
-          allocate (self%phase(2)%gsol2, mold=self%phase(1)%gsol)
-          allocate (self%phase(2)%glg, mold=self%phase(1)%glg)
-          allocate (self%phase(2)%gacc2, mold=self%phase(1)%gacc)
-          allocate (self%phase(2)%glg2, mold=self%phase(1)%glg)
-          allocate (self%phase(2)%nvol, mold=self%phase(1)%nvol)
-        end if
-      end if
-    end associate
+    call grid_fields(self)
     allocate (self%err_hist(1 + nbench_err, 64))
     if (len_trim(cfg%restart) == 0) then
       self%time = 0.0_wp
@@ -323,6 +311,131 @@ contains
     if (exists) call self%log%warning(path//' exists and is overwritten (another &run name '// &
                                       'or &output dir keeps it)')
   end subroutine announce_output
+
+  !> The node and cell fields of this rank's stored range (dec%alo .. dec%ahi), allocated
+  !> anew (at the start, and after the grid was split again by the points): none of them
+  !> carries a value from one step to the next that the step does not set first.
+  subroutine grid_fields(self)
+    class(simulation_t), intent(inout) :: self
+    integer :: nb, ip
+    do ip = 1, 2
+      associate (ph => self%phase(ip))
+        if (allocated(ph%node)) deallocate (ph%node)
+        if (allocated(ph%nvel)) deallocate (ph%nvel)
+        if (allocated(ph%vacc)) deallocate (ph%vacc)
+        if (allocated(ph%gacc)) deallocate (ph%gacc)
+        if (allocated(ph%gsol)) deallocate (ph%gsol)
+        if (allocated(ph%gsol2)) deallocate (ph%gsol2)
+        if (allocated(ph%glg)) deallocate (ph%glg)
+        if (allocated(ph%gacc2)) deallocate (ph%gacc2)
+        if (allocated(ph%glg2)) deallocate (ph%glg2)
+        if (allocated(ph%nvol)) deallocate (ph%nvol)
+      end associate
+    end do
+    if (allocated(self%occ)) deallocate (self%occ)
+    if (allocated(self%occ2)) deallocate (self%occ2)
+    if (allocated(self%nporo)) deallocate (self%nporo)
+    if (allocated(self%ndrag)) deallocate (self%ndrag)
+    if (allocated(self%sforce)) deallocate (self%sforce)
+    if (allocated(self%rnode)) deallocate (self%rnode)
+    associate (lo => self%dec%alo, hi => self%dec%ahi)
+      allocate (self%phase(1)%node(1 + 2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+      allocate (self%phase(1)%nvel(2*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+      if (self%plan%velocity_mls) then
+        nb = basis_size(self%plan%velocity_basis, self%nd)
+        allocate (self%phase(1)%vacc(1 + packed_size(nb) + nb*self%nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        if (self%two_phase) allocate (self%phase(2)%vacc, mold=self%phase(1)%vacc)
+      end if
+      if (self%plan%gauss) then
+        associate (ng => self%plan%ngauss, basis => self%plan%field_basis, nd => self%nd)
+          allocate (self%phase(1)%gacc(gauss_cell_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), &
+                              lo(3):hi(3)))
+          allocate (self%phase(1)%gsol(gauss_solution_components(nd, ng, basis), lo(1):hi(1), &
+                              lo(2):hi(2), lo(3):hi(3)))
+          allocate (self%phase(1)%glg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          allocate (self%phase(1)%nvol(2, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        end associate
+        allocate (self%occ(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (self%occ2, mold=self%occ)
+        self%fill = max(1, min(floor(kernel_reach(self%plan%field_kernel, self%plan%field_radius, &
+                                                  self%plan%field_radial) + 1.0e-9_wp), &
+                               minval(self%dec%gw(1:self%nd))))
+      end if
+      if (self%two_phase) then
+        allocate (self%phase(2)%node, mold=self%phase(1)%node)
+        allocate (self%phase(2)%nvel, mold=self%phase(1)%nvel)
+        allocate (self%nporo(3, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (self%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        if (self%plan%gauss) then
+          allocate (self%phase(2)%gacc, mold=self%phase(1)%gacc)
+          allocate (self%phase(2)%gsol, mold=self%phase(1)%gsol)
+          allocate (self%phase(2)%gsol2, mold=self%phase(1)%gsol)
+          allocate (self%phase(2)%glg, mold=self%phase(1)%glg)
+          allocate (self%phase(2)%gacc2, mold=self%phase(1)%gacc)
+          allocate (self%phase(2)%glg2, mold=self%phase(1)%glg)
+          allocate (self%phase(2)%nvol, mold=self%phase(1)%nvol)
+        end if
+      end if
+    end associate
+    if (self%has_surface_loads) then
+      allocate (self%sforce(self%nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                            self%dec%alo(3):self%dec%ahi(3)))
+      self%sforce = 0.0_wp
+    end if
+    if (self%has_rigid) then
+      allocate (self%rnode(1 + self%nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                           self%dec%alo(3):self%dec%ahi(3)))
+      self%rnode = 0.0_wp
+    end if
+    ! The next step clears the whole of the new node fields, as the first step does (the
+    ! steps after it clear only the box where points were or are; step_box).
+    self%box_known = .false.
+  end subroutine grid_fields
+
+  !> The re-splits of the run and how the points are spread over the ranks now.
+  subroutine report_balance(self)
+    class(simulation_t), intent(inout) :: self
+    integer :: nloc(2)
+    character(len=256) :: line
+    nloc(1) = self%phase(1)%pts%n
+    if (self%two_phase) nloc(1) = nloc(1) + self%phase(2)%pts%n
+    nloc(2) = nloc(1)
+    call MPI_Allreduce(MPI_IN_PLACE, nloc(1), 1, MPI_INTEGER, MPI_MAX, self%dec%comm)
+    call MPI_Allreduce(MPI_IN_PLACE, nloc(2), 1, MPI_INTEGER, MPI_SUM, self%dec%comm)
+    write (line, '(a,i0,a,i0,a,i0,a,i0)') '  grid split by the points: again ', self%nrebalance, &
+      ' times in the run (balance_every ', self%cfg%balance_every, '); the busiest rank holds ', &
+      nloc(1), ' points, the mean is ', nloc(2)/self%dec%nranks
+    call self%log%info(trim(line))
+  end subroutine report_balance
+
+  !> Split the grid again by the points (&grid balance = 'points') when the busiest rank
+  !> holds more than &grid balance_tolerance above the mean; the points move to their new ranks
+  !> and the node fields are allocated for the new ranges. Collective.
+  subroutine rebalance(self)
+    class(simulation_t), intent(inout) :: self
+    integer :: nlost, nloc(2)
+    logical :: changed
+    nloc(1) = self%phase(1)%pts%n
+    if (self%two_phase) nloc(1) = nloc(1) + self%phase(2)%pts%n
+    nloc(2) = nloc(1)
+    call MPI_Allreduce(MPI_IN_PLACE, nloc(1), 1, MPI_INTEGER, MPI_MAX, self%dec%comm)
+    call MPI_Allreduce(MPI_IN_PLACE, nloc(2), 1, MPI_INTEGER, MPI_SUM, self%dec%comm)
+    if (real(nloc(1), wp) <= (1.0_wp + self%cfg%balance_tolerance)*real(nloc(2), wp)/ &
+        real(self%dec%nranks, wp)) return
+    if (self%two_phase) then
+      call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
+                             self%phase(1)%pts, self%phase(2)%pts, nlost, changed)
+    else
+      call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
+                             self%phase(1)%pts, nlost=nlost, changed=changed)
+    end if
+    if (nlost > 0) call fatal('points outside the grid or the cells of their ranks after the '// &
+                              'split by points (&grid balance)', 'rebalance')
+    if (.not. changed) return
+    call self%mirror%init(self%nd, self%grid%ncells, self%dec%gw, self%dec%alo, self%dec%ahi)
+    call grid_fields(self)
+    self%nrebalance = self%nrebalance + 1
+  end subroutine rebalance
 
   !> Continue from a checkpoint: the points of this rank's cells, time, step, energy
   !> balance and frame schedule (the output file: resume_output).
@@ -475,6 +588,9 @@ contains
       self%step = self%step + 1
       call check_state(self)
       if (self%exit_code /= 0) exit
+      if (self%cfg%balance == 'points' .and. self%cfg%balance_every > 0 .and. self%dec%nranks > 1) then
+        if (mod(self%step, int(self%cfg%balance_every, i8)) == 0) call rebalance(self)
+      end if
       if (self%time - self%dt < self%cfg%equilibrium_time .and. &
           self%time >= self%cfg%equilibrium_time) call end_equilibrium(self)
       ! With explicit drag the first step may be far shorter than the wave step.
@@ -567,6 +683,7 @@ contains
     if (nwall > 0) call self%log%info('  pore pressure 0 at the free surface of the pore fluid: '// &
                                       i8toa(nwall)//' point-steps (free_surface_fraction '// &
                                       trim(rtoa(self%cfg%free_surface_fraction))//')')
+    if (self%cfg%balance == 'points' .and. self%dec%nranks > 1) call report_balance(self)
     do k = 2, ntimers
       write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
       call self%log%info(line)

@@ -83,6 +83,8 @@ module dpmpm_state
     logical :: has_surface_loads = .false.
     real(wp), allocatable :: sforce(:, :, :, :)
     real(wp), allocatable :: rnode(:, :, :, :)
+    !> Times the grid was split again by the points during the run (&grid balance_every)
+    integer :: nrebalance = 0
     real(wp) :: drive_impulse(3) = 0.0_wp, drive_t0 = 0.0_wp
     real(wp), allocatable :: drive_hist(:, :)
     integer :: ndrive = 0

@@ -96,7 +96,7 @@ contains
     type(particle_set_t), intent(inout), optional :: ps2
     integer, intent(out) :: nlost
     logical, intent(out) :: changed
-    integer, allocatable :: cuts(:, :), cell(:)
+    integer, allocatable :: cuts(:, :)
     real(wp), allocatable :: w(:)
     integer :: d, k, pass, n, dims(3), ncells(3), nlost2
     dims = dec%dims
@@ -109,20 +109,8 @@ contains
       if (dims(d) == 1) cycle
       allocate (w(0:n - 1))
       w = 0.0_wp
-      allocate (cell(ps%n))
-      call axis_cells_of(origin, h, ps%x, ps%n, d, cell)
-      do k = 1, ps%n
-        w(min(max(cell(k), 0), n - 1)) = w(min(max(cell(k), 0), n - 1)) + 1.0_wp
-      end do
-      deallocate (cell)
-      if (present(ps2)) then
-        allocate (cell(ps2%n))
-        call axis_cells_of(origin, h, ps2%x, ps2%n, d, cell)
-        do k = 1, ps2%n
-          w(min(max(cell(k), 0), n - 1)) = w(min(max(cell(k), 0), n - 1)) + 1.0_wp
-        end do
-        deallocate (cell)
-      end if
+      call add_counts(ps)
+      if (present(ps2)) call add_counts(ps2)
       call MPI_Allreduce(MPI_IN_PLACE, w, n, MPI_DOUBLE_PRECISION, MPI_SUM, dec%comm)
       cuts(0:dims(d), d) = balanced_cuts(n, dims(d), w, max(gw, 1))
       deallocate (w)
@@ -143,6 +131,17 @@ contains
       end if
       if (nlost == 0) exit
     end do
+  contains
+    !> The points of a set per slab of cells along axis d, into w.
+    subroutine add_counts(set)
+      type(particle_set_t), intent(in) :: set
+      integer, allocatable :: cell(:)
+      allocate (cell(set%n))
+      call axis_cells_of(origin, h, set%x, set%n, d, cell)
+      do k = 1, set%n
+        w(min(max(cell(k), 0), n - 1)) = w(min(max(cell(k), 0), n - 1)) + 1.0_wp
+      end do
+    end subroutine add_counts
   end subroutine balance_by_points
 
   !> Count (globally, on every rank) the points held by ranks that do not own

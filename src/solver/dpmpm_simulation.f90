@@ -153,17 +153,7 @@ contains
     ! The grid split for equal numbers of points per rank (the cuts are those of the points
     ! made or read now; the rank layout stays).
     self%nrebalance = 0
-    if (cfg%balance == 'points' .and. self%dec%nranks > 1) then
-      if (self%two_phase) then
-        call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
-                               self%phase(1)%pts, self%phase(2)%pts, nb, changed)
-      else
-        call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
-                               self%phase(1)%pts, nlost=nb, changed=changed)
-      end if
-      if (nb > 0) call fatal('points outside the grid or the cells of their ranks after the '// &
-                             'split by points (&grid balance)', 'init')
-    end if
+    if (cfg%balance == 'points' .and. self%dec%nranks > 1) call split_by_points(self, changed)
     self%fbc = 0
     if (self%two_phase) call init_two_phase(self)
     call self%faces%init(cfg, self%grid, self%kernel, self%fbc)
@@ -392,6 +382,23 @@ contains
     self%box_known = .false.
   end subroutine grid_fields
 
+  !> The cuts of the grid chosen by the points of every set, which then move to their new
+  !> ranks (balance_by_points); changed: the cuts moved. Collective.
+  subroutine split_by_points(self, changed)
+    class(simulation_t), intent(inout) :: self
+    logical, intent(out) :: changed
+    integer :: nlost
+    if (self%two_phase) then
+      call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
+                             self%phase(1)%pts, self%phase(2)%pts, nlost, changed)
+    else
+      call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
+                             self%phase(1)%pts, nlost=nlost, changed=changed)
+    end if
+    if (nlost > 0) call fatal('points outside the grid or the cells of their ranks after the '// &
+                              'split by points (&grid balance)', 'split_by_points')
+  end subroutine split_by_points
+
   !> The re-splits of the run and how the points are spread over the ranks now.
   subroutine report_balance(self)
     class(simulation_t), intent(inout) :: self
@@ -413,7 +420,7 @@ contains
   !> and the node fields are allocated for the new ranges. Collective.
   subroutine rebalance(self)
     class(simulation_t), intent(inout) :: self
-    integer :: nlost, nloc(2)
+    integer :: nloc(2)
     logical :: changed
     nloc(1) = self%phase(1)%pts%n
     if (self%two_phase) nloc(1) = nloc(1) + self%phase(2)%pts%n
@@ -422,15 +429,7 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, nloc(2), 1, MPI_INTEGER, MPI_SUM, self%dec%comm)
     if (real(nloc(1), wp) <= (1.0_wp + self%cfg%balance_tolerance)*real(nloc(2), wp)/ &
         real(self%dec%nranks, wp)) return
-    if (self%two_phase) then
-      call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
-                             self%phase(1)%pts, self%phase(2)%pts, nlost, changed)
-    else
-      call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
-                             self%phase(1)%pts, nlost=nlost, changed=changed)
-    end if
-    if (nlost > 0) call fatal('points outside the grid or the cells of their ranks after the '// &
-                              'split by points (&grid balance)', 'rebalance')
+    call split_by_points(self, changed)
     if (.not. changed) return
     call self%mirror%init(self%nd, self%grid%ncells, self%dec%gw, self%dec%alo, self%dec%ahi)
     call grid_fields(self)

@@ -49,9 +49,10 @@ contains
 
   !> Cuts of n cells into p parts of about equal weight: first(c) is the first cell of
   !> part c (first(0) = 0, first(p) = n), w(k) the weight of cell k (0-based; the points
-  !> in the cells of a slab across the grid). Part c starts at the cell where the running
-  !> sum of the weights first reaches c/p of the total, then every part is widened to at
-  !> least minw cells (n >= p minw). With no weight at all the cells are split evenly.
+  !> in the cells of a slab across the grid). Part c starts at the cell boundary nearest
+  !> c/p of the total (a cell goes to the upper part when the running sum at its middle
+  !> reaches c/p of the total), then every part is widened to at least minw cells
+  !> (n >= p minw). With no weight at all the cells are split evenly.
   pure function balanced_cuts(n, p, w, minw) result(first)
     integer, intent(in) :: n, p, minw
     real(wp), intent(in) :: w(0:)
@@ -83,16 +84,13 @@ contains
   end function balanced_cuts
 
   !> Build the decomposition. dims_in(d) = 0 lets MPI_Dims_create choose.
-  !> The caller has checked that every rank gets at least gw cells per axis. cuts, when
-  !> present, gives the first cell of each part along each axis (cuts(c, d), c = 0 ..
-  !> dims(d), as balanced_cuts returns them, for dims_in without zeros); otherwise the
-  !> cells are split evenly (split_extent).
-  subroutine decomp_init(self, comm, ndim, ncells, gw, dims_in, cuts)
+  !> The caller has checked that every rank gets at least gw cells per axis. The cells
+  !> are split evenly (split_extent); decomp_recut sets other cuts later.
+  subroutine decomp_init(self, comm, ndim, ncells, gw, dims_in)
     class(decomp_t), intent(inout) :: self
     type(MPI_Comm), intent(in) :: comm
     integer, intent(in) :: ndim, ncells(3), gw
     integer, intent(in) :: dims_in(3)
-    integer, intent(in), optional :: cuts(0:, :)
     logical :: periods(3)
     integer :: d, c
     integer, allocatable :: first(:, :)
@@ -122,7 +120,6 @@ contains
     do d = 1, 3
       do c = 0, self%dims(d)
         first(c, d) = split_extent(self%ncells(d), self%dims(d), c)
-        if (present(cuts) .and. d <= ndim) first(c, d) = cuts(c, d)
       end do
     end do
     self%cut = first

@@ -117,7 +117,7 @@ contains
     if (.not. any(cfg%balance == [character(len=6) :: 'cells', 'points'])) &
       call add_value(pb, g_grid, 1, 'balance', quote(cfg%balance), 'the choices are cells (equal '// &
                      'numbers of cells per rank along each axis) and points (the split along each '// &
-                     'axis chosen at the start for equal numbers of points)')
+                     'axis chosen for equal numbers of points, at the start and as they move)')
 
     ! &shape
     if (.not. is_grid_kernel(kernel_from_name(cfg%kernel))) call add_value(pb, g_shape, 1, &

@@ -430,8 +430,6 @@ contains
     real(wp) :: vcell, vt, deficit, vn, x(3), pface, poro, rho, sg, xwide(2)
     if (.not. any(self%fbc(1:2*self%nd) == fbc_drained)) return
     vcell = product(self%grid%h(1:self%nd))
-    w = self%dec%chi - self%dec%clo + 1
-    nc = product(w)
     do f = 1, 2*self%nd
       if (self%fbc(f) /= fbc_drained) cycle
       d = (f + 1)/2
@@ -439,6 +437,10 @@ contains
       sg = merge(1.0_wp, -1.0_wp, side == 1)   ! +1: away from the face is +x_d
       cb = merge(0, self%grid%ncells(d) - 1, side == 1)
       if (cb < self%dec%clo(d) .or. cb > self%dec%chi(d)) cycle
+      ! the layer's cells: this rank's cells along the other axes, one along d
+      w = self%dec%chi - self%dec%clo + 1
+      w(d) = 1
+      nc = product(w)
       ! Most points are far from the face: a comparison with the layer widened by a cell
       ! on each side (no division) passes over them before the exact cell test.
       xwide = self%grid%origin(d) + [cb - 1, cb + 2]*self%grid%h(d)
@@ -480,10 +482,12 @@ contains
         end if
         vt = acc(2, ic)/acc(1, ic)
         if (.not. (vn > 0.0_wp .and. deficit >= vt)) cycle
-        ! Cell indices of ic, then the point at the centre of the gap next to the face.
+        ! Cell indices of ic (along d the layer's cell), then the point at the centre of
+        ! the gap next to the face.
         c(1) = mod(ic - 1, w(1))
         c(2) = mod((ic - 1)/w(1), w(2))
         c(3) = (ic - 1)/(w(1)*w(2))
+        c(d) = cb - self%dec%clo(d)
         x = 0.0_wp
         do k = 1, self%nd
           x(k) = self%grid%origin(k) + (c(k) + self%dec%clo(k) + 0.5_wp)*self%grid%h(k)
@@ -505,13 +509,16 @@ contains
 
   contains
 
-    !> Local index of the boundary-layer cell of face f holding xp, 0 for another layer.
+    !> Index in the layer of the boundary-layer cell of face f holding xp, 0 for another
+    !> layer.
     integer function boundary_cell(xp) result(ic)
       real(wp), intent(in) :: xp(:)
       integer :: cc(3)
       ic = 0
       cc = local_cell(self%nd, xp, self%grid%origin, self%grid%h, self%dec%clo, self%dec%chi)
-      if (cc(d) + self%dec%clo(d) == cb) ic = 1 + cc(1) + w(1)*(cc(2) + w(2)*cc(3))
+      if (cc(d) + self%dec%clo(d) /= cb) return
+      cc(d) = 0
+      ic = 1 + cc(1) + w(1)*(cc(2) + w(2)*cc(3))
     end function boundary_cell
   end subroutine refill_inflow
 

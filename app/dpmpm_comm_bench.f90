@@ -35,6 +35,7 @@ program dpmpm_comm_bench
   use dpmpm_decomp, only: decomp_t
   use dpmpm_migrate, only: migrate
   use dpmpm_particles, only: particle_set_t
+  use dpmpm_stats, only: median
   implicit none
 
   !> Largest batch of calls in one round.
@@ -419,30 +420,6 @@ contains
               npts, fraction, stages, 8_i8*m*tmpl%nreal_packed(), m, k, times)
     call dec%free()
   end subroutine bench_migrate
-
-  !> Median of a few values.
-  real(wp) function median(v) result(med)
-    real(wp), intent(in) :: v(:)
-    real(wp) :: s(size(v)), tmp
-    integer :: i, j, n
-    n = size(v)
-    s = v
-    do i = 2, n
-      tmp = s(i)
-      j = i - 1
-      do while (j >= 1)
-        if (s(j) <= tmp) exit
-        s(j + 1) = s(j)
-        j = j - 1
-      end do
-      s(j + 1) = tmp
-    end do
-    if (mod(n, 2) == 1) then
-      med = s((n + 1)/2)
-    else
-      med = 0.5_wp*(s(n/2) + s(n/2 + 1))
-    end if
-  end function median
 
   !> One line of the table (rank 0).
   subroutine emit(op, nd, axis, n, gw, ncomp, npts, fraction, stages, bytes, nsent, calls, times)

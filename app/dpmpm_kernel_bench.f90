@@ -18,6 +18,7 @@
 program dpmpm_kernel_bench
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use dpmpm_kinds, only: wp
+  use dpmpm_stats, only: median
   use dpmpm_kernels, only: psi_stencils, kernel_width, kernel_names, kernel_linear, kernel_cubic
   use dpmpm_transfer, only: p2g, g2p, momentum_p2g, point_gradient, fluid_p2g, point_divergences
   implicit none
@@ -148,27 +149,9 @@ contains
         call system_clock(c1)
         t(r) = real(c1 - c0, wp)/real(rate, wp)/ncall
       end do
-      call sort(t)
       write (output_unit, '(i0,1x,a,1x,a,1x,i0,2f10.2)') nd, trim(kernel_names(kernel)), trim(stages(s)), n, &
-        1.0e9_wp*t(1)/n, 1.0e9_wp*t((nround + 1)/2)/n
+        1.0e9_wp*minval(t)/n, 1.0e9_wp*median(t)/n
     end do
   end subroutine measure
-
-  !> Ascending order (insertion sort of a few values).
-  subroutine sort(a)
-    real(wp), intent(inout) :: a(:)
-    integer :: i, j
-    real(wp) :: key
-    do i = 2, size(a)
-      key = a(i)
-      j = i - 1
-      do while (j >= 1)
-        if (a(j) <= key) exit
-        a(j + 1) = a(j)
-        j = j - 1
-      end do
-      a(j + 1) = key
-    end do
-  end subroutine sort
 
 end program dpmpm_kernel_bench

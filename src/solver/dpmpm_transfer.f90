@@ -497,8 +497,8 @@ contains
       end select
       return
     end if
-    ! (3D keeps the loop of run-time width: a kernel of fixed width gave sums that
-    ! differ at round-off, and the outputs are kept bit for bit.)
+    ! (3D keeps the loop of run-time width: a kernel of fixed width, tried when that
+    ! change was to keep the outputs bit for bit, gave sums that differed at round-off.)
     do p = 1, n
       val(p) = 0.0_wp
       val2(p) = 0.0_wp

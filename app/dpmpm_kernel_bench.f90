@@ -41,6 +41,10 @@ program dpmpm_kernel_bench
       iarg = iarg + 1
       call get_command_argument(iarg, arg)
       read (arg, *) nround
+      if (nround < 1) then
+        write (output_unit, '(a)') 'dpmpm_kernel_bench: --rounds needs a number of at least 1'
+        stop 2
+      end if
     case default
       write (output_unit, '(a)') 'usage: dpmpm_kernel_bench [--quick] [--rounds N]'
       stop 2
@@ -59,6 +63,8 @@ program dpmpm_kernel_bench
 
 contains
 
+  !> Every stage for one dimension and grid kernel: the block's points and stencils, node
+  !> fields of the grid, then each stage timed over nround rounds of ncall calls.
   subroutine measure(nd, kernel)
     integer, intent(in) :: nd, kernel
     integer :: cells, per_axis, n, nw(3), lo(3), hi(3), p, d, q(3), s, r, ncall, c

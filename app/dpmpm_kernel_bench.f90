@@ -14,13 +14,16 @@
 !> (weights and derivatives of every point), g2p_gather (g2p without the gradient that
 !> also gathers a second nodal vector, the locked velocity of the two-phase remap),
 !> fluid_p2g (the fluid's mass, momentum, drag and pore-pressure forces on both phases)
-!> and point_divergences (the fluid points' divergences of both phases' velocities).
+!> point_divergences (the fluid points' divergences of both phases' velocities) and
+!> interp_two_values (two components of a nodal field at the points: the porosity and
+!> 1/k of the fluid points).
 program dpmpm_kernel_bench
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use dpmpm_kinds, only: wp
   use dpmpm_stats, only: median
   use dpmpm_kernels, only: psi_stencils, kernel_width, kernel_names, kernel_linear, kernel_cubic
-  use dpmpm_transfer, only: p2g, g2p, momentum_p2g, point_gradient, fluid_p2g, point_divergences
+  use dpmpm_transfer, only: p2g, g2p, momentum_p2g, point_gradient, fluid_p2g, point_divergences, &
+                            interp_two_values
   implicit none
 
   integer :: nround, nd, kernel, narg, iarg
@@ -74,9 +77,9 @@ contains
     real(wp), allocatable :: x(:, :), sw(:, :, :), sdw(:, :, :), mass(:), v(:, :), vol(:), stress(:, :)
     real(wp), allocatable :: vgrad(:, :), node(:, :, :, :), nvel(:, :, :, :), node2(:, :, :, :)
     real(wp), allocatable :: drag(:, :, :, :), poro(:), pres(:), kinv(:), gv(:, :), div(:), div2(:)
-    character(len=*), parameter :: stages(9) = [character(len=17) :: 'stencils', 'p2g', 'g2p_usl', &
-                                                 'g2p', 'momentum_p2g', 'point_gradient', 'g2p_gather', &
-                                                 'fluid_p2g', 'point_divergences']
+    character(len=*), parameter :: stages(10) = [character(len=17) :: 'stencils', 'p2g', 'g2p_usl', &
+                                                  'g2p', 'momentum_p2g', 'point_gradient', 'g2p_gather', &
+                                                  'fluid_p2g', 'point_divergences', 'interp_two_values']
     if (nd == 2) then
       cells = 360; edge = 0.4_wp; x0 = 0.3_wp
     else
@@ -148,8 +151,10 @@ contains
           case (8)
             call fluid_p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, .true., .true., lo, &
                            node2, node, drag)
-          case default
+          case (9)
             call point_divergences(nd, nw, n, i0, sw, sdw, lo, nvel, nvel, div, div2)
+          case default
+            call interp_two_values(nd, nw, n, i0, sw, lo, nvel, 3, div, div2)
           end select
         end do
         call system_clock(c1)

@@ -18,6 +18,7 @@ module dpmpm_transfer
     g2p_3d_w2 => g2p_3d, point_gradient_2d_w2 => point_gradient_2d, &
     point_divergences_2d_w2 => point_divergences_2d, momentum_project_p2g_2d_w2 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w2 => momentum_p2g_2d, interp_two_values_2d_w2 => interp_two_values_2d, &
+    interp_two_values_3d_w2 => interp_two_values_3d, &
     fluid_p2g_2d_w2 => fluid_p2g_2d, solid_porosity_p2g_2d_w2 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w2 => reaches_thin_node_2d, point_gradient_3d_w2 => point_gradient_3d, &
     point_divergences_3d_w2 => point_divergences_3d, momentum_project_p2g_3d_w2 => momentum_project_p2g_3d, &
@@ -27,6 +28,7 @@ module dpmpm_transfer
     g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
     point_divergences_2d_w3 => point_divergences_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w3 => momentum_p2g_2d, interp_two_values_2d_w3 => interp_two_values_2d, &
+    interp_two_values_3d_w3 => interp_two_values_3d, &
     fluid_p2g_2d_w3 => fluid_p2g_2d, solid_porosity_p2g_2d_w3 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w3 => reaches_thin_node_2d, point_gradient_3d_w3 => point_gradient_3d, &
     point_divergences_3d_w3 => point_divergences_3d, momentum_project_p2g_3d_w3 => momentum_project_p2g_3d, &
@@ -36,6 +38,7 @@ module dpmpm_transfer
     g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
     point_divergences_2d_w4 => point_divergences_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w4 => momentum_p2g_2d, interp_two_values_2d_w4 => interp_two_values_2d, &
+    interp_two_values_3d_w4 => interp_two_values_3d, &
     fluid_p2g_2d_w4 => fluid_p2g_2d, solid_porosity_p2g_2d_w4 => solid_porosity_p2g_2d, &
     reaches_thin_node_2d_w4 => reaches_thin_node_2d, point_gradient_3d_w4 => point_gradient_3d, &
     point_divergences_3d_w4 => point_divergences_3d, momentum_project_p2g_3d_w4 => momentum_project_p2g_3d, &
@@ -497,8 +500,17 @@ contains
       end select
       return
     end if
-    ! (3D keeps the loop of run-time width: a kernel of fixed width, tried when that
-    ! change was to keep the outputs bit for bit, gave sums that differed at round-off.)
+    if (nd == 3 .and. all(nw == nw(1))) then
+      select case (nw(1))
+      case (2)
+        call interp_two_values_3d_w2(n, i0, sw, lo, f, comp, val, val2)
+      case (3)
+        call interp_two_values_3d_w3(n, i0, sw, lo, f, comp, val, val2)
+      case default
+        call interp_two_values_3d_w4(n, i0, sw, lo, f, comp, val, val2)
+      end select
+      return
+    end if
     do p = 1, n
       val(p) = 0.0_wp
       val2(p) = 0.0_wp

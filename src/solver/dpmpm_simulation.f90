@@ -73,7 +73,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
     logical, intent(in), optional :: write_output
-    integer :: nmin, nmax, nb, status
+    integer :: nmin, nmax, nb, status, spread(2)
     logical :: changed
     integer(i8) :: ntot, nfl
     integer(i8), allocatable :: counts(:), fcounts(:)
@@ -196,9 +196,8 @@ contains
     end if
     ! How evenly the points are spread over the ranks, with a hint where they are not.
     if (self%dec%nranks > 1) then
-      nb = self%phase(1)%pts%n
-      if (self%two_phase) nb = nb + self%phase(2)%pts%n
-      call MPI_Allreduce(MPI_IN_PLACE, nb, 1, MPI_INTEGER, MPI_MAX, self%dec%comm)
+      spread = points_per_rank(self)
+      nb = spread(1)
       if (real(nb, wp) > 1.5_wp*real(ntot, wp)/real(self%dec%nranks, wp)) then
         write (line, '(a,i0,a,i0)') 'dpmpm: the busiest rank holds ', nb, ' points, the mean is ', &
           ntot/self%dec%nranks
@@ -399,16 +398,23 @@ contains
                               'split by points (&grid balance)', 'split_by_points')
   end subroutine split_by_points
 
-  !> The re-splits of the run and how the points are spread over the ranks now.
-  subroutine report_balance(self)
-    class(simulation_t), intent(inout) :: self
+  !> The points of the busiest rank and of all ranks, both sets together. Collective.
+  function points_per_rank(self) result(nloc)
+    class(simulation_t), intent(in) :: self
     integer :: nloc(2)
-    character(len=256) :: line
     nloc(1) = self%phase(1)%pts%n
     if (self%two_phase) nloc(1) = nloc(1) + self%phase(2)%pts%n
     nloc(2) = nloc(1)
     call MPI_Allreduce(MPI_IN_PLACE, nloc(1), 1, MPI_INTEGER, MPI_MAX, self%dec%comm)
     call MPI_Allreduce(MPI_IN_PLACE, nloc(2), 1, MPI_INTEGER, MPI_SUM, self%dec%comm)
+  end function points_per_rank
+
+  !> The re-splits of the run and how the points are spread over the ranks now.
+  subroutine report_balance(self)
+    class(simulation_t), intent(inout) :: self
+    integer :: nloc(2)
+    character(len=256) :: line
+    nloc = points_per_rank(self)
     write (line, '(a,i0,a,i0,a,i0,a,i0)') '  grid split by the points: again ', self%nrebalance, &
       ' times in the run (balance_every ', self%cfg%balance_every, '); the busiest rank holds ', &
       nloc(1), ' points, the mean is ', nloc(2)/self%dec%nranks
@@ -422,11 +428,7 @@ contains
     class(simulation_t), intent(inout) :: self
     integer :: nloc(2)
     logical :: changed
-    nloc(1) = self%phase(1)%pts%n
-    if (self%two_phase) nloc(1) = nloc(1) + self%phase(2)%pts%n
-    nloc(2) = nloc(1)
-    call MPI_Allreduce(MPI_IN_PLACE, nloc(1), 1, MPI_INTEGER, MPI_MAX, self%dec%comm)
-    call MPI_Allreduce(MPI_IN_PLACE, nloc(2), 1, MPI_INTEGER, MPI_SUM, self%dec%comm)
+    nloc = points_per_rank(self)
     if (real(nloc(1), wp) <= (1.0_wp + self%cfg%balance_tolerance)*real(nloc(2), wp)/ &
         real(self%dec%nranks, wp)) return
     call split_by_points(self, changed)

@@ -312,7 +312,9 @@ contains
   end function rtoa_short
 
   !> After each step: every point's position, velocity, stress, volume (and, where
-  !> present, pore pressure, porosity, det F) finite, volumes and det F positive.
+  !> present, pore pressure, porosity) finite, volumes positive. det F needs no test of
+  !> its own: every model that carries F sets V = V0 det F from it (V0 > 0), so a
+  !> positive finite V is a positive finite det F.
   !> Otherwise the first bad point is named with its field and the run stops with
   !> code 4 before a frame of the bad state is written (collective: exit_code set).
   subroutine check_state(self)
@@ -321,8 +323,8 @@ contains
     real(wp) :: bad(2), info(8), value
     character(len=640) :: line
     integer :: iset
-    character(len=*), parameter :: fields(8) = [character(len=24) :: 'position', 'velocity', &
-      'stress', 'volume', 'pore pressure', 'porosity', 'det F', '']
+    character(len=*), parameter :: fields(6) = [character(len=24) :: 'position', 'velocity', &
+      'stress', 'volume', 'pore pressure', 'porosity']
     bad = [0.0_wp, real(self%dec%rank, wp)]
     info = 0.0_wp
     value = 0.0_wp
@@ -351,7 +353,7 @@ contains
       type(particle_set_t), intent(in) :: ps
       integer, intent(in) :: is
       integer :: p, code
-      real(wp) :: v, fdet
+      real(wp) :: v
       do p = 1, ps%n
         code = 0
         if (.not. all(ieee_is_finite(ps%x(:, p)))) then
@@ -373,14 +375,6 @@ contains
             code = 6; v = ps%porosity(p)
           end if
         end if
-        if (code == 0 .and. allocated(ps%defgrad)) then
-          if (size(ps%defgrad, 2) >= p) then
-            fdet = det3(ps%defgrad(:, p))
-            if (.not. (fdet > 0.0_wp .and. ieee_is_finite(fdet))) then
-              code = 7; v = fdet
-            end if
-          end if
-        end if
         if (code /= 0) then
           bad(1) = real(code, wp)
           info = point_info(self, ps, p)
@@ -398,7 +392,6 @@ contains
   logical function set_valid(ps) result(ok)
     type(particle_set_t), intent(in) :: ps
     integer :: p, n, nb
-    real(wp) :: d
     n = ps%n
     nb = count_nonfinite(size(ps%x, 1)*n, ps%x) + count_nonfinite(size(ps%v, 1)*n, ps%v) + &
          count_nonfinite(size(ps%stress, 1)*n, ps%stress)
@@ -409,12 +402,6 @@ contains
     end do
     if (ps%has_pressure) nb = nb + count_nonfinite(n, ps%pressure)
     if (ps%has_porosity) nb = nb + count_nonfinite(n, ps%porosity)
-    if (allocated(ps%defgrad)) then
-      do p = 1, min(n, size(ps%defgrad, 2))
-        d = det3(ps%defgrad(:, p))
-        nb = nb + 1 - merge(1, 0, d > 0.0_wp)*merge(1, 0, d <= huge(1.0_wp))
-      end do
-    end if
     ok = nb == 0
   end function set_valid
 
@@ -428,11 +415,5 @@ contains
       nb = nb + merge(0, 1, ieee_is_finite(a(k)))
     end do
   end function count_nonfinite
-
-  !> Determinant of a 3x3 matrix stored column-major in 9 values.
-  pure real(wp) function det3(a) result(d)
-    real(wp), intent(in) :: a(9)
-    d = a(1)*(a(5)*a(9) - a(8)*a(6)) - a(4)*(a(2)*a(9) - a(8)*a(3)) + a(7)*(a(2)*a(6) - a(5)*a(3))
-  end function det3
 
 end module dpmpm_energy

@@ -69,7 +69,6 @@ contains
     integer, intent(in) :: is
     real(wp), intent(inout) :: rate
     integer, parameter :: chunk = 256
-    real(wp), parameter :: bound_tol = 1.0e-12_wp
     real(wp) :: c(chunk), s(chunk), pw(chunk), nfs(chunk), cu(chunk), kf, rhof, cf(size(self%mats))
     integer :: p0, m, k
     logical :: drained
@@ -108,23 +107,23 @@ contains
             c(k) = cf(ps%mat(p0 + k - 1))
           end do
         end if
-        ! wave plus point speed: first a bound with the sum of the absolute components (an
-        ! upper bound of the norm without squares, which could overflow; a loop the
-        ! compiler vectorises), then norm2 only where the bound reaches rate (a NaN takes
-        ! the exact path, as before)
+        ! wave plus point speed, the norm from the squares in a loop the compiler
+        ! vectorises; a chunk with a square that overflows (+Inf) or a NaN takes norm2
+        ! point by point instead
         select case (size(ps%v, 1))
         case (1)
           s(1:m) = c(1:m) + abs(ps%v(1, p0:p0 + m - 1))
         case (2)
-          s(1:m) = c(1:m) + (abs(ps%v(1, p0:p0 + m - 1)) + abs(ps%v(2, p0:p0 + m - 1)))
+          s(1:m) = c(1:m) + sqrt(ps%v(1, p0:p0 + m - 1)**2 + ps%v(2, p0:p0 + m - 1)**2)
         case default
-          s(1:m) = c(1:m) + (abs(ps%v(1, p0:p0 + m - 1)) + abs(ps%v(2, p0:p0 + m - 1)) + &
-                             abs(ps%v(3, p0:p0 + m - 1)))
+          s(1:m) = c(1:m) + sqrt(ps%v(1, p0:p0 + m - 1)**2 + ps%v(2, p0:p0 + m - 1)**2 + &
+                                 ps%v(3, p0:p0 + m - 1)**2)
         end select
-        if (any(.not. (s(1:m)*(1.0_wp + bound_tol) < rate))) then
+        if (all(s(1:m) <= huge(1.0_wp))) then
+          rate = max(rate, maxval(s(1:m)))
+        else
           do k = 1, m
-            if (.not. s(k)*(1.0_wp + bound_tol) < rate) &
-              rate = max(rate, c(k) + norm2(ps%v(:, p0 + k - 1)))
+            rate = max(rate, c(k) + norm2(ps%v(:, p0 + k - 1)))
           end do
         end if
       end do
@@ -151,8 +150,16 @@ contains
         c = sqrt(mat%bulk_fluid/mat%density)
       end associate
     end if
-    r = c + norm2(self%phase(is)%pts%v(:, p))
+    r = c + point_speed(self%phase(is)%pts%v(:, p))
   end function signal_speed
+
+  !> |v| as fastest_signal takes it: the root of the sum of squares, or norm2 where
+  !> that is not finite.
+  pure real(wp) function point_speed(v) result(r)
+    real(wp), intent(in) :: v(:)
+    r = sqrt(sum(v**2))
+    if (.not. r <= huge(1.0_wp)) r = norm2(v)
+  end function point_speed
 
   !> The wave step dt has fallen another decade below the run's first: log the point
   !> of the fastest signal (rank owner, set is, local index p), its speed, and its

@@ -1,0 +1,79 @@
+!> The check of the state after each step (check_state, doc/theory.md "Invalid state"):
+!> the saturated column of dpmpm_test_scenes, set up and then damaged at one point of
+!> rank 0; the check must stop the run (exit code 4) on every rank, and must pass the
+!> undamaged state. The damage is written into the fields directly, so that no
+!> arithmetic on it runs before the check (the debug build traps invalid operations).
+program test_state_check
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use dpmpm_kinds, only: wp
+  use dpmpm_simulation, only: simulation_t
+  use dpmpm_state, only: exit_monitor
+  use dpmpm_energy, only: check_state
+  use dpmpm_test_scenes, only: column_scene
+  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  implicit none
+  integer :: status, rank
+  call MPI_Init()
+  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  am_root = rank == 0
+  call test_undamaged_state_passes()
+  call test_negative_volume_stops_the_run()
+  call test_nonfinite_stress_stops_the_run()
+  call test_nonfinite_pore_pressure_stops_the_run()
+  status = finish_tests(MPI_COMM_WORLD)
+  call MPI_Finalize()
+  if (status /= 0) stop 1, quiet = .true.
+
+contains
+
+  !> The column set up, its state checked with the given damage applied first on rank 0
+  !> (0 none, 1 a solid point's volume -1, 2 a solid point's stress NaN, 3 a fluid
+  !> point's pore pressure NaN); the exit code the check leaves.
+  integer function code_after(damage) result(code)
+    integer, intent(in) :: damage
+    type(simulation_t) :: sim
+    real(wp) :: nan
+    nan = ieee_value(1.0_wp, ieee_quiet_nan)
+    call sim%init(column_scene(20, 1.0e-5_wp, 3.0e6_wp, 1.0_wp, 'implicit'), MPI_COMM_WORLD, &
+                  write_output=.false.)
+    call check(sim%exit_code == 0, 'the column is set up')
+    if (rank == 0) then
+      associate (s => sim%phase(1)%pts, f => sim%phase(2)%pts)
+        call check(s%n > 0 .and. f%n > 0, 'rank 0 holds points of both sets')
+        select case (damage)
+        case (1)
+          s%vol(s%n) = -1.0_wp
+        case (2)
+          s%stress(2, 1) = nan
+        case (3)
+          f%pressure(f%n) = nan
+        end select
+      end associate
+    end if
+    call check_state(sim)
+    code = sim%exit_code
+    call sim%free()
+  end function code_after
+
+  subroutine test_undamaged_state_passes()
+    call begin_test('undamaged_state_passes')
+    call check(code_after(0) == 0, 'exit code 0')
+  end subroutine test_undamaged_state_passes
+
+  subroutine test_negative_volume_stops_the_run()
+    call begin_test('negative_volume_stops_the_run')
+    call check(code_after(1) == exit_monitor, 'exit code of the monitor on every rank')
+  end subroutine test_negative_volume_stops_the_run
+
+  subroutine test_nonfinite_stress_stops_the_run()
+    call begin_test('nonfinite_stress_stops_the_run')
+    call check(code_after(2) == exit_monitor, 'exit code of the monitor on every rank')
+  end subroutine test_nonfinite_stress_stops_the_run
+
+  subroutine test_nonfinite_pore_pressure_stops_the_run()
+    call begin_test('nonfinite_pore_pressure_stops_the_run')
+    call check(code_after(3) == exit_monitor, 'exit code of the monitor on every rank')
+  end subroutine test_nonfinite_pore_pressure_stops_the_run
+
+end program test_state_check

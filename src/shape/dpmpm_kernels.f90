@@ -76,66 +76,65 @@ contains
     real(wp), intent(in) :: s
     integer, intent(out) :: i0
     real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
+    w = 0.0_wp
+    dw = 0.0_wp
+    ! (a derivative divided by 1 is the same number)
     select case (kernel)
     case (kernel_linear)
-      call linear_1d(s, i0, w, dw)
+      call linear_1d(s, 1.0_wp, i0, w(1:2), dw(1:2))
     case (kernel_quadratic)
-      call quadratic_1d(s, i0, w, dw)
+      call quadratic_1d(s, 1.0_wp, i0, w(1:3), dw(1:3))
     case default
-      call cubic_1d(s, i0, w, dw)
+      call cubic_1d(s, 1.0_wp, i0, w(1:4), dw(1:4))
     end select
   end subroutine kernel_eval_1d
 
   ! The pieces of bspline_1d written out for the nodes of the stencil, with f the
-  ! position from its first node: f in [0, 1) linear, [0.5, 1.5) quadratic, [1, 2) cubic
-  ! (kernel_eval_1d; small enough to be inlined into the loops over points).
+  ! position from its first node: f in [0, 1) linear, [0.5, 1.5) quadratic, [1, 2) cubic;
+  ! the derivatives divided by hd (the cell size for d/dx, 1 for d/ds). Rows of the
+  ! kernel's width, small enough to be inlined into the loops over points
+  ! (kernel_eval_1d, psi_stencils).
 
-  pure subroutine linear_1d(s, i0, w, dw)
-    real(wp), intent(in) :: s
+  pure subroutine linear_1d(s, hd, i0, w, dw)
+    real(wp), intent(in) :: s, hd
     integer, intent(out) :: i0
-    real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
+    real(wp), intent(out) :: w(2), dw(2)
     real(wp) :: f
-    w = 0.0_wp
-    dw = 0.0_wp
     i0 = floor(s)
     f = s - real(i0, wp)
-    w(1) = 1.0_wp - f; dw(1) = -1.0_wp
-    w(2) = f; dw(2) = 1.0_wp
+    w(1) = 1.0_wp - f; dw(1) = -1.0_wp/hd
+    w(2) = f; dw(2) = 1.0_wp/hd
   end subroutine linear_1d
 
-  pure subroutine quadratic_1d(s, i0, w, dw)
-    real(wp), intent(in) :: s
+  pure subroutine quadratic_1d(s, hd, i0, w, dw)
+    real(wp), intent(in) :: s, hd
     integer, intent(out) :: i0
-    real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
+    real(wp), intent(out) :: w(3), dw(3)
     real(wp) :: f, a
-    w = 0.0_wp
-    dw = 0.0_wp
     i0 = floor(s - 0.5_wp)
     f = s - real(i0, wp)
     a = 1.5_wp - f
-    w(1) = 0.5_wp*a*a; dw(1) = -a
+    w(1) = 0.5_wp*a*a; dw(1) = (-a)/hd
     a = f - 1.0_wp
-    w(2) = 0.75_wp - a*a; dw(2) = -2.0_wp*a
+    w(2) = 0.75_wp - a*a; dw(2) = (-2.0_wp*a)/hd
     a = f - 0.5_wp
-    w(3) = 0.5_wp*a*a; dw(3) = a
+    w(3) = 0.5_wp*a*a; dw(3) = a/hd
   end subroutine quadratic_1d
 
-  pure subroutine cubic_1d(s, i0, w, dw)
-    real(wp), intent(in) :: s
+  pure subroutine cubic_1d(s, hd, i0, w, dw)
+    real(wp), intent(in) :: s, hd
     integer, intent(out) :: i0
-    real(wp), intent(out) :: w(max_stencil), dw(max_stencil)
+    real(wp), intent(out) :: w(4), dw(4)
     real(wp) :: f, a, b
-    w = 0.0_wp
-    dw = 0.0_wp
     i0 = floor(s) - 1
     f = s - real(i0, wp)
     a = 2.0_wp - f
-    w(1) = a*a*a/6.0_wp; dw(1) = -0.5_wp*a*a
+    w(1) = a*a*a/6.0_wp; dw(1) = (-0.5_wp*a*a)/hd
     a = f - 1.0_wp
-    w(2) = 0.5_wp*a*a*a - a*a + 2.0_wp/3.0_wp; dw(2) = 1.5_wp*a*a - 2.0_wp*a
+    w(2) = 0.5_wp*a*a*a - a*a + 2.0_wp/3.0_wp; dw(2) = (1.5_wp*a*a - 2.0_wp*a)/hd
     b = 2.0_wp - f
-    w(3) = 0.5_wp*b*b*b - b*b + 2.0_wp/3.0_wp; dw(3) = -(1.5_wp*b*b - 2.0_wp*b)
-    w(4) = a*a*a/6.0_wp; dw(4) = 0.5_wp*a*a
+    w(3) = 0.5_wp*b*b*b - b*b + 2.0_wp/3.0_wp; dw(3) = (-(1.5_wp*b*b - 2.0_wp*b))/hd
+    w(4) = a*a*a/6.0_wp; dw(4) = (0.5_wp*a*a)/hd
   end subroutine cubic_1d
 
   !> Grid-function weights and gradients (per metre) per axis at a position y in
@@ -172,28 +171,31 @@ contains
     integer, contiguous, intent(inout) :: i0(:, :)
     real(wp), contiguous, intent(inout) :: sw(:, :, :), sdw(:, :, :)
     integer :: p, d
-    real(wp) :: s, w(max_stencil), dw(max_stencil)
-    do p = 1, n
-      do d = 1, nd
-        s = (x(d, p) - origin(d))/h(d)
-        ! (w and dw are local; each branch stores rows of a fixed length, which the
-        ! compiler writes in place, where a row of run-time length is a library call)
-        select case (kernel)
-        case (kernel_linear)
-          call linear_1d(s, i0(d, p), w, dw)
-          sw(1:2, d, p) = w(1:2)
-          sdw(1:2, d, p) = dw(1:2)/h(d)
-        case (kernel_quadratic)
-          call quadratic_1d(s, i0(d, p), w, dw)
-          sw(1:3, d, p) = w(1:3)
-          sdw(1:3, d, p) = dw(1:3)/h(d)
-        case default
-          call cubic_1d(s, i0(d, p), w, dw)
-          sw(1:4, d, p) = w(1:4)
-          sdw(1:4, d, p) = dw(1:4)/h(d)
-        end select
+    real(wp) :: s
+    ! (one loop per kernel, each writing the rows in place)
+    select case (kernel)
+    case (kernel_linear)
+      do p = 1, n
+        do d = 1, nd
+          s = (x(d, p) - origin(d))/h(d)
+          call linear_1d(s, h(d), i0(d, p), sw(1:2, d, p), sdw(1:2, d, p))
+        end do
       end do
-    end do
+    case (kernel_quadratic)
+      do p = 1, n
+        do d = 1, nd
+          s = (x(d, p) - origin(d))/h(d)
+          call quadratic_1d(s, h(d), i0(d, p), sw(1:3, d, p), sdw(1:3, d, p))
+        end do
+      end do
+    case default
+      do p = 1, n
+        do d = 1, nd
+          s = (x(d, p) - origin(d))/h(d)
+          call cubic_1d(s, h(d), i0(d, p), sw(1:4, d, p), sdw(1:4, d, p))
+        end do
+      end do
+    end select
   end subroutine psi_stencils
 
   !> 1D B-spline of the given order (linear, quadratic, cubic) centred at 0, at

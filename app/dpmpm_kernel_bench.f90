@@ -14,9 +14,10 @@
 !> (weights and derivatives of every point), g2p_gather (g2p without the gradient that
 !> also gathers a second nodal vector, the locked velocity of the two-phase remap),
 !> fluid_p2g (the fluid's mass, momentum, drag and pore-pressure forces on both phases)
-!> point_divergences (the fluid points' divergences of both phases' velocities) and
+!> point_divergences (the fluid points' divergences of both phases' velocities),
 !> interp_two_values (two components of a nodal field at the points: the porosity and
-!> 1/k of the fluid points).
+!> 1/k of the fluid points) and stress (the neo-Hookean update of the bench block's
+!> points from their velocity gradients, plane strain in 2D; the same for every kernel).
 program dpmpm_kernel_bench
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use dpmpm_kinds, only: wp
@@ -24,6 +25,7 @@ program dpmpm_kernel_bench
   use dpmpm_kernels, only: psi_stencils, kernel_width, kernel_names, kernel_linear, kernel_cubic
   use dpmpm_transfer, only: p2g, g2p, momentum_p2g, point_gradient, fluid_p2g, point_divergences, &
                             interp_two_values
+  use dpmpm_materials, only: material_t, model_neo_hookean, stress_update
   implicit none
 
   !> Lower corner of the block along every axis (scripts/bench.py puts its block of the
@@ -80,9 +82,13 @@ contains
     real(wp), allocatable :: x(:, :), sw(:, :, :), sdw(:, :, :), mass(:), v(:, :), vol(:), stress(:, :)
     real(wp), allocatable :: vgrad(:, :), node(:, :, :, :), nvel(:, :, :, :), node2(:, :, :, :)
     real(wp), allocatable :: drag(:, :, :, :), poro(:), pres(:), kinv(:), gv(:, :), div(:), div2(:)
-    character(len=*), parameter :: stages(10) = [character(len=17) :: 'stencils', 'p2g', 'g2p_usl', &
+    real(wp), allocatable :: defgrad(:, :), vol0(:)
+    integer, allocatable :: pmat(:)
+    type(material_t) :: neo
+    character(len=*), parameter :: stages(11) = [character(len=17) :: 'stencils', 'p2g', 'g2p_usl', &
                                                   'g2p', 'momentum_p2g', 'point_gradient', 'g2p_gather', &
-                                                  'fluid_p2g', 'point_divergences', 'interp_two_values']
+                                                  'fluid_p2g', 'point_divergences', 'interp_two_values', &
+                                                  'stress']
     if (nd == 2) then
       cells = 360; edge = 0.4_wp
     else
@@ -130,9 +136,24 @@ contains
     node = 0.0_wp
     ! the same old and new velocities: g2p leaves the point velocities as they are
     nvel = 0.02_wp
+    ! the block's material (E = 1 MPa, nu = 0.3) with F = I, and velocity gradients of a
+    ! few per cent per second that differ from point to point
+    neo = material_t(model=model_neo_hookean, mu=1.0e6_wp/2.6_wp, lambda=0.3e6_wp/(1.3_wp*0.4_wp))
+    allocate (defgrad(9, n), vol0(n), pmat(n))
+    defgrad = 0.0_wp
+    defgrad([1, 5, 9], :) = 1.0_wp
+    vol0 = vol
+    pmat = 1
     ncall = max(1, 2000000/n)
     if (quick) ncall = 1
     do s = 1, size(stages)
+      if (s == 11) then
+        do p = 1, n
+          vgrad(:, p) = 0.01_wp*[1.0_wp, 0.2_wp, 0.0_wp, -0.3_wp, -1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]* &
+                        real(mod(p, 5) + 1, wp)
+          if (nd == 3) vgrad(9, p) = 0.005_wp*real(mod(p, 3) + 1, wp)
+        end do
+      end if
       do r = 1, nround
         call system_clock(c0, rate)
         do c = 1, ncall
@@ -156,8 +177,10 @@ contains
                            node2, node, drag)
           case (9)
             call point_divergences(nd, nw, n, i0, sw, sdw, lo, nvel, nvel, div, div2)
-          case default
+          case (10)
             call interp_two_values(nd, nw, n, i0, sw, lo, nvel, 3, div, div2)
+          case default
+            call stress_update(neo, 1, 1.0e-4_wp, n, pmat, vgrad, stress, vol, vol0, defgrad, plane=nd == 2)
           end select
         end do
         call system_clock(c1)

@@ -178,7 +178,7 @@ contains
     real(wp), intent(inout), optional :: epsp(:)
     real(wp), intent(inout), optional :: dissipation
     logical, intent(in), optional :: plane
-    real(wp) :: lg(3, 3), dmat(3, 3), wmat(3, 3), s(3, 3), f(3, 3), b(3, 3), ident(3, 3), tr, jac
+    real(wp) :: lg(3, 3), dmat(3, 3), wmat(3, 3), s(3, 3), f(3, 3), b(3, 3), ident(3, 3), tr
     integer, parameter :: nb = 64
     real(wp) :: dsig(6), dep(6), sr(6, nb), sn(6, nb), de(6, nb), jb(nb), ep(nb), lnj(nb), wsum
     real(wp) :: rcp_youngs, rcp_mu

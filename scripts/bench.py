@@ -17,7 +17,9 @@ the tables give the median and the range. Cases:
 - the MLS pair of doc/theory.md 3.6, and linear grid functions with one Gauss point
   per cell, against Standard MPM on inputs/w1_2d.nml: wall time per simulated second;
 - scaling: a balanced block filling the grid (2D, quadratic, MUSL): strong, 518 400
-  points on 1 and 2 ranks; weak, 259 200 points on 1 rank against 518 400 on 2.
+  points on 1 and 2 ranks; weak, 259 200 points on 1 rank against 518 400 on 2; and the
+  host's own limit, two independent 1-rank runs of 259 200 points at once against one
+  alone (twice the one's time over the pair's).
 
 Usage: scripts/bench.py [--rounds 3] [--quick] [--no-doc] [--cases one,peer,...]
 """
@@ -80,12 +82,15 @@ def two_phase_scene(nd, cells, phase, steps, workdir):
 """
 
 
-def run_dpmpm(text, workdir, ranks=1):
+def write_scene(text, workdir):
     path = os.path.join(workdir, "scene.nml")
     with open(path, "w") as f:
         f.write(text)
-    cmd = ["mpirun", "--oversubscribe", "-n", str(ranks), BIN, path]
-    out = subprocess.run(cmd, env=ENV, capture_output=True, text=True)
+    return ["mpirun", "--oversubscribe", "-n", "1", BIN, path]
+
+
+def parse_log(out):
+    """Steps, end time, wall time, stage timers, points and memory line of a dpmpm run."""
     if out.returncode != 0:
         sys.exit(f"bench: dpmpm failed ({out.returncode}):\n{out.stdout[-2000:]}\n{out.stderr[-2000:]}")
     log = out.stdout
@@ -99,11 +104,36 @@ def run_dpmpm(text, workdir, ranks=1):
             "mem": mem.groups() if mem else None}
 
 
+def run_dpmpm(text, workdir, ranks=1):
+    cmd = write_scene(text, workdir)
+    cmd[3] = str(ranks)
+    return parse_log(subprocess.run(cmd, env=ENV, capture_output=True, text=True))
+
+
 def step_time(make, n1, n2, workdir, ranks=1):
     """Seconds per step from the runs cut at n1 and n2 steps, and the longer run."""
     a = run_dpmpm(make(n1), workdir, ranks)
     b = run_dpmpm(make(n2), workdir, ranks)
     return (b["wall"] - a["wall"]) / (b["steps"] - a["steps"]), b
+
+
+def pair_step_time(make, n1, n2, workdirs):
+    """Seconds per step of two independent 1-rank runs at once, make(steps, workdir) each
+    writing into its own directory: the mean of the two, from runs cut at n1 and n2 steps."""
+    def both(steps):
+        # (each on a core of its own, as the ranks of a 2-rank job are: mpirun would bind
+        # both one-rank jobs to the first core)
+        cmds = [write_scene(make(steps, d), d) for d in workdirs]
+        procs = [subprocess.Popen(["taskset", "-c", str(i)] + c[:2] + ["--bind-to", "none"] + c[2:], env=ENV,
+                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                 for i, c in enumerate(cmds)]
+        outs = []
+        for p in procs:
+            o, e = p.communicate()
+            outs.append(parse_log(subprocess.CompletedProcess(p.args, p.returncode, o, e)))
+        return outs
+    a, b = both(n1), both(n2)
+    return statistics.mean((y["wall"] - x["wall"]) / (y["steps"] - x["steps"]) for x, y in zip(a, b)), b[0]
 
 
 def rounds(fn, k):
@@ -266,28 +296,40 @@ def main():
         md.append("| scene | points | ranks | ms / step | M point-updates / s / core | speed-up or efficiency |")
         md.append("|---|---|---|---|---|---|")
 
+        def block(cy, steps, wd):
+            t = block_scene(2, 360, "quadratic", "musl", steps, wd, lo=0.0, base=0.0, size=1.0,
+                            walls="&boundary face = 'x-' condition = 'roller' /\n"
+                                  "&boundary face = 'x+' condition = 'roller' /\n")
+            return (t.replace("ncells = 360, 360", f"ncells = 360, {cy}")
+                    .replace("length = 1.0, 1.0", f"length = 1.0, {cy / 360}")
+                    .replace("hi = 1.0, 1.0", f"hi = 1.0, {cy / 360}"))
+
         def full(cy):
-            def make(steps):
-                t = block_scene(2, 360, "quadratic", "musl", steps, work, lo=0.0, base=0.0, size=1.0,
-                                walls="&boundary face = 'x-' condition = 'roller' /\n"
-                                      "&boundary face = 'x+' condition = 'roller' /\n")
-                return (t.replace("ncells = 360, 360", f"ncells = 360, {cy}")
-                        .replace("length = 1.0, 1.0", f"length = 1.0, {cy / 360}")
-                        .replace("hi = 1.0, 1.0", f"hi = 1.0, {cy / 360}"))
-            return make
+            return lambda steps: block(cy, steps, work)
         one, _ = rounds(lambda: step_time(full(360), n(5), n(45), work, 1), k)
         two, _ = rounds(lambda: step_time(full(360), n(5), n(45), work, 2), k)
         half, _ = rounds(lambda: step_time(full(180), n(5), n(45), work, 1), k)
+        # The host's own limit: two independent 1-rank runs of the half block at once (no
+        # communication) against one alone; the 2-rank speed-up cannot beat it.
+        pair_dirs = [os.path.join(work, f"pair{i}") for i in (1, 2)]
+        for d in pair_dirs:
+            os.makedirs(d, exist_ok=True)
+        pair, _ = rounds(lambda: pair_step_time(lambda steps, wd: block(180, steps, wd), n(5), n(45),
+                                                pair_dirs), k)
         big, small = 720 * 720, 720 * 360
         sp = [a_ / b_ for a_, b_ in zip(one, two)]
         eff = [h_ / b_ for h_, b_ in zip(half, two)]
+        ceil = [2 * h_ / p_ for h_, p_ in zip(half, pair)]
         md.append(f"| strong | {big} | 1 | {1e3 * med(one):.1f} | {big / med(one) / 1e6:.2f} | |")
         md.append(f"| strong | {big} | 2 | {1e3 * med(two):.1f} | {big / med(two) / 2e6:.2f} | "
                   f"speed-up {med(sp):.2f} ({rng(sp, '%.2f')}) |")
         md.append(f"| weak | {small} | 1 | {1e3 * med(half):.1f} | {small / med(half) / 1e6:.2f} | |")
         md.append(f"| weak | {big} | 2 | {1e3 * med(two):.1f} | {big / med(two) / 2e6:.2f} | "
                   f"efficiency {med(eff):.2f} ({rng(eff, '%.2f')}) |")
-        res["scaling"] = {"one": one, "two": two, "half": half}
+        md.append(f"| two independent 1-rank runs at once | 2 x {small} | 1 + 1 | {1e3 * med(pair):.1f} | "
+                  f"{small / med(pair) / 1e6:.2f} | the host's limit of a 2-rank speed-up: "
+                  f"{med(ceil):.2f} ({rng(ceil, '%.2f')}) |")
+        res["scaling"] = {"one": one, "two": two, "half": half, "pair": pair}
         md.append("")
 
     md.append(f"(The measurement took {time.time() - t_start:.0f} s.)")

@@ -3,8 +3,11 @@
 
 Every case runs dpmpm twice with the same scene cut at two step counts (max_steps); the
 difference of the wall times over the difference of the steps is the time of a step,
-set-up, first and last frame cancel. Each case runs --rounds times, one run at a time;
-the tables give the median and the range. Cases:
+set-up, first and last frame cancel. Each table runs --rounds rounds, and in each round
+every case of the table once, in turn (one run at a time but for the pair of the
+scaling case), so that the cases compared with one another, the peer included, run
+within minutes of each other on this shared host; ratios are taken round by round. The
+tables give the median and the range. Cases:
 
 - one phase, a neo-Hookean block falling onto a fixed floor (2D: 82 944 points on a
   360 x 360 grid; 3D: 110 592 points on 64^3), linear and quadratic kernels, USL and
@@ -24,6 +27,7 @@ the tables give the median and the range. Cases:
 Usage: scripts/bench.py [--rounds 3] [--quick] [--no-doc] [--cases one,peer,...]
 """
 import argparse
+import importlib.util
 import json
 import os
 import re
@@ -136,11 +140,16 @@ def pair_step_time(make, n1, n2, workdirs):
     return statistics.mean((y["wall"] - x["wall"]) / (y["steps"] - x["steps"]) for x, y in zip(a, b)), b[0]
 
 
-def rounds(fn, k):
-    vals, last = [], None
+def interleaved(fns, k):
+    """k rounds, each running every case of fns (name -> function returning a value and the
+    run's log) once, in turn: the cases compared with one another run within the same
+    minute or two of this shared host, and a ratio is taken round by round."""
+    vals = {name: [] for name in fns}
+    last = {}
     for _ in range(k):
-        v, last = fn()
-        vals.append(v)
+        for name, fn in fns.items():
+            vals[name].append(None)
+            vals[name][-1], last[name] = fn()
     return vals, last
 
 
@@ -162,23 +171,21 @@ def block_dt(cells):
     return 0.5 * (1.0 / cells) / (pwave / RHO) ** 0.5
 
 
-def peer(nd, cells, size, steps, k):
+def peer(nd, cells, size, steps):
+    """Point-updates per second of one run of the peer on the block, None without taichi."""
     try:
         import taichi  # noqa: F401
     except ImportError:
         return None
-    rates = []
-    for _ in range(k):
-        out = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "peer_taichi.py"),
-                              "--ndim", str(nd), "--cells", str(cells), "--size", str(size),
-                              "--steps", str(steps),
-                              "--dt", f"{block_dt(cells):.6e}", "--json"],
-                             capture_output=True, text=True)
-        if out.returncode != 0:
-            print(out.stderr[-2000:], file=sys.stderr)
-            return None
-        rates.append(json.loads(out.stdout.strip().splitlines()[-1])["updates_per_s"])
-    return rates
+    out = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "peer_taichi.py"),
+                          "--ndim", str(nd), "--cells", str(cells), "--size", str(size),
+                          "--steps", str(steps),
+                          "--dt", f"{block_dt(cells):.6e}", "--json"],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        print(out.stderr[-2000:], file=sys.stderr)
+        return None
+    return json.loads(out.stdout.strip().splitlines()[-1])["updates_per_s"]
 
 
 def main():
@@ -201,7 +208,8 @@ def main():
     cpu = subprocess.run(["sh", "-c", "grep -m1 'model name' /proc/cpuinfo | cut -d: -f2"],
                          capture_output=True, text=True).stdout.strip()
     md.append(f"Measured by `scripts/bench.sh` on {os.cpu_count()} cores ({cpu}), release build, "
-              f"{k} rounds (median, range in brackets).\n")
+              f"{k} rounds (median, range in brackets); in each round every case of a table runs once, "
+              f"in turn, and ratios are taken round by round.\n")
 
     if "one" in cases or "peer" in cases:
         md.append("### One phase: a neo-Hookean block, one core\n")
@@ -210,32 +218,46 @@ def main():
         md.append("|---|---|---|---|---|---|---|---|---|")
         for nd, cells, size, s1, s2 in ((2, 360, 0.4, 20, 120), (3, 64, 0.375, 4, 24)):
             npts = block_points(nd, cells, size)
-            peer_rate = None
-            if "peer" in cases:
-                peer_rate = peer(nd, cells, size, n(200 if nd == 2 else 30), k)
+            fns = {}
+            if "peer" in cases and importlib.util.find_spec("taichi") is not None:
+                fns["peer"] = lambda nd=nd, cells=cells, size=size: (peer(nd, cells, size, n(200 if nd == 2 else 30)),
+                                                                     None)
+            if "one" in cases:
+                for kernel in ("linear", "quadratic"):
+                    for scheme in ("usl", "musl"):
+                        def case(nd=nd, cells=cells, size=size, s1=s1, s2=s2, kernel=kernel, scheme=scheme):
+                            return step_time(lambda steps: block_scene(nd, cells, kernel, scheme, steps, work,
+                                                                       size=size), n(s1), n(s2), work)
+                        fns[(kernel, scheme)] = case
+            vals, last = interleaved(fns, k)
+            peer_rate = vals.get("peer")
+            if peer_rate and None in peer_rate:
+                peer_rate = None  # (a run of the peer failed; its error is printed)
+            if peer_rate:
                 res[f"peer_{nd}d"] = peer_rate
-            for kernel in ("linear", "quadratic"):
-                for scheme in ("usl", "musl"):
-                    if "one" not in cases:
-                        continue
-                    make = lambda steps: block_scene(nd, cells, kernel, scheme, steps, work, size=size)  # noqa: E731
-                    v, last = rounds(lambda: step_time(make, n(s1), n(s2), work), k)
-                    if last["points"] != npts:
-                        sys.exit(f"bench: dpmpm made {last['points']} points, the peer {npts}")
-                    rate = [npts / x / 1e6 for x in v]
-                    tm = last["timers"]
-                    tot = sum(tm.get(x, 0) for x in ("stencil", "p2g", "halo", "nodal", "g2p", "stress", "migrate"))
-                    stages = ", ".join(f"{x} {100 * tm.get(x, 0) / tot:.0f} %" for x in
-                                       ("p2g", "g2p", "stress", "stencil", "nodal", "migrate")) if tot else ""
-                    ratio = ""
-                    if peer_rate and kernel == "quadratic":
-                        ratio = f"{med(rate) * 1e6 / med(peer_rate):.2f}x"
-                    mem = last["mem"][0] if last["mem"] else ""
-                    md.append(f"| {nd}D | {kernel} | {scheme.upper()} | {npts} | {1e3 * med(v):.1f} "
-                              f"({rng([1e3 * x for x in v], '%.1f')}) | {med(rate):.2f} ({rng(rate, '%.2f')}) | "
-                              f"{ratio} | {mem} | {stages} |")
-                    res[f"one_{nd}d_{kernel}_{scheme}"] = {"s_per_step": v, "mupdates": rate, "timers": tm,
-                                                          "mem": last["mem"]}
+            for key in fns:
+                if key == "peer":
+                    continue
+                kernel, scheme = key
+                v = vals[key]
+                if last[key]["points"] != npts:
+                    sys.exit(f"bench: dpmpm made {last[key]['points']} points, the peer {npts}")
+                rate = [npts / x / 1e6 for x in v]
+                tm = last[key]["timers"]
+                tot = sum(tm.get(x, 0) for x in ("stencil", "p2g", "halo", "nodal", "g2p", "stress", "migrate"))
+                stages = ", ".join(f"{x} {100 * tm.get(x, 0) / tot:.0f} %" for x in
+                                   ("p2g", "g2p", "stress", "stencil", "nodal", "migrate")) if tot else ""
+                ratio = ""
+                if peer_rate and kernel == "quadratic":
+                    # round by round: dpmpm and the peer ran within the same round
+                    rr = [r_ * 1e6 / p_ for r_, p_ in zip(rate, peer_rate)]
+                    ratio = f"{med(rr):.2f}x ({rng(rr, '%.2f')})"
+                mem = last[key]["mem"][0] if last[key]["mem"] else ""
+                md.append(f"| {nd}D | {kernel} | {scheme.upper()} | {npts} | {1e3 * med(v):.1f} "
+                          f"({rng([1e3 * x for x in v], '%.1f')}) | {med(rate):.2f} ({rng(rate, '%.2f')}) | "
+                          f"{ratio} | {mem} | {stages} |")
+                res[f"one_{nd}d_{kernel}_{scheme}"] = {"s_per_step": v, "mupdates": rate, "timers": tm,
+                                                      "mem": last[key]["mem"]}
             if peer_rate:
                 pr = [x / 1e6 for x in peer_rate]
                 md.append(f"| {nd}D | quadratic | peer: Taichi MLS-MPM (APIC), one thread, f64 | {npts} | "
@@ -247,10 +269,9 @@ def main():
         md.append("| dim | solid points | dry ms / step | saturated ms / step | ratio |")
         md.append("|---|---|---|---|---|")
         for nd, cells, s1, s2 in ((2, 96, 20, 220), (3, 20, 4, 24)):
-            vals = {}
-            for phase in ("solid", "saturated"):
-                make = lambda steps: two_phase_scene(nd, cells, phase, steps, work)  # noqa: E731
-                vals[phase], last = rounds(lambda: step_time(make, n(s1), n(s2), work), k)
+            vals, _ = interleaved({phase: (lambda nd=nd, cells=cells, s1=s1, s2=s2, phase=phase: step_time(
+                lambda steps: two_phase_scene(nd, cells, phase, steps, work), n(s1), n(s2), work))
+                for phase in ("solid", "saturated")}, k)
             ratio = [s / d for s, d in zip(vals["saturated"], vals["solid"])]
             npts = (2 * cells) ** nd
             md.append(f"| {nd}D | {npts} | {1e3 * med(vals['solid']):.1f} | {1e3 * med(vals['saturated']):.1f} | "
@@ -275,19 +296,24 @@ def main():
                 variants[name] = re.sub(r"&shape\s+kernel = 'linear'\s*/", f"&shape {shape} /", w1)
             md.append("| shape | ms / step | steps per simulated second | wall s per simulated second | against Standard MPM |")
             md.append("|---|---|---|---|---|")
-            base = None
+            fns = {}
             for name, text in variants.items():
                 text = re.sub(r"&benchmark[^/]*/", "", text)
                 text = text.replace("dir = 'out'", f"dir = '{work}'")
-                make = lambda steps: re.sub(r"t_end = [0-9.e-]+", f"t_end = 10.0\n  max_steps = {steps}", text)  # noqa: E731
                 # (A step of these 800- and 3200-point columns takes a fraction of a millisecond
                 # to a few; the 3D pair 10-50 times more, hence fewer steps.)
                 s1, s2 = (5, 25) if (nd == 3 and name == "MLS pair") else steps
-                v, last = rounds(lambda: step_time(make, n(s1), n(s2), work), k)
-                per_s = last["steps"] / last["t"]
-                wall = med(v) * per_s
-                base = base or wall
-                md.append(f"| {name} | {1e3 * med(v):.2f} | {per_s:.0f} | {wall:.2f} | {wall / base:.1f}x |")
+                fns[name] = lambda text=text, s1=s1, s2=s2: step_time(
+                    lambda st: re.sub(r"t_end = [0-9.e-]+", f"t_end = 10.0\n  max_steps = {st}", text),
+                    n(s1), n(s2), work)
+            vals, last = interleaved(fns, k)
+            for name in fns:
+                v = vals[name]
+                per_s = last[name]["steps"] / last[name]["t"]
+                # against Standard MPM round by round (the steps per simulated second are the same)
+                rr = [x / b_ for x, b_ in zip(v, vals["Standard MPM"])]
+                md.append(f"| {name} | {1e3 * med(v):.2f} | {per_s:.0f} | {med(v) * per_s:.2f} | "
+                          f"{med(rr):.1f}x ({rng(rr, '%.1f')}) |")
                 res[f"{scene}_{name}"] = {"s_per_step": v, "steps_per_s": per_s}
             md.append("")
 
@@ -306,16 +332,17 @@ def main():
 
         def full(cy):
             return lambda steps: block(cy, steps, work)
-        one, _ = rounds(lambda: step_time(full(360), n(5), n(45), work, 1), k)
-        two, _ = rounds(lambda: step_time(full(360), n(5), n(45), work, 2), k)
-        half, _ = rounds(lambda: step_time(full(180), n(5), n(45), work, 1), k)
         # The host's own limit: two independent 1-rank runs of the half block at once (no
         # communication) against one alone; the 2-rank speed-up cannot beat it.
         pair_dirs = [os.path.join(work, f"pair{i}") for i in (1, 2)]
         for d in pair_dirs:
             os.makedirs(d, exist_ok=True)
-        pair, _ = rounds(lambda: pair_step_time(lambda steps, wd: block(180, steps, wd), n(5), n(45),
-                                                pair_dirs), k)
+        vals, _ = interleaved({
+            "one": lambda: step_time(full(360), n(5), n(45), work, 1),
+            "two": lambda: step_time(full(360), n(5), n(45), work, 2),
+            "half": lambda: step_time(full(180), n(5), n(45), work, 1),
+            "pair": lambda: pair_step_time(lambda steps, wd: block(180, steps, wd), n(5), n(45), pair_dirs)}, k)
+        one, two, half, pair = vals["one"], vals["two"], vals["half"], vals["pair"]
         big, small = 720 * 720, 720 * 360
         sp = [a_ / b_ for a_, b_ in zip(one, two)]
         eff = [h_ / b_ for h_, b_ in zip(half, two)]

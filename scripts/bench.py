@@ -86,11 +86,12 @@ def two_phase_scene(nd, cells, phase, steps, workdir):
 """
 
 
-def write_scene(text, workdir):
+def write_scene(text, workdir, ranks=1):
+    """The scene written into workdir; the command that runs it on the given ranks."""
     path = os.path.join(workdir, "scene.nml")
     with open(path, "w") as f:
         f.write(text)
-    return ["mpirun", "--oversubscribe", "-n", "1", BIN, path]
+    return ["mpirun", "--oversubscribe", "-n", str(ranks), BIN, path]
 
 
 def parse_log(out):
@@ -109,9 +110,7 @@ def parse_log(out):
 
 
 def run_dpmpm(text, workdir, ranks=1):
-    cmd = write_scene(text, workdir)
-    cmd[3] = str(ranks)
-    return parse_log(subprocess.run(cmd, env=ENV, capture_output=True, text=True))
+    return parse_log(subprocess.run(write_scene(text, workdir, ranks), env=ENV, capture_output=True, text=True))
 
 
 def step_time(make, n1, n2, workdir, ranks=1):

@@ -73,7 +73,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
     logical, intent(in), optional :: write_output
-    integer :: nmin, nmax, nb, status, spread(2)
+    integer :: nmin, nmax, status, nloc(2)
     logical :: changed
     integer(i8) :: ntot, nfl
     integer(i8), allocatable :: counts(:), fcounts(:)
@@ -196,10 +196,9 @@ contains
     end if
     ! How evenly the points are spread over the ranks, with a hint where they are not.
     if (self%dec%nranks > 1) then
-      spread = points_per_rank(self)
-      nb = spread(1)
-      if (real(nb, wp) > 1.5_wp*real(ntot, wp)/real(self%dec%nranks, wp)) then
-        write (line, '(a,i0,a,i0)') 'dpmpm: the busiest rank holds ', nb, ' points, the mean is ', &
+      nloc = points_per_rank(self)
+      if (real(nloc(1), wp) > 1.5_wp*real(ntot, wp)/real(self%dec%nranks, wp)) then
+        write (line, '(a,i0,a,i0)') 'dpmpm: the busiest rank holds ', nloc(1), ' points, the mean is ', &
           ntot/self%dec%nranks
         if (cfg%balance == 'points') then
           line = trim(line)//' (the grid is split by the points at the start)'

@@ -50,9 +50,10 @@ PAIR = """&shape
 /"""
 
 
-def scene_text(a, base, workdir, shape="standard", max_dilation=0.0):
+def scene_text(a, base, workdir, shape="standard", max_dilation=0.0, smoothing=False):
     """The template with column height a L0, a grid that holds the deposit and a geostatic start
-    (and, with max_dilation > 0, that bound on the points' volume, doc/theory.md 5.4)."""
+    (and, with max_dilation > 0, that bound on the points' volume, doc/theory.md 5.4; with
+    smoothing, the volumetric smoothing of doc/theory.md 4.5)."""
     text = open(TEMPLATE).read()
     h0 = a * L0
     # room for 1.5 times the larger scaling law's runout, and 5 cells above the column
@@ -62,7 +63,8 @@ def scene_text(a, base, workdir, shape="standard", max_dilation=0.0):
     t_end = round(1.0 * math.sqrt(a / 2.0) + 0.5, 2)
     name = (f"c1_a{a:g}".replace(".", "p") + ("_rough" if base == "rough" else "")
             + ("_pair" if shape == "pair" else "")
-            + (f"_j{max_dilation:g}".replace(".", "p") if max_dilation > 0 else ""))
+            + (f"_j{max_dilation:g}".replace(".", "p") if max_dilation > 0 else "")
+            + ("_vs" if smoothing else ""))
     subs = [
         (r"name = '[^']*'", f"name = '{name}'"),
         (r"t_end = [0-9.]+", f"t_end = {t_end}"),
@@ -87,6 +89,10 @@ def scene_text(a, base, workdir, shape="standard", max_dilation=0.0):
                           f"  tensile_strength = 0.0\n  max_dilation = {max_dilation:g}\n", text)
         if n != 1:
             raise SystemExit("c1_study: the template's &material has no tensile_strength line")
+    if smoothing:
+        text, n = re.subn(r"&run\n", "&run\n  volumetric_smoothing = 'cell'\n", text)
+        if n != 1:
+            raise SystemExit("c1_study: the template has no &run group on a line of its own")
     if base == "rough":
         text, n = re.subn(r"face = 'y-', condition = 'fixed'",
                           "face = 'y-', condition = 'roller', friction = 0.577, lift_off = .false.",
@@ -119,6 +125,8 @@ def main():
                     help="Standard MPM (the template's linear grid functions) or the MLS pair")
     ap.add_argument("--max-dilation", type=float, default=0.0,
                     help="&material max_dilation of the soil (0: no bound)")
+    ap.add_argument("--volumetric-smoothing", action="store_true",
+                    help="volumetric_smoothing = 'cell' (doc/theory.md 4.5)")
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--workdir", default="out/c1")
     ap.add_argument("--rerun", action="store_true", help="run again when the output exists")
@@ -128,7 +136,8 @@ def main():
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     rows = []
     for a in args.ratios:
-        name, text = scene_text(a, args.base, args.workdir, args.shape, args.max_dilation)
+        name, text = scene_text(a, args.base, args.workdir, args.shape, args.max_dilation,
+                                args.volumetric_smoothing)
         nml = os.path.join(args.workdir, name + ".nml")
         h5 = os.path.join(args.workdir, name + ".h5")
         open(nml, "w").write(text)

@@ -32,6 +32,9 @@ program test_rank_invariance
   call test_same_fields_on_1_2_4_ranks('cubic', 'musl', 'saturated_block_pair')
   ! Two layers of different porosity with the porosity-gradient term.
   call test_same_fields_on_1_2_4_ranks('quadratic', 'musl', 'layered_block')
+  ! The same layers of Mohr-Coulomb soil with the cell smoothing of the skeleton's
+  ! volumetric strain rate and of the pore pressure (cell sums stay on the cell's rank).
+  call test_same_fields_on_1_2_4_ranks('linear', 'musl', 'smoothed_block')
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -70,7 +73,7 @@ contains
     select case (mls)
     case ('column_2d')
       cfg = column_2d(kernel, scheme)
-    case ('saturated_block', 'saturated_block_pair', 'layered_block')
+    case ('saturated_block', 'saturated_block_pair', 'layered_block', 'smoothed_block')
       cfg%materials(1)%model = 'linear_elastic'
       cfg%materials(1)%conductivity = 1.0e-3_wp
       cfg%materials = [cfg%materials(1), material_cfg_t(id=4, model='fluid', density=1000.0_wp, &
@@ -87,7 +90,14 @@ contains
         cfg%field_radius = 2.0_wp
         cfg%t_end = 0.08_wp
       end if
-      if (mls == 'layered_block') then
+      if (mls == 'smoothed_block') then
+        cfg%materials(1)%model = 'mohr_coulomb'
+        cfg%materials(1)%friction_angle = 30.0_wp
+        cfg%materials(1)%cohesion = 50.0_wp
+        cfg%volumetric_smoothing = 'cell'
+        cfg%pressure_smoothing = 'cell'
+      end if
+      if (mls == 'layered_block' .or. mls == 'smoothed_block') then
         cfg%porosity_gradient = .true.
         cfg%regions = [cfg%regions(1), cfg%regions(1)]
         cfg%regions(1)%hi(2) = 0.35_wp

@@ -7,6 +7,7 @@
 module dpmpm_pore_pressure
   use dpmpm_kinds, only: wp, i8
   use dpmpm_materials, only: material_t
+  use dpmpm_cell_smoothing, only: cell_mean
   implicit none
   private
   public :: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, local_cell, smooth_pressure_change
@@ -144,18 +145,11 @@ contains
     integer, intent(in) :: cell(:)
     real(wp), intent(in) :: vol(:), pold(:)
     real(wp), intent(inout) :: pres(:)
-    real(wp), allocatable :: sv(:), sdp(:)
-    integer :: p
-    allocate (sv(ncell), sdp(ncell))
-    sv = 0.0_wp
-    sdp = 0.0_wp
-    do p = 1, n
-      sv(cell(p)) = sv(cell(p)) + vol(p)
-      sdp(cell(p)) = sdp(cell(p)) + vol(p)*(pres(p) - pold(p))
-    end do
-    do p = 1, n
-      pres(p) = pold(p) + sdp(cell(p))/sv(cell(p))
-    end do
+    real(wp), allocatable :: dp(:), mean(:)
+    allocate (mean(n))
+    dp = pres(1:n) - pold(1:n)
+    call cell_mean(n, ncell, cell, vol, dp, mean)
+    pres(1:n) = pold(1:n) + mean
   end subroutine smooth_pressure_change
 
   !> The volume each fluid point represents at its new pressure, V = m / (n rho_f(p)),

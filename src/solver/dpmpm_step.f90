@@ -27,6 +27,7 @@ module dpmpm_step
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, fluid_density, &
                                  local_cell, &
                                  fluid_pressure_step, fluid_state
+  use dpmpm_cell_smoothing, only: smooth_volumetric_rate, smoothed_mean_stress, cell_mean
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients, gauss_point_divergences
   use dpmpm_gauss_fields, only: thin_node_forces
   use dpmpm_time_step, only: report_governing
@@ -46,11 +47,11 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(inout) :: dt
     integer :: m, ip, nlost, ns, nf, nd, blo(3), bhi(3)
-    integer, allocatable :: fcell(:)
+    integer, allocatable :: fcell(:), scell(:)
     logical, allocatable :: fsurf(:)
     logical :: coupled, surface, fluid_mom, locked
     real(wp) :: wplastic, rforce(3)
-    real(wp), allocatable :: fvol(:, :, :, :), lockv(:, :, :, :)
+    real(wp), allocatable :: fvol(:, :, :, :), lockv(:, :, :, :), sheld(:, :), pheld(:)
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), gnrel(:), skinv(:)
     coupled = self%nph == 2
     ! the free surface of the pore fluid is looked for (free_surface_points)
@@ -76,11 +77,21 @@ contains
       call point_cells(nd, nf, self%phase(fluid_phase)%pts%x, self%grid%origin, self%grid%h, &
                        self%dec%clo, self%dec%chi, fcell)
     end if
+    ! and of each solid point, for the cell smoothing of the volumetric strain rate
+    if (self%cfg%volumetric_smoothing == 'cell') then
+      allocate (scell(ns))
+      call point_cells(nd, ns, self%phase(solid_phase)%pts%x, self%grid%origin, self%grid%h, &
+                       self%dec%clo, self%dec%chi, scell)
+    end if
     call self%timers%toc(t_stencil)
 
     ! 2. p2g of every phase; the solid's internal force by point quadrature unless
     ! Gauss quadrature gives it; the fluid's pore-pressure forces come with the coupling.
     call self%timers%tic(t_p2g)
+    ! With cell smoothing the forces take each cell's mean stress of the skeleton
+    ! (volumetric_smoothing) and mean pore pressure (pressure_smoothing): these stand in
+    ! the points' place up to the end of the forces (doc/theory.md 4.5).
+    call swap_force_fields(self, scell, fcell, sheld, pheld)
     ! (With a fluid, fluid_p2g sums the fluid's mass and momentum in its own pass, unless
     ! the fluid points carry body accelerations.)
     fluid_mom = coupled
@@ -147,6 +158,8 @@ contains
         end associate
       end if
     end if
+    if (allocated(sheld)) call move_alloc(sheld, self%phase(solid_phase)%pts%stress)
+    if (allocated(pheld)) call move_alloc(pheld, self%phase(fluid_phase)%pts%pressure)
     do ip = 1, self%nph
       call self%mirror%fold(self%phase(ip)%node, 1, self%phase(ip)%bc)
       if (self%plan%gauss) call self%mirror%fold(self%phase(ip)%nvol, 2, self%phase(ip)%bc)
@@ -238,7 +251,7 @@ contains
         call interp_two_values(nd, f%st%nw, nf, f%st%i0, f%st%sw, self%dec%alo, self%nporo, 3, nval, nkinv)
         call self%timers%toc(t_g2p)
         ! (with the porosity the fluid points had in p2g)
-        if (self%cfg%porosity_gradient) call add_interphase_force(self)
+        if (self%cfg%porosity_gradient) call add_interphase_force(self, fcell)
         ! The floor only guards against negative interpolation weights; porous points
         ! have n > 0 and water away from them n = 1.
         f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-3_wp))
@@ -359,6 +372,8 @@ contains
     ! change, then the pore pressure (eq. 10), the fluid volume and stress.
     call self%timers%tic(t_stress)
     associate (s => self%phase(solid_phase))
+      if (allocated(scell)) call smooth_volumetric_rate(nd, ns, product(self%dec%chi - self%dec%clo + 1), &
+                                                        size(self%mats), scell, s%pts%mat, s%pts%vol, s%vgrad)
       if (coupled) volb = s%pts%vol(1:ns)
       wplastic = 0.0_wp
       do m = 1, size(self%mats)
@@ -409,6 +424,36 @@ contains
     end if
     call self%timers%toc(t_migrate)
   end subroutine advance
+
+  !> The fields of the forces under cell smoothing put in place of the points' own, which
+  !> the held arrays keep until they are moved back: with scell (volumetric_smoothing) the
+  !> skeleton's stresses with each cell's mean stress (smoothed_mean_stress), with fcell
+  !> (pressure_smoothing) the pore pressures as each cell's mean. Unallocated cells leave
+  !> their set as it is and its held array unallocated.
+  subroutine swap_force_fields(self, scell, fcell, sheld, pheld)
+    class(state_t), intent(inout) :: self
+    integer, allocatable, intent(in) :: scell(:), fcell(:)
+    real(wp), allocatable, intent(out) :: sheld(:, :), pheld(:)
+    real(wp), allocatable :: sbar(:, :), pbar(:)
+    integer :: ncell
+    ncell = product(self%dec%chi - self%dec%clo + 1)
+    if (allocated(scell)) then
+      associate (s => self%phase(solid_phase)%pts)
+        allocate (sbar(size(s%stress, 1), size(s%stress, 2)))
+        call smoothed_mean_stress(self%nd, s%n, ncell, size(self%mats), scell, s%mat, s%vol, s%stress, sbar)
+        call move_alloc(s%stress, sheld)
+        call move_alloc(sbar, s%stress)
+      end associate
+    end if
+    if (allocated(fcell)) then
+      associate (f => self%phase(fluid_phase)%pts)
+        allocate (pbar(size(f%pressure)))
+        call cell_mean(f%n, ncell, fcell, f%vol, f%pressure, pbar)
+        call move_alloc(f%pressure, pheld)
+        call move_alloc(pbar, f%pressure)
+      end associate
+    end if
+  end subroutine swap_force_fields
 
   !> Inflow through drained faces: where the pore water of a cell next to a drained face
   !> flows in relative to the skeleton there (its mean velocity away from the face
@@ -780,16 +825,24 @@ contains
   !> internal force and taken from the solid's (interphase_p2g), with the nodal
   !> porosity of this step and the fluid points' porosity of the p2g (fluid_p2g), so
   !> that the two together are the transpose of the mixture flux.
-  subroutine add_interphase_force(self)
+  subroutine add_interphase_force(self, fcell)
     class(state_t), intent(inout) :: self
-    real(wp), allocatable :: ff(:, :, :, :), fs(:, :, :, :)
+    integer, allocatable, intent(in) :: fcell(:)
+    real(wp), allocatable :: ff(:, :, :, :), fs(:, :, :, :), pf(:)
     integer :: nd
     nd = self%nd
     allocate (ff(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                  self%dec%alo(3):self%dec%ahi(3)))
     ff = 0.0_wp
     associate (f => self%phase(fluid_phase))
-      call interphase_p2g(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, f%pts%vol, f%pts%pressure, &
+      ! (with the cell smoothing, the cells' mean pressures, as the other pressure forces)
+      if (allocated(fcell)) then
+        allocate (pf(f%pts%n))
+        call cell_mean(f%pts%n, product(self%dec%chi - self%dec%clo + 1), fcell, f%pts%vol, f%pts%pressure, pf)
+      else
+        pf = f%pts%pressure(1:f%pts%n)
+      end if
+      call interphase_p2g(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, f%pts%vol, pf, &
                           f%pts%porosity, self%dec%alo, self%nporo, ff)
     end associate
     fs = -ff

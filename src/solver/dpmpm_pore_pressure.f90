@@ -8,6 +8,7 @@ module dpmpm_pore_pressure
   use dpmpm_kinds, only: wp, i8
   use dpmpm_materials, only: material_t
   use dpmpm_cell_smoothing, only: cell_mean
+  use dpmpm_grid, only: axis_cells_of
   implicit none
   private
   public :: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, local_cell, smooth_pressure_change
@@ -114,11 +115,18 @@ contains
     real(wp), intent(in) :: x(:, :), origin(3), h(3)
     integer, intent(in) :: clo(3), chi(3)
     integer, intent(out) :: cell(:)
-    integer :: p, c(3), w(3)
-    w = chi - clo + 1
-    do p = 1, n
-      c = local_cell(nd, x(:, p), origin, h, clo, chi)
-      cell(p) = 1 + c(1) + w(1)*(c(2) + w(2)*c(3))
+    integer :: p, d, stride
+    integer, allocatable :: c(:)
+    ! (axis by axis, the cells of one axis in a loop of dpmpm_grid that vectorises)
+    allocate (c(n))
+    cell(1:n) = 1
+    stride = 1
+    do d = 1, nd
+      call axis_cells_of(origin, h, x, n, d, c)
+      do p = 1, n
+        cell(p) = cell(p) + stride*(min(max(c(p), clo(d)), chi(d)) - clo(d))
+      end do
+      stride = stride*(chi(d) - clo(d) + 1)
     end do
   end subroutine point_cells
 

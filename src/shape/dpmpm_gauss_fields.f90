@@ -600,7 +600,10 @@ contains
               end do
             end do
             bl = (g - 1)*nd*nd
-            lg(bl + 1:bl + nd*nd, i, j, k) = reshape(l(1:nd, 1:nd), [nd*nd])
+            ! (column by column: reshape of a run-time shape is a library call per point)
+            do d = 1, nd
+              lg(bl + (d - 1)*nd + 1:bl + d*nd, i, j, k) = l(1:nd, d)
+            end do
           end do
         end do
       end do
@@ -697,14 +700,18 @@ contains
         cycle
       end if
       lm = 0.0_wp
-      lm(1:nd, 1:nd) = reshape(l(1:nd*nd)/ctot, [nd, nd])
+      do d = 1, nd
+        lm(1:nd, d) = l((d - 1)*nd + 1:d*nd)/ctot
+      end do
       if (full) then
         vgrad(1:3, p) = lm(:, 1); vgrad(4:6, p) = lm(:, 2); vgrad(7:9, p) = lm(:, 3)
       else if (present(div)) then
         div(p) = lm(1, 1) + lm(2, 2) + lm(3, 3)
       end if
       if (.not. two) cycle
-      lm(1:nd, 1:nd) = reshape(l2(1:nd*nd)/ctot, [nd, nd])
+      do d = 1, nd
+        lm(1:nd, d) = l2((d - 1)*nd + 1:d*nd)/ctot
+      end do
       div2(p) = lm(1, 1) + lm(2, 2) + lm(3, 3)
     end do
   end subroutine gauss_strain

@@ -38,7 +38,8 @@ import tempfile
 import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-BIN = os.path.join(ROOT, "build", "release", "dpmpm")
+# (DPMPM_BIN measures another build, e.g. the one before a change, with the same driver)
+BIN = os.environ.get("DPMPM_BIN", os.path.join(ROOT, "build", "release", "dpmpm"))
 DOC = os.path.join(ROOT, "doc", "performance.md")
 BEGIN, END = "<!-- bench:begin -->", "<!-- bench:end -->"
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",

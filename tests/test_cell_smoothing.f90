@@ -14,6 +14,8 @@ program test_cell_smoothing
   ! a single point
   integer, parameter :: cell(n) = [1, 1, 1, 2, 2, 2, 2, 2, 1, 3, 1, 2]
   integer, parameter :: mat(n) = [1, 1, 1, 1, 2, 2, 1, 2, 2, 1, 2, 1]
+  ! the pair of cell and material of each point, as the step forms it
+  integer, parameter :: key(n) = mat + nmat*(cell - 1), nkey = ncell*nmat
   integer :: status, rank
   real(wp) :: vol(n), lg(9, n), sig(6, n)
   call MPI_Init()
@@ -76,7 +78,7 @@ contains
     do p = 1, n
       tr0(p) = trace(lg, nd, p)
     end do
-    call smooth_volumetric_rate(nd, n, ncell, nmat, cell, mat, vol, l)
+    call smooth_volumetric_rate(nd, n, nkey, key, vol, l)
     do p = 1, n
       call check_close(trace(l, nd, p), mean_of(tr0, cell(p), mat(p)), 1.0e-13_wp, 1.0e-15_wp, 'trace')
       do k = 1, 9
@@ -97,7 +99,7 @@ contains
     integer :: p
     call begin_test('force_stress_keeps_the_deviator_and_takes_the_cell_mean_'//achar(48 + nd)//'d')
     m0 = sum(sig(1:nd, :), dim=1)/nd
-    call smoothed_mean_stress(nd, n, ncell, nmat, cell, mat, vol, sig, sbar)
+    call smoothed_mean_stress(nd, n, nkey, key, vol, sig, sbar)
     do p = 1, n
       call check_close(sum(sbar(1:nd, p))/nd, mean_of(m0, cell(p), mat(p)), 1.0e-13_wp, 0.0_wp, 'mean stress')
       call check(all(sbar(4:6, p) == sig(4:6, p)), 'shear stresses kept')
@@ -114,8 +116,8 @@ contains
     real(wp) :: sbar(6, n), lbar(9, n), forces, booked, plain
     call begin_test('power_of_the_forces_is_the_booked_power_'//achar(48 + nd)//'d')
     lbar = lg
-    call smooth_volumetric_rate(nd, n, ncell, nmat, cell, mat, vol, lbar)
-    call smoothed_mean_stress(nd, n, ncell, nmat, cell, mat, vol, sig, sbar)
+    call smooth_volumetric_rate(nd, n, nkey, key, vol, lbar)
+    call smoothed_mean_stress(nd, n, nkey, key, vol, sig, sbar)
     forces = power(sbar, lg, nd)
     booked = power(sig, lbar, nd)
     plain = power(sig, lg, nd)

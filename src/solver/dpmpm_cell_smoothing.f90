@@ -17,13 +17,13 @@ module dpmpm_cell_smoothing
 
 contains
 
-  !> vgrad(9, n) (3x3 column-major per point) of the n points; cell their local cell
-  !> index (1..ncell, point_cells), mat their material (1..nmat), vol their volume.
-  !> The trace over the first nd axes of each point is set to the volume-weighted mean
-  !> of its cell and material by adding the same amount to each of those diagonal entries.
-  pure subroutine smooth_volumetric_rate(nd, n, ncell, nmat, cell, mat, vol, vgrad)
-    integer, intent(in) :: nd, n, ncell, nmat
-    integer, intent(in) :: cell(:), mat(:)
+  !> vgrad(9, n) (3x3 column-major per point) of the n points; key the index of each
+  !> point's pair of cell and material (1..nkey), vol their volume. The trace over the
+  !> first nd axes of each point is set to the volume-weighted mean over the points of its
+  !> key by adding the same amount to each of those diagonal entries.
+  pure subroutine smooth_volumetric_rate(nd, n, nkey, key, vol, vgrad)
+    integer, intent(in) :: nd, n, nkey
+    integer, intent(in) :: key(:)
     real(wp), intent(in) :: vol(:)
     real(wp), intent(inout) :: vgrad(:, :)
     real(wp), allocatable :: tr(:), mean(:)
@@ -33,7 +33,7 @@ contains
     do d = 1, nd
       tr = tr + vgrad(4*d - 3, 1:n)
     end do
-    call cell_mean(n, ncell*nmat, cell_material(n, nmat, cell, mat), vol, tr, mean)
+    call cell_mean(n, nkey, key, vol, tr, mean)
     do d = 1, nd
       do p = 1, n
         vgrad(4*d - 3, p) = vgrad(4*d - 3, p) + (mean(p) - tr(p))/real(nd, wp)
@@ -42,11 +42,11 @@ contains
   end subroutine smooth_volumetric_rate
 
   !> The stresses (Voigt, 6 x n) for the internal force: each point's mean of the first
-  !> nd normal stresses replaced by the volume-weighted mean of its cell and material
+  !> nd normal stresses replaced by the volume-weighted mean over the points of its key
   !> (arguments as in smooth_volumetric_rate).
-  pure subroutine smoothed_mean_stress(nd, n, ncell, nmat, cell, mat, vol, stress, sbar)
-    integer, intent(in) :: nd, n, ncell, nmat
-    integer, intent(in) :: cell(:), mat(:)
+  pure subroutine smoothed_mean_stress(nd, n, nkey, key, vol, stress, sbar)
+    integer, intent(in) :: nd, n, nkey
+    integer, intent(in) :: key(:)
     real(wp), intent(in) :: vol(:), stress(:, :)
     real(wp), intent(out) :: sbar(:, :)
     real(wp), allocatable :: sm(:), mean(:)
@@ -56,7 +56,7 @@ contains
     do d = 1, nd
       sm = sm + stress(d, 1:n)/real(nd, wp)
     end do
-    call cell_mean(n, ncell*nmat, cell_material(n, nmat, cell, mat), vol, sm, mean)
+    call cell_mean(n, nkey, key, vol, sm, mean)
     sbar(:, 1:n) = stress(:, 1:n)
     do p = 1, n
       do d = 1, nd
@@ -64,13 +64,6 @@ contains
       end do
     end do
   end subroutine smoothed_mean_stress
-
-  !> The index of each point's pair of cell and material, 1..ncell*nmat.
-  pure function cell_material(n, nmat, cell, mat) result(key)
-    integer, intent(in) :: n, nmat, cell(:), mat(:)
-    integer :: key(n)
-    key = mat(1:n) + nmat*(cell(1:n) - 1)
-  end function cell_material
 
   !> mean(p): the volume-weighted mean of val over the points with p's key (1..nkey).
   pure subroutine cell_mean(n, nkey, key, vol, val, mean)

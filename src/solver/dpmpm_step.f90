@@ -51,7 +51,7 @@ contains
     logical, allocatable :: fsurf(:)
     logical :: coupled, surface, fluid_mom, locked
     real(wp) :: wplastic, rforce(3)
-    real(wp), allocatable :: fvol(:, :, :, :), lockv(:, :, :, :), sheld(:, :), pheld(:)
+    real(wp), allocatable :: fvol(:, :, :, :), lockv(:, :, :, :), sheld(:, :), pheld(:), pforce(:)
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), gnrel(:), skinv(:)
     coupled = self%nph == 2
     ! the free surface of the pore fluid is looked for (free_surface_points)
@@ -77,11 +77,13 @@ contains
       call point_cells(nd, nf, self%phase(fluid_phase)%pts%x, self%grid%origin, self%grid%h, &
                        self%dec%clo, self%dec%chi, fcell)
     end if
-    ! and of each solid point, for the cell smoothing of the volumetric strain rate
+    ! and, for the cell smoothing of the volumetric strain rate, the pair of cell and
+    ! material of each solid point (1..ncell*nmat; the same for the forces and the rates)
     if (self%cfg%volumetric_smoothing == 'cell') then
       allocate (scell(ns))
       call point_cells(nd, ns, self%phase(solid_phase)%pts%x, self%grid%origin, self%grid%h, &
                        self%dec%clo, self%dec%chi, scell)
+      scell = self%phase(solid_phase)%pts%mat(1:ns) + size(self%mats)*(scell - 1)
     end if
     call self%timers%toc(t_stencil)
 
@@ -159,7 +161,11 @@ contains
       end if
     end if
     if (allocated(sheld)) call move_alloc(sheld, self%phase(solid_phase)%pts%stress)
-    if (allocated(pheld)) call move_alloc(pheld, self%phase(fluid_phase)%pts%pressure)
+    if (allocated(pheld)) then
+      ! (the cells' mean pressures kept for the interphase force)
+      call move_alloc(self%phase(fluid_phase)%pts%pressure, pforce)
+      call move_alloc(pheld, self%phase(fluid_phase)%pts%pressure)
+    end if
     do ip = 1, self%nph
       call self%mirror%fold(self%phase(ip)%node, 1, self%phase(ip)%bc)
       if (self%plan%gauss) call self%mirror%fold(self%phase(ip)%nvol, 2, self%phase(ip)%bc)
@@ -251,7 +257,13 @@ contains
         call interp_two_values(nd, f%st%nw, nf, f%st%i0, f%st%sw, self%dec%alo, self%nporo, 3, nval, nkinv)
         call self%timers%toc(t_g2p)
         ! (with the porosity the fluid points had in p2g)
-        if (self%cfg%porosity_gradient) call add_interphase_force(self, fcell)
+        if (self%cfg%porosity_gradient) then
+          if (allocated(pforce)) then
+            call add_interphase_force(self, pforce)
+          else
+            call add_interphase_force(self, f%pts%pressure)
+          end if
+        end if
         ! The floor only guards against negative interpolation weights; porous points
         ! have n > 0 and water away from them n = 1.
         f%pts%porosity(1:nf) = min(1.0_wp, max(nval, 1.0e-3_wp))
@@ -372,8 +384,8 @@ contains
     ! change, then the pore pressure (eq. 10), the fluid volume and stress.
     call self%timers%tic(t_stress)
     associate (s => self%phase(solid_phase))
-      if (allocated(scell)) call smooth_volumetric_rate(nd, ns, product(self%dec%chi - self%dec%clo + 1), &
-                                                        size(self%mats), scell, s%pts%mat, s%pts%vol, s%vgrad)
+      if (allocated(scell)) call smooth_volumetric_rate(nd, ns, product(self%dec%chi - self%dec%clo + 1)* &
+                                                        size(self%mats), scell, s%pts%vol, s%vgrad)
       if (coupled) volb = s%pts%vol(1:ns)
       wplastic = 0.0_wp
       do m = 1, size(self%mats)
@@ -426,8 +438,9 @@ contains
   end subroutine advance
 
   !> The fields of the forces under cell smoothing put in place of the points' own, which
-  !> the held arrays keep until they are moved back: with scell (volumetric_smoothing) the
-  !> skeleton's stresses with each cell's mean stress (smoothed_mean_stress), with fcell
+  !> the held arrays keep until they are moved back: with scell (volumetric_smoothing; the
+  !> pair of cell and material of each solid point) the skeleton's stresses with the mean
+  !> stress of their pair (smoothed_mean_stress), with fcell
   !> (pressure_smoothing) the pore pressures as each cell's mean. Unallocated cells leave
   !> their set as it is and its held array unallocated.
   subroutine swap_force_fields(self, scell, fcell, sheld, pheld)
@@ -440,7 +453,7 @@ contains
     if (allocated(scell)) then
       associate (s => self%phase(solid_phase)%pts)
         allocate (sbar(size(s%stress, 1), size(s%stress, 2)))
-        call smoothed_mean_stress(self%nd, s%n, ncell, size(self%mats), scell, s%mat, s%vol, s%stress, sbar)
+        call smoothed_mean_stress(self%nd, s%n, ncell*size(self%mats), scell, s%vol, s%stress, sbar)
         call move_alloc(s%stress, sheld)
         call move_alloc(sbar, s%stress)
       end associate
@@ -825,23 +838,18 @@ contains
   !> internal force and taken from the solid's (interphase_p2g), with the nodal
   !> porosity of this step and the fluid points' porosity of the p2g (fluid_p2g), so
   !> that the two together are the transpose of the mixture flux.
-  subroutine add_interphase_force(self, fcell)
+  subroutine add_interphase_force(self, pf)
     class(state_t), intent(inout) :: self
-    integer, allocatable, intent(in) :: fcell(:)
-    real(wp), allocatable :: ff(:, :, :, :), fs(:, :, :, :), pf(:)
+    !> the fluid points' pressures of the pressure forces (with the cell smoothing, the
+    !> cells' means, as the other pressure forces of the step took them)
+    real(wp), intent(in) :: pf(:)
+    real(wp), allocatable :: ff(:, :, :, :), fs(:, :, :, :)
     integer :: nd
     nd = self%nd
     allocate (ff(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                  self%dec%alo(3):self%dec%ahi(3)))
     ff = 0.0_wp
     associate (f => self%phase(fluid_phase))
-      ! (with the cell smoothing, the cells' mean pressures, as the other pressure forces)
-      if (allocated(fcell)) then
-        allocate (pf(f%pts%n))
-        call cell_mean(f%pts%n, product(self%dec%chi - self%dec%clo + 1), fcell, f%pts%vol, f%pts%pressure, pf)
-      else
-        pf = f%pts%pressure(1:f%pts%n)
-      end if
       call interphase_p2g(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, f%pts%vol, pf, &
                           f%pts%porosity, self%dec%alo, self%nporo, ff)
     end associate

@@ -39,6 +39,7 @@ module dpmpm_face_loads
     procedure :: absorbing_static
     procedure :: near_face
     procedure :: inner_nodes
+    procedure :: node_volume
   end type face_loads_t
 
 contains
@@ -263,6 +264,18 @@ contains
       x0 = x1
     end do
   end function kernel_integral
+
+  !> The volume of node idx's grid function inside the grid, the integral of N_I over
+  !> the grid's box: h^d inside, less at the faces and for the nodes beyond them.
+  real(wp) function node_volume(self, idx) result(v)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    integer :: t
+    v = 1.0_wp
+    do t = 1, self%nd
+      v = v*self%grid%h(t)*kernel_integral(self%kernel, real(-idx(t), wp), real(self%grid%ncells(t) - idx(t), wp))
+    end do
+  end function node_volume
 
   !> Nodal force of the prescribed pore pressure p_b of drained faces at node idx
   !> (ramped over pore_pressure_ramp), per unit porosity: A p_b n_out, shared with

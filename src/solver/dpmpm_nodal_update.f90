@@ -121,7 +121,7 @@ contains
   !> rforce and its work, over the step's mean solid velocity, to ext_work.
   subroutine nodal_update_coupled(nd, lo, olo, ohi, node_s, node_f, nporo, ndrag, gravity, faces, &
                                   mbc, implicit, time, dt, nvel_s, nvel_f, ext_work, drag_loss, damping, &
-                                  rnode, rforce)
+                                  rnode, rforce, fvol, thin)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: nporo(:, lo(1):, lo(2):, lo(3):), ndrag(:, lo(1):, lo(2):, lo(3):)
@@ -135,6 +135,10 @@ contains
     real(wp), intent(in) :: damping          !< local damping coefficient (0 = none)
     real(wp), intent(in), optional :: rnode(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout), optional :: rforce(3)
+    !> With fvol, the pore water's volume at the nodes (sum_p N_Ip V_p), and thin: where the
+    !> water fills less than thin of a node's volume inside the grid (node_volume), the
+    !> drained faces' pore pressure acts on neither phase there, since the water has left.
+    real(wp), intent(in), optional :: fvol(:, lo(1):, lo(2):, lo(3):), thin
     integer :: i, j, k, c
     real(wp) :: ms, mf, dn, vs(3), vf(3), fs(3), ff(3), vsn(3), vfn(3), tr(3), fps(3), fpf(3), v
     real(wp) :: cs(3), cf(3), ts(3), tf(3), fds(3), fdf(3), vr(3)
@@ -174,6 +178,12 @@ contains
             tf = faces%absorbing_static([i, j, k], .true.)
             fps = faces%pore_pressure_force(time, [i, j, k], faces%grid%bc)
             fpf = faces%pore_pressure_force(time, [i, j, k], mbc)
+            if (present(fvol) .and. (any(fps /= 0.0_wp) .or. any(fpf /= 0.0_wp))) then
+              if (fvol(1, i, j, k) < thin*faces%node_volume([i, j, k])) then
+                fps = 0.0_wp
+                fpf = 0.0_wp
+              end if
+            end if
           end if
           if (ms > 0.0_wp) then
             vs(1:nd) = node_s(2:1 + nd, i, j, k)/ms

@@ -282,14 +282,15 @@ contains
       call report_governing(self, dt)
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         ! Rigid bodies drive the skeleton at their nodes and the fluid there is solved
-        ! against it; rnode is allocated only with rigid bodies (unallocated, it is an
-        ! absent argument).
+        ! against it; rnode is allocated only with rigid bodies, fvol only with the
+        ! free-surface test (unallocated, each is an absent argument).
         if (self%has_rigid) call rigid_node_sums(self)
         rforce = 0.0_wp
         call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
                                   self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
                                   self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
-                                  self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce)
+                                  self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce, &
+                                  fvol, self%cfg%free_surface_fraction)
         if (self%has_rigid) self%drive_impulse = self%drive_impulse + dt*rforce
       end associate
       call self%timers%toc(t_nodal)

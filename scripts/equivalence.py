@@ -42,6 +42,7 @@ SCENES = {
     "c1_3d": 0.02,
     "consolidation_2d": 0.1,
     "dam_break_dry_bed_2d": 0.05,
+    "dam_seepage_2d": 0.1,
     "default": 0.1,
     "dry_block_2d": 0.05,
     "footing_dry_2d": 0.05,

@@ -6,7 +6,7 @@ program test_restart
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_rank, &
                      MPI_Comm_size, MPI_Barrier
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, finish_tests, am_root
   implicit none
@@ -14,12 +14,17 @@ program test_restart
   integer :: status, rank, nranks
   !> &run sort_every of the scene (0: the points are never sorted)
   integer :: sort_interval = 0
+  !> the scene is the seepage strip of inflow_scene (fluid points enter at x = 0)
+  logical :: inflow = .false.
+  !> steps of the run in one go (the checkpoint at half of them)
+  integer :: nsteps = 40
   call start_mpi()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   am_root = rank == 0
   call test_restart_continues_the_run_exactly()
   call test_restart_with_sorted_points_continues_exactly()
+  call test_inflow_points_keep_their_ids()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -69,14 +74,46 @@ contains
     cfg%bc(3) = bc_fixed
   end function scene
 
+  !> A saturated strip 0.4 m long and 1.6 m high (4 x 16 cells, linear, n = 0.3,
+  !> k = 1 m/s, K_f = 20 MPa, no gravity) with a pore pressure of 5 kPa on its drained face
+  !> x = 0 and 0 on x = 0.4 m: the water flows through along x, fluid points enter at
+  !> x = 0 and leave at x = 0.4 m, and the face x = 0 spans the ranks that split the
+  !> strip along y.
+  function inflow_scene(max_steps) result(cfg)
+    integer, intent(in) :: max_steps
+    type(config_t) :: cfg
+    cfg%name = 'restart'
+    cfg%ndim = 2
+    cfg%ncells = [4, 16, 1]
+    cfg%length = [0.4_wp, 1.6_wp, 1.0_wp]
+    cfg%t_end = 1.0_wp
+    cfg%max_steps = max_steps
+    cfg%drag = 'implicit'
+    cfg%output_dir = dir
+    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))
+    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
+                                      youngs_modulus=1.0e8_wp, poisson_ratio=0.3_wp, conductivity=1.0_wp)
+    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.0e7_wp)
+    cfg%regions(1)%lo = 0.0_wp
+    cfg%regions(1)%hi = [0.4_wp, 1.6_wp, 1.0_wp]
+    cfg%regions(1)%material = 1
+    cfg%regions(1)%fluid_material = 2
+    cfg%regions(1)%phase = 'saturated'
+    cfg%regions(1)%porosity = 0.3_wp
+    cfg%bc(1:4) = bc_roller
+    cfg%fluid_bc(1:2) = fbc_drained
+    cfg%pore_pressure(1) = 5.0e3_wp
+  end function inflow_scene
+
   !> Run cfg on comm and return the points of both sets (rank 0 of comm, sorted by id)
   !> with the end time, step, energy balance and the monitor's largest ratio and balance error.
-  subroutine run(cfg, comm_self, sx, sv, ss, fx, fv, fs, t, steps, drift, mon)
+  subroutine run(cfg, comm_self, sx, sv, ss, fx, fv, fs, t, steps, drift, mon, fids)
     type(config_t), intent(in) :: cfg
     logical, intent(in) :: comm_self
     real(wp), allocatable, intent(out) :: sx(:, :), sv(:, :), ss(:, :), fx(:, :), fv(:, :), fs(:, :)
     real(wp), intent(out) :: t, drift, mon(2)
     integer(i8), intent(out) :: steps
+    integer(i8), allocatable, intent(out) :: fids(:)       !< the fluid points' ids, sorted
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
     if (comm_self) then
@@ -86,7 +123,7 @@ contains
     end if
     call sim%run()
     call sim%gather_points(ids, sx, sv, ss)
-    call sim%gather_points(ids, fx, fv, fs, fluid=.true.)
+    call sim%gather_points(fids, fx, fv, fs, fluid=.true.)
     t = sim%time
     steps = sim%step
     drift = sim%energy_drift
@@ -113,29 +150,48 @@ contains
     sort_interval = 0
   end subroutine test_restart_with_sorted_points_continues_exactly
 
-  !> The scene run to step 40 in one go and to step 20 with a checkpoint, then restarted
-  !> from it to step 40: the same points to the bit.
+  !> Fluid points that enter at an inflow face keep their ids through a restart and on
+  !> fewer ranks: the seepage strip of inflow_scene, 400 steps in one go against 200, a
+  !> checkpoint and 200 more (32 points entered, ids 257 to 288 after the 256 of the start,
+  !> on 1, 2 and 3 ranks alike). With ids numbered per rank and counted from the largest
+  !> id at the restart, as before, the points that entered after a restart on 3 ranks took
+  !> other ids than in the run without a break.
+  subroutine test_inflow_points_keep_their_ids()
+    call begin_test('inflow_points_keep_their_ids')
+    inflow = .true.
+    nsteps = 400
+    call restart_matches_one_go()
+    inflow = .false.
+    nsteps = 40
+  end subroutine test_inflow_points_keep_their_ids
+
+  !> The scene run to step nsteps in one go and to half of it with a checkpoint, then
+  !> restarted from it to nsteps: the same points, with the same ids, to the bit.
   subroutine restart_matches_one_go()
     type(config_t) :: cfg
     real(wp), allocatable :: ax(:, :), av(:, :), as(:, :), afx(:, :), afv(:, :), afs(:, :)
     real(wp), allocatable :: bx(:, :), bv(:, :), bs(:, :), bfx(:, :), bfv(:, :), bfs(:, :)
     real(wp) :: ta, tb, da, db, dev, ma(2), mb(2)
     integer(i8) :: na, nb
+    integer(i8), allocatable :: aid(:), bid(:)
     logical :: exists, tmp_left
-    call run(scene(40), .false., ax, av, as, afx, afv, afs, ta, na, da, ma)
-    cfg = scene(20)
-    cfg%checkpoint_every = 20
-    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb)
+    call run(the_scene(nsteps), .false., ax, av, as, afx, afv, afs, ta, na, da, ma, aid)
+    if (rank == 0 .and. inflow) call check(maxval(aid) > 256_i8, 'fluid points entered (ids above 256)')
+    cfg = the_scene(nsteps/2)
+    cfg%checkpoint_every = nsteps/2
+    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb, bid)
     inquire (file=dir//'/restart.ckpt.h5', exist=exists)
     inquire (file=dir//'/restart.ckpt.h5.tmp', exist=tmp_left)
     call check(exists .and. .not. tmp_left, 'the checkpoint is written, no temporary left')
-    cfg = scene(40)
+    cfg = the_scene(nsteps)
     cfg%restart = dir//'/restart.ckpt.h5'
-    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb)
+    call run(cfg, .false., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb, bid)
     if (rank == 0) then
       print '(a,2i5,2es12.4)', '  steps, energy balance (one go, restarted):', na, nb, da, db
       call check(nb == na .and. tb == ta, 'same step count and time')
       call check(size(bx, 2) == size(ax, 2) .and. size(bfx, 2) == size(afx, 2), 'no point lost')
+      call check(size(bid) == size(aid), 'the same number of fluid points')
+      if (size(bid) == size(aid)) call check(all(bid == aid), 'the same fluid point ids')
       call check(all(bx == ax) .and. all(bv == av) .and. all(bs == as), 'solid points equal')
       call check(all(bfx == afx) .and. all(bfv == afv) .and. all(bfs == afs), 'fluid points equal')
       ! The work of the loads is summed over the ranks; restarted, the sum so far sits on
@@ -148,7 +204,9 @@ contains
     end if
     if (nranks > 1) then
       if (rank == 0) then
-        call run(cfg, .true., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb)
+        call run(cfg, .true., bx, bv, bs, bfx, bfv, bfs, tb, nb, db, mb, bid)
+        call check(size(bid) == size(aid), 'restart on fewer ranks: the same number of fluid points')
+        if (size(bid) == size(aid)) call check(all(bid == aid), 'restart on fewer ranks: the same ids')
         dev = max(maxval(abs(bx - ax)), maxval(abs(bfx - afx)))/maxval(abs(ax)) + &
               max(maxval(abs(bs - as)), maxval(abs(bfs - afs)))/maxval(abs(as))
         print '(a,es11.3)', '  restarted on 1 rank, relative deviation:', dev
@@ -157,5 +215,16 @@ contains
       call MPI_Barrier(MPI_COMM_WORLD)
     end if
   end subroutine restart_matches_one_go
+
+  !> The scene of the test: the column and block, or the seepage strip (inflow).
+  function the_scene(max_steps) result(cfg)
+    integer, intent(in) :: max_steps
+    type(config_t) :: cfg
+    if (inflow) then
+      cfg = inflow_scene(max_steps)
+    else
+      cfg = scene(max_steps)
+    end if
+  end function the_scene
 
 end program test_restart

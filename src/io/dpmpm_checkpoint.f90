@@ -30,11 +30,13 @@ module dpmpm_checkpoint
   private
   public :: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint, nmonitor
 
-  !> Numbers of the run monitor's state; checkpoints of earlier versions hold nstate_grid
-  !> numbers (no drag dissipation, no monitor), older ones fewer (no grid: refused).
+  !> Numbers of the run monitor's state; checkpoints of earlier versions hold
+  !> nstate_monitor numbers (no inflow count) or nstate_grid (no drag dissipation, no
+  !> monitor), older ones fewer (no grid: refused).
   integer, parameter :: nmonitor = 14
   integer, parameter :: nstate_grid = 18
-  integer, parameter :: nstate = nstate_grid + 1 + nmonitor
+  integer, parameter :: nstate_monitor = nstate_grid + 1 + nmonitor
+  integer, parameter :: nstate = nstate_monitor + 2
 
   !> Scalars of a run's state that the points do not carry.
   type :: checkpoint_state_t
@@ -53,6 +55,9 @@ module dpmpm_checkpoint
     real(wp) :: drag_loss = 0.0_wp        !< energy dissipated by drag (the monitor's D)
     logical :: has_monitor = .false.      !< monitor holds a state (not in older checkpoints)
     real(wp) :: monitor(nmonitor) = 0.0_wp !< the run monitor's state (dpmpm_energy)
+    logical :: has_inflow = .false.       !< the inflow ids below are recorded
+    integer(i8) :: inflow_id0 = 0         !< largest fluid point id of the run's start
+    integer(i8) :: ninflow = 0            !< fluid points added at inflow faces so far
   end type checkpoint_state_t
 
 contains
@@ -150,7 +155,7 @@ contains
     call h5dget_space_f(dset, space, err)
     call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
     call h5sclose_f(space, err)
-    if (dims(1) /= nstate .and. dims(1) /= nstate_grid) then
+    if (dims(1) /= nstate .and. dims(1) /= nstate_monitor .and. dims(1) /= nstate_grid) then
       problem = path//' was written by an earlier dpmpm that did not record the grid''s '// &
                 'origin and length, so it cannot be checked against this input; run the '// &
                 'scene again from its start'
@@ -164,7 +169,8 @@ contains
     call h5check(err, 'h5dread_f(state)', where)
     call h5dclose_f(dset, err)
     st = array_to_state(state)
-    st%has_monitor = dims(1) == nstate
+    st%has_monitor = dims(1) >= nstate_monitor
+    st%has_inflow = dims(1) == nstate
     if (st%ndim /= nd .or. any(st%ncells(1:nd) /= ncells(1:nd)) .or. &
         any(abs(st%origin(1:nd) - origin(1:nd)) > 1.0e-12_wp*length(1:nd)) .or. &
         any(abs(st%length(1:nd) - length(1:nd)) > 1.0e-12_wp*length(1:nd))) then
@@ -223,7 +229,7 @@ contains
     real(wp) :: a(nstate)
     a = [real(st%step, wp), st%time, st%ext_work, st%energy0, st%energy_scale, st%energy_error, &
          st%next_frame, real(st%nframes, wp), real(st%ndim, wp), real(st%ncells, wp), st%origin, &
-         st%length, st%drag_loss, st%monitor]
+         st%length, st%drag_loss, st%monitor, real(st%inflow_id0, wp), real(st%ninflow, wp)]
   end function state_to_array
 
   pure function array_to_state(a) result(st)
@@ -242,7 +248,9 @@ contains
     st%origin = a(13:15)
     st%length = a(16:18)
     st%drag_loss = a(19)
-    st%monitor = a(20:nstate)
+    st%monitor = a(20:nstate_monitor)
+    st%inflow_id0 = nint(a(nstate_monitor + 1), i8)
+    st%ninflow = nint(a(nstate_monitor + 2), i8)
   end function array_to_state
 
   !> The packed points of a set: this rank's at its offset in the global order.

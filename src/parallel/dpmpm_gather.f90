@@ -4,10 +4,10 @@ module dpmpm_gather
   use dpmpm_kinds, only: wp, i8
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Gather, MPI_Gatherv, MPI_INTEGER, &
-                     MPI_INTEGER8, MPI_DOUBLE_PRECISION
+                     MPI_INTEGER8, MPI_DOUBLE_PRECISION, MPI_Allgather, MPI_Allgatherv
   implicit none
   private
-  public :: gather_points, gather_columns, gather_layout, sort_index
+  public :: gather_points, gather_columns, gather_layout, sort_index, global_places
 
 contains
 
@@ -88,6 +88,36 @@ contains
     call MPI_Gatherv(buf, m*n, MPI_DOUBLE_PRECISION, all, m*counts, m*displs, &
                      MPI_DOUBLE_PRECISION, 0, comm)
   end subroutine gather_columns
+
+  !> The place (1-based) of each of this rank's keys among the keys of all ranks of comm
+  !> in ascending order, and how many keys there are in all (on every rank). Keys are
+  !> unique over the ranks, so the places do not depend on how the keys are spread.
+  subroutine global_places(keys, comm, place, ntot)
+    integer(i8), intent(in) :: keys(:)
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(out) :: place(:)
+    integer, intent(out) :: ntot
+    integer, allocatable :: counts(:), displs(:), order(:)
+    integer(i8), allocatable :: all(:)
+    integer :: nr, rank, j, k
+    call MPI_Comm_size(comm, nr)
+    call MPI_Comm_rank(comm, rank)
+    allocate (counts(nr), displs(nr))
+    call MPI_Allgather(size(keys), 1, MPI_INTEGER, counts, 1, MPI_INTEGER, comm)
+    displs(1) = 0
+    do k = 2, nr
+      displs(k) = displs(k - 1) + counts(k - 1)
+    end do
+    ntot = sum(counts)
+    if (ntot == 0) return
+    allocate (all(ntot))
+    call MPI_Allgatherv(keys, size(keys), MPI_INTEGER8, all, counts, displs, MPI_INTEGER8, comm)
+    order = sort_index(all)
+    do j = 1, ntot
+      k = order(j) - displs(rank + 1)
+      if (k >= 1 .and. k <= size(keys)) place(k) = j
+    end do
+  end subroutine global_places
 
   !> Permutation that sorts a (merge sort, stable).
   function sort_index(a) result(idx)

@@ -184,11 +184,15 @@ contains
     if (self%two_phase) then
       nfl = self%phase(2)%pts%n
       call MPI_Allreduce(MPI_IN_PLACE, nfl, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
-      ! Ids of fluid points added at inflow faces start above every id there is.
-      self%inflow_id0 = 0
-      if (self%phase(2)%pts%n > 0) self%inflow_id0 = maxval(self%phase(2)%pts%id(1:self%phase(2)%pts%n))
-      call MPI_Allreduce(MPI_IN_PLACE, self%inflow_id0, 1, MPI_INTEGER8, MPI_MAX, self%dec%comm)
-      self%ninflow = 0
+      ! Ids of fluid points added at inflow faces start above every id there is (a restart
+      ! goes on with the count of its checkpoint; restart_from sets it, or -1 where an
+      ! earlier checkpoint has none: then above every id at the restart).
+      if (len_trim(cfg%restart) == 0 .or. self%ninflow < 0) then
+        self%inflow_id0 = 0
+        if (self%phase(2)%pts%n > 0) self%inflow_id0 = maxval(self%phase(2)%pts%id(1:self%phase(2)%pts%n))
+        call MPI_Allreduce(MPI_IN_PLACE, self%inflow_id0, 1, MPI_INTEGER8, MPI_MAX, self%dec%comm)
+        self%ninflow = 0
+      end if
       write (line, '(a,i0,a,a)') 'dpmpm: ', nfl, ' fluid points; drag ', trim(cfg%drag)
       if (cfg%porosity_gradient) line = trim(line)//'; with the porosity-gradient term'
       call self%log%info(trim(line))
@@ -462,6 +466,8 @@ contains
     end if
     self%step = st%step
     self%time = st%time
+    self%inflow_id0 = st%inflow_id0
+    self%ninflow = merge(st%ninflow, -1_i8, st%has_inflow)
     ! ext_work is kept per rank and summed in the diagnostics: the total goes to rank 0.
     self%ext_work = 0.0_wp
     if (self%dec%rank == 0) self%ext_work = st%ext_work
@@ -524,7 +530,8 @@ contains
                             energy0=self%energy0, energy_scale=self%energy_scale, &
                             energy_error=self%energy_error, next_frame=self%next_frame, &
                             nframes=self%nframes, ndim=self%nd, ncells=self%cfg%ncells, &
-                            origin=self%cfg%origin, length=self%cfg%length)
+                            origin=self%cfg%origin, length=self%cfg%length, &
+                            inflow_id0=self%inflow_id0, ninflow=self%ninflow)
     path = checkpoint_path(self%cfg%output_dir, self%cfg%name)
     if (self%two_phase) then
       call write_checkpoint(path, self%cfg%output_dir, self%dec%comm, st, self%phase(1)%pts, self%phase(2)%pts)

@@ -14,6 +14,7 @@ module dpmpm_step
   use dpmpm_materials, only: stress_update, model_fluid
   use dpmpm_benchmarks, only: benchmark_body_force
   use dpmpm_migrate, only: migrate
+  use dpmpm_gather, only: global_places
   use dpmpm_cell_order, only: sort_by_cell
   use dpmpm_mirror, only: mirror_sign
   use dpmpm_particles, only: particle_set_t
@@ -482,13 +483,15 @@ contains
     class(state_t), intent(inout) :: self
     type(particle_set_t), intent(inout) :: ps
     type(particle_set_t), intent(in) :: sol
-    integer :: f, d, side, cb, p, k, nc, w(3), ic, m, c(3)
-    integer(i8) :: id
+    integer :: f, d, side, cb, p, k, nc, w(3), ic, m, c(3), n0, nnew
     real(wp), allocatable :: acc(:, :), sacc(:, :)
-    integer, allocatable :: first(:)
+    integer, allocatable :: first(:), place(:)
+    integer(i8), allocatable :: keys(:)
     real(wp) :: vcell, vt, deficit, vn, x(3), pface, poro, rho, sg, xwide(2)
     if (.not. any(self%fbc(1:2*self%nd) == fbc_drained)) return
     vcell = product(self%grid%h(1:self%nd))
+    n0 = ps%n
+    allocate (keys(0))
     do f = 1, 2*self%nd
       if (self%fbc(f) /= fbc_drained) cycle
       d = (f + 1)/2
@@ -557,14 +560,25 @@ contains
         pface = self%faces%pore_pressure_at(self%time, f, x)
         m = ps%mat(first(ic))
         rho = fluid_density(self%mats(m)%density, self%mats(m)%bulk_fluid, pface)
-        id = self%inflow_id0 + 1_i8 + int(self%dec%rank, i8) + int(self%dec%nranks, i8)*self%ninflow
-        self%ninflow = self%ninflow + 1
-        call ps%append(id, m, x, acc(7:6 + self%nd, ic)/acc(3, ic), poro*rho*vt, vt, &
+        ! (the key of the face and global cell orders the new points of the step over the
+        ! ranks; their ids follow below)
+        keys = [keys, int(f - 1, i8)*product(int(self%grid%ncells, i8)) + 1_i8 + &
+                int(c(1) + self%dec%clo(1), i8) + int(self%grid%ncells(1), i8)* &
+                (int(c(2) + self%dec%clo(2), i8) + int(self%grid%ncells(2), i8)*int(c(3) + self%dec%clo(3), i8))]
+        call ps%append(0_i8, m, x, acc(7:6 + self%nd, ic)/acc(3, ic), poro*rho*vt, vt, &
                        [-pface, -pface, -pface, 0.0_wp, 0.0_wp, 0.0_wp], porosity=poro, &
                        pressure=pface, kinv=acc(6, ic)/acc(3, ic))
       end do
       deallocate (acc, sacc, first)
     end do
+    ! Ids above every id of the run's start, numbered over the ranks in the order of the
+    ! keys: the same ids on any number of ranks and after a restart (the count is kept).
+    allocate (place(size(keys)))
+    call global_places(keys, self%dec%comm, place, nnew)
+    do k = 1, size(keys)
+      ps%id(n0 + k) = self%inflow_id0 + self%ninflow + int(place(k), i8)
+    end do
+    self%ninflow = self%ninflow + int(nnew, i8)
 
   contains
 

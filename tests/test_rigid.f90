@@ -153,10 +153,6 @@ contains
     call sim%free()
   end subroutine test_plate_compresses_saturated_column_undrained
 
-  !> Rate k of the drive force along y, least squares over the records of sim. Each record
-  !> is the mean force over the interval since the one before: against the ramp k t, the
-  !> mean is k at the interval's midpoint. The fit leaves out the ringing of the sudden
-  !> start.
   !> inputs/footing_prandtl_2d.nml with volumetric_smoothing = 'cell': half of a rough
   !> rigid strip footing B = 1 m wide pushed at 0.05 m/s into weightless Tresca soil
   !> (c = 10 kPa, phi = psi = 0, E = 10 MPa, nu = 0.3), h = 0.1 m, 2 x 2 points per cell,
@@ -218,6 +214,10 @@ contains
     t = what//' (measured '//trim(adjustl(buf))//')'
   end function say_q
 
+  !> Rate k of the drive force along y, least squares over the records of sim. Each record
+  !> is the mean force over the interval since the one before: against the ramp k t, the
+  !> mean is k at the interval's midpoint. The fit leaves out the ringing of the sudden
+  !> start.
   real(wp) function force_rate(sim) result(k)
     type(simulation_t), intent(in) :: sim
     real(wp) :: sft, stt, tm

@@ -10,7 +10,8 @@
 !> one-pass projection of a nodal field through a point set (in momentum_project_p2g)
 !> equals its interpolation to the points followed by the momentum map, and the
 !> fused passes equal the kernels they join (the fluid points' divergences the traces
-!> of the point gradients); the 3D forms of p2g and g2p (compiled per stencil width)
+!> of the point gradients, the skeleton's p2g with its porosity sums the two kernels
+!> in turn); the 3D forms of p2g and g2p (compiled per stencil width)
 !> equal sums over the nodes written out from the tensor-product weights.
 program test_transfer
   use dpmpm_mpi_start, only: start_mpi
@@ -20,7 +21,7 @@ program test_transfer
   use dpmpm_stencil, only: psi_stencil, tensor_weights, stencil_offsets
   use dpmpm_materials, only: voigt_to_tensor
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, fluid_p2g, point_divergences, &
-                            momentum_project_p2g, interp_two_values, solid_porosity_p2g
+                            momentum_project_p2g, interp_two_values, solid_porosity_p2g, porous_p2g
   use dpmpm_drag, only: gravity_drag
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests
   implicit none
@@ -39,6 +40,7 @@ program test_transfer
   call test_two_d_forms_match_general_form()
   call test_projection_is_interpolation_then_momentum_map()
   call test_fused_passes_match_separate_kernels()
+  call test_porous_p2g_is_p2g_and_porosity_sums()
   call test_three_d_forms_match_direct_sums()
   call test_three_d_remap_and_two_phase_forms_match_direct_sums()
   status = finish_tests()
@@ -493,9 +495,10 @@ contains
         call check_close(rel, 0.0_wp, 0.0_wp, 2.0e-15_wp, trim(tag)//' gathered in g2p (relative)')
         call make_nodes(nd, 1 + nd, lo, one)
         call momentum_p2g(nd, nw, npt, i0, sw, mass, vp, lo, one)
-        call make_nodes(nd, nd, lo, two)
-        call make_nodes(nd, 1 + nd, lo, mom)
-        call momentum_project_p2g(nd, nw, npt, i0, sw, mass, vp, lo, gp, mom, two)
+        ! (the projection in the force slots of the node field)
+        call make_nodes(nd, 1 + 2*nd, lo, mom)
+        call momentum_project_p2g(nd, nw, npt, i0, sw, mass, vp, lo, gp, mom)
+        two = mom(2 + nd:1 + 2*nd, :, :, :)
         call same_values(pack(mom(2:1 + nd, :, :, :), .true.), pack(one(2:1 + nd, :, :, :), .true.), &
                          trim(tag)//' remapped momentum', worst)
         rel = maxval(abs(one(2:1 + nd, :, :, :) - two))/maxval(abs(two))
@@ -542,6 +545,45 @@ contains
     end do
     print '(a,es10.3)', '  largest relative difference ', worst
   end subroutine test_fused_passes_match_separate_kernels
+
+  !> The skeleton's p2g with its porosity sums in one pass (porous_p2g) against p2g and
+  !> solid_porosity_p2g in turn, in 1D, 2D and 3D with every B-spline, with and without
+  !> point forces, on points of which every fourth has no porosity (it adds nothing to
+  !> the sums): the same numbers, bit for bit.
+  subroutine test_porous_p2g_is_p2g_and_porosity_sums()
+    integer :: nd, kernel, lo(3), nw(3), i0(3, npt), p, pass
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
+    real(wp) :: v(3, npt), stress(6, npt), poro(npt), kinv(npt)
+    real(wp), allocatable :: na(:, :, :, :), nb(:, :, :, :), sa(:, :, :, :), sb(:, :, :, :)
+    character(len=40) :: tag
+    call begin_test('porous_p2g_is_p2g_and_porosity_sums')
+    call point_data(mass, vol, v)
+    do p = 1, npt
+      stress(:, p) = [1.0e3_wp, -2.0e3_wp, 5.0e2_wp, -3.0e2_wp, 4.0e2_wp, 7.0e2_wp]*real(1 + mod(p, 4), wp)
+      poro(p) = 0.3_wp + 0.01_wp*real(mod(p, 9), wp)
+      if (mod(p, 4) == 0) poro(p) = 0.0_wp
+      kinv(p) = 1.0e5_wp*(1.0_wp + 0.1_wp*real(mod(p, 5), wp))
+    end do
+    do nd = 1, 3
+      do kernel = 1, ngrid_kernels
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+        do pass = 1, 2
+          write (tag, '(a,1x,i0,a,a)') trim(kernel_names(kernel)), nd, 'D', &
+            trim(merge(' with point forces', '                  ', pass == 1))
+          call make_nodes(nd, 1 + 2*nd, lo, na)
+          call make_nodes(nd, 1 + 2*nd, lo, nb)
+          call make_nodes(nd, 3, lo, sa)
+          call make_nodes(nd, 3, lo, sb)
+          call p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, pass == 1, lo, na)
+          call solid_porosity_p2g(nw, npt, i0, sw, mass, poro, kinv, lo, sa)
+          call porous_p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, pass == 1, lo, nb, poro, &
+                          kinv, sb)
+          call check(all(nb == na), trim(tag)//': mass, momentum and forces')
+          call check(all(sb == sa) .and. maxval(sa) > 0.0_wp, trim(tag)//': porosity sums')
+        end do
+      end do
+    end do
+  end subroutine test_porous_p2g_is_p2g_and_porosity_sums
 
   !> b against a, relative to the largest |a| (which must not be 0); worst keeps the largest.
   subroutine same_values(b, a, label, worst)
@@ -687,7 +729,7 @@ contains
     real(wp) :: v(3, npt), fp(3, npt), poro(npt), pres(npt), kinv(npt), w(64), dw(3, 64)
     real(wp) :: vgrad(9, npt), div(npt), div2(npt), lg(3, 3), d1, d2
     real(wp), allocatable :: nvel(:, :, :, :), nvel2(:, :, :, :), node(:, :, :, :), ref(:, :, :, :)
-    real(wp), allocatable :: proj(:, :, :, :), rproj(:, :, :, :), ns(:, :, :, :), rs(:, :, :, :)
+    real(wp), allocatable :: rproj(:, :, :, :), ns(:, :, :, :), rs(:, :, :, :)
     real(wp), allocatable :: drag(:, :, :, :), rdrag(:, :, :, :), fvol(:, :, :, :), rfvol(:, :, :, :)
     character(len=32) :: tag
     call begin_test('three_d_remap_and_two_phase_forms_match_direct_sums')
@@ -736,7 +778,6 @@ contains
       ! the momentum remap, alone and with the projection of fp
       call make_nodes(nd, 1 + 2*nd, lo, node)
       call make_nodes(nd, 1 + 2*nd, lo, ref)
-      call make_nodes(nd, nd, lo, proj)
       call make_nodes(nd, nd, lo, rproj)
       call momentum_p2g(nd, nw, npt, i0, sw, mass, v, lo, node)
       do p = 1, npt
@@ -749,9 +790,9 @@ contains
       end do
       call same_slots(node(2:4, :, :, :), ref(2:4, :, :, :), trim(tag)//' momentum remap')
       node = 0.0_wp
-      call momentum_project_p2g(nd, nw, npt, i0, sw, mass, v, lo, fp, node, proj)
+      call momentum_project_p2g(nd, nw, npt, i0, sw, mass, v, lo, fp, node)
       call same_slots(node(2:4, :, :, :), ref(2:4, :, :, :), trim(tag)//' remap with projection: momentum')
-      call same_slots(proj, rproj, trim(tag)//' remap with projection: projection')
+      call same_slots(node(5:7, :, :, :), rproj, trim(tag)//' remap with projection: projection')
       ! the fluid's p2g and the skeleton's porosity sums
       call make_nodes(nd, 1 + 2*nd, lo, ns)
       call make_nodes(nd, 1 + 2*nd, lo, rs)

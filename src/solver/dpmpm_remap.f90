@@ -26,14 +26,19 @@ contains
   !> shrunk as the step's drag would (relax_remapped): without it the step is
   !> unstable on scattered points (doc/verification.md, "Long runs"). The fluid
   !> points get the divergences of the fluid's and the solid's velocity.
-  !> locked: the points of each phase hold in lockp the velocity that the implicit drag
-  !> locks both phases to (locked_velocity), gathered by g2p; the remap carries it back
-  !> to the grid through each point set (remove_common_split).
+  !> locked: the points of each phase hold in lockp the velocity c that the implicit drag
+  !> locks both phases to (locked_velocity), gathered by g2p. There the phases' nodal
+  !> increments are nearly equal; each point set projects them with its own masses, and
+  !> the difference of the two projections would reach the pore-pressure update as a
+  !> relative velocity no drag acted on. The remap carries c to the grid through each
+  !> point set (P c, in the force slots of the phase's node field), and P_f c - P_s c is
+  !> taken from the remapped relative velocity (remove_split; doc/verification.md,
+  !> "Long runs").
   subroutine musl_remap(self, dt, locked)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     logical, intent(in) :: locked
-    real(wp), allocatable :: wstep(:, :, :, :), proj(:, :, :, :, :)
+    real(wp), allocatable :: wstep(:, :, :, :)
     integer :: ip, nd
     logical :: coupled
     nd = self%nd
@@ -41,21 +46,15 @@ contains
     ! Relative velocity of the nodal update, before the remap overwrites it.
     if (coupled) wstep = self%phase(fluid_phase)%nvel(nd + 1:2*nd, :, :, :) - &
                          self%phase(solid_phase)%nvel(nd + 1:2*nd, :, :, :)
-    if (locked) then
-      ! The locked velocity goes back to the grid in the remap's own pass
-      ! (remove_common_split uses the projections).
-      associate (n => self%phase(solid_phase)%node)
-        allocate (proj(nd, size(n, 2), size(n, 3), size(n, 4), 2))
-      end associate
-      proj = 0.0_wp
-      do ip = 1, self%nph
-        call remap_velocities(self, self%phase(ip), self%phase(ip)%lockp, proj(:, :, :, :, ip))
-      end do
-    else
-      do ip = 1, self%nph
+    ! (locked: the locked velocity goes back to the grid in the remap's own pass, into
+    ! the force slots of each phase's node field, for remove_split)
+    do ip = 1, self%nph
+      if (locked) then
+        call remap_velocities(self, self%phase(ip), self%phase(ip)%lockp)
+      else
         call remap_velocities(self, self%phase(ip))
-      end do
-    end if
+      end if
+    end do
     ! the nodes of rigid bodies move with them in the remapped field too
     if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
                                                self%phase(solid_phase)%node, self%rnode, self%grid, dt, &
@@ -64,7 +63,9 @@ contains
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, s%node, f%node, &
                        s%nvel, f%nvel)
-        if (locked) call remove_common_split(self, proj)
+        if (locked) &
+          call remove_split(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, f%node, &
+                            s%node(nd + 2:1 + 2*nd, :, :, :), f%node(nd + 2:1 + 2*nd, :, :, :), s%nvel, f%nvel)
         if (locked) &
           call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
                               f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
@@ -89,48 +90,24 @@ contains
     end if
   end subroutine musl_remap
 
-  !> Where the implicit drag locks the phases, their nodal increments are nearly
-  !> equal; each point set projects them with its own masses, and the difference
-  !> of the two projections would reach the pore-pressure update as a relative
-  !> velocity no drag acted on. The locked velocity c (locked_velocity) is carried
-  !> to the points of each set and back (P c, summed in proj by remap_velocities), and
-  !> P_f c - P_s c is taken from the remapped relative velocity (remove_split;
-  !> doc/verification.md, "Long runs").
-  subroutine remove_common_split(self, proj)
-    class(state_t), intent(inout) :: self
-    real(wp), contiguous, intent(inout) :: proj(:, :, :, :, :)
-    integer :: ip, nd
-    nd = self%nd
-    do ip = 1, 2
-      associate (ph => self%phase(ip))
-        call self%mirror%fold(proj(:, :, :, :, ip), 0, ph%bc)
-        call self%dec%halo_sum(proj(:, :, :, :, ip))
-      end associate
-    end do
-    associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-      call remove_split(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, f%node, &
-                        proj(:, :, :, :, solid_phase), proj(:, :, :, :, fluid_phase), s%nvel, f%nvel)
-    end associate
-  end subroutine remove_common_split
-
   !> Nodal velocities (new slots of ph%nvel, owned nodes) from the point momenta of
   !> the phase mapped to the grid again; the masses in ph%node are those of the step.
   !> Components held by the phase's face conditions are zero. With lockp (the locked
-  !> velocity at the phase's points), the same pass adds the momentum of its projection
-  !> through the phase's points to proj (momentum_project_p2g; neither folded nor
-  !> summed over the ranks).
-  subroutine remap_velocities(self, ph, lockp, proj)
+  !> velocity at the phase's points), the same pass puts the momentum of its projection
+  !> through the phase's points into the force slots of ph%node (momentum_project_p2g),
+  !> folded and summed over the ranks with the momenta.
+  subroutine remap_velocities(self, ph, lockp)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: ph
     real(wp), contiguous, intent(in), optional :: lockp(:, :)
-    real(wp), contiguous, intent(inout), optional :: proj(:, :, :, :)
     integer :: nd
     nd = self%nd
-    ! Reuse the momentum slots of node(); the masses are unchanged (zero beyond the box).
+    ! Reuse the momentum and force slots of node(); the masses are unchanged (zero beyond
+    ! the box).
     ph%node(2:1 + 2*nd, self%zlo(1):self%zhi(1), self%zlo(2):self%zhi(2), self%zlo(3):self%zhi(3)) = 0.0_wp
     if (present(lockp)) then
       call momentum_project_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, &
-                                self%dec%alo, lockp, ph%node, proj)
+                                self%dec%alo, lockp, ph%node)
     else
       call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, &
                         ph%node)

@@ -14,7 +14,8 @@ module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: voigt_to_tensor
   use dpmpm_drag, only: gravity_drag
-  use dpmpm_transfer_w2, only: p2g_2d_w2 => p2g_2d, p2g_3d_w2 => p2g_3d, g2p_2d_w2 => g2p_2d, &
+  use dpmpm_transfer_w2, only: p2g_2d_w2 => p2g_2d, p2g_3d_w2 => p2g_3d, porous_p2g_2d_w2 => porous_p2g_2d, &
+    porous_p2g_3d_w2 => porous_p2g_3d, g2p_2d_w2 => g2p_2d, &
     g2p_3d_w2 => g2p_3d, point_gradient_2d_w2 => point_gradient_2d, &
     point_divergences_2d_w2 => point_divergences_2d, momentum_project_p2g_2d_w2 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w2 => momentum_p2g_2d, interp_two_values_2d_w2 => interp_two_values_2d, &
@@ -24,7 +25,8 @@ module dpmpm_transfer
     point_divergences_3d_w2 => point_divergences_3d, momentum_project_p2g_3d_w2 => momentum_project_p2g_3d, &
     momentum_p2g_3d_w2 => momentum_p2g_3d, fluid_p2g_3d_w2 => fluid_p2g_3d, &
     solid_porosity_p2g_3d_w2 => solid_porosity_p2g_3d
-  use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, g2p_2d_w3 => g2p_2d, &
+  use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, porous_p2g_2d_w3 => porous_p2g_2d, &
+    porous_p2g_3d_w3 => porous_p2g_3d, g2p_2d_w3 => g2p_2d, &
     g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
     point_divergences_2d_w3 => point_divergences_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w3 => momentum_p2g_2d, interp_two_values_2d_w3 => interp_two_values_2d, &
@@ -34,7 +36,8 @@ module dpmpm_transfer
     point_divergences_3d_w3 => point_divergences_3d, momentum_project_p2g_3d_w3 => momentum_project_p2g_3d, &
     momentum_p2g_3d_w3 => momentum_p2g_3d, fluid_p2g_3d_w3 => fluid_p2g_3d, &
     solid_porosity_p2g_3d_w3 => solid_porosity_p2g_3d
-  use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, g2p_2d_w4 => g2p_2d, &
+  use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, porous_p2g_2d_w4 => porous_p2g_2d, &
+    porous_p2g_3d_w4 => porous_p2g_3d, g2p_2d_w4 => g2p_2d, &
     g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
     point_divergences_2d_w4 => point_divergences_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w4 => momentum_p2g_2d, interp_two_values_2d_w4 => interp_two_values_2d, &
@@ -48,7 +51,7 @@ module dpmpm_transfer
   private
   public :: p2g, g2p, point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
   public :: interp_two_values
-  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, mixture_flux, reaches_thin_node
+  public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux, reaches_thin_node
   public :: body_force_work, volume_p2g
 
 contains
@@ -127,6 +130,41 @@ contains
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine p2g
+
+  !> p2g of a porous skeleton's points (as p2g without body accelerations) and their porosity sums
+  !> (as solid_porosity_p2g) in one pass where a kernel of fixed dimension takes both (2D;
+  !> 3D of one width); otherwise the two kernels in turn. The same sums either way.
+  subroutine porous_p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+    integer, intent(in) :: nd, nw(3), n
+    logical, intent(in) :: point_forces
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :)
+    real(wp), contiguous, intent(in) :: mass(:), v(:, :), vol(:), stress(:, :), poro(:), kinv(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):), sporo(:, lo(1):, lo(2):, lo(3):)
+    if (nd == 2) then
+      select case (nw(1))
+      case (2)
+        call porous_p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+      case (3)
+        call porous_p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+      case default
+        call porous_p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+      end select
+    else if (nd == 3 .and. all(nw == nw(1))) then
+      select case (nw(1))
+      case (2)
+        call porous_p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+      case (3)
+        call porous_p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+      case default
+        call porous_p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+      end select
+    else
+      call p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+      call solid_porosity_p2g(nw, n, i0, sw, mass, poro, kinv, lo, sporo)
+    end if
+  end subroutine porous_p2g
 
   !> Grid to particle: FLIP/PIC blend of the velocity, position update with the
   !> new nodal velocity, and the velocity gradient from the new nodal velocity (USL).
@@ -350,36 +388,36 @@ contains
 
   !> The MUSL remap with the locked velocity f in one pass over the points of a phase:
   !> the momenta node(2:1+nd) += sum N_I m_p v_p (as momentum_p2g) and the momentum of
-  !> f's projection through this point set, proj(1:nd) += sum_p N_I m_p fp_p, where
-  !> fp_p = sum_J N_J f_J is f at the points (g2p gathers it in its pass). Divided by the
-  !> nodal mass it is P f.
-  subroutine momentum_project_p2g(nd, nw, n, i0, sw, mass, v, lo, fp, node, proj)
+  !> f's projection through this point set, node(2+nd:1+2nd) += sum_p N_I m_p fp_p (the
+  !> force slots, free in the remap), where fp_p = sum_J N_J f_J is f at the points (g2p
+  !> gathers it in its pass). Divided by the nodal mass it is P f.
+  subroutine momentum_project_p2g(nd, nw, n, i0, sw, mass, v, lo, fp, node)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:), v(:, :), fp(:, :)
     integer, intent(in) :: lo(3)
-    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):), proj(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, vc(3)
     if (nd == 2) then
       select case (nw(1))
       case (2)
-        call momentum_project_p2g_2d_w2(n, i0, sw, mass, v, lo, fp, node, proj)
+        call momentum_project_p2g_2d_w2(n, i0, sw, mass, v, lo, fp, node)
       case (3)
-        call momentum_project_p2g_2d_w3(n, i0, sw, mass, v, lo, fp, node, proj)
+        call momentum_project_p2g_2d_w3(n, i0, sw, mass, v, lo, fp, node)
       case default
-        call momentum_project_p2g_2d_w4(n, i0, sw, mass, v, lo, fp, node, proj)
+        call momentum_project_p2g_2d_w4(n, i0, sw, mass, v, lo, fp, node)
       end select
       return
     end if
     if (nd == 3 .and. all(nw == nw(1))) then
       select case (nw(1))
       case (2)
-        call momentum_project_p2g_3d_w2(n, i0, sw, mass, v, lo, fp, node, proj)
+        call momentum_project_p2g_3d_w2(n, i0, sw, mass, v, lo, fp, node)
       case (3)
-        call momentum_project_p2g_3d_w3(n, i0, sw, mass, v, lo, fp, node, proj)
+        call momentum_project_p2g_3d_w3(n, i0, sw, mass, v, lo, fp, node)
       case default
-        call momentum_project_p2g_3d_w4(n, i0, sw, mass, v, lo, fp, node, proj)
+        call momentum_project_p2g_3d_w4(n, i0, sw, mass, v, lo, fp, node)
       end select
       return
     end if
@@ -387,7 +425,7 @@ contains
       vc(1:nd) = mass(p)*fp(1:nd, p)
 #include "dpmpm_stencil_do_3d.inc"
       node(2:1 + nd, i, j, k) = node(2:1 + nd, i, j, k) + nn*mass(p)*v(:, p)
-      proj(1:nd, i, j, k) = proj(1:nd, i, j, k) + nn*vc(1:nd)
+      node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + nn*vc(1:nd)
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine momentum_project_p2g

@@ -216,8 +216,8 @@ def main():
         md.append("| dim | kernel | scheme | points | ms / step | M point-updates / s | against the peer |"
                   " bytes / point | stages (share of the step) |")
         md.append("|---|---|---|---|---|---|---|---|---|")
-        # (The log gives the wall time to 10 ms: the runs differ by enough steps that this
-        # is under 1 % of their difference, 60 steps of about 20 ms in 3D.)
+        # (In 3D the runs differ by 60 steps of about 20 ms: a run's first steps are its
+        # slow ones, and the log gives the wall time to 1 ms.)
         for nd, cells, size, s1, s2 in ((2, 360, 0.4, 20, 120), (3, 64, 0.375, 4, 64)):
             npts = block_points(nd, cells, size)
             fns = {}
@@ -270,7 +270,7 @@ def main():
         md.append("### Two phases against one (the same solid points, linear kernel, implicit drag)\n")
         md.append("| dim | solid points | dry ms / step | saturated ms / step | ratio |")
         md.append("|---|---|---|---|---|")
-        # (80 steps of the 3D dry block: 10 ms of wall clock resolution is 1.5 % of them)
+        # (80 steps apart in 3D: the first steps of the short run are the slow ones)
         for nd, cells, s1, s2 in ((2, 96, 20, 220), (3, 20, 4, 84)):
             vals, _ = interleaved({phase: (lambda nd=nd, cells=cells, s1=s1, s2=s2, phase=phase: step_time(
                 lambda steps: two_phase_scene(nd, cells, phase, steps, work), n(s1), n(s2), work))

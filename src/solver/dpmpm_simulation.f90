@@ -654,7 +654,7 @@ contains
     call write_verification(self)
     call report_mls(self)
     write (line, '(a,i0,a,es12.5,a)') 'dpmpm: done, ', self%step, ' steps to t = ', &
-      self%time, ' in '//ftoa(MPI_Wtime() - self%wall_start, 2)//' s'
+      self%time, ' in '//ftoa(MPI_Wtime() - self%wall_start, 3)//' s'
     if (self%stopped /= 0) line = 'dpmpm: ended early, '//line(len('dpmpm: done, ') + 1:)
     call self%log%info(line)
     write (line, '(a,es10.3)') '  energy balance: largest change / largest kinetic + stored energy ', &

@@ -131,9 +131,10 @@ contains
     end do
   end subroutine p2g
 
-  !> p2g of a porous skeleton's points (as p2g without body accelerations) and their porosity sums
-  !> (as solid_porosity_p2g) in one pass where a kernel of fixed dimension takes both (2D;
-  !> 3D of one width); otherwise the two kernels in turn. The same sums either way.
+  !> p2g of a porous skeleton's points (as p2g, without body accelerations) and their
+  !> porosity sums (as solid_porosity_p2g) in one pass where a kernel of fixed dimension
+  !> takes both (2D; 3D of one width); otherwise the two kernels in turn. The same sums
+  !> either way.
   subroutine porous_p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
     integer, intent(in) :: nd, nw(3), n
     logical, intent(in) :: point_forces

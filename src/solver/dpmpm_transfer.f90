@@ -15,7 +15,7 @@ module dpmpm_transfer
   use dpmpm_materials, only: voigt_to_tensor
   use dpmpm_drag, only: gravity_drag
   use dpmpm_transfer_w2, only: p2g_2d_w2 => p2g_2d, p2g_3d_w2 => p2g_3d, porous_p2g_2d_w2 => porous_p2g_2d, &
-    porous_p2g_3d_w2 => porous_p2g_3d, g2p_2d_w2 => g2p_2d, &
+    porous_p2g_3d_w2 => porous_p2g_3d, p2g_body_2d_w2 => p2g_body_2d, p2g_body_3d_w2 => p2g_body_3d, g2p_2d_w2 => g2p_2d, &
     g2p_3d_w2 => g2p_3d, point_gradient_2d_w2 => point_gradient_2d, &
     point_divergences_2d_w2 => point_divergences_2d, momentum_project_p2g_2d_w2 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w2 => momentum_p2g_2d, interp_two_values_2d_w2 => interp_two_values_2d, &
@@ -26,7 +26,7 @@ module dpmpm_transfer
     momentum_p2g_3d_w2 => momentum_p2g_3d, fluid_p2g_3d_w2 => fluid_p2g_3d, &
     solid_porosity_p2g_3d_w2 => solid_porosity_p2g_3d
   use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, porous_p2g_2d_w3 => porous_p2g_2d, &
-    porous_p2g_3d_w3 => porous_p2g_3d, g2p_2d_w3 => g2p_2d, &
+    porous_p2g_3d_w3 => porous_p2g_3d, p2g_body_2d_w3 => p2g_body_2d, p2g_body_3d_w3 => p2g_body_3d, g2p_2d_w3 => g2p_2d, &
     g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
     point_divergences_2d_w3 => point_divergences_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w3 => momentum_p2g_2d, interp_two_values_2d_w3 => interp_two_values_2d, &
@@ -37,7 +37,7 @@ module dpmpm_transfer
     momentum_p2g_3d_w3 => momentum_p2g_3d, fluid_p2g_3d_w3 => fluid_p2g_3d, &
     solid_porosity_p2g_3d_w3 => solid_porosity_p2g_3d
   use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, porous_p2g_2d_w4 => porous_p2g_2d, &
-    porous_p2g_3d_w4 => porous_p2g_3d, g2p_2d_w4 => g2p_2d, &
+    porous_p2g_3d_w4 => porous_p2g_3d, p2g_body_2d_w4 => p2g_body_2d, p2g_body_3d_w4 => p2g_body_3d, g2p_2d_w4 => g2p_2d, &
     g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
     point_divergences_2d_w4 => point_divergences_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
     momentum_p2g_2d_w4 => momentum_p2g_2d, interp_two_values_2d_w4 => interp_two_values_2d, &
@@ -75,11 +75,11 @@ contains
       if (present(bacc)) then
         select case (nw(1))
         case (2)
-          call p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+          call p2g_body_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
         case (3)
-          call p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+          call p2g_body_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
         case default
-          call p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+          call p2g_body_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
         end select
       else
         select case (nw(1))
@@ -96,11 +96,11 @@ contains
       if (present(bacc)) then
         select case (nw(1))
         case (2)
-          call p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+          call p2g_body_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
         case (3)
-          call p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+          call p2g_body_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
         case default
-          call p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+          call p2g_body_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
         end select
       else
         select case (nw(1))

@@ -63,12 +63,12 @@ contains
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, s%node, f%node, &
                        s%nvel, f%nvel)
-        if (locked) &
+        if (locked) then
           call remove_split(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, f%node, &
                             s%node(nd + 2:1 + 2*nd, :, :, :), f%node(nd + 2:1 + 2*nd, :, :, :), s%nvel, f%nvel)
-        if (locked) &
           call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
                               f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
+        end if
         ! the corrections keep the pair's momentum; the skeleton at rigid nodes keeps v_r
         if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, &
                                                    self%rnode, self%grid, dt, s%nvel)

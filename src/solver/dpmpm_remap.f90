@@ -1,7 +1,7 @@
 !> The MUSL remap of one step (doc/theory.md 4.1, doc/architecture.md "One step"): the
-!> updated point momenta of every phase mapped back to the grid, the nodal velocities
-!> taken from them, and the point velocity gradients (fluid points: the divergences)
-!> from those. With two phases it also ties the fluid to the skeleton at impermeable
+!> points' velocities and positions from the updated nodal velocities (g2p), their
+!> momenta mapped back to the grid in the same pass, the nodal velocities taken from
+!> them, and the point velocity gradients (fluid points: the divergences) from those. With two phases it also ties the fluid to the skeleton at impermeable
 !> faces and, where the implicit drag locks the phases, removes the split that the two
 !> point sets' projections make of the locked velocity and relaxes the relative velocity
 !> as the step's drag would.
@@ -9,50 +9,61 @@ module dpmpm_remap
   use dpmpm_kinds, only: wp
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_transfer, only: point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
+  use dpmpm_transfer, only: g2p, g2p_remap, point_gradient, point_divergences, momentum_p2g, &
+    momentum_project_p2g
   use dpmpm_nodal_update, only: remap_nodal_velocity, tie_fluid
-  use dpmpm_drag, only: relax_remapped, remove_split
-  use dpmpm_rigid, only: drive_rigid_nodes
+  use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
+  use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points
   implicit none
   private
-  public :: musl_remap
+  public :: musl_remap, remap_locks
 
 contains
 
-  !> MUSL (double mapping): map the updated point momenta of every phase back to the
-  !> grid and take the velocity gradients from these smoother nodal velocities. With
+  !> MUSL (double mapping): g2p of the points' velocities and positions, then their
+  !> updated momenta mapped back to the grid and the velocity gradients taken from these
+  !> smoother nodal velocities. With
   !> two phases the fluid is tied to the solid at impermeable faces, and with implicit
   !> drag, where the drag locks the phases, the relative velocity the remap adds is
   !> shrunk as the step's drag would (relax_remapped): without it the step is
   !> unstable on scattered points (doc/verification.md, "Long runs"). The fluid
   !> points get the divergences of the fluid's and the solid's velocity.
-  !> locked: the points of each phase hold in lockp the velocity c that the implicit drag
-  !> locks both phases to (locked_velocity), gathered by g2p. There the phases' nodal
+  !> Locked (remap_locks): the points of each phase gather in lockp the velocity c that
+  !> the implicit drag locks both phases to (locked_velocity), from the exterior nodes as
+  !> each phase's walls mirror them. There the phases' nodal
   !> increments are nearly equal; each point set projects them with its own masses, and
   !> the difference of the two projections would reach the pore-pressure update as a
   !> relative velocity no drag acted on. The remap carries c to the grid through each
   !> point set (P c, in the force slots of the phase's node field), and P_f c - P_s c is
   !> taken from the remapped relative velocity (remove_split; doc/verification.md,
   !> "Long runs").
-  subroutine musl_remap(self, dt, locked)
+  subroutine musl_remap(self, dt)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
-    logical, intent(in) :: locked
-    real(wp), allocatable :: wstep(:, :, :, :)
+    real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :)
     integer :: ip, nd
-    logical :: coupled
+    logical :: coupled, locked
     nd = self%nd
     coupled = self%nph == 2
+    locked = remap_locks(self)
     ! Relative velocity of the nodal update, before the remap overwrites it.
     if (coupled) wstep = self%phase(fluid_phase)%nvel(nd + 1:2*nd, :, :, :) - &
                          self%phase(solid_phase)%nvel(nd + 1:2*nd, :, :, :)
-    ! (locked: the locked velocity goes back to the grid in the remap's own pass, into
-    ! the force slots of each phase's node field, for remove_split)
+    if (locked) then
+      associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+        allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                        self%dec%alo(3):self%dec%ahi(3)))
+        call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
+                             f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
+      end associate
+      call self%dec%halo_copy(lockv)
+    end if
     do ip = 1, self%nph
       if (locked) then
-        call remap_velocities(self, self%phase(ip), self%phase(ip)%lockp)
+        call self%mirror%unfold(lockv, 0, self%phase(ip)%bc)
+        call remap_velocities(self, self%phase(ip), dt, ip == solid_phase, lockv)
       else
-        call remap_velocities(self, self%phase(ip))
+        call remap_velocities(self, self%phase(ip), dt, ip == solid_phase)
       end if
     end do
     ! the nodes of rigid bodies move with them in the remapped field too
@@ -90,28 +101,56 @@ contains
     end if
   end subroutine musl_remap
 
-  !> Nodal velocities (new slots of ph%nvel, owned nodes) from the point momenta of
-  !> the phase mapped to the grid again; the masses in ph%node are those of the step.
-  !> Components held by the phase's face conditions are zero. With lockp (the locked
-  !> velocity at the phase's points), the same pass puts the momentum of its projection
-  !> through the phase's points into the force slots of ph%node (momentum_project_p2g),
-  !> folded and summed over the ranks with the momenta.
-  subroutine remap_velocities(self, ph, lockp)
+  !> Two phases with the MUSL remap and implicit drag: the remap carries the velocity the
+  !> drag locks both phases to through each point set (g2p gathers it).
+  logical function remap_locks(self)
+    class(state_t), intent(in) :: self
+    remap_locks = self%nph == 2 .and. self%cfg%scheme == 'musl' .and. self%cfg%remap_drag .and. &
+                  self%cfg%drag == 'implicit'
+  end function remap_locks
+
+  !> g2p of the phase's points (velocities and positions) and their new momenta on the
+  !> grid again: nodal velocities (new slots of ph%nvel, owned nodes) from them; the
+  !> masses in ph%node are those of the step. Components held by the phase's face
+  !> conditions are zero. With lockv (the locked velocity on the grid), g2p gathers it at
+  !> the points into ph%lockp and the same pass puts the momentum of its projection
+  !> through the phase's points into the force slots of ph%node (g2p_remap), folded and
+  !> summed over the ranks with the momenta. The points of rigid materials keep their
+  !> velocity (solid: the phase of the skeleton), between g2p and the scatter.
+  subroutine remap_velocities(self, ph, dt, solid, lockv)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: ph
-    real(wp), contiguous, intent(in), optional :: lockp(:, :)
+    real(wp), intent(in) :: dt
+    logical, intent(in) :: solid
+    real(wp), contiguous, intent(in), optional :: lockv(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     integer :: nd
     nd = self%nd
     ! Reuse the momentum and force slots of node(); the masses are unchanged (zero beyond
     ! the box).
     ph%node(2:1 + 2*nd, self%zlo(1):self%zhi(1), self%zlo(2):self%zhi(2), self%zlo(3):self%zhi(3)) = 0.0_wp
-    if (present(lockp)) then
-      call momentum_project_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, &
-                                self%dec%alo, lockp, ph%node)
-    else
-      call momentum_p2g(nd, ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%mass, ph%pts%v, self%dec%alo, &
-                        ph%node)
-    end if
+    associate (ps => ph%pts, st => ph%st, lo => self%dec%alo)
+      if (self%has_rigid .and. solid) then
+        if (present(lockv)) then
+          call g2p(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%v, ps%x, &
+                   gradient=.false., gf=lockv, gv=ph%lockp)
+        else
+          call g2p(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%v, ps%x, &
+                   gradient=.false.)
+        end if
+        call hold_rigid_points(nd, ps%n, ps%mat, self%mats, ps%v)
+        if (present(lockv)) then
+          call momentum_project_p2g(nd, st%nw, ps%n, st%i0, st%sw, ps%mass, ps%v, lo, ph%lockp, ph%node)
+        else
+          call momentum_p2g(nd, st%nw, ps%n, st%i0, st%sw, ps%mass, ps%v, lo, ph%node)
+        end if
+      else if (present(lockv)) then
+        call g2p_remap(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%mass, &
+                       ps%v, ps%x, ph%node, gf=lockv, gv=ph%lockp)
+      else
+        call g2p_remap(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%mass, &
+                       ps%v, ps%x, ph%node)
+      end if
+    end associate
     call self%mirror%fold(ph%node, 1, ph%bc)
     call self%dec%halo_sum(ph%node)
     ! Rough walls let go of nodes moving away from them in scenes of one phase (nodal_update).

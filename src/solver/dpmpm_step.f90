@@ -22,8 +22,8 @@ module dpmpm_step
   use dpmpm_transfer, only: p2g, g2p, point_divergences, interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux, volume_p2g
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
-  use dpmpm_drag, only: nodal_drag_limit, locked_velocity
-  use dpmpm_remap, only: musl_remap
+  use dpmpm_drag, only: nodal_drag_limit
+  use dpmpm_remap, only: musl_remap, remap_locks
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, &
                                  fluid_pressure_step, fluid_state
   use dpmpm_inflow, only: refill_inflow
@@ -49,9 +49,9 @@ contains
     integer :: m, ip, nlost, ns, nf, nd, blo(3), bhi(3)
     integer, allocatable :: fcell(:), scell(:)
     logical, allocatable :: fsurf(:)
-    logical :: coupled, surface, fluid_mom, locked
+    logical :: coupled, surface, fluid_mom
     real(wp) :: wplastic, rforce(3)
-    real(wp), allocatable :: fvol(:, :, :, :), lockv(:, :, :, :), sheld(:, :), pheld(:), pforce(:)
+    real(wp), allocatable :: fvol(:, :, :, :), sheld(:, :), pheld(:), pforce(:)
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), gnrel(:), skinv(:)
     coupled = self%nph == 2
     ! the free surface of the pore fluid is looked for (free_surface_points)
@@ -326,45 +326,29 @@ contains
     end do
 
     ! 6. g2p: velocities, positions, velocity gradients (MUSL: from the remapped
-    ! nodal velocities; Gauss quadrature: by the transposed force operator). The fluid
-    ! points take the divergences of both phases' velocities in a pass of their own.
+    ! nodal velocities, musl_remap; Gauss quadrature: by the transposed force operator).
+    ! The fluid points take the divergences of both phases' velocities in a pass of their
+    ! own.
     call self%timers%tic(t_g2p)
-    ! Where the implicit drag locks the phases, the MUSL remap carries the locked velocity
-    ! to the points of each set and back (musl_remap); g2p gathers it at the points, from
-    ! the exterior nodes as each phase's walls mirror them.
-    locked = remap_locks(self)
-    if (locked) then
-      associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
-                        self%dec%alo(3):self%dec%ahi(3)))
-        call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
-                             f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
-      end associate
-      call self%dec%halo_copy(lockv)
-    end if
-    do ip = 1, self%nph
-      associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
-        ! (MUSL takes the gradients from the remapped velocities. The fluid points have no
-        ! vgrad: unallocated, it is an absent argument and g2p forms no gradient.)
-        if (locked) then
-          call self%mirror%unfold(lockv, 0, ph%bc)
-          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
-                   dt, ps%v, ps%x, ph%vgrad, gradient=.false., gf=lockv, gv=ph%lockp)
-        else
-          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
-                   dt, ps%v, ps%x, ph%vgrad, gradient=self%cfg%scheme /= 'musl')
-        end if
-      end associate
-    end do
-    if (self%has_rigid) call hold_rigid_points(nd, ns, self%phase(solid_phase)%pts%mat, self%mats, &
-                                               self%phase(solid_phase)%pts%v)
     if (self%cfg%scheme == 'musl') then
-      call musl_remap(self, dt, locked)
-    else if (coupled) then
-      associate (f => self%phase(fluid_phase))
-        call point_divergences(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, f%nvel, &
-                               self%phase(solid_phase)%nvel, f%divf, f%divs)
-      end associate
+      call musl_remap(self, dt)
+    else
+      do ip = 1, self%nph
+        associate (ph => self%phase(ip), ps => self%phase(ip)%pts)
+          ! (The fluid points have no vgrad: unallocated, it is an absent argument and g2p
+          ! forms no gradient.)
+          call g2p(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, self%dec%alo, ph%nvel, self%cfg%flip, &
+                   dt, ps%v, ps%x, ph%vgrad)
+        end associate
+      end do
+      if (self%has_rigid) call hold_rigid_points(nd, ns, self%phase(solid_phase)%pts%mat, self%mats, &
+                                                 self%phase(solid_phase)%pts%v)
+      if (coupled) then
+        associate (f => self%phase(fluid_phase))
+          call point_divergences(nd, f%st%nw, nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, f%nvel, &
+                                 self%phase(solid_phase)%nvel, f%divf, f%divs)
+        end associate
+      end if
     end if
     if (coupled) then
       ! With the same nodal velocities as the point gradients (remapped under MUSL).
@@ -646,14 +630,6 @@ contains
     end if
     if (self%cfg%benchmark == 'mms' .and. .not. allocated(tr%bacc)) allocate (tr%bacc(self%nd, cap))
   end subroutine compute_stencils
-
-  !> Two phases with the MUSL remap and implicit drag: the remap carries the velocity the
-  !> drag locks both phases to through each point set (g2p gathers it, musl_remap).
-  logical function remap_locks(self)
-    class(state_t), intent(in) :: self
-    remap_locks = self%nph == 2 .and. self%cfg%scheme == 'musl' .and. self%cfg%remap_drag .and. &
-                  self%cfg%drag == 'implicit'
-  end function remap_locks
 
   !> Points that crossed a fixed or roller face (walls are impenetrable) are put
   !> back just inside it and counted; wide kernels interpolate a small normal

@@ -24,7 +24,9 @@ module dpmpm_transfer
     reaches_thin_node_2d_w2 => reaches_thin_node_2d, point_gradient_3d_w2 => point_gradient_3d, &
     point_divergences_3d_w2 => point_divergences_3d, momentum_project_p2g_3d_w2 => momentum_project_p2g_3d, &
     momentum_p2g_3d_w2 => momentum_p2g_3d, fluid_p2g_3d_w2 => fluid_p2g_3d, &
-    solid_porosity_p2g_3d_w2 => solid_porosity_p2g_3d
+    solid_porosity_p2g_3d_w2 => solid_porosity_p2g_3d, g2p_remap_2d_w2 => g2p_remap_2d, &
+    g2p_remap_3d_w2 => g2p_remap_3d, g2p_remap_project_2d_w2 => g2p_remap_project_2d, &
+    g2p_remap_project_3d_w2 => g2p_remap_project_3d
   use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, porous_p2g_2d_w3 => porous_p2g_2d, &
     porous_p2g_3d_w3 => porous_p2g_3d, p2g_body_2d_w3 => p2g_body_2d, p2g_body_3d_w3 => p2g_body_3d, g2p_2d_w3 => g2p_2d, &
     g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
@@ -35,7 +37,9 @@ module dpmpm_transfer
     reaches_thin_node_2d_w3 => reaches_thin_node_2d, point_gradient_3d_w3 => point_gradient_3d, &
     point_divergences_3d_w3 => point_divergences_3d, momentum_project_p2g_3d_w3 => momentum_project_p2g_3d, &
     momentum_p2g_3d_w3 => momentum_p2g_3d, fluid_p2g_3d_w3 => fluid_p2g_3d, &
-    solid_porosity_p2g_3d_w3 => solid_porosity_p2g_3d
+    solid_porosity_p2g_3d_w3 => solid_porosity_p2g_3d, g2p_remap_2d_w3 => g2p_remap_2d, &
+    g2p_remap_3d_w3 => g2p_remap_3d, g2p_remap_project_2d_w3 => g2p_remap_project_2d, &
+    g2p_remap_project_3d_w3 => g2p_remap_project_3d
   use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, porous_p2g_2d_w4 => porous_p2g_2d, &
     porous_p2g_3d_w4 => porous_p2g_3d, p2g_body_2d_w4 => p2g_body_2d, p2g_body_3d_w4 => p2g_body_3d, g2p_2d_w4 => g2p_2d, &
     g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
@@ -46,10 +50,12 @@ module dpmpm_transfer
     reaches_thin_node_2d_w4 => reaches_thin_node_2d, point_gradient_3d_w4 => point_gradient_3d, &
     point_divergences_3d_w4 => point_divergences_3d, momentum_project_p2g_3d_w4 => momentum_project_p2g_3d, &
     momentum_p2g_3d_w4 => momentum_p2g_3d, fluid_p2g_3d_w4 => fluid_p2g_3d, &
-    solid_porosity_p2g_3d_w4 => solid_porosity_p2g_3d
+    solid_porosity_p2g_3d_w4 => solid_porosity_p2g_3d, g2p_remap_2d_w4 => g2p_remap_2d, &
+    g2p_remap_3d_w4 => g2p_remap_3d, g2p_remap_project_2d_w4 => g2p_remap_project_2d, &
+    g2p_remap_project_3d_w4 => g2p_remap_project_3d
   implicit none
   private
-  public :: p2g, g2p, point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
+  public :: p2g, g2p, g2p_remap, point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
   public :: interp_two_values
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux, reaches_thin_node
   public :: body_force_work, volume_p2g
@@ -265,6 +271,71 @@ contains
     end subroutine g2p_by_width
 
   end subroutine g2p
+
+  !> g2p of the MUSL remap (velocities and positions, no gradient) and the remap's
+  !> momentum of the new velocities, node(2:1+nd) += sum_p N_I m_p v_p (momentum_p2g),
+  !> in one pass over the points: each point's stencil is scattered to while its nodes
+  !> are at hand. With gf: gv = f at the points as g2p gathers it, and the momentum of its
+  !> projection into the force slots (momentum_project_p2g). The sums are those of the
+  !> separate kernels, in their order.
+  subroutine g2p_remap(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+    integer, intent(in) :: nd, nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :), mass(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: flip, dt
+    real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), node(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(in), optional :: gf(:, lo(1):, lo(2):, lo(3):)
+    real(wp), contiguous, intent(inout), optional :: gv(:, :)
+    if (nd == 2 .or. (nd == 3 .and. all(nw == nw(1)))) then
+      if (present(gf) .and. present(gv)) then
+        if (nd == 2) then
+          select case (nw(1))
+          case (2)
+            call g2p_remap_project_2d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+          case (3)
+            call g2p_remap_project_2d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+          case default
+            call g2p_remap_project_2d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+          end select
+        else
+          select case (nw(1))
+          case (2)
+            call g2p_remap_project_3d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+          case (3)
+            call g2p_remap_project_3d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+          case default
+            call g2p_remap_project_3d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+          end select
+        end if
+      else if (nd == 2) then
+        select case (nw(1))
+        case (2)
+          call g2p_remap_2d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
+        case (3)
+          call g2p_remap_2d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
+        case default
+          call g2p_remap_2d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
+        end select
+      else
+        select case (nw(1))
+        case (2)
+          call g2p_remap_3d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
+        case (3)
+          call g2p_remap_3d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
+        case default
+          call g2p_remap_3d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
+        end select
+      end if
+    else if (present(gf) .and. present(gv)) then
+      call g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, gradient=.false., gf=gf, gv=gv)
+      call momentum_project_p2g(nd, nw, n, i0, sw, mass, v, lo, gv, node)
+    else
+      call g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, gradient=.false.)
+      call momentum_p2g(nd, nw, n, i0, sw, mass, v, lo, node)
+    end if
+  end subroutine g2p_remap
 
   !> Work over a step of the body accelerations bacc that p2g gave the points:
   !> sum_p m_p b_p . sum_I N_I(x_p) (v_I,old + v_I,new) dt / 2, which is the work of their

@@ -14,8 +14,9 @@ module dpmpm_migrate
   use dpmpm_decomp, only: decomp_t, balanced_cuts
   use dpmpm_grid, only: cells_of, axis_cells_of, count_cells_outside
   use dpmpm_particles, only: particle_set_t
-  use mpi_f08, only: MPI_Sendrecv, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
-                     MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL
+  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_SUM, &
+                     MPI_DOUBLE_PRECISION, MPI_STATUS_IGNORE, MPI_PROC_NULL, MPI_Request, MPI_Isend, &
+                     MPI_Irecv, MPI_Waitall, MPI_STATUSES_IGNORE
   implicit none
   private
   public :: migrate, check_owned, balance_by_points
@@ -198,10 +199,14 @@ contains
     logical, allocatable, intent(inout) :: gone(:)
     integer, allocatable :: to_lo(:), to_hi(:)
     logical, allocatable :: grown(:)
-    real(wp), allocatable :: slo(:, :), shi(:, :), rlo(:, :), rhi(:, :)
-    integer :: k, m, nfrom_lo, nfrom_hi, n0, nlo, nhi
+    ! (the buffers of the nonblocking exchanges)
+    real(wp), allocatable, asynchronous :: slo(:, :), shi(:, :), rlo(:, :), rhi(:, :)
+    integer, asynchronous :: nfrom_lo, nfrom_hi, nlo, nhi
+    integer :: k, m, n0
     integer, allocatable :: dest(:), cell(:)
     integer :: go_lo, go_hi
+    type(MPI_Request) :: req(4)
+    integer :: nreq
     m = ps%nreal_packed()
     allocate (dest(ps%n), cell(ps%n))
     ! the cells along d only
@@ -239,23 +244,30 @@ contains
     call ps%pack_points(to_lo, slo)
     call ps%pack_points(to_hi, shi)
 
-    ! Counts: a missing neighbour (MPI_PROC_NULL) leaves the receive count at 0.
+    ! Counts, both directions in one round: a missing neighbour (MPI_PROC_NULL) leaves the
+    ! receive count at 0. The points themselves go only between neighbours that have some
+    ! to send either way (both ends know both counts): in most steps none crosses a cut.
     nfrom_lo = 0
     nfrom_hi = 0
-    call MPI_Sendrecv(size(to_lo), 1, MPI_INTEGER, dec%nbr_lo(d), tag_count, &
-                      nfrom_hi, 1, MPI_INTEGER, dec%nbr_hi(d), tag_count, dec%comm, &
-                      MPI_STATUS_IGNORE)
-    call MPI_Sendrecv(size(to_hi), 1, MPI_INTEGER, dec%nbr_hi(d), tag_count + 1, &
-                      nfrom_lo, 1, MPI_INTEGER, dec%nbr_lo(d), tag_count + 1, dec%comm, &
-                      MPI_STATUS_IGNORE)
+    call MPI_Irecv(nfrom_hi, 1, MPI_INTEGER, dec%nbr_hi(d), tag_count, dec%comm, req(1))
+    call MPI_Irecv(nfrom_lo, 1, MPI_INTEGER, dec%nbr_lo(d), tag_count + 1, dec%comm, req(2))
+    call MPI_Isend(nlo, 1, MPI_INTEGER, dec%nbr_lo(d), tag_count, dec%comm, req(3))
+    call MPI_Isend(nhi, 1, MPI_INTEGER, dec%nbr_hi(d), tag_count + 1, dec%comm, req(4))
+    call MPI_Waitall(4, req, MPI_STATUSES_IGNORE)
 
     allocate (rlo(m, nfrom_lo), rhi(m, nfrom_hi))
-    call MPI_Sendrecv(slo, size(slo), MPI_DOUBLE_PRECISION, dec%nbr_lo(d), tag_data, &
-                      rhi, size(rhi), MPI_DOUBLE_PRECISION, dec%nbr_hi(d), tag_data, &
-                      dec%comm, MPI_STATUS_IGNORE)
-    call MPI_Sendrecv(shi, size(shi), MPI_DOUBLE_PRECISION, dec%nbr_hi(d), tag_data + 1, &
-                      rlo, size(rlo), MPI_DOUBLE_PRECISION, dec%nbr_lo(d), tag_data + 1, &
-                      dec%comm, MPI_STATUS_IGNORE)
+    nreq = 0
+    if (nlo + nfrom_lo > 0) then
+      call MPI_Irecv(rlo, size(rlo), MPI_DOUBLE_PRECISION, dec%nbr_lo(d), tag_data + 1, dec%comm, req(nreq + 1))
+      call MPI_Isend(slo, size(slo), MPI_DOUBLE_PRECISION, dec%nbr_lo(d), tag_data, dec%comm, req(nreq + 2))
+      nreq = nreq + 2
+    end if
+    if (nhi + nfrom_hi > 0) then
+      call MPI_Irecv(rhi, size(rhi), MPI_DOUBLE_PRECISION, dec%nbr_hi(d), tag_data, dec%comm, req(nreq + 1))
+      call MPI_Isend(shi, size(shi), MPI_DOUBLE_PRECISION, dec%nbr_hi(d), tag_data + 1, dec%comm, req(nreq + 2))
+      nreq = nreq + 2
+    end if
+    call MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE)
 
     n0 = ps%n
     call ps%unpack_points(rlo)

@@ -16,15 +16,18 @@
 !> fluid_p2g (the fluid's mass, momentum, drag and pore-pressure forces on both phases)
 !> point_divergences (the fluid points' divergences of both phases' velocities),
 !> interp_two_values (two components of a nodal field at the points: the porosity and
-!> 1/k of the fluid points) and stress (the neo-Hookean update of the bench block's
-!> points from their velocity gradients, plane strain in 2D; the same for every kernel).
+!> 1/k of the fluid points), stress (the neo-Hookean update of the bench block's
+!> points from their velocity gradients, plane strain in 2D; the same for every kernel),
+!> g2p_remap (g2p without the gradient and the remap's momenta in one pass, as the MUSL
+!> step runs them) and g2p_remap_gather (the same with the gather of the locked velocity
+!> and the momenta of its projection).
 program dpmpm_kernel_bench
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use dpmpm_kinds, only: wp
   use dpmpm_stats, only: median
   use dpmpm_kernels, only: psi_stencils, kernel_width, kernel_names, kernel_linear, kernel_cubic
   use dpmpm_transfer, only: p2g, g2p, momentum_p2g, point_gradient, fluid_p2g, point_divergences, &
-                            interp_two_values
+                            interp_two_values, g2p_remap
   use dpmpm_materials, only: material_t, model_neo_hookean, stress_update
   implicit none
 
@@ -85,10 +88,10 @@ contains
     real(wp), allocatable :: defgrad(:, :), vol0(:)
     integer, allocatable :: pmat(:)
     type(material_t) :: neo
-    character(len=*), parameter :: stages(11) = [character(len=17) :: 'stencils', 'p2g', 'g2p_usl', &
+    character(len=*), parameter :: stages(13) = [character(len=17) :: 'stencils', 'p2g', 'g2p_usl', &
                                                   'g2p', 'momentum_p2g', 'point_gradient', 'g2p_gather', &
                                                   'fluid_p2g', 'point_divergences', 'interp_two_values', &
-                                                  'stress']
+                                                  'stress', 'g2p_remap', 'g2p_remap_gather']
     if (nd == 2) then
       cells = 360; edge = 0.4_wp
     else
@@ -179,6 +182,10 @@ contains
             call point_divergences(nd, nw, n, i0, sw, sdw, lo, nvel, nvel, div, div2)
           case (10)
             call interp_two_values(nd, nw, n, i0, sw, lo, nvel, 3, div, div2)
+          case (12)
+            call g2p_remap(nd, nw, n, i0, sw, sdw, lo, nvel, 1.0_wp, 0.0_wp, mass, v, x, node)
+          case (13)
+            call g2p_remap(nd, nw, n, i0, sw, sdw, lo, nvel, 1.0_wp, 0.0_wp, mass, v, x, node2, gf=nvel, gv=gv)
           case default
             call stress_update(neo, 1, 1.0e-4_wp, n, pmat, vgrad, stress, vol, vol0, defgrad, plane=nd == 2)
           end select

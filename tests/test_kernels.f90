@@ -1,5 +1,7 @@
 !> Kernel tests: partition of unity and zero gradient sum, in 1D, 2D and 3D
-!> (tensor products), at many positions across a cell.
+!> (tensor products), at many positions across a cell; the stencils of many points at
+!> once (psi_stencils) are those of each point alone, their first nodes the intrinsic
+!> floor's.
 program test_kernels
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
@@ -7,13 +9,14 @@ program test_kernels
   use dpmpm_kernels, only: bspline_1d, kernel_eval_1d, kernel_width, max_stencil, kernel_linear, &
                            kernel_quadratic, kernel_cubic, kernel_names, ngrid_kernels, &
                            kernel_weight, kernel_radial, kernel_reach, kernel_wendland_c2, &
-                           kernel_wendland_c4
+                           kernel_wendland_c4, psi_stencils
   use dpmpm_assert, only: begin_test, check_close, check, finish_tests
   implicit none
   integer :: status
   call start_mpi()
   call test_partition_of_unity_1d()
   call test_stencil_matches_piecewise_bspline()
+  call test_stencils_of_many_points_match_one_point()
   call test_tensor_partition_of_unity_3d()
   call test_gradient_matches_finite_difference()
   call test_linear_field_reproduced()
@@ -62,6 +65,52 @@ contains
       end do
     end do
   end subroutine test_stencil_matches_piecewise_bspline
+
+  !> psi_stencils over a set of points (in cell units from -2.5 to 6, on cell faces and
+  !> kernel joints, and a point below the origin) against kernel_eval_1d of each point
+  !> and axis: the same first node, which is the intrinsic floor (floor(s) linear,
+  !> floor(s - 1/2) quadratic, floor(s) - 1 cubic), and the same weights and derivatives
+  !> over h, bit for bit, in 1D, 2D and 3D.
+  subroutine test_stencils_of_many_points_match_one_point()
+    integer, parameter :: n = 341
+    integer :: k, nd, p, d, i0(3, n), j0, first
+    real(wp) :: x(3, n), sw(max_stencil, 3, n), sdw(max_stencil, 3, n), w(max_stencil), dw(max_stencil)
+    real(wp) :: origin(3), h(3), s
+    call begin_test('stencils_of_many_points_match_one_point')
+    origin = [0.1_wp, -0.2_wp, 0.3_wp]
+    h = [0.5_wp, 0.25_wp, 2.0_wp]
+    do p = 1, n
+      do d = 1, 3
+        ! (axis d offset by d/7 of a cell, so that the axes differ)
+        x(d, p) = origin(d) + h(d)*(-2.5_wp + real(p - 1, wp)/40.0_wp + real(d - 1, wp)/7.0_wp)
+      end do
+    end do
+    do k = 1, ngrid_kernels
+      do nd = 1, 3
+        i0 = 0; sw = 0.0_wp; sdw = 0.0_wp
+        call psi_stencils(nd, k, n, x(1:nd, :), origin, h, i0, sw(1:kernel_width(k), :, :), &
+                          sdw(1:kernel_width(k), :, :))
+        do p = 1, n
+          do d = 1, nd
+            s = (x(d, p) - origin(d))/h(d)
+            call kernel_eval_1d(k, s, j0, w, dw)
+            select case (k)
+            case (kernel_linear)
+              first = floor(s)
+            case (kernel_quadratic)
+              first = floor(s - 0.5_wp)
+            case default
+              first = floor(s) - 1
+            end select
+            call check(i0(d, p) == j0 .and. j0 == first, trim(kernel_names(k))//' first node')
+            call check(all(sw(1:kernel_width(k), d, p) == w(1:kernel_width(k))), trim(kernel_names(k))//' weights')
+            call check(all(sdw(1:kernel_width(k), d, p) == dw(1:kernel_width(k))/h(d)), &
+                       trim(kernel_names(k))//' derivatives')
+          end do
+        end do
+      end do
+    end do
+  end subroutine test_stencils_of_many_points_match_one_point
 
   subroutine test_tensor_partition_of_unity_3d()
     integer :: k, j, a, b, c, i0(3)

@@ -73,8 +73,9 @@ contains
   !> over h, bit for bit, in 1D, 2D and 3D.
   subroutine test_stencils_of_many_points_match_one_point()
     integer, parameter :: n = 341
-    integer :: k, nd, p, d, i0(3, n), j0, first
-    real(wp) :: x(3, n), sw(max_stencil, 3, n), sdw(max_stencil, 3, n), w(max_stencil), dw(max_stencil)
+    integer :: k, nd, p, d, i0(3, n), j0, first, nw
+    real(wp) :: x(3, n), w(max_stencil), dw(max_stencil)
+    real(wp), allocatable :: sw(:, :, :), sdw(:, :, :)
     real(wp) :: origin(3), h(3), s
     call begin_test('stencils_of_many_points_match_one_point')
     origin = [0.1_wp, -0.2_wp, 0.3_wp]
@@ -86,10 +87,12 @@ contains
       end do
     end do
     do k = 1, ngrid_kernels
+      nw = kernel_width(k)
+      if (allocated(sw)) deallocate (sw, sdw)
+      allocate (sw(nw, 3, n), sdw(nw, 3, n))
       do nd = 1, 3
         i0 = 0; sw = 0.0_wp; sdw = 0.0_wp
-        call psi_stencils(nd, k, n, x(1:nd, :), origin, h, i0, sw(1:kernel_width(k), :, :), &
-                          sdw(1:kernel_width(k), :, :))
+        call psi_stencils(nd, k, n, x(1:nd, :), origin, h, i0, sw, sdw)
         do p = 1, n
           do d = 1, nd
             s = (x(d, p) - origin(d))/h(d)
@@ -103,8 +106,8 @@ contains
               first = floor(s) - 1
             end select
             call check(i0(d, p) == j0 .and. j0 == first, trim(kernel_names(k))//' first node')
-            call check(all(sw(1:kernel_width(k), d, p) == w(1:kernel_width(k))), trim(kernel_names(k))//' weights')
-            call check(all(sdw(1:kernel_width(k), d, p) == dw(1:kernel_width(k))/h(d)), &
+            call check(all(sw(:, d, p) == w(1:nw)), trim(kernel_names(k))//' weights')
+            call check(all(sdw(:, d, p) == dw(1:nw)/h(d)), &
                        trim(kernel_names(k))//' derivatives')
           end do
         end do

@@ -95,21 +95,12 @@ contains
   ! kernel's width, small enough to be inlined into the loops over points
   ! (kernel_eval_1d, psi_stencils).
 
-  !> floor(t) as the truncation less one where it lies above t: the same integer for
-  !> every t in the integers' range, without the branch of the intrinsic, so that the
-  !> stencil loops over the points vectorise.
-  elemental integer function floor_branchless(t) result(c)
-    real(wp), intent(in) :: t
-    c = int(t)
-    c = c - merge(1, 0, real(c, wp) > t)
-  end function floor_branchless
-
   pure subroutine linear_1d(s, hd, i0, w, dw)
     real(wp), intent(in) :: s, hd
     integer, intent(out) :: i0
     real(wp), intent(out) :: w(2), dw(2)
     real(wp) :: f
-    i0 = floor_branchless(s)
+    i0 = floor(s)
     f = s - real(i0, wp)
     w(1) = 1.0_wp - f; dw(1) = -1.0_wp/hd
     w(2) = f; dw(2) = 1.0_wp/hd
@@ -120,7 +111,7 @@ contains
     integer, intent(out) :: i0
     real(wp), intent(out) :: w(3), dw(3)
     real(wp) :: f, a
-    i0 = floor_branchless(s - 0.5_wp)
+    i0 = floor(s - 0.5_wp)
     f = s - real(i0, wp)
     a = 1.5_wp - f
     w(1) = 0.5_wp*a*a; dw(1) = (-a)/hd
@@ -135,7 +126,7 @@ contains
     integer, intent(out) :: i0
     real(wp), intent(out) :: w(4), dw(4)
     real(wp) :: f, a, b
-    i0 = floor_branchless(s) - 1
+    i0 = floor(s) - 1
     f = s - real(i0, wp)
     a = 2.0_wp - f
     w(1) = a*a*a/6.0_wp; dw(1) = (-0.5_wp*a*a)/hd
@@ -184,22 +175,22 @@ contains
     ! (one loop per kernel, each writing the rows in place)
     select case (kernel)
     case (kernel_linear)
-      do d = 1, nd
-        do p = 1, n
+      do p = 1, n
+        do d = 1, nd
           s = (x(d, p) - origin(d))/h(d)
           call linear_1d(s, h(d), i0(d, p), sw(1:2, d, p), sdw(1:2, d, p))
         end do
       end do
     case (kernel_quadratic)
-      do d = 1, nd
-        do p = 1, n
+      do p = 1, n
+        do d = 1, nd
           s = (x(d, p) - origin(d))/h(d)
           call quadratic_1d(s, h(d), i0(d, p), sw(1:3, d, p), sdw(1:3, d, p))
         end do
       end do
     case default
-      do d = 1, nd
-        do p = 1, n
+      do p = 1, n
+        do d = 1, nd
           s = (x(d, p) - origin(d))/h(d)
           call cubic_1d(s, h(d), i0(d, p), sw(1:4, d, p), sdw(1:4, d, p))
         end do

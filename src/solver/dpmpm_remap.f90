@@ -1,10 +1,11 @@
 !> The MUSL remap of one step (doc/theory.md 4.1, doc/architecture.md "One step"): the
 !> points' velocities and positions from the updated nodal velocities (g2p), their
 !> momenta mapped back to the grid in the same pass, the nodal velocities taken from
-!> them, and the point velocity gradients (fluid points: the divergences) from those. With two phases it also ties the fluid to the skeleton at impermeable
-!> faces and, where the implicit drag locks the phases, removes the split that the two
-!> point sets' projections make of the locked velocity and relaxes the relative velocity
-!> as the step's drag would.
+!> them, and the point velocity gradients (fluid points: the divergences) from those.
+!> With two phases it also ties the fluid to the skeleton at impermeable faces and,
+!> where the implicit drag locks the phases, removes the split that the two point sets'
+!> projections make of the locked velocity and relaxes the relative velocity as the
+!> step's drag would.
 module dpmpm_remap
   use dpmpm_kinds, only: wp
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
@@ -22,16 +23,15 @@ contains
 
   !> MUSL (double mapping): g2p of the points' velocities and positions, then their
   !> updated momenta mapped back to the grid and the velocity gradients taken from these
-  !> smoother nodal velocities. With
-  !> two phases the fluid is tied to the solid at impermeable faces, and with implicit
-  !> drag, where the drag locks the phases, the relative velocity the remap adds is
-  !> shrunk as the step's drag would (relax_remapped): without it the step is
-  !> unstable on scattered points (doc/verification.md, "Long runs"). The fluid
-  !> points get the divergences of the fluid's and the solid's velocity.
+  !> smoother nodal velocities. With two phases the fluid is tied to the solid at
+  !> impermeable faces, and with implicit drag, where the drag locks the phases, the
+  !> relative velocity the remap adds is shrunk as the step's drag would
+  !> (relax_remapped): without it the step is unstable on scattered points
+  !> (doc/verification.md, "Long runs"). The fluid points get the divergences of the
+  !> fluid's and the solid's velocity.
   !> Locked (remap_locks): the points of each phase gather in lockp the velocity c that
   !> the implicit drag locks both phases to (locked_velocity), from the exterior nodes as
-  !> each phase's walls mirror them. There the phases' nodal
-  !> increments are nearly equal; each point set projects them with its own masses, and
+  !> each phase's walls mirror them. There the phases' nodal increments are nearly equal; each point set projects them with its own masses, and
   !> the difference of the two projections would reach the pore-pressure update as a
   !> relative velocity no drag acted on. The remap carries c to the grid through each
   !> point set (P c, in the force slots of the phase's node field), and P_f c - P_s c is
@@ -58,13 +58,10 @@ contains
       end associate
       call self%dec%halo_copy(lockv)
     end if
+    ! (Not locked, lockv is unallocated: an absent argument.)
     do ip = 1, self%nph
-      if (locked) then
-        call self%mirror%unfold(lockv, 0, self%phase(ip)%bc)
-        call remap_velocities(self, self%phase(ip), dt, ip == solid_phase, lockv)
-      else
-        call remap_velocities(self, self%phase(ip), dt, ip == solid_phase)
-      end if
+      if (locked) call self%mirror%unfold(lockv, 0, self%phase(ip)%bc)
+      call remap_velocities(self, self%phase(ip), dt, ip == solid_phase, lockv)
     end do
     ! the nodes of rigid bodies move with them in the remapped field too
     if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
@@ -128,27 +125,21 @@ contains
     ! Reuse the momentum and force slots of node(); the masses are unchanged (zero beyond
     ! the box).
     ph%node(2:1 + 2*nd, self%zlo(1):self%zhi(1), self%zlo(2):self%zhi(2), self%zlo(3):self%zhi(3)) = 0.0_wp
+    ! (Without lockv, gf is absent and g2p gathers nothing; lockp, then unallocated, is
+    ! absent too.)
     associate (ps => ph%pts, st => ph%st, lo => self%dec%alo)
       if (self%has_rigid .and. solid) then
-        if (present(lockv)) then
-          call g2p(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%v, ps%x, &
-                   gradient=.false., gf=lockv, gv=ph%lockp)
-        else
-          call g2p(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%v, ps%x, &
-                   gradient=.false.)
-        end if
+        call g2p(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%v, ps%x, &
+                 gradient=.false., gf=lockv, gv=ph%lockp)
         call hold_rigid_points(nd, ps%n, ps%mat, self%mats, ps%v)
         if (present(lockv)) then
           call momentum_project_p2g(nd, st%nw, ps%n, st%i0, st%sw, ps%mass, ps%v, lo, ph%lockp, ph%node)
         else
           call momentum_p2g(nd, st%nw, ps%n, st%i0, st%sw, ps%mass, ps%v, lo, ph%node)
         end if
-      else if (present(lockv)) then
-        call g2p_remap(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%mass, &
-                       ps%v, ps%x, ph%node, gf=lockv, gv=ph%lockp)
       else
         call g2p_remap(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%mass, &
-                       ps%v, ps%x, ph%node)
+                       ps%v, ps%x, ph%node, gf=lockv, gv=ph%lockp)
       end if
     end associate
     call self%mirror%fold(ph%node, 1, ph%bc)

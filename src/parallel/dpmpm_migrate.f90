@@ -201,8 +201,8 @@ contains
     logical, allocatable :: grown(:)
     ! (the buffers of the nonblocking exchanges)
     real(wp), allocatable, asynchronous :: slo(:, :), shi(:, :), rlo(:, :), rhi(:, :)
-    integer, asynchronous :: nfrom_lo, nfrom_hi, nlo, nhi
-    integer :: k, m, n0
+    integer, asynchronous :: nfrom_lo, nfrom_hi, nsend(2)
+    integer :: k, m, n0, nlo, nhi
     integer, allocatable :: dest(:), cell(:)
     integer :: go_lo, go_hi
     type(MPI_Request) :: req(4)
@@ -251,8 +251,10 @@ contains
     nfrom_hi = 0
     call MPI_Irecv(nfrom_hi, 1, MPI_INTEGER, dec%nbr_hi(d), tag_count, dec%comm, req(1))
     call MPI_Irecv(nfrom_lo, 1, MPI_INTEGER, dec%nbr_lo(d), tag_count + 1, dec%comm, req(2))
-    call MPI_Isend(nlo, 1, MPI_INTEGER, dec%nbr_lo(d), tag_count, dec%comm, req(3))
-    call MPI_Isend(nhi, 1, MPI_INTEGER, dec%nbr_hi(d), tag_count + 1, dec%comm, req(4))
+    ! (the counts sent, apart from the counters of the loop above)
+    nsend = [nlo, nhi]
+    call MPI_Isend(nsend(1), 1, MPI_INTEGER, dec%nbr_lo(d), tag_count, dec%comm, req(3))
+    call MPI_Isend(nsend(2), 1, MPI_INTEGER, dec%nbr_hi(d), tag_count + 1, dec%comm, req(4))
     call MPI_Waitall(4, req, MPI_STATUSES_IGNORE)
 
     allocate (rlo(m, nfrom_lo), rhi(m, nfrom_hi))

@@ -31,12 +31,12 @@ contains
   !> fluid's and the solid's velocity.
   !> Locked (remap_locks): the points of each phase gather in lockp the velocity c that
   !> the implicit drag locks both phases to (locked_velocity), from the exterior nodes as
-  !> each phase's walls mirror them. There the phases' nodal increments are nearly equal; each point set projects them with its own masses, and
-  !> the difference of the two projections would reach the pore-pressure update as a
-  !> relative velocity no drag acted on. The remap carries c to the grid through each
-  !> point set (P c, in the force slots of the phase's node field), and P_f c - P_s c is
-  !> taken from the remapped relative velocity (remove_split; doc/verification.md,
-  !> "Long runs").
+  !> each phase's walls mirror them. There the phases' nodal increments are nearly equal;
+  !> each point set projects them with its own masses, and the difference of the two
+  !> projections would reach the pore-pressure update as a relative velocity no drag
+  !> acted on. The remap carries c to the grid through each point set (P c, in the force
+  !> slots of the phase's node field), and P_f c - P_s c is taken from the remapped
+  !> relative velocity (remove_split; doc/verification.md, "Long runs").
   subroutine musl_remap(self, dt)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt

@@ -3,15 +3,17 @@
 !> body, leaves wider gaps open, and neither grows a body past its outermost occupied
 !> cells nor erodes it at the grid faces. The reach kept by gauss_accumulate gives
 !> gauss_strain the same point gradients and divergences as the reach found again; the
-!> divergences are the traces of the gradients.
+!> divergences are the traces of the gradients. An isotropic field reconstructed as one
+!> value per Gauss point gives the forces and divergences of its tensor s I.
 program test_occupancy
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_strain, reach_cache_t, &
-                                reach_cache_entries, gauss_cell_components, gauss_solution_components
+                                reach_cache_entries, gauss_cell_components, gauss_solution_components, &
+                                gauss_solve, gauss_forces
   use dpmpm_kernels, only: kernel_wendland_c2, kernel_cubic
-  use dpmpm_mls, only: basis_linear, basis_constant
+  use dpmpm_mls, only: basis_linear, basis_constant, mls_stats_t
   use dpmpm_assert, only: begin_test, check, finish_tests
   implicit none
   integer :: status
@@ -19,6 +21,7 @@ program test_occupancy
   call test_closing_fills_gaps_up_to_twice_the_width_1d()
   call test_closing_keeps_block_surfaces_2d()
   call test_kept_reach_gives_the_same_gradients()
+  call test_isotropic_field_gives_the_forces_of_its_tensor()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -166,5 +169,103 @@ contains
       end do
     end do
   end subroutine test_kept_reach_gives_the_same_gradients
+
+  !> A field s reconstructed as an isotropic one (one value per Gauss point) against the
+  !> tensor s I reconstructed component by component (xx = yy = zz = s, no shear): the
+  !> same reconstructed value, the same nodal forces and the same point divergences, bit
+  !> for bit, in 2D and 3D with 2 Gauss points per axis, for the Wendland C2 weight of
+  !> radius 2 with the constant and with the linear basis; cubic B-spline grid functions.
+  !> The isotropic sums take 1 + np + nb of the 1 + np + nb nf components per Gauss point.
+  subroutine test_isotropic_field_gives_the_forces_of_its_tensor()
+    integer, parameter :: n = 60, nc = 8, ng = 2
+    integer :: nd, basis, lo(3), hi(3), clo(3), chi(3), ncells(3), p, m, nk1, nk2, ib
+    real(wp), allocatable :: x(:, :), vol(:), sv(:, :), st(:, :), acci(:, :, :, :), acct(:, :, :, :)
+    real(wp), allocatable :: soli(:, :, :, :), solt(:, :, :, :), nodei(:, :, :, :), nodet(:, :, :, :)
+    real(wp), allocatable :: lg(:, :, :, :), ti(:), tt(:), di(:), dt(:)
+    real(wp) :: origin(3), h(3)
+    type(mls_stats_t) :: stats
+    character(len=40) :: tag
+    call begin_test('isotropic_field_gives_the_forces_of_its_tensor')
+    origin = [0.1_wp, -0.2_wp, 0.3_wp]
+    h = [0.5_wp, 0.25_wp, 0.4_wp]
+    do nd = 2, 3
+      do ib = 1, 2
+        basis = merge(basis_constant, basis_linear, ib == 1)
+        write (tag, '(i0,2a)') nd, 'D, basis ', trim(merge('constant', 'linear  ', ib == 1))
+        ncells = 1
+        ncells(1:nd) = nc
+        lo = 0; hi = 0; clo = 0; chi = 0
+        lo(1:nd) = -2
+        hi(1:nd) = nc + 2
+        chi(1:nd) = nc - 1
+        allocate (x(nd, n), vol(n), sv(1, n), st(6, n), ti(n), tt(n), di(n), dt(n))
+        call random_number(x)
+        do p = 1, n
+          x(:, p) = origin(1:nd) + (1.0_wp + 6.0_wp*x(:, p))*h(1:nd)
+        end do
+        call random_number(vol)
+        vol = 0.01_wp*(0.5_wp + vol)
+        call random_number(sv)
+        sv = sv - 0.5_wp
+        st = 0.0_wp
+        do m = 1, 3
+          st(m, :) = sv(1, :)
+        end do
+        allocate (acci(gauss_cell_components(nd, ng, basis, isotropic=.true.), lo(1):hi(1), lo(2):hi(2), &
+                       lo(3):hi(3)))
+        allocate (acct(gauss_cell_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (soli(gauss_solution_components(nd, ng, basis, isotropic=.true.), lo(1):hi(1), &
+                       lo(2):hi(2), lo(3):hi(3)))
+        allocate (solt(gauss_solution_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (nodei(1 + 2*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), nodet(1 + 2*nd, lo(1):hi(1), &
+                  lo(2):hi(2), lo(3):hi(3)), lg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        call check(size(acci, 1) < size(acct, 1) .and. size(soli, 1) < size(solt, 1), &
+                   trim(tag)//': the isotropic sums are smaller')
+        acci = 0.0_wp; acct = 0.0_wp; soli = 0.0_wp; solt = 0.0_wp; nodei = 0.0_wp; nodet = 0.0_wp
+        call gauss_accumulate(nd, n, x, vol, sv, origin, h, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+                              .true., basis, lo, acci, isotropic=.true.)
+        call gauss_accumulate(nd, n, x, vol, st, origin, h, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+                              .true., basis, lo, acct)
+        call gauss_solve(nd, ng, basis, lo, clo, chi, acci, soli, stats, isotropic=.true.)
+        call gauss_solve(nd, ng, basis, lo, clo, chi, acct, solt, stats)
+        call check(reconstructed_equal(nd, ng, basis, soli, solt), trim(tag)//': the same reconstructed value')
+        call gauss_forces(nd, ng, basis, kernel_cubic, h, lo, clo, chi, soli, nodei, isotropic=.true.)
+        call gauss_forces(nd, ng, basis, kernel_cubic, h, lo, clo, chi, solt, nodet)
+        call check(all(nodei == nodet) .and. maxval(abs(nodei)) > 0.0_wp, trim(tag)//': the same nodal forces')
+        call random_number(lg)
+        ! (a point whose effective volume is not positive keeps its value: 0 here)
+        di = 0.0_wp; dt = 0.0_wp
+        call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel_wendland_c2, 2.0_wp, .true., basis, &
+                          lo, soli, lg, ti, nk1, div=di, isotropic=.true.)
+        call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel_wendland_c2, 2.0_wp, .true., basis, &
+                          lo, solt, lg, tt, nk2, div=dt)
+        call check(all(di == dt) .and. all(ti == tt) .and. nk1 == nk2 .and. maxval(abs(di)) > 0.0_wp, &
+                   trim(tag)//': the same divergences and effective volumes')
+        deallocate (x, vol, sv, st, ti, tt, di, dt, acci, acct, soli, solt, nodei, nodet, lg)
+      end do
+    end do
+  end subroutine test_isotropic_field_gives_the_forces_of_its_tensor
+
+  !> The isotropic solution soli against the tensor one solt: per occupied cell and Gauss
+  !> point the same gamma and the isotropic value equal to the xx component.
+  logical function reconstructed_equal(nd, ng, basis, soli, solt) result(same)
+    integer, intent(in) :: nd, ng, basis
+    real(wp), intent(in) :: soli(:, :, :, :), solt(:, :, :, :)
+    integer :: i, j, k, g, nb, nf
+    nb = merge(1, nd + 1, basis == basis_constant)
+    nf = nd*(nd + 1)/2
+    same = .true.
+    do k = 1, size(soli, 4)
+      do j = 1, size(soli, 3)
+        do i = 1, size(soli, 2)
+          same = same .and. soli(1, i, j, k) == solt(1, i, j, k)
+          do g = 1, ng**nd
+            same = same .and. all(soli(2 + (g - 1)*(nb + 1):1 + (g - 1)*(nb + 1) + nb + 1, i, j, k) == &
+                                  solt(2 + (g - 1)*(nb + nf):1 + (g - 1)*(nb + nf) + nb + 1, i, j, k))
+          end do
+        end do
+      end do
+    end do
+  end function reconstructed_equal
 
 end program test_occupancy

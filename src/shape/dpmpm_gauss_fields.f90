@@ -20,8 +20,8 @@
 !> the same storage bounds and the same halo_sum / halo_copy.
 module dpmpm_gauss_fields
   use dpmpm_kinds, only: wp
-  use dpmpm_kernels, only: kernel_weight, kernel_reach, kernel_radial, is_grid_kernel, max_stencil, &
-                           kernel_width, bspline_1d
+  use dpmpm_kernels, only: kernel_weight, kernel_reach, kernel_radial, kernel_radial_values, &
+                           is_grid_kernel, max_stencil, kernel_width, bspline_1d
   use dpmpm_stencil, only: psi_stencil, stencil_offsets, tensor_weights
   use dpmpm_mls, only: basis_size, packed_size, basis_eval, moment_add, mls_gamma, mls_stats_t
   use dpmpm_materials, only: voigt_to_tensor
@@ -125,18 +125,31 @@ contains
     end select
   end function stress_voigt_index
 
+  !> Fields reconstructed per Gauss point: the stress components of nd dimensions, or
+  !> with isotropic one, the value of an isotropic field s I (the pore pressure's shares).
+  pure integer function fields_of(nd, isotropic) result(n)
+    integer, intent(in) :: nd
+    logical, intent(in), optional :: isotropic
+    n = field_components(nd)
+    if (present(isotropic)) then
+      if (isotropic) n = 1
+    end if
+  end function fields_of
+
   !> Components per cell of the Gauss-point sums (gauss_accumulate).
-  pure integer function gauss_cell_components(nd, ng, basis) result(n)
+  pure integer function gauss_cell_components(nd, ng, basis, isotropic) result(n)
     integer, intent(in) :: nd, ng, basis
+    logical, intent(in), optional :: isotropic
     integer :: nb
     nb = basis_size(basis, nd)
-    n = 1 + ng**nd*(1 + packed_size(nb) + nb*field_components(nd))
+    n = 1 + ng**nd*(1 + packed_size(nb) + nb*fields_of(nd, isotropic))
   end function gauss_cell_components
 
   !> Components per cell of the Gauss-point solution (gauss_solve).
-  pure integer function gauss_solution_components(nd, ng, basis) result(n)
+  pure integer function gauss_solution_components(nd, ng, basis, isotropic) result(n)
     integer, intent(in) :: nd, ng, basis
-    n = 1 + ng**nd*(basis_size(basis, nd) + field_components(nd))
+    logical, intent(in), optional :: isotropic
+    n = 1 + ng**nd*(basis_size(basis, nd) + fields_of(nd, isotropic))
   end function gauss_solution_components
 
   ! ----------------------------------------------------------------------------
@@ -204,7 +217,8 @@ contains
 
   !> The Gauss points within reach of a point at s, in nd dimensions: their cells,
   !> indices within the cell (lexicographic), offsets (Gauss point minus point, cell
-  !> units) and weights (kernel_weight's). Radial weights are evaluated only inside the radius.
+  !> units) and weights (kernel_weight's). Radial weights are evaluated only inside the radius,
+  !> all of a point's at once.
   pure subroutine points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, np, &
                                   cells, gidx, offs, w, gax)
     integer, intent(in) :: nd, ncells(3), ng, kernel
@@ -214,9 +228,9 @@ contains
     !> The Gauss index along each axis, from 0, packed 3 bits each (reach_cache_t).
     integer, intent(out) :: gax(:)
     real(wp), intent(out) :: offs(:, :), w(:)
-    integer :: nl(3), cl(max_lattice, 3), gl(max_lattice, 3), a, b, c, d
-    real(wp) :: ol(max_lattice, 3), wl(max_lattice, 3), dwl, r2, wk, dwk(3), r
-    logical :: rad
+    integer :: nl(3), cl(max_lattice, 3), gl(max_lattice, 3), a, b, c, d, m
+    real(wp) :: ol(max_lattice, 3), wl(max_lattice, 3), dwl, r2, r2max, wk
+    logical :: rad, inside
     rad = radial .or. (radius <= 0.0_wp .and. .not. is_grid_kernel(kernel))
     nl = 1
     cl(1, :) = 0; gl(1, :) = 1; ol(1, :) = 0.0_wp; wl(1, :) = 1.0_wp
@@ -233,34 +247,56 @@ contains
       end do
     end do
     np = 0
+    r2max = radius*radius
     do c = 1, nl(3)
       do b = 1, nl(2)
         do a = 1, nl(1)
+          ! Each candidate is written to the next slot and kept when inside (no branch
+          ! to mispredict); radial weights have their distance here, the weight below.
           if (rad) then
             r2 = ol(a, 1)**2 + ol(b, 2)**2 + ol(c, 3)**2
-            if (r2 >= radius*radius) cycle
-            r = sqrt(r2)/radius
-            call kernel_radial(kernel, r, wk, dwk(1))
+            wk = sqrt(r2)/radius
+            inside = r2 < r2max
           else
             wk = wl(a, 1)*wl(b, 2)*wl(c, 3)
+            inside = wk > 0.0_wp
           end if
-          if (wk <= 0.0_wp) cycle
-          np = np + 1
-          cells(:, np) = [cl(a, 1), cl(b, 2), cl(c, 3)]
-          gidx(np) = gl(a, 1) + ng*(gl(b, 2) - 1) + ng*ng*(gl(c, 3) - 1)
-          gax(np) = ior(ior(gl(a, 1) - 1, ishft(gl(b, 2) - 1, 3)), ishft(gl(c, 3) - 1, 6))
-          offs(:, np) = [ol(a, 1), ol(b, 2), ol(c, 3)]
-          w(np) = wk
+          cells(1, np + 1) = cl(a, 1)
+          cells(2, np + 1) = cl(b, 2)
+          cells(3, np + 1) = cl(c, 3)
+          gidx(np + 1) = gl(a, 1) + ng*(gl(b, 2) - 1) + ng*ng*(gl(c, 3) - 1)
+          gax(np + 1) = ior(ior(gl(a, 1) - 1, ishft(gl(b, 2) - 1, 3)), ishft(gl(c, 3) - 1, 6))
+          offs(1, np + 1) = ol(a, 1)
+          offs(2, np + 1) = ol(b, 2)
+          offs(3, np + 1) = ol(c, 3)
+          w(np + 1) = wk
+          np = np + merge(1, 0, inside)
         end do
       end do
     end do
+    if (.not. rad) return
+    call kernel_radial_values(kernel, np, w)
+    ! A weight that rounds to 0 at the rim leaves the list.
+    if (all(w(1:np) > 0.0_wp)) return
+    m = 0
+    do a = 1, np
+      if (w(a) <= 0.0_wp) cycle
+      m = m + 1
+      cells(:, m) = cells(:, a)
+      gidx(m) = gidx(a)
+      gax(m) = gax(a)
+      offs(:, m) = offs(:, a)
+      w(m) = w(a)
+    end do
+    np = m
   end subroutine points_in_reach
 
   !> Add every point to the point count of its cell and its MLS sums of stress
   !> to the Gauss points within reach. acc per cell: point count, then per
   !> Gauss point: count, packed sum V W p p^T, sum V W p sigma_f (nf fields).
+  !> With isotropic, stress(1, :) is the value s of an isotropic field s I, one field.
   subroutine gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, ng, kernel, radius, &
-                              radial, basis, lo, acc, stress2, acc2, cache)
+                              radial, basis, lo, acc, stress2, acc2, cache, isotropic)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis
     real(wp), intent(in) :: x(:, :), vol(:), stress(:, :), origin(3), h(3), radius
     logical, intent(in) :: radial
@@ -271,6 +307,7 @@ contains
     real(wp), intent(inout), optional :: acc2(:, lo(1):, lo(2):, lo(3):)
     !> Keeps the Gauss points within reach of each point for gauss_strain.
     type(reach_cache_t), intent(inout), optional :: cache
+    logical, intent(in), optional :: isotropic
     integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, d, nq, nc
     integer, allocatable :: cells(:, :), gidx(:), gax(:)
     real(wp), allocatable :: offs(:, :), wq(:)
@@ -291,7 +328,7 @@ contains
     sig2 = 0.0_wp
     nb = basis_size(basis, nd)
     np = packed_size(nb)
-    nf = field_components(nd)
+    nf = fields_of(nd, isotropic)
     ncg = 1 + np + nb*nf
     call gauss_rule(ng, xi, wxi)
     reach = kernel_reach(kernel, radius, radial)
@@ -303,10 +340,15 @@ contains
       do d = 1, nd
         s(d) = (x(d, p) - origin(d))/h(d)
       end do
-      do f = 1, nf
-        sig(f) = stress(stress_voigt_index(nd, f), p)
-        if (two) sig2(f) = stress2(stress_voigt_index(nd, f), p)
-      end do
+      if (nf == 1) then
+        sig(1) = stress(1, p)
+        if (two) sig2(1) = stress2(1, p)
+      else
+        do f = 1, nf
+          sig(f) = stress(stress_voigt_index(nd, f), p)
+          if (two) sig2(f) = stress2(stress_voigt_index(nd, f), p)
+        end do
+      end if
       ! Point count of the cell that holds the point (the occupancy of gauss_occupancy).
       cp = 0
       do d = 1, nd
@@ -327,14 +369,22 @@ contains
         acc(base + 1, i, j, k) = acc(base + 1, i, j, k) + 1.0_wp
         if (two) acc2(base + 1, i, j, k) = acc2(base + 1, i, j, k) + 1.0_wp
         if (nb == 1) then
-          ! Constant basis (p = 1): the moment is the weight sum, the field sums w sigma.
+          ! Constant basis (p = 1): the moment is the weight sum, the field sums w sigma
+          ! (with the field counts of 2D and 3D known, so that the sums unroll).
           acc(base + 2, i, j, k) = acc(base + 2, i, j, k) + w
-          acc(base + 3:base + 2 + nf, i, j, k) = acc(base + 3:base + 2 + nf, i, j, k) + w*sig(1:nf)
-          if (two) then
-            acc2(base + 2, i, j, k) = acc2(base + 2, i, j, k) + w
-            acc2(base + 3:base + 2 + nf, i, j, k) = acc2(base + 3:base + 2 + nf, i, j, k) + &
-                                                    w*sig2(1:nf)
-          end if
+          if (two) acc2(base + 2, i, j, k) = acc2(base + 2, i, j, k) + w
+          select case (nf)
+          case (6)
+            acc(base + 3:base + 8, i, j, k) = acc(base + 3:base + 8, i, j, k) + w*sig
+            if (two) acc2(base + 3:base + 8, i, j, k) = acc2(base + 3:base + 8, i, j, k) + w*sig2
+          case (3)
+            acc(base + 3:base + 5, i, j, k) = acc(base + 3:base + 5, i, j, k) + w*sig(1:3)
+            if (two) acc2(base + 3:base + 5, i, j, k) = acc2(base + 3:base + 5, i, j, k) + w*sig2(1:3)
+          case default
+            acc(base + 3:base + 2 + nf, i, j, k) = acc(base + 3:base + 2 + nf, i, j, k) + w*sig(1:nf)
+            if (two) acc2(base + 3:base + 2 + nf, i, j, k) = acc2(base + 3:base + 2 + nf, i, j, k) + &
+                                                             w*sig2(1:nf)
+          end select
           cycle
         end if
         dneg = -offs(:, q)
@@ -436,16 +486,18 @@ contains
 
   !> Solve the Gauss-point reconstructions of the owned cells. sol per cell:
   !> occupied flag (1 or 0), then per Gauss point gamma(nb) and the fields (nf).
-  subroutine gauss_solve(nd, ng, basis, lo, clo, chi, acc, sol, stats)
+  subroutine gauss_solve(nd, ng, basis, lo, clo, chi, acc, sol, stats, isotropic)
     integer, intent(in) :: nd, ng, basis, lo(3), clo(3), chi(3)
     real(wp), intent(in) :: acc(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: sol(:, lo(1):, lo(2):, lo(3):)
     type(mls_stats_t), intent(inout) :: stats
+    !> One isotropic field (gauss_accumulate).
+    logical, intent(in), optional :: isotropic
     integer :: i, j, k, g, nb, np, nf, ncg, ngp, f, level, ba, bs
     real(wp) :: gam(10)
     nb = basis_size(basis, nd)
     np = packed_size(nb)
-    nf = field_components(nd)
+    nf = fields_of(nd, isotropic)
     ncg = 1 + np + nb*nf
     ngp = ng**nd
     do k = clo(3), chi(3)
@@ -506,18 +558,20 @@ contains
   !> Internal forces of the owned occupied cells' Gauss points added to node
   !> (components 2+nd:1+2nd): f_I -= w_g sigma_h(x_g) grad Psi_I(x_g). With qvol, the
   !> quadrature volume of the nodes, sum_g w_g Psi_I(x_g), is added to qvol(1, I).
-  subroutine gauss_forces(nd, ng, basis, kernel, h, lo, clo, chi, sol, node, qvol)
+  !> With isotropic, sol holds one field s and the stress is s I.
+  subroutine gauss_forces(nd, ng, basis, kernel, h, lo, clo, chi, sol, node, qvol, isotropic)
     integer, intent(in) :: nd, ng, basis, kernel, lo(3), clo(3), chi(3)
     real(wp), intent(in) :: h(3)
     real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout), optional :: qvol(:, lo(1):, lo(2):, lo(3):)
+    logical, intent(in), optional :: isotropic
     integer :: i, j, k, g, nb, nf, bs, m, nn, f, idx(3)
     integer, allocatable :: off(:, :, :)
     real(wp), allocatable :: gr(:, :, :), psi(:, :)
-    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), vv(6), s(3, 3), fs(3), wq
+    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), vv(6), s(3, 3), fs(3), wq, sv
     nb = basis_size(basis, nd)
-    nf = field_components(nd)
+    nf = fields_of(nd, isotropic)
     call gauss_points_of_cell(nd, ng, yg, wg)
     call gauss_psi_table(nd, ng, kernel, h, nn, off, gr, psi)
     do k = clo(3), chi(3)
@@ -526,12 +580,25 @@ contains
           if (sol(1, i, j, k) < 0.5_wp) cycle
           do g = 1, ng**nd
             bs = 1 + (g - 1)*(nb + nf)
+            wq = wg(g)*product(h(1:nd))
+            if (nf == 1 .and. nd > 1) then
+              ! s I . grad Psi = s grad Psi
+              sv = sol(bs + nb + 1, i, j, k)
+              do m = 1, nn
+                idx = [i, j, k] + off(:, m, g)
+                fs = -wq*(sv*gr(:, m, g))
+                node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) = &
+                  node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) + fs(1:nd)
+                if (present(qvol)) qvol(1, idx(1), idx(2), idx(3)) = &
+                  qvol(1, idx(1), idx(2), idx(3)) + wq*psi(m, g)
+              end do
+              cycle
+            end if
             vv = 0.0_wp
             do f = 1, nf
               vv(stress_voigt_index(nd, f)) = sol(bs + nb + f, i, j, k)
             end do
             s = voigt_to_tensor(vv)
-            wq = wg(g)*product(h(1:nd))
             do m = 1, nn
               idx = [i, j, k] + off(:, m, g)
               fs = -wq*matmul(s, gr(:, m, g))
@@ -584,7 +651,7 @@ contains
     integer :: i, j, k, g, m, nn, d, bl, idx(3)
     integer, allocatable :: off(:, :, :)
     real(wp), allocatable :: gr(:, :, :)
-    real(wp) :: l(3, 3)
+    real(wp) :: l(3, 3), v(3)
     call gauss_psi_table(nd, ng, kernel, h, nn, off, gr)
     do k = clo(3), chi(3)
       do j = clo(2), chi(2)
@@ -593,12 +660,32 @@ contains
           if (sol(1, i, j, k) < 0.5_wp) cycle
           do g = 1, ng**nd
             l = 0.0_wp
-            do m = 1, nn
-              idx = [i, j, k] + off(:, m, g)
-              do d = 1, nd
-                l(1:nd, d) = l(1:nd, d) + nvel(nd + 1:2*nd, idx(1), idx(2), idx(3))*gr(d, m, g)
+            ! (the sums of 2D and 3D with their sizes known, so that they unroll)
+            select case (nd)
+            case (3)
+              do m = 1, nn
+                idx = [i, j, k] + off(:, m, g)
+                v = nvel(4:6, idx(1), idx(2), idx(3))
+                do d = 1, 3
+                  l(1:3, d) = l(1:3, d) + v*gr(d, m, g)
+                end do
               end do
-            end do
+            case (2)
+              do m = 1, nn
+                idx = [i, j, k] + off(:, m, g)
+                v(1:2) = nvel(3:4, idx(1), idx(2), idx(3))
+                do d = 1, 2
+                  l(1:2, d) = l(1:2, d) + v(1:2)*gr(d, m, g)
+                end do
+              end do
+            case default
+              do m = 1, nn
+                idx = [i, j, k] + off(:, m, g)
+                do d = 1, nd
+                  l(1:nd, d) = l(1:nd, d) + nvel(nd + 1:2*nd, idx(1), idx(2), idx(3))*gr(d, m, g)
+                end do
+              end do
+            end select
             bl = (g - 1)*nd*nd
             ! (column by column: reshape of a run-time shape is a library call per point)
             do d = 1, nd
@@ -616,7 +703,7 @@ contains
   !> div instead, only their traces (the divergences; fluid points). Points whose
   !> effective volume sum_g C_gp is not positive keep their values; nkept counts them.
   subroutine gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, &
-                          lo, sol, lg, vt, nkept, vgrad, div, lg2, div2, cache)
+                          lo, sol, lg, vt, nkept, vgrad, div, lg2, div2, cache, isotropic)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis, lo(3)
     real(wp), intent(in) :: x(:, :), vol(:), origin(3), h(3), radius
     logical, intent(in) :: radial
@@ -630,18 +717,20 @@ contains
     real(wp), intent(inout), optional :: div2(:)
     !> The reach kept by gauss_accumulate at the same positions (used when valid).
     type(reach_cache_t), intent(in), optional :: cache
-    integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d, q0, ga(3)
+    !> sol holds one isotropic field (gauss_accumulate).
+    logical, intent(in), optional :: isotropic
+    integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d, q0, g, ga(3), c(3)
     integer, allocatable :: cells(:, :), gidx(:), gax(:)
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
-                wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell
+                wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell, wp_
     logical :: full, two, kept
     full = present(vgrad)
-    two = present(div) .and. present(lg2) .and. present(div2)
+    two = present(div) .and. present(lg2) .and. present(div2) .and. .not. full
     kept = .false.
     if (present(cache)) kept = cache%valid .and. cache%n == n
     nb = basis_size(basis, nd)
-    nf = field_components(nd)
+    nf = fields_of(nd, isotropic)
     call gauss_rule(ng, xi, wxi)
     call gauss_points_of_cell(nd, ng, yg, wg)
     reach = kernel_reach(kernel, radius, radial)
@@ -656,21 +745,9 @@ contains
         s(d) = (x(d, p) - origin(d))/h(d)
       end do
       if (kept) then
-        ! The reach of gauss_accumulate: cells, Gauss indices, offsets and weights again.
+        ! The reach of gauss_accumulate, read in the loop below.
         q0 = cache%start(p) - 1
         nq = cache%start(p + 1) - 1 - q0
-        do q = 1, nq
-          cells(:, q) = cache%idx(1:3, q0 + q)
-          ga(1) = iand(cache%idx(4, q0 + q), 7)
-          ga(2) = iand(ishft(cache%idx(4, q0 + q), -3), 7)
-          ga(3) = ishft(cache%idx(4, q0 + q), -6)
-          gidx(q) = 1 + ga(1) + ng*(ga(2) + ng*ga(3))
-          offs(:, q) = 0.0_wp
-          do d = 1, nd
-            offs(d, q) = real(cells(d, q), wp) + xi(ga(d) + 1) - s(d)
-          end do
-          wq(q) = cache%w(q0 + q)
-        end do
       else
         call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
                              offs, wq, gax)
@@ -679,20 +756,54 @@ contains
       l = 0.0_wp
       l2 = 0.0_wp
       do q = 1, nq
-        i = cells(1, q); j = cells(2, q); k = cells(3, q)
-        if (sol(1, i, j, k) < 0.5_wp) cycle
-        bs = 1 + (gidx(q) - 1)*(nb + nf)
-        if (nb == 1) then
-          cgp = wg(gidx(q))*wcell*vol(p)*wq(q)*sol(bs + 1, i, j, k)
+        if (kept) then
+          c = cache%idx(1:3, q0 + q)
+          ga(1) = iand(cache%idx(4, q0 + q), 7)
+          ga(2) = iand(ishft(cache%idx(4, q0 + q), -3), 7)
+          ga(3) = ishft(cache%idx(4, q0 + q), -6)
+          g = 1 + ga(1) + ng*(ga(2) + ng*ga(3))
+          wp_ = cache%w(q0 + q)
         else
-          dneg = -offs(:, q)
-          call basis_eval(basis, nd, dneg(1:nd), pv(1:nb))
-          cgp = wg(gidx(q))*wcell*vol(p)*wq(q)*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
+          c = cells(:, q)
+          g = gidx(q)
+          wp_ = wq(q)
         end if
-        bl = (gidx(q) - 1)*nd*nd
+        i = c(1); j = c(2); k = c(3)
+        if (sol(1, i, j, k) < 0.5_wp) cycle
+        bs = 1 + (g - 1)*(nb + nf)
+        if (nb == 1) then
+          cgp = wg(g)*wcell*vol(p)*wp_*sol(bs + 1, i, j, k)
+        else
+          if (kept) then
+            dneg = 0.0_wp
+            do d = 1, nd
+              dneg(d) = -(real(c(d), wp) + xi(ga(d) + 1) - s(d))
+            end do
+          else
+            dneg = -offs(:, q)
+          end if
+          call basis_eval(basis, nd, dneg(1:nd), pv(1:nb))
+          cgp = wg(g)*wcell*vol(p)*wp_*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
+        end if
+        bl = (g - 1)*nd*nd
         ctot = ctot + cgp
-        l(1:nd*nd) = l(1:nd*nd) + cgp*lg(bl + 1:bl + nd*nd, i, j, k)
-        if (two) l2(1:nd*nd) = l2(1:nd*nd) + cgp*lg2(bl + 1:bl + nd*nd, i, j, k)
+        ! (the sums of 2D and 3D with their sizes known, so that they unroll; for the
+        ! divergences only the diagonal, components 1, 5, 9 in 3D and 1, 4 in 2D)
+        select case (nd + merge(0, 3, full))
+        case (3)
+          l = l + cgp*lg(bl + 1:bl + 9, i, j, k)
+        case (2)
+          l(1:4) = l(1:4) + cgp*lg(bl + 1:bl + 4, i, j, k)
+        case (6)
+          l(1:9:4) = l(1:9:4) + cgp*lg(bl + 1:bl + 9:4, i, j, k)
+          if (two) l2(1:9:4) = l2(1:9:4) + cgp*lg2(bl + 1:bl + 9:4, i, j, k)
+        case (5)
+          l(1:4:3) = l(1:4:3) + cgp*lg(bl + 1:bl + 4:3, i, j, k)
+          if (two) l2(1:4:3) = l2(1:4:3) + cgp*lg2(bl + 1:bl + 4:3, i, j, k)
+        case default
+          l(1) = l(1) + cgp*lg(bl + 1, i, j, k)
+          if (two) l2(1) = l2(1) + cgp*lg2(bl + 1, i, j, k)
+        end select
       end do
       vt(p) = ctot
       if (ctot <= 0.0_wp) then

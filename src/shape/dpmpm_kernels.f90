@@ -14,7 +14,7 @@ module dpmpm_kernels
   public :: kernel_linear, kernel_quadratic, kernel_cubic, kernel_wendland_c2, kernel_wendland_c4
   public :: kernel_names, kernel_from_name, ngrid_kernels, is_grid_kernel
   public :: kernel_width, kernel_ghost_width, kernel_eval_1d, max_stencil, psi_stencil, psi_stencils
-  public :: bspline_1d, kernel_radial, kernel_weight, kernel_reach
+  public :: bspline_1d, kernel_radial, kernel_radial_values, kernel_weight, kernel_reach
 
   integer, parameter :: kernel_linear = 1, kernel_quadratic = 2, kernel_cubic = 3
   integer, parameter :: kernel_wendland_c2 = 4, kernel_wendland_c4 = 5
@@ -268,6 +268,31 @@ contains
       dwdr = -(56.0_wp/3.0_wp)*r*(1.0_wp + 5.0_wp*r)*q**5
     end select
   end subroutine kernel_radial
+
+  !> kernel_radial's profile (without its slope) at each r(1:n), in place: the kernel
+  !> chosen once for the whole list instead of once per value.
+  pure subroutine kernel_radial_values(kernel, n, r)
+    integer, intent(in) :: kernel, n
+    real(wp), intent(inout) :: r(:)
+    real(wp) :: q, dw
+    integer :: k
+    select case (kernel)
+    case (kernel_linear)
+      do k = 1, n
+        r(k) = merge(1.0_wp - r(k), 0.0_wp, r(k) < 1.0_wp)
+      end do
+    case (kernel_wendland_c2)
+      do k = 1, n
+        q = 1.0_wp - r(k)
+        r(k) = merge(q**4*(1.0_wp + 4.0_wp*r(k)), 0.0_wp, r(k) < 1.0_wp)
+      end do
+    case default
+      do k = 1, n
+        q = r(k)
+        call kernel_radial(kernel, q, r(k), dw)
+      end do
+    end select
+  end subroutine kernel_radial_values
 
   !> Reconstruction weight of a data site seen from an evaluation point at
   !> offset d (evaluation point minus site, cell units) and its gradient with

@@ -36,6 +36,9 @@ module dpmpm_phase
     !> Fluid sets: the sums of the second field and the Gauss-point gradients of the
     !> second velocity, made in the same passes over the points as the first.
     real(wp), allocatable :: gacc2(:, :, :, :), glg2(:, :, :, :)
+    !> The Gauss fields hold one isotropic field s I (fluid sets: the pore pressure's
+    !> shares) instead of the stress components.
+    logical :: giso = .false.
     real(wp), allocatable :: xold(:, :), volold(:), vt(:)
     !> Point volume and Gauss-quadrature volume of the nodes (thin_node_forces).
     real(wp), allocatable :: nvol(:, :, :, :)

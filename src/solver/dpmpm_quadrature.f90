@@ -17,7 +17,8 @@ module dpmpm_quadrature
 contains
 
   !> Internal forces by Gauss quadrature of the stress-like field fields(6, :) of
-  !> the points of phase tr, reconstructed by MLS (solution in sol), added to node;
+  !> the points of phase tr (fields(1, :), an isotropic field, when tr%giso),
+  !> reconstructed by MLS (solution in sol), added to node;
   !> keeps the positions and volumes for the transposed strain operator.
   subroutine gauss_force_integrals(self, tr, fields, sol, node, fields2, sol2, node2)
     class(state_t), intent(inout) :: self
@@ -45,11 +46,12 @@ contains
         call gauss_accumulate(self%nd, n, tr%pts%x, tr%pts%vol, fields, self%grid%origin, self%grid%h, &
                               self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
                               pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc, fields2, &
-                              tr%gacc2, cache=tr%reach)
+                              tr%gacc2, cache=tr%reach, isotropic=tr%giso)
       else
         call gauss_accumulate(self%nd, n, tr%pts%x, tr%pts%vol, fields, self%grid%origin, self%grid%h, &
                               self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
-                              pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc, cache=tr%reach)
+                              pl%field_radial, pl%field_basis, self%dec%alo, tr%gacc, cache=tr%reach, &
+                              isotropic=tr%giso)
       end if
       call self%timers%tic(t_halo)
       call self%dec%halo_sum(tr%gacc)
@@ -61,17 +63,17 @@ contains
       end if
       call self%timers%toc(t_halo)
       call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, tr%gacc, sol, &
-                       self%mls_stats)
+                       self%mls_stats, tr%giso)
       if (two) call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, &
-                                tr%gacc2, sol2, self%mls_stats)
+                                tr%gacc2, sol2, self%mls_stats, tr%giso)
       call self%timers%tic(t_halo)
       call self%dec%halo_copy(sol)
       if (two) call self%dec%halo_copy(sol2)
       call self%timers%toc(t_halo)
       call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
-                        self%dec%alo, clo, chi, sol, node, tr%nvol(2:2, :, :, :))
+                        self%dec%alo, clo, chi, sol, node, tr%nvol(2:2, :, :, :), tr%giso)
       if (two) call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
-                                 self%dec%alo, clo, chi, sol2, node2)
+                                 self%dec%alo, clo, chi, sol2, node2, isotropic=tr%giso)
     end associate
   end subroutine gauss_force_integrals
 
@@ -119,7 +121,7 @@ contains
       call gauss_strain(self%nd, tr%pts%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
                         self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
                         pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, tr%vt, nkept, &
-                        vgrad=vgrad, cache=tr%reach)
+                        vgrad=vgrad, cache=tr%reach, isotropic=tr%giso)
     end associate
     self%nkept = self%nkept + nkept
   end subroutine gauss_point_gradients
@@ -146,7 +148,7 @@ contains
       call gauss_strain(self%nd, tr%pts%n, tr%xold, tr%volold, self%grid%origin, self%grid%h, &
                         self%grid%ncells, pl%ngauss, pl%field_kernel, pl%field_radius, &
                         pl%field_radial, pl%field_basis, self%dec%alo, sol, tr%glg, tr%vt, nkept, &
-                        div=div, lg2=tr%glg2, div2=div2, cache=tr%reach)
+                        div=div, lg2=tr%glg2, div2=div2, cache=tr%reach, isotropic=tr%giso)
     end associate
     ! Both divergences keep their point-wise value at the same points.
     self%nkept = self%nkept + 2*nkept

@@ -359,11 +359,17 @@ contains
         allocate (self%nporo(3, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         allocate (self%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         if (self%plan%gauss) then
-          allocate (self%phase(2)%gacc, mold=self%phase(1)%gacc)
-          allocate (self%phase(2)%gsol, mold=self%phase(1)%gsol)
-          allocate (self%phase(2)%gsol2, mold=self%phase(1)%gsol)
+          ! The fluid's fields are the pore pressure's shares, isotropic: one per Gauss point.
+          self%phase(2)%giso = .true.
+          associate (ng => self%plan%ngauss, basis => self%plan%field_basis, nd => self%nd)
+            allocate (self%phase(2)%gacc(gauss_cell_components(nd, ng, basis, isotropic=.true.), &
+                                         lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+            allocate (self%phase(2)%gsol(gauss_solution_components(nd, ng, basis, isotropic=.true.), &
+                                         lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          end associate
+          allocate (self%phase(2)%gsol2, mold=self%phase(2)%gsol)
           allocate (self%phase(2)%glg, mold=self%phase(1)%glg)
-          allocate (self%phase(2)%gacc2, mold=self%phase(1)%gacc)
+          allocate (self%phase(2)%gacc2, mold=self%phase(2)%gacc)
           allocate (self%phase(2)%glg2, mold=self%phase(1)%glg)
           allocate (self%phase(2)%nvol, mold=self%phase(1)%nvol)
         end if

@@ -157,13 +157,10 @@ contains
         ! Pore pressure at the Gauss points from the fluid points: -n_f p on the
         ! fluid, -(1 - n_f) p on the solid (doc/theory.md 3.6), in one pass.
         associate (f => self%phase(fluid_phase))
-          allocate (pseudo(6, nf), pseudo2(6, nf))
-          pseudo = 0.0_wp
-          pseudo2 = 0.0_wp
-          do m = 1, 3
-            pseudo(m, :) = -f%pts%porosity(1:nf)*f%pts%pressure(1:nf)
-            pseudo2(m, :) = -(1.0_wp - f%pts%porosity(1:nf))*f%pts%pressure(1:nf)
-          end do
+          ! (isotropic fields: one value per point, f%giso)
+          allocate (pseudo(1, nf), pseudo2(1, nf))
+          pseudo(1, :) = -f%pts%porosity(1:nf)*f%pts%pressure(1:nf)
+          pseudo2(1, :) = -(1.0_wp - f%pts%porosity(1:nf))*f%pts%pressure(1:nf)
           call gauss_force_integrals(self, f, pseudo, f%gsol, f%node, pseudo2, f%gsol2, &
                                      self%phase(solid_phase)%node)
         end associate

@@ -85,6 +85,17 @@ VARIANTS = {
                              "shape.field_kernel": "'wendland_c2'",
                              "shape.field_radius": "2.0"}),
     "w1_quadratic_usl": ("w1", {"shape.kernel": "'quadratic'", "run.scheme": "'usl'"}),
+    "w1_pair": ("w1", {"shape.kernel": "'cubic'", "shape.quadrature": "'gauss'",
+                       "shape.field_kernel": "'wendland_c2'", "shape.field_radius": "2.0"}),
+    "w1_2d_linear_gauss": ("w1_2d", {"shape.quadrature": "'gauss'", "shape.gauss_points": "1",
+                                     "shape.field_kernel": "'linear'", "shape.field_radius": "0.75"}),
+    "w1_3d_pair": ("w1_3d", {"shape.kernel": "'cubic'", "shape.quadrature": "'gauss'",
+                             "shape.field_kernel": "'wendland_c2'", "shape.field_radius": "2.0",
+                             "run.t_end": "0.0005"}),
+    "w1_3d_linear_gauss_box": ("w1_3d", {"shape.quadrature": "'gauss'", "shape.gauss_points": "1",
+                                         "shape.field_kernel": "'linear'",
+                                         "shape.field_radius": "0.65",
+                                         "shape.field_support": "'box'"}),
 }
 
 

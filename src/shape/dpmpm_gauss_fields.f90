@@ -723,7 +723,7 @@ contains
     integer, allocatable :: cells(:, :), gidx(:), gax(:)
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
-                wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell, wp_
+                wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell, wgt
     logical :: full, two, kept
     full = present(vgrad)
     two = present(div) .and. present(lg2) .and. present(div2) .and. .not. full
@@ -762,17 +762,17 @@ contains
           ga(2) = iand(ishft(cache%idx(4, q0 + q), -3), 7)
           ga(3) = ishft(cache%idx(4, q0 + q), -6)
           g = 1 + ga(1) + ng*(ga(2) + ng*ga(3))
-          wp_ = cache%w(q0 + q)
+          wgt = cache%w(q0 + q)
         else
           c = cells(:, q)
           g = gidx(q)
-          wp_ = wq(q)
+          wgt = wq(q)
         end if
         i = c(1); j = c(2); k = c(3)
         if (sol(1, i, j, k) < 0.5_wp) cycle
         bs = 1 + (g - 1)*(nb + nf)
         if (nb == 1) then
-          cgp = wg(g)*wcell*vol(p)*wp_*sol(bs + 1, i, j, k)
+          cgp = wg(g)*wcell*vol(p)*wgt*sol(bs + 1, i, j, k)
         else
           if (kept) then
             dneg = 0.0_wp
@@ -783,7 +783,7 @@ contains
             dneg = -offs(:, q)
           end if
           call basis_eval(basis, nd, dneg(1:nd), pv(1:nb))
-          cgp = wg(g)*wcell*vol(p)*wp_*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
+          cgp = wg(g)*wcell*vol(p)*wgt*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
         end if
         bl = (g - 1)*nd*nd
         ctot = ctot + cgp

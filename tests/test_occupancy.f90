@@ -4,7 +4,8 @@
 !> cells nor erodes it at the grid faces. The reach kept by gauss_accumulate gives
 !> gauss_strain the same point gradients and divergences as the reach found again; the
 !> divergences are the traces of the gradients. An isotropic field reconstructed as one
-!> value per Gauss point gives the forces and divergences of its tensor s I.
+!> value per Gauss point gives the forces and divergences of its tensor s I. With one
+!> Gauss point per cell, the sums are those over every cell centre within the weight.
 program test_occupancy
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
@@ -12,7 +13,7 @@ program test_occupancy
   use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_strain, reach_cache_t, &
                                 reach_cache_entries, gauss_cell_components, gauss_solution_components, &
                                 gauss_solve, gauss_forces
-  use dpmpm_kernels, only: kernel_wendland_c2, kernel_cubic
+  use dpmpm_kernels, only: kernel_wendland_c2, kernel_cubic, kernel_linear
   use dpmpm_mls, only: basis_linear, basis_constant, mls_stats_t
   use dpmpm_assert, only: begin_test, check, finish_tests
   implicit none
@@ -22,6 +23,7 @@ program test_occupancy
   call test_closing_keeps_block_surfaces_2d()
   call test_kept_reach_gives_the_same_gradients()
   call test_isotropic_field_gives_the_forces_of_its_tensor()
+  call test_one_gauss_point_reaches_every_centre_within_the_weight()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -245,6 +247,88 @@ contains
       end do
     end do
   end subroutine test_isotropic_field_gives_the_forces_of_its_tensor
+
+  !> One Gauss point per cell (the cell's centre) and a weight of reach below one cell
+  !> (linear + one Gauss point: the ball of radius 0.75, the box of half-width 0.65): the
+  !> sums of gauss_accumulate against sums over every cell centre of the grid, point by
+  !> point in the same order, bit for bit: the count of points that reach each centre,
+  !> the weight sum and the field sum. 2D and 3D; points scattered over the grid and put
+  !> on cell faces, cell centres, the grid's faces and its corners.
+  subroutine test_one_gauss_point_reaches_every_centre_within_the_weight()
+    integer, parameter :: n = 400, nc = 5
+    integer :: nd, variant, lo(3), hi(3), ncells(3), p, i, j, k, m(3)
+    real(wp), allocatable :: x(:, :), vol(:), stress(:, :), acc(:, :, :, :), ref(:, :, :, :)
+    real(wp) :: origin(3), h(3), radius, s(3), dx(3), w, r, wl(3)
+    logical :: radial
+    character(len=40) :: tag
+    call begin_test('one_gauss_point_reaches_every_centre_within_the_weight')
+    origin = [0.1_wp, -0.2_wp, 0.3_wp]
+    h = [0.5_wp, 0.25_wp, 0.4_wp]
+    do nd = 2, 3
+      do variant = 1, 2
+        radial = variant == 1
+        radius = merge(0.75_wp, 0.65_wp, radial)
+        write (tag, '(i0,2a)') nd, 'D, ', trim(merge('ball', 'box ', radial))
+        ncells = 1
+        ncells(1:nd) = nc
+        lo = 0; hi = 0
+        lo(1:nd) = -2
+        hi(1:nd) = nc + 2
+        allocate (x(nd, n), vol(n), stress(6, n))
+        call random_number(x)
+        ! (cell units: scattered over the grid, then the special places)
+        x = nc*x
+        x(:, 1) = 0.0_wp
+        x(:, 2) = real(nc, wp)
+        x(:, 3) = 0.5_wp
+        x(:, 4) = 2.0_wp
+        x(1, 5) = 1.5_wp
+        x(:, 6) = 2.5_wp
+        do p = 1, n
+          x(:, p) = origin(1:nd) + x(:, p)*h(1:nd)
+        end do
+        call random_number(vol)
+        vol = 0.01_wp*(0.5_wp + vol)
+        call random_number(stress)
+        allocate (acc(gauss_cell_components(nd, 1, basis_constant), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (ref, mold=acc)
+        acc = 0.0_wp
+        ref = 0.0_wp
+        call gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, 1, kernel_linear, radius, radial, &
+                              basis_constant, lo, acc)
+        m = 0
+        m(1:nd) = nc - 1
+        do p = 1, n
+          s = 0.0_wp
+          s(1:nd) = (x(:, p) - origin(1:nd))/h(1:nd)
+          do k = 0, m(3)
+            do j = 0, m(2)
+              do i = 0, m(1)
+                dx = [real(i, wp), real(j, wp), real(k, wp)] + 0.5_wp - s
+                dx(nd + 1:3) = 0.0_wp
+                if (any(abs(dx) >= radius)) cycle
+                if (radial) then
+                  if (dx(1)**2 + dx(2)**2 + dx(3)**2 >= radius*radius) cycle
+                  r = sqrt(dx(1)**2 + dx(2)**2 + dx(3)**2)/radius
+                  w = 1.0_wp - r
+                else
+                  wl = 1.0_wp - abs(dx)/radius
+                  w = wl(1)*wl(2)*wl(3)
+                end if
+                if (w <= 0.0_wp) cycle
+                ref(2, i, j, k) = ref(2, i, j, k) + 1.0_wp
+                ref(3, i, j, k) = ref(3, i, j, k) + vol(p)*w
+                ref(4, i, j, k) = ref(4, i, j, k) + vol(p)*w*stress(1, p)
+              end do
+            end do
+          end do
+        end do
+        call check(all(acc(2:4, :, :, :) == ref(2:4, :, :, :)), trim(tag)//': the same sums')
+        call check(sum(ref(2, :, :, :)) > real(n, wp), trim(tag)//': points reach more than one centre')
+        deallocate (x, vol, stress, acc, ref)
+      end do
+    end do
+  end subroutine test_one_gauss_point_reaches_every_centre_within_the_weight
 
   !> The isotropic solution soli against the tensor one solt: per occupied cell and Gauss
   !> point the same gamma and the isotropic value equal to the xx component.

@@ -203,6 +203,19 @@ contains
     integer :: i, a
     real(wp) :: dx
     nl = 0
+    if (ng == 1 .and. reach <= 1.0_wp) then
+      ! One Gauss point per cell within one cell: only the centres of the cells
+      ! floor(s - 1/2) and the next can lie within reach (written in any case, kept
+      ! when inside the grid and the reach: no branch to mispredict)
+      do i = floor(s - 0.5_wp), floor(s - 0.5_wp) + 1
+        dx = real(i, wp) + xi(1) - s
+        cell(nl + 1) = i
+        ga(nl + 1) = 1
+        off(nl + 1) = dx
+        nl = nl + merge(1, 0, abs(dx) < reach .and. i >= 0 .and. i < ncell)
+      end do
+      return
+    end if
     do i = max(0, floor(s - reach)), min(ncell - 1, floor(s + reach))
       do a = 1, ng
         dx = real(i, wp) + xi(a) - s

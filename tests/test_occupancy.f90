@@ -17,6 +17,8 @@ program test_occupancy
   use dpmpm_mls, only: basis_linear, basis_constant, mls_stats_t
   use dpmpm_assert, only: begin_test, check, finish_tests
   implicit none
+  !> The grid of the Gauss-field tests: origin and cell size (different along each axis).
+  real(wp), parameter :: gorigin(3) = [0.1_wp, -0.2_wp, 0.3_wp], gh(3) = [0.5_wp, 0.25_wp, 0.4_wp]
   integer :: status
   call start_mpi()
   call test_closing_fills_gaps_up_to_twice_the_width_1d()
@@ -97,17 +99,15 @@ contains
   !> Scattered points, random fields; the cache is valid and not empty.
   subroutine test_kept_reach_gives_the_same_gradients()
     integer, parameter :: n = 60, nc = 8
-    integer :: nd, ng, variant, kernel, basis, lo(3), hi(3), ncells(3), nk1, nk2, nk3, nk4, p
+    integer :: nd, ng, variant, kernel, basis, lo(3), hi(3), ncells(3), nk1, nk2, nk3, nk4
     real(wp), allocatable :: x(:, :), vol(:), stress(:, :), acc(:, :, :, :), sol(:, :, :, :)
     real(wp), allocatable :: lg(:, :, :, :), lg2(:, :, :, :), va(:, :), vb(:, :), wa(:, :), wb(:, :)
     real(wp), allocatable :: ta(:), tb(:), tc(:), td(:), da(:), db(:), dc(:), dd(:)
-    real(wp) :: origin(3), h(3), radius
+    real(wp) :: radius
     logical :: radial
     type(reach_cache_t) :: cache
     character(len=40) :: tag
     call begin_test('kept_reach_gives_the_same_gradients')
-    origin = [0.1_wp, -0.2_wp, 0.3_wp]
-    h = [0.5_wp, 0.25_wp, 0.4_wp]
     do nd = 2, 3
       do ng = 2, 3
         do variant = 1, 2
@@ -117,26 +117,17 @@ contains
           radius = merge(2.0_wp, 0.0_wp, variant == 1)
           radial = variant == 1
           write (tag, '(i0,a,i0,a,i0)') nd, 'D ng = ', ng, ' variant ', variant
-          ncells = 1
-          ncells(1:nd) = nc
-          lo = 0; hi = 0
-          lo(1:nd) = -2
-          hi(1:nd) = nc + 2
+          call test_grid(nd, nc, ncells, lo, hi)
           allocate (x(nd, n), vol(n), stress(6, n), ta(n), tb(n), va(9, n), vb(9, n), wa(9, n), wb(9, n))
           allocate (tc(n), td(n), da(n), db(n), dc(n), dd(n))
-          call random_number(x)
-          do p = 1, n
-            x(:, p) = origin(1:nd) + (1.0_wp + 6.0_wp*x(:, p))*h(1:nd)
-          end do
-          call random_number(vol)
-          vol = 0.01_wp*(0.5_wp + vol)
+          call scattered_points(nd, x, vol)
           call random_number(stress)
           allocate (acc(gauss_cell_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
           allocate (sol(gauss_solution_components(nd, ng, basis), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
           allocate (lg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
           allocate (lg2, mold=lg)
           acc = 0.0_wp
-          call gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, ng, kernel, radius, radial, &
+          call gauss_accumulate(nd, n, x, vol, stress, gorigin, gh, ncells, ng, kernel, radius, radial, &
                                 basis, lo, acc, cache=cache)
           call check(cache%valid .and. reach_cache_entries(cache) > n, trim(tag)//': the reach is kept')
           call random_number(sol)
@@ -145,20 +136,20 @@ contains
           call random_number(lg2)
           va = 0.0_wp; vb = 0.0_wp; wa = 0.0_wp; wb = 0.0_wp
           da = 0.0_wp; db = 0.0_wp; dc = 0.0_wp; dd = 0.0_wp
-          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+          call gauss_strain(nd, n, x, vol, gorigin, gh, ncells, ng, kernel, radius, radial, basis, lo, sol, &
                             lg, ta, nk1, vgrad=va)
-          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+          call gauss_strain(nd, n, x, vol, gorigin, gh, ncells, ng, kernel, radius, radial, basis, lo, sol, &
                             lg, tb, nk2, vgrad=vb, cache=cache)
-          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+          call gauss_strain(nd, n, x, vol, gorigin, gh, ncells, ng, kernel, radius, radial, basis, lo, sol, &
                             lg2, ta, nk1, vgrad=wa)
-          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+          call gauss_strain(nd, n, x, vol, gorigin, gh, ncells, ng, kernel, radius, radial, basis, lo, sol, &
                             lg2, tb, nk2, vgrad=wb, cache=cache)
           call check(all(va == vb) .and. all(wa == wb), trim(tag)//': the same point gradients')
           call check(all(ta == tb) .and. nk1 == nk2, trim(tag)//': the same effective volumes')
           call check(maxval(abs(va)) > 0.0_wp .and. minval(ta) > 0.0_wp, trim(tag)//': nonzero gradients')
-          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+          call gauss_strain(nd, n, x, vol, gorigin, gh, ncells, ng, kernel, radius, radial, basis, lo, sol, &
                             lg, tc, nk3, div=da, lg2=lg2, div2=db)
-          call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel, radius, radial, basis, lo, sol, &
+          call gauss_strain(nd, n, x, vol, gorigin, gh, ncells, ng, kernel, radius, radial, basis, lo, sol, &
                             lg, td, nk4, div=dc, lg2=lg2, div2=dd, cache=cache)
           call check(all(da == dc) .and. all(db == dd), trim(tag)//': the same point divergences')
           call check(all(tc == ta) .and. all(td == ta) .and. nk3 == nk1 .and. nk4 == nk1, &
@@ -180,33 +171,22 @@ contains
   !> The isotropic sums take 1 + np + nb of the 1 + np + nb nf components per Gauss point.
   subroutine test_isotropic_field_gives_the_forces_of_its_tensor()
     integer, parameter :: n = 60, nc = 8, ng = 2
-    integer :: nd, basis, lo(3), hi(3), clo(3), chi(3), ncells(3), p, m, nk1, nk2, ib
+    integer :: nd, basis, lo(3), hi(3), clo(3), chi(3), ncells(3), m, nk1, nk2, ib
     real(wp), allocatable :: x(:, :), vol(:), sv(:, :), st(:, :), acci(:, :, :, :), acct(:, :, :, :)
     real(wp), allocatable :: soli(:, :, :, :), solt(:, :, :, :), nodei(:, :, :, :), nodet(:, :, :, :)
     real(wp), allocatable :: lg(:, :, :, :), ti(:), tt(:), di(:), dt(:)
-    real(wp) :: origin(3), h(3)
     type(mls_stats_t) :: stats
     character(len=40) :: tag
     call begin_test('isotropic_field_gives_the_forces_of_its_tensor')
-    origin = [0.1_wp, -0.2_wp, 0.3_wp]
-    h = [0.5_wp, 0.25_wp, 0.4_wp]
     do nd = 2, 3
       do ib = 1, 2
         basis = merge(basis_constant, basis_linear, ib == 1)
         write (tag, '(i0,2a)') nd, 'D, basis ', trim(merge('constant', 'linear  ', ib == 1))
-        ncells = 1
-        ncells(1:nd) = nc
-        lo = 0; hi = 0; clo = 0; chi = 0
-        lo(1:nd) = -2
-        hi(1:nd) = nc + 2
+        call test_grid(nd, nc, ncells, lo, hi)
+        clo = 0; chi = 0
         chi(1:nd) = nc - 1
         allocate (x(nd, n), vol(n), sv(1, n), st(6, n), ti(n), tt(n), di(n), dt(n))
-        call random_number(x)
-        do p = 1, n
-          x(:, p) = origin(1:nd) + (1.0_wp + 6.0_wp*x(:, p))*h(1:nd)
-        end do
-        call random_number(vol)
-        vol = 0.01_wp*(0.5_wp + vol)
+        call scattered_points(nd, x, vol)
         call random_number(sv)
         sv = sv - 0.5_wp
         st = 0.0_wp
@@ -224,22 +204,22 @@ contains
         call check(size(acci, 1) < size(acct, 1) .and. size(soli, 1) < size(solt, 1), &
                    trim(tag)//': the isotropic sums are smaller')
         acci = 0.0_wp; acct = 0.0_wp; soli = 0.0_wp; solt = 0.0_wp; nodei = 0.0_wp; nodet = 0.0_wp
-        call gauss_accumulate(nd, n, x, vol, sv, origin, h, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+        call gauss_accumulate(nd, n, x, vol, sv, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
                               .true., basis, lo, acci, isotropic=.true.)
-        call gauss_accumulate(nd, n, x, vol, st, origin, h, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+        call gauss_accumulate(nd, n, x, vol, st, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
                               .true., basis, lo, acct)
         call gauss_solve(nd, ng, basis, lo, clo, chi, acci, soli, stats, isotropic=.true.)
         call gauss_solve(nd, ng, basis, lo, clo, chi, acct, solt, stats)
         call check(reconstructed_equal(nd, ng, basis, soli, solt), trim(tag)//': the same reconstructed value')
-        call gauss_forces(nd, ng, basis, kernel_cubic, h, lo, clo, chi, soli, nodei, isotropic=.true.)
-        call gauss_forces(nd, ng, basis, kernel_cubic, h, lo, clo, chi, solt, nodet)
+        call gauss_forces(nd, ng, basis, kernel_cubic, gh, lo, clo, chi, soli, nodei, isotropic=.true.)
+        call gauss_forces(nd, ng, basis, kernel_cubic, gh, lo, clo, chi, solt, nodet)
         call check(all(nodei == nodet) .and. maxval(abs(nodei)) > 0.0_wp, trim(tag)//': the same nodal forces')
         call random_number(lg)
         ! (a point whose effective volume is not positive keeps its value: 0 here)
         di = 0.0_wp; dt = 0.0_wp
-        call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel_wendland_c2, 2.0_wp, .true., basis, &
+        call gauss_strain(nd, n, x, vol, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, .true., basis, &
                           lo, soli, lg, ti, nk1, div=di, isotropic=.true.)
-        call gauss_strain(nd, n, x, vol, origin, h, ncells, ng, kernel_wendland_c2, 2.0_wp, .true., basis, &
+        call gauss_strain(nd, n, x, vol, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, .true., basis, &
                           lo, solt, lg, tt, nk2, div=dt)
         call check(all(di == dt) .and. all(ti == tt) .and. nk1 == nk2 .and. maxval(abs(di)) > 0.0_wp, &
                    trim(tag)//': the same divergences and effective volumes')
@@ -258,25 +238,20 @@ contains
     integer, parameter :: n = 400, nc = 5
     integer :: nd, variant, lo(3), hi(3), ncells(3), p, i, j, k, m(3)
     real(wp), allocatable :: x(:, :), vol(:), stress(:, :), acc(:, :, :, :), ref(:, :, :, :)
-    real(wp) :: origin(3), h(3), radius, s(3), dx(3), w, r, wl(3)
+    real(wp) :: radius, s(3), dx(3), w, r, wl(3)
     logical :: radial
     character(len=40) :: tag
     call begin_test('one_gauss_point_reaches_every_centre_within_the_weight')
-    origin = [0.1_wp, -0.2_wp, 0.3_wp]
-    h = [0.5_wp, 0.25_wp, 0.4_wp]
     do nd = 2, 3
       do variant = 1, 2
         radial = variant == 1
         radius = merge(0.75_wp, 0.65_wp, radial)
         write (tag, '(i0,2a)') nd, 'D, ', trim(merge('ball', 'box ', radial))
-        ncells = 1
-        ncells(1:nd) = nc
-        lo = 0; hi = 0
-        lo(1:nd) = -2
-        hi(1:nd) = nc + 2
+        call test_grid(nd, nc, ncells, lo, hi)
         allocate (x(nd, n), vol(n), stress(6, n))
+        ! (the volumes; the places, in cell units, over the whole grid, then the special places)
+        call scattered_points(nd, x, vol)
         call random_number(x)
-        ! (cell units: scattered over the grid, then the special places)
         x = nc*x
         x(:, 1) = 0.0_wp
         x(:, 2) = real(nc, wp)
@@ -285,22 +260,20 @@ contains
         x(1, 5) = 1.5_wp
         x(:, 6) = 2.5_wp
         do p = 1, n
-          x(:, p) = origin(1:nd) + x(:, p)*h(1:nd)
+          x(:, p) = gorigin(1:nd) + x(:, p)*gh(1:nd)
         end do
-        call random_number(vol)
-        vol = 0.01_wp*(0.5_wp + vol)
         call random_number(stress)
         allocate (acc(gauss_cell_components(nd, 1, basis_constant), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         allocate (ref, mold=acc)
         acc = 0.0_wp
         ref = 0.0_wp
-        call gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, 1, kernel_linear, radius, radial, &
+        call gauss_accumulate(nd, n, x, vol, stress, gorigin, gh, ncells, 1, kernel_linear, radius, radial, &
                               basis_constant, lo, acc)
         m = 0
         m(1:nd) = nc - 1
         do p = 1, n
           s = 0.0_wp
-          s(1:nd) = (x(:, p) - origin(1:nd))/h(1:nd)
+          s(1:nd) = (x(:, p) - gorigin(1:nd))/gh(1:nd)
           do k = 0, m(3)
             do j = 0, m(2)
               do i = 0, m(1)
@@ -329,6 +302,31 @@ contains
       end do
     end do
   end subroutine test_one_gauss_point_reaches_every_centre_within_the_weight
+
+  !> The test grid of nc cells along each of nd axes with 2 ghost cells each way.
+  subroutine test_grid(nd, nc, ncells, lo, hi)
+    integer, intent(in) :: nd, nc
+    integer, intent(out) :: ncells(3), lo(3), hi(3)
+    ncells = 1
+    ncells(1:nd) = nc
+    lo = 0; hi = 0
+    lo(1:nd) = -2
+    hi(1:nd) = nc + 2
+  end subroutine test_grid
+
+  !> Points x(nd, :) scattered uniformly over cells 1 to 7 of the test grid along each axis,
+  !> with volumes vol between 0.005 and 0.015.
+  subroutine scattered_points(nd, x, vol)
+    integer, intent(in) :: nd
+    real(wp), intent(out) :: x(:, :), vol(:)
+    integer :: p
+    call random_number(x)
+    do p = 1, size(x, 2)
+      x(:, p) = gorigin(1:nd) + (1.0_wp + 6.0_wp*x(:, p))*gh(1:nd)
+    end do
+    call random_number(vol)
+    vol = 0.01_wp*(0.5_wp + vol)
+  end subroutine scattered_points
 
   !> The isotropic solution soli against the tensor one solt: per occupied cell and Gauss
   !> point the same gamma and the isotropic value equal to the xx component.

@@ -583,6 +583,7 @@ contains
     integer, allocatable :: off(:, :, :)
     real(wp), allocatable :: gr(:, :, :), psi(:, :)
     real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), vv(6), s(3, 3), fs(3), wq, sv
+    logical :: iso
     nb = basis_size(basis, nd)
     nf = fields_of(nd, isotropic)
     call gauss_points_of_cell(nd, ng, yg, wg)
@@ -594,27 +595,24 @@ contains
           do g = 1, ng**nd
             bs = 1 + (g - 1)*(nb + nf)
             wq = wg(g)*product(h(1:nd))
-            if (nf == 1 .and. nd > 1) then
-              ! s I . grad Psi = s grad Psi
+            iso = nf == 1 .and. nd > 1
+            if (iso) then
               sv = sol(bs + nb + 1, i, j, k)
-              do m = 1, nn
-                idx = [i, j, k] + off(:, m, g)
-                fs = -wq*(sv*gr(:, m, g))
-                node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) = &
-                  node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) + fs(1:nd)
-                if (present(qvol)) qvol(1, idx(1), idx(2), idx(3)) = &
-                  qvol(1, idx(1), idx(2), idx(3)) + wq*psi(m, g)
+            else
+              vv = 0.0_wp
+              do f = 1, nf
+                vv(stress_voigt_index(nd, f)) = sol(bs + nb + f, i, j, k)
               end do
-              cycle
+              s = voigt_to_tensor(vv)
             end if
-            vv = 0.0_wp
-            do f = 1, nf
-              vv(stress_voigt_index(nd, f)) = sol(bs + nb + f, i, j, k)
-            end do
-            s = voigt_to_tensor(vv)
             do m = 1, nn
               idx = [i, j, k] + off(:, m, g)
-              fs = -wq*matmul(s, gr(:, m, g))
+              if (iso) then
+                ! s I . grad Psi = s grad Psi
+                fs = -wq*(sv*gr(:, m, g))
+              else
+                fs = -wq*matmul(s, gr(:, m, g))
+              end if
               node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) = &
                 node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) + fs(1:nd)
               if (present(qvol)) qvol(1, idx(1), idx(2), idx(3)) = &

@@ -44,6 +44,9 @@ module dpmpm_gauss_fields
   !> Memory a reach cache may take per point set (bytes); beyond it gauss_strain
   !> finds the Gauss points within reach again.
   integer(kind=8), parameter :: reach_cache_budget = 256_8*1024_8*1024_8
+  !> The most entries within the budget (the whole entries: an exact division).
+  integer(kind=8), parameter :: reach_cache_cap = (reach_cache_budget - mod(reach_cache_budget, &
+                                                   int(reach_entry_bytes, 8)))/reach_entry_bytes
   !> A node is thin for a point set when the set's points give it less than this
   !> fraction of the volume its Gauss points give it, sum_p V_p Psi_I(x_p) <
   !> thin_fraction sum_g w_g Psi_I(x_g) (thin_node_forces).
@@ -434,7 +437,7 @@ contains
         cache%valid = .false.
         return
       end if
-      cap = int(min(max(2_8*int(cap, 8), int(nc + nq, 8), 1024_8), reach_cache_budget/reach_entry_bytes))
+      cap = int(min(max(2_8*int(cap, 8), int(nc + nq, 8), 1024_8), reach_cache_cap))
       allocate (ti(4, cap), tw(cap))
       if (nc > 0) then
         ti(:, 1:nc) = cache%idx(:, 1:nc)

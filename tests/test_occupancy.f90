@@ -5,14 +5,15 @@
 !> gauss_strain the same point gradients and divergences as the reach found again; the
 !> divergences are the traces of the gradients. An isotropic field reconstructed as one
 !> value per Gauss point gives the forces and divergences of its tensor s I. With one
-!> Gauss point per cell, the sums are those over every cell centre within the weight.
+!> Gauss point per cell, the sums are those over every cell centre within the weight. A
+!> second field summed and solved with the first's counts and moments is solved as alone.
 program test_occupancy
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_strain, reach_cache_t, &
                                 reach_cache_entries, gauss_cell_components, gauss_solution_components, &
-                                gauss_solve, gauss_forces
+                                gauss_solve, gauss_forces, gauss_second_field_components
   use dpmpm_kernels, only: kernel_wendland_c2, kernel_cubic, kernel_linear
   use dpmpm_mls, only: basis_linear, basis_constant, mls_stats_t
   use dpmpm_assert, only: begin_test, check, finish_tests
@@ -26,6 +27,7 @@ program test_occupancy
   call test_kept_reach_gives_the_same_gradients()
   call test_isotropic_field_gives_the_forces_of_its_tensor()
   call test_one_gauss_point_reaches_every_centre_within_the_weight()
+  call test_second_field_is_solved_as_alone()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -304,6 +306,64 @@ contains
   end subroutine test_one_gauss_point_reaches_every_centre_within_the_weight
 
   !> The test grid of nc cells along each of nd axes with 2 ghost cells each way.
+  !> Two fields of the same points in one pass (gauss_accumulate's acc2 holds the second
+  !> field's sums alone) and one solve (gauss_solve's acc2, sol2: the first field's gamma):
+  !> the second field's solution equals that of the second field summed and solved
+  !> alone, and the first's that of the first alone, bit for bit. 2D and 3D, constant
+  !> and linear basis, isotropic fields (the fluid's two shares of p) and stress tensors;
+  !> Wendland C2 weight of radius 2, 2 Gauss points per axis.
+  subroutine test_second_field_is_solved_as_alone()
+    integer, parameter :: n = 60, nc = 8, ng = 2
+    integer :: nd, basis, lo(3), hi(3), clo(3), chi(3), ncells(3), ib, it, nin
+    real(wp), allocatable :: x(:, :), vol(:), f1(:, :), f2(:, :), acc(:, :, :, :), acc2(:, :, :, :)
+    real(wp), allocatable :: sol(:, :, :, :), sol2(:, :, :, :), acca(:, :, :, :), accb(:, :, :, :)
+    real(wp), allocatable :: sola(:, :, :, :), solb(:, :, :, :)
+    type(mls_stats_t) :: stats
+    logical :: iso
+    character(len=48) :: tag
+    call begin_test('second_field_is_solved_as_alone')
+    do nd = 2, 3
+      do ib = 1, 2
+        do it = 1, 2
+          basis = merge(basis_constant, basis_linear, ib == 1)
+          iso = it == 1
+          nin = merge(1, 6, iso)
+          write (tag, '(i0,4a)') nd, 'D, basis ', trim(merge('constant', 'linear  ', ib == 1)), ', ', &
+            trim(merge('isotropic', 'tensor   ', iso))
+          call test_grid(nd, nc, ncells, lo, hi)
+          clo = 0; chi = 0
+          chi(1:nd) = nc - 1
+          allocate (x(nd, n), vol(n), f1(nin, n), f2(nin, n))
+          call scattered_points(nd, x, vol)
+          call random_number(f1)
+          call random_number(f2)
+          f2 = f2 - 0.5_wp
+          allocate (acc(gauss_cell_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          allocate (acc2(gauss_second_field_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), &
+                         lo(3):hi(3)))
+          allocate (sol(gauss_solution_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          allocate (acca, accb, mold=acc)
+          allocate (sol2, sola, solb, mold=sol)
+          acc = 0.0_wp; acc2 = 0.0_wp; acca = 0.0_wp; accb = 0.0_wp
+          sol = 0.0_wp; sol2 = 0.0_wp; sola = 0.0_wp; solb = 0.0_wp
+          call gauss_accumulate(nd, n, x, vol, f1, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+                                .true., basis, lo, acc, f2, acc2, isotropic=iso)
+          call gauss_accumulate(nd, n, x, vol, f1, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+                                .true., basis, lo, acca, isotropic=iso)
+          call gauss_accumulate(nd, n, x, vol, f2, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+                                .true., basis, lo, accb, isotropic=iso)
+          call check(size(acc2, 1) < size(accb, 1), trim(tag)//': the second sums are smaller')
+          call gauss_solve(nd, ng, basis, lo, clo, chi, acc, sol, stats, iso, acc2, sol2)
+          call gauss_solve(nd, ng, basis, lo, clo, chi, acca, sola, stats, iso)
+          call gauss_solve(nd, ng, basis, lo, clo, chi, accb, solb, stats, iso)
+          call check(all(sol2 == solb) .and. any(solb /= sola), trim(tag)//': the second field as alone')
+          call check(all(sol == sola), trim(tag)//': the first field as alone')
+          deallocate (x, vol, f1, f2, acc, acc2, sol, sol2, acca, accb, sola, solb)
+        end do
+      end do
+    end do
+  end subroutine test_second_field_is_solved_as_alone
+
   subroutine test_grid(nd, nc, ncells, lo, hi)
     integer, intent(in) :: nd, nc
     integer, intent(out) :: ncells(3), lo(3), hi(3)

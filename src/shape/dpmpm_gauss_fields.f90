@@ -29,7 +29,7 @@ module dpmpm_gauss_fields
   private
   public :: gauss_rule, gauss_cover_radius, field_components, stress_voigt_index
   public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
-  public :: occupancy_pass, gauss_cell_components, gauss_solution_components
+  public :: occupancy_pass, gauss_cell_components, gauss_solution_components, gauss_second_field_components
   public :: reach_cache_t, reach_cache_entries, reach_cache_bytes
   public :: thin_fraction, thin_node_forces
 
@@ -147,6 +147,14 @@ contains
     nb = basis_size(basis, nd)
     n = 1 + ng**nd*(1 + packed_size(nb) + nb*fields_of(nd, isotropic))
   end function gauss_cell_components
+
+  !> Components per cell of a second field's sums (gauss_accumulate's acc2): its field
+  !> sums alone, since the counts and moments of the same points are those of acc.
+  pure integer function gauss_second_field_components(nd, ng, basis, isotropic) result(n)
+    integer, intent(in) :: nd, ng, basis
+    logical, intent(in), optional :: isotropic
+    n = ng**nd*basis_size(basis, nd)*fields_of(nd, isotropic)
+  end function gauss_second_field_components
 
   !> Components per cell of the Gauss-point solution (gauss_solve).
   pure integer function gauss_solution_components(nd, ng, basis, isotropic) result(n)
@@ -318,13 +326,14 @@ contains
     logical, intent(in) :: radial
     integer, intent(in) :: lo(3)
     real(wp), intent(inout) :: acc(:, lo(1):, lo(2):, lo(3):)
-    !> A second field of the same points, summed into acc2 in the same pass.
+    !> A second field of the same points, summed into acc2 in the same pass: its field
+    !> sums alone (gauss_second_field_components), the counts and moments being acc's.
     real(wp), intent(in), optional :: stress2(:, :)
     real(wp), intent(inout), optional :: acc2(:, lo(1):, lo(2):, lo(3):)
     !> Keeps the Gauss points within reach of each point for gauss_strain.
     type(reach_cache_t), intent(inout), optional :: cache
     logical, intent(in), optional :: isotropic
-    integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, d, nq, nc
+    integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, base2, d, nq, nc
     integer, allocatable :: cells(:, :), gidx(:), gax(:)
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), w, pv(10), reach, xi(ng), wxi(ng), sig(6), sig2(6)
@@ -371,7 +380,6 @@ contains
         cp(d) = min(max(floor(s(d)), 0), ncells(d) - 1)
       end do
       acc(1, cp(1), cp(2), cp(3)) = acc(1, cp(1), cp(2), cp(3)) + 1.0_wp
-      if (two) acc2(1, cp(1), cp(2), cp(3)) = acc2(1, cp(1), cp(2), cp(3)) + 1.0_wp
       ! MLS sums at the Gauss points.
       call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
                            offs, wq, gax)
@@ -382,24 +390,22 @@ contains
         i = cells(1, q); j = cells(2, q); k = cells(3, q)
         w = vol(p)*wq(q)
         base = 1 + (gidx(q) - 1)*ncg
+        base2 = (gidx(q) - 1)*nb*nf
         acc(base + 1, i, j, k) = acc(base + 1, i, j, k) + 1.0_wp
-        if (two) acc2(base + 1, i, j, k) = acc2(base + 1, i, j, k) + 1.0_wp
         if (nb == 1) then
           ! Constant basis (p = 1): the moment is the weight sum, the field sums w sigma
           ! (with the field counts of 2D and 3D known, so that the sums unroll).
           acc(base + 2, i, j, k) = acc(base + 2, i, j, k) + w
-          if (two) acc2(base + 2, i, j, k) = acc2(base + 2, i, j, k) + w
           select case (nf)
           case (6)
             acc(base + 3:base + 8, i, j, k) = acc(base + 3:base + 8, i, j, k) + w*sig
-            if (two) acc2(base + 3:base + 8, i, j, k) = acc2(base + 3:base + 8, i, j, k) + w*sig2
+            if (two) acc2(base2 + 1:base2 + 6, i, j, k) = acc2(base2 + 1:base2 + 6, i, j, k) + w*sig2
           case (3)
             acc(base + 3:base + 5, i, j, k) = acc(base + 3:base + 5, i, j, k) + w*sig(1:3)
-            if (two) acc2(base + 3:base + 5, i, j, k) = acc2(base + 3:base + 5, i, j, k) + w*sig2(1:3)
+            if (two) acc2(base2 + 1:base2 + 3, i, j, k) = acc2(base2 + 1:base2 + 3, i, j, k) + w*sig2(1:3)
           case default
             acc(base + 3:base + 2 + nf, i, j, k) = acc(base + 3:base + 2 + nf, i, j, k) + w*sig(1:nf)
-            if (two) acc2(base + 3:base + 2 + nf, i, j, k) = acc2(base + 3:base + 2 + nf, i, j, k) + &
-                                                             w*sig2(1:nf)
+            if (two) acc2(base2 + 1:base2 + nf, i, j, k) = acc2(base2 + 1:base2 + nf, i, j, k) + w*sig2(1:nf)
           end select
           cycle
         end if
@@ -411,10 +417,9 @@ contains
             acc(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) + w*sig(f)*pv(1:nb)
         end do
         if (.not. two) cycle
-        call moment_add(nb, pv(1:nb), w, acc2(base + 2:base + 1 + np, i, j, k))
         do f = 1, nf
-          acc2(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) = &
-            acc2(base + 2 + np + (f - 1)*nb:base + 1 + np + f*nb, i, j, k) + w*sig2(f)*pv(1:nb)
+          acc2(base2 + 1 + (f - 1)*nb:base2 + f*nb, i, j, k) = &
+            acc2(base2 + 1 + (f - 1)*nb:base2 + f*nb, i, j, k) + w*sig2(f)*pv(1:nb)
         end do
       end do
     end do
@@ -501,16 +506,22 @@ contains
   end subroutine occupancy_pass
 
   !> Solve the Gauss-point reconstructions of the owned cells. sol per cell:
-  !> occupied flag (1 or 0), then per Gauss point gamma(nb) and the fields (nf).
-  subroutine gauss_solve(nd, ng, basis, lo, clo, chi, acc, sol, stats, isotropic)
+  !> occupied flag (1 or 0), then per Gauss point gamma(nb) and the fields (nf). With
+  !> acc2, the field sums of a second field of the same points (gauss_accumulate), its
+  !> solution in sol2 (the same layout) from the same gamma.
+  subroutine gauss_solve(nd, ng, basis, lo, clo, chi, acc, sol, stats, isotropic, acc2, sol2)
     integer, intent(in) :: nd, ng, basis, lo(3), clo(3), chi(3)
     real(wp), intent(in) :: acc(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout) :: sol(:, lo(1):, lo(2):, lo(3):)
     type(mls_stats_t), intent(inout) :: stats
     !> One isotropic field (gauss_accumulate).
     logical, intent(in), optional :: isotropic
-    integer :: i, j, k, g, nb, np, nf, ncg, ngp, f, level, ba, bs
+    real(wp), intent(in), optional :: acc2(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout), optional :: sol2(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k, g, nb, np, nf, ncg, ngp, f, level, ba, bs, b2
     real(wp) :: gam(10)
+    logical :: two
+    two = present(acc2) .and. present(sol2)
     nb = basis_size(basis, nd)
     np = packed_size(nb)
     nf = fields_of(nd, isotropic)
@@ -520,6 +531,7 @@ contains
       do j = clo(2), chi(2)
         do i = clo(1), chi(1)
           sol(:, i, j, k) = 0.0_wp
+          if (two) sol2(:, i, j, k) = 0.0_wp
           if (acc(1, i, j, k) < 0.5_wp) cycle
           sol(1, i, j, k) = 1.0_wp
           do g = 1, ngp
@@ -532,7 +544,14 @@ contains
               sol(bs + nb + f, i, j, k) = dot_product(gam(1:nb), &
                 acc(ba + 2 + np + (f - 1)*nb:ba + 1 + np + f*nb, i, j, k))
             end do
+            if (.not. two) cycle
+            b2 = (g - 1)*nb*nf
+            sol2(bs + 1:bs + nb, i, j, k) = gam(1:nb)
+            do f = 1, nf
+              sol2(bs + nb + f, i, j, k) = dot_product(gam(1:nb), acc2(b2 + 1 + (f - 1)*nb:b2 + f*nb, i, j, k))
+            end do
           end do
+          if (two) sol2(1, i, j, k) = 1.0_wp
         end do
       end do
     end do

@@ -33,8 +33,9 @@ module dpmpm_phase
     ! gradients at the Gauss points, positions and volumes at the force evaluation,
     ! effective point volumes. Fluid sets: gsol2 is the solid share -n_s p.
     real(wp), allocatable :: gacc(:, :, :, :), gsol(:, :, :, :), gsol2(:, :, :, :), glg(:, :, :, :)
-    !> Fluid sets: the sums of the second field and the Gauss-point gradients of the
-    !> second velocity, made in the same passes over the points as the first.
+    !> Fluid sets: the field sums of the second field (its counts and moments are those
+    !> of gacc) and the Gauss-point gradients of the second velocity, made in the same
+    !> passes over the points as the first.
     real(wp), allocatable :: gacc2(:, :, :, :), glg2(:, :, :, :)
     !> The Gauss fields hold one isotropic field s I (fluid sets: the pore pressure's
     !> shares) instead of the stress components.

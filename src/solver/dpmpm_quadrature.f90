@@ -27,7 +27,8 @@ contains
     real(wp), intent(inout) :: sol(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     real(wp), intent(inout) :: node(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     !> A second field of the same points (fluid: the solid's share of p), with its own
-    !> reconstruction and nodes; the pass over the points and the occupancy are shared.
+    !> reconstruction and nodes; the pass over the points, the occupancy and the MLS
+    !> solve (the counts and moments of the same points) are shared.
     real(wp), intent(in), optional :: fields2(:, :)
     real(wp), intent(inout), optional :: sol2(:, self%dec%alo(1):, self%dec%alo(2):, &
                                               self%dec%alo(3):)
@@ -56,16 +57,15 @@ contains
       call self%timers%tic(t_halo)
       call self%dec%halo_sum(tr%gacc)
       call gauss_occupancy(self, tr%gacc)
-      if (two) then
-        call self%dec%halo_sum(tr%gacc2)
-        tr%gacc2(1, clo(1):chi(1), clo(2):chi(2), clo(3):chi(3)) = &
-          tr%gacc(1, clo(1):chi(1), clo(2):chi(2), clo(3):chi(3))
-      end if
+      if (two) call self%dec%halo_sum(tr%gacc2)
       call self%timers%toc(t_halo)
-      call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, tr%gacc, sol, &
-                       self%mls_stats, tr%giso)
-      if (two) call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, &
-                                tr%gacc2, sol2, self%mls_stats, tr%giso)
+      if (two) then
+        call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, tr%gacc, sol, &
+                         self%mls_stats, tr%giso, tr%gacc2, sol2)
+      else
+        call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, tr%gacc, sol, &
+                         self%mls_stats, tr%giso)
+      end if
       call self%timers%tic(t_halo)
       call self%dec%halo_copy(sol)
       if (two) call self%dec%halo_copy(sol2)

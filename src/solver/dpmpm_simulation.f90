@@ -10,7 +10,8 @@ module dpmpm_simulation
   use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable, fbc_names, face_names
   use dpmpm_kernels, only: kernel_reach
   use dpmpm_mls, only: mls_stats_t, basis_size, packed_size
-  use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components, gauss_cover_radius
+  use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components, gauss_cover_radius, &
+                                gauss_second_field_components
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: materials_from_config, model_neo_hookean, model_fluid, model_rigid, is_plastic
   use dpmpm_rigid, only: hold_rigid_points
@@ -369,7 +370,9 @@ contains
           end associate
           allocate (self%phase(2)%gsol2, mold=self%phase(2)%gsol)
           allocate (self%phase(2)%glg, mold=self%phase(1)%glg)
-          allocate (self%phase(2)%gacc2, mold=self%phase(2)%gacc)
+          ! (the second field's sums alone: its counts and moments are those of gacc)
+          allocate (self%phase(2)%gacc2(gauss_second_field_components(self%nd, self%plan%ngauss, &
+                                        self%plan%field_basis, isotropic=.true.), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
           allocate (self%phase(2)%glg2, mold=self%phase(1)%glg)
           allocate (self%phase(2)%nvol, mold=self%phase(1)%nvol)
         end if

@@ -314,7 +314,7 @@ contains
   !> Wendland C2 weight of radius 2, 2 Gauss points per axis.
   subroutine test_second_field_is_solved_as_alone()
     integer, parameter :: n = 60, nc = 8, ng = 2
-    integer :: nd, basis, lo(3), hi(3), clo(3), chi(3), ncells(3), ib, it, nin
+    integer :: nd, basis, lo(3), hi(3), clo(3), chi(3), ncells(3), icase, nin
     real(wp), allocatable :: x(:, :), vol(:), f1(:, :), f2(:, :), acc(:, :, :, :), acc2(:, :, :, :)
     real(wp), allocatable :: sol(:, :, :, :), sol2(:, :, :, :), acca(:, :, :, :), accb(:, :, :, :)
     real(wp), allocatable :: sola(:, :, :, :), solb(:, :, :, :)
@@ -323,43 +323,42 @@ contains
     character(len=48) :: tag
     call begin_test('second_field_is_solved_as_alone')
     do nd = 2, 3
-      do ib = 1, 2
-        do it = 1, 2
-          basis = merge(basis_constant, basis_linear, ib == 1)
-          iso = it == 1
-          nin = merge(1, 6, iso)
-          write (tag, '(i0,4a)') nd, 'D, basis ', trim(merge('constant', 'linear  ', ib == 1)), ', ', &
+      ! (the four cases: constant or linear basis, isotropic field or tensor)
+      do icase = 1, 4
+        basis = merge(basis_constant, basis_linear, icase <= 2)
+        iso = mod(icase, 2) == 1
+        nin = merge(1, 6, iso)
+        write (tag, '(i0,4a)') nd, 'D, basis ', trim(merge('constant', 'linear  ', icase <= 2)), ', ', &
             trim(merge('isotropic', 'tensor   ', iso))
-          call test_grid(nd, nc, ncells, lo, hi)
-          clo = 0; chi = 0
-          chi(1:nd) = nc - 1
-          allocate (x(nd, n), vol(n), f1(nin, n), f2(nin, n))
-          call scattered_points(nd, x, vol)
-          call random_number(f1)
-          call random_number(f2)
-          f2 = f2 - 0.5_wp
-          allocate (acc(gauss_cell_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-          allocate (acc2(gauss_second_field_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), &
+        call test_grid(nd, nc, ncells, lo, hi)
+        clo = 0; chi = 0
+        chi(1:nd) = nc - 1
+        allocate (x(nd, n), vol(n), f1(nin, n), f2(nin, n))
+        call scattered_points(nd, x, vol)
+        call random_number(f1)
+        call random_number(f2)
+        f2 = f2 - 0.5_wp
+        allocate (acc(gauss_cell_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (acc2(gauss_second_field_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), &
                          lo(3):hi(3)))
-          allocate (sol(gauss_solution_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-          allocate (acca, accb, mold=acc)
-          allocate (sol2, sola, solb, mold=sol)
-          acc = 0.0_wp; acc2 = 0.0_wp; acca = 0.0_wp; accb = 0.0_wp
-          sol = 0.0_wp; sol2 = 0.0_wp; sola = 0.0_wp; solb = 0.0_wp
-          call gauss_accumulate(nd, n, x, vol, f1, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+        allocate (sol(gauss_solution_components(nd, ng, basis, iso), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (acca, accb, mold=acc)
+        allocate (sol2, sola, solb, mold=sol)
+        acc = 0.0_wp; acc2 = 0.0_wp; acca = 0.0_wp; accb = 0.0_wp
+        sol = 0.0_wp; sol2 = 0.0_wp; sola = 0.0_wp; solb = 0.0_wp
+        call gauss_accumulate(nd, n, x, vol, f1, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
                                 .true., basis, lo, acc, f2, acc2, isotropic=iso)
-          call gauss_accumulate(nd, n, x, vol, f1, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+        call gauss_accumulate(nd, n, x, vol, f1, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
                                 .true., basis, lo, acca, isotropic=iso)
-          call gauss_accumulate(nd, n, x, vol, f2, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
+        call gauss_accumulate(nd, n, x, vol, f2, gorigin, gh, ncells, ng, kernel_wendland_c2, 2.0_wp, &
                                 .true., basis, lo, accb, isotropic=iso)
-          call check(size(acc2, 1) < size(accb, 1), trim(tag)//': the second sums are smaller')
-          call gauss_solve(nd, ng, basis, lo, clo, chi, acc, sol, stats, iso, acc2, sol2)
-          call gauss_solve(nd, ng, basis, lo, clo, chi, acca, sola, stats, iso)
-          call gauss_solve(nd, ng, basis, lo, clo, chi, accb, solb, stats, iso)
-          call check(all(sol2 == solb) .and. any(solb /= sola), trim(tag)//': the second field as alone')
-          call check(all(sol == sola), trim(tag)//': the first field as alone')
-          deallocate (x, vol, f1, f2, acc, acc2, sol, sol2, acca, accb, sola, solb)
-        end do
+        call check(size(acc2, 1) < size(accb, 1), trim(tag)//': the second sums are smaller')
+        call gauss_solve(nd, ng, basis, lo, clo, chi, acc, sol, stats, iso, acc2, sol2)
+        call gauss_solve(nd, ng, basis, lo, clo, chi, acca, sola, stats, iso)
+        call gauss_solve(nd, ng, basis, lo, clo, chi, accb, solb, stats, iso)
+        call check(all(sol2 == solb) .and. any(solb /= sola), trim(tag)//': the second field as alone')
+        call check(all(sol == sola), trim(tag)//': the first field as alone')
+        deallocate (x, vol, f1, f2, acc, acc2, sol, sol2, acca, accb, sola, solb)
       end do
     end do
   end subroutine test_second_field_is_solved_as_alone

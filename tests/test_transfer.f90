@@ -23,7 +23,7 @@ program test_transfer
   use dpmpm_materials, only: voigt_to_tensor
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, fluid_p2g, point_divergences, &
                             momentum_project_p2g, interp_two_values, solid_porosity_p2g, porous_p2g, &
-                            g2p_remap
+                            g2p_remap, volume_p2g
   use dpmpm_drag, only: gravity_drag
   use dpmpm_assert, only: begin_test, check, check_close, finish_tests
   implicit none
@@ -46,6 +46,7 @@ program test_transfer
   call test_g2p_remap_is_g2p_then_momentum_map()
   call test_three_d_forms_match_direct_sums()
   call test_three_d_remap_and_two_phase_forms_match_direct_sums()
+  call test_volume_sums_match_node_by_node_sums()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -893,6 +894,41 @@ contains
   end subroutine test_three_d_remap_and_two_phase_forms_match_direct_sums
 
   !> Masses, volumes and velocities of the npt points of the 3D tests, varied from point to point.
+  !> The point volume of the nodes (volume_p2g: the forms of fixed width in 2D and 3D, the
+  !> general loop in 1D) against sum_p V_p N_I(x_p) written out node by node in the
+  !> general loop's order, N_I = w1 w2 w3: bit for bit, in 1D, 2D and 3D with every
+  !> B-spline.
+  subroutine test_volume_sums_match_node_by_node_sums()
+    integer :: nd, kernel, p, lo(3), nw(3), i0(3, npt), a, b, c
+    real(wp) :: x(3, npt), sw(max_stencil, 3, npt), sdw(max_stencil, 3, npt), mass(npt), vol(npt)
+    real(wp) :: v(3, npt)
+    real(wp), allocatable :: nvol(:, :, :, :), ref(:, :, :, :)
+    character(len=32) :: tag
+    call begin_test('volume_sums_match_node_by_node_sums')
+    do nd = 1, 3
+      do kernel = 1, ngrid_kernels
+        write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
+        call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
+        call point_data(mass, vol, v)
+        call make_nodes(nd, 1, lo, nvol)
+        call make_nodes(nd, 1, lo, ref)
+        call volume_p2g(nw, npt, i0, sw, vol, lo, nvol)
+        do p = 1, npt
+          do c = 1, nw(3)
+            do b = 1, nw(2)
+              do a = 1, nw(1)
+                associate (r => ref(1, i0(1, p) + a - 1, i0(2, p) + b - 1, i0(3, p) + c - 1))
+                  r = r + sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)*vol(p)
+                end associate
+              end do
+            end do
+          end do
+        end do
+        call check(all(nvol == ref) .and. maxval(ref) > 0.0_wp, trim(tag)//': the node-by-node sums')
+      end do
+    end do
+  end subroutine test_volume_sums_match_node_by_node_sums
+
   subroutine point_data(mass, vol, v)
     real(wp), intent(out) :: mass(npt), vol(npt), v(3, npt)
     integer :: p

@@ -26,7 +26,8 @@ module dpmpm_transfer
     momentum_p2g_3d_w2 => momentum_p2g_3d, fluid_p2g_3d_w2 => fluid_p2g_3d, &
     solid_porosity_p2g_3d_w2 => solid_porosity_p2g_3d, g2p_remap_2d_w2 => g2p_remap_2d, &
     g2p_remap_3d_w2 => g2p_remap_3d, g2p_remap_project_2d_w2 => g2p_remap_project_2d, &
-    g2p_remap_project_3d_w2 => g2p_remap_project_3d
+    g2p_remap_project_3d_w2 => g2p_remap_project_3d, volume_p2g_2d_w2 => volume_p2g_2d, &
+    volume_p2g_3d_w2 => volume_p2g_3d
   use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, porous_p2g_2d_w3 => porous_p2g_2d, &
     porous_p2g_3d_w3 => porous_p2g_3d, p2g_body_2d_w3 => p2g_body_2d, p2g_body_3d_w3 => p2g_body_3d, g2p_2d_w3 => g2p_2d, &
     g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
@@ -39,7 +40,8 @@ module dpmpm_transfer
     momentum_p2g_3d_w3 => momentum_p2g_3d, fluid_p2g_3d_w3 => fluid_p2g_3d, &
     solid_porosity_p2g_3d_w3 => solid_porosity_p2g_3d, g2p_remap_2d_w3 => g2p_remap_2d, &
     g2p_remap_3d_w3 => g2p_remap_3d, g2p_remap_project_2d_w3 => g2p_remap_project_2d, &
-    g2p_remap_project_3d_w3 => g2p_remap_project_3d
+    g2p_remap_project_3d_w3 => g2p_remap_project_3d, volume_p2g_2d_w3 => volume_p2g_2d, &
+    volume_p2g_3d_w3 => volume_p2g_3d
   use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, porous_p2g_2d_w4 => porous_p2g_2d, &
     porous_p2g_3d_w4 => porous_p2g_3d, p2g_body_2d_w4 => p2g_body_2d, p2g_body_3d_w4 => p2g_body_3d, g2p_2d_w4 => g2p_2d, &
     g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
@@ -52,7 +54,8 @@ module dpmpm_transfer
     momentum_p2g_3d_w4 => momentum_p2g_3d, fluid_p2g_3d_w4 => fluid_p2g_3d, &
     solid_porosity_p2g_3d_w4 => solid_porosity_p2g_3d, g2p_remap_2d_w4 => g2p_remap_2d, &
     g2p_remap_3d_w4 => g2p_remap_3d, g2p_remap_project_2d_w4 => g2p_remap_project_2d, &
-    g2p_remap_project_3d_w4 => g2p_remap_project_3d
+    g2p_remap_project_3d_w4 => g2p_remap_project_3d, volume_p2g_2d_w4 => volume_p2g_2d, &
+    volume_p2g_3d_w4 => volume_p2g_3d
   implicit none
   private
   public :: p2g, g2p, g2p_remap, point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
@@ -551,6 +554,29 @@ contains
     real(wp), contiguous, intent(inout) :: nvol(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn
+    ! (2D: a third axis of one node; 1D takes the loop below)
+    if (nw(3) == 1 .and. nw(2) == nw(1) .and. nw(1) > 1) then
+      select case (nw(1))
+      case (2)
+        call volume_p2g_2d_w2(n, i0, sw, vol, lo, nvol)
+      case (3)
+        call volume_p2g_2d_w3(n, i0, sw, vol, lo, nvol)
+      case default
+        call volume_p2g_2d_w4(n, i0, sw, vol, lo, nvol)
+      end select
+      return
+    end if
+    if (nw(3) > 1 .and. all(nw == nw(1))) then
+      select case (nw(1))
+      case (2)
+        call volume_p2g_3d_w2(n, i0, sw, vol, lo, nvol)
+      case (3)
+        call volume_p2g_3d_w3(n, i0, sw, vol, lo, nvol)
+      case default
+        call volume_p2g_3d_w4(n, i0, sw, vol, lo, nvol)
+      end select
+      return
+    end if
     do p = 1, n
 #include "dpmpm_stencil_do_3d.inc"
       nvol(1, i, j, k) = nvol(1, i, j, k) + nn*vol(p)

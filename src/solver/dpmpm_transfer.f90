@@ -7,9 +7,9 @@
 !> its first node i0(:, p) and its weights sw(:, axis, p) and derivatives
 !> sdw(:, axis, p) per axis (tensor products), nodes are addressed from lo.
 !> In 2D, and in 3D for p2g, g2p, the point gradients and divergences, the momentum
-!> remap and the two-phase sums, each public kernel calls its form of fixed stencil
-!> width (dpmpm_transfer_w2, _w3, _w4 by nw(1)); the loops here, with the width read at
-!> run time, serve 1D and the general form with a third axis of one node.
+!> remap, the point volume and the two-phase sums, each public kernel calls its form of
+!> fixed stencil width (dpmpm_transfer_w2, _w3, _w4 by nw(1)); the loops here, with the
+!> width read at run time, serve 1D and the general form with a third axis of one node.
 module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: voigt_to_tensor

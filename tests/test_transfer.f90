@@ -114,7 +114,7 @@ contains
         stress = 0.0_wp
         call make_nodes(nd, 1 + 2*nd, lo, node)
         call p2g(nd, nw, npt, i0, sw, sdw, mass, v(1:nd, :), vol, stress, .true., lo, node)
-        write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
+        tag = case_tag(kernel, nd)
         call check_close(sum(node(1, :, :, :)), sum(mass), 1.0e-14_wp, 0.0_wp, trim(tag)//' mass')
         do p = 1, nd
           call check_close(sum(node(1 + p, :, :, :)), sum(mass*v(p, :)), 1.0e-14_wp, 1.0e-14_wp, &
@@ -292,7 +292,7 @@ contains
     call begin_test('g2p_without_gradient_moves_points_alike')
     do nd = 1, 3
       do kernel = 1, ngrid_kernels
-        write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
+        tag = case_tag(kernel, nd)
         call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         call make_nodes(nd, 2*nd, lo, nvel)
         call fill_scattered(lo, nvel)
@@ -474,7 +474,7 @@ contains
     worstg = 0.0_wp
     do nd = 1, 3
       do kernel = 1, ngrid_kernels
-        write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
+        tag = case_tag(kernel, nd)
         call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         do p = 1, npt
           mass(p) = 1.0_wp + 0.1_wp*real(mod(p, 7), wp)
@@ -531,7 +531,7 @@ contains
     worst = 0.0_wp
     do nd = 1, 3
       do kernel = 1, ngrid_kernels
-        write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
+        tag = case_tag(kernel, nd)
         call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         ! two velocity fields (old and new slots)
         call make_nodes(nd, 2*nd, lo, u1)
@@ -714,7 +714,7 @@ contains
     character(len=32) :: tag
     call begin_test('three_d_forms_match_direct_sums')
     do kernel = 1, ngrid_kernels
-      tag = trim(kernel_names(kernel))//' 3D'
+      tag = case_tag(kernel, nd)
       call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
       call stencil_offsets(nw, nq, off)
       call point_data(mass, vol, v)
@@ -793,7 +793,7 @@ contains
     character(len=32) :: tag
     call begin_test('three_d_remap_and_two_phase_forms_match_direct_sums')
     do kernel = 1, ngrid_kernels
-      tag = trim(kernel_names(kernel))//' 3D'
+      tag = case_tag(kernel, nd)
       call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
       call stencil_offsets(nw, nq, off)
       call point_data(mass, vol, v)
@@ -907,7 +907,7 @@ contains
     call begin_test('volume_sums_match_node_by_node_sums')
     do nd = 1, 3
       do kernel = 1, ngrid_kernels
-        write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
+        tag = case_tag(kernel, nd)
         call make_points(nd, kernel, npt, x, i0, sw, sdw, nw)
         call point_data(mass, vol, v)
         call make_nodes(nd, 1, lo, nvol)
@@ -928,6 +928,13 @@ contains
       end do
     end do
   end subroutine test_volume_sums_match_node_by_node_sums
+
+  !> The label of a case: the kernel's name and the dimension ("linear 2D").
+  function case_tag(kernel, nd) result(tag)
+    integer, intent(in) :: kernel, nd
+    character(len=32) :: tag
+    write (tag, '(a,1x,i0,a)') trim(kernel_names(kernel)), nd, 'D'
+  end function case_tag
 
   subroutine point_data(mass, vol, v)
     real(wp), intent(out) :: mass(npt), vol(npt), v(3, npt)

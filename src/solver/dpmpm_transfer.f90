@@ -554,26 +554,19 @@ contains
     real(wp), contiguous, intent(inout) :: nvol(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn
-    ! (2D: a third axis of one node; 1D takes the loop below)
-    if (nw(3) == 1 .and. nw(2) == nw(1) .and. nw(1) > 1) then
+    ! (2D: a third axis of one node; 3D: the same width on every axis; 1D takes the loop
+    ! below)
+    if (nw(1) > 1 .and. nw(2) == nw(1) .and. (nw(3) == 1 .or. nw(3) == nw(1))) then
       select case (nw(1))
       case (2)
-        call volume_p2g_2d_w2(n, i0, sw, vol, lo, nvol)
+        if (nw(3) == 1) call volume_p2g_2d_w2(n, i0, sw, vol, lo, nvol)
+        if (nw(3) > 1) call volume_p2g_3d_w2(n, i0, sw, vol, lo, nvol)
       case (3)
-        call volume_p2g_2d_w3(n, i0, sw, vol, lo, nvol)
+        if (nw(3) == 1) call volume_p2g_2d_w3(n, i0, sw, vol, lo, nvol)
+        if (nw(3) > 1) call volume_p2g_3d_w3(n, i0, sw, vol, lo, nvol)
       case default
-        call volume_p2g_2d_w4(n, i0, sw, vol, lo, nvol)
-      end select
-      return
-    end if
-    if (nw(3) > 1 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call volume_p2g_3d_w2(n, i0, sw, vol, lo, nvol)
-      case (3)
-        call volume_p2g_3d_w3(n, i0, sw, vol, lo, nvol)
-      case default
-        call volume_p2g_3d_w4(n, i0, sw, vol, lo, nvol)
+        if (nw(3) == 1) call volume_p2g_2d_w4(n, i0, sw, vol, lo, nvol)
+        if (nw(3) > 1) call volume_p2g_3d_w4(n, i0, sw, vol, lo, nvol)
       end select
       return
     end if

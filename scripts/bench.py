@@ -287,7 +287,7 @@ def main():
                   "dry block is what the second set of points costs; the saturated step's time beyond it, in "
                   "dry steps, is what the coupling costs (drag, pore-pressure forces on both phases, "
                   "porosity, the remap's locked velocity, the pressure update).\n")
-        md.append("| dim | solid points | dry ms / step | dry, twice the points | saturated ms / step | ratio "
+        md.append("| dim | solid points | dry ms / step | dry, twice the points, ms / step | saturated ms / step | ratio "
                   "| twice the points against dry | coupling in dry steps |")
         md.append("|---|---|---|---|---|---|---|---|")
         # (80 steps apart in 3D: the first steps of the short run are the slow ones)

@@ -367,12 +367,12 @@ contains
                                          lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
             allocate (self%phase(2)%gsol(gauss_solution_components(nd, ng, basis, isotropic=.true.), &
                                          lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+            ! (the second field's sums alone: its counts and moments are those of gacc)
+            allocate (self%phase(2)%gacc2(gauss_second_field_components(nd, ng, basis, isotropic=.true.), &
+                                          lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
           end associate
           allocate (self%phase(2)%gsol2, mold=self%phase(2)%gsol)
           allocate (self%phase(2)%glg, mold=self%phase(1)%glg)
-          ! (the second field's sums alone: its counts and moments are those of gacc)
-          allocate (self%phase(2)%gacc2(gauss_second_field_components(self%nd, self%plan%ngauss, &
-                                        self%plan%field_basis, isotropic=.true.), lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
           allocate (self%phase(2)%glg2, mold=self%phase(1)%glg)
           allocate (self%phase(2)%nvol, mold=self%phase(1)%nvol)
         end if

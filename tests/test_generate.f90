@@ -386,7 +386,7 @@ contains
     call check_equal_int(ps%bytes_per_point(), 132, 'elastic, one phase')
     call ps%init('solid', 2, .true.)
     call check_equal_int(ps%bytes_per_point(), 132 + 72, 'neo-Hookean')
-    call ps%init('solid', 2, .false., has_porosity=.true., has_plastic=.true.)
+    call ps%init('solid', 2, .false., has_porosity=.true., nstate=1)
     call check_equal_int(ps%bytes_per_point(), 132 + 8 + 8, 'plastic soil skeleton')
     call ps%init('fluid', 2, .false., has_porosity=.true., has_pressure=.true.)
     call check_equal_int(ps%bytes_per_point(), 132 + 8 + 16, 'pore fluid')

@@ -1,12 +1,21 @@
 !> Elastic stress updates (dpmpm_materials): the plane-strain forms that 2D scenes
 !> use give what the general 3x3 update gives for a velocity gradient and a
-!> deformation gradient without a third row and column.
+!> deformation gradient without a third row and column. The model table
+!> (dpmpm_model_table): its lines, the state names of a scene, every model module behind
+!> the one interface, and every model documented in doc/input.md (the first argument).
 program test_materials
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
-  use dpmpm_materials, only: material_t, stress_update, model_neo_hookean, model_linear_elastic
-  use dpmpm_assert, only: begin_test, check_close, finish_tests
+  use dpmpm_materials, only: material_t, stress_update, model_neo_hookean, model_linear_elastic, &
+                             model_update, materials_from_config
+  use dpmpm_model_table, only: model_table, max_state, model_from_name, model_names, &
+                               scene_state_names, model_mohr_coulomb, model_drucker_prager
+  use dpmpm_model_elastic, only: elastic_update
+  use dpmpm_model_neo_hookean, only: neo_hookean_update
+  use dpmpm_model_plastic, only: plastic_update
+  use dpmpm_config, only: material_cfg_t
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
   implicit none
   integer, parameter :: npt = 25
   !> Measured largest relative difference 6.3e-15 (release, neo-Hookean stress after 20
@@ -16,6 +25,10 @@ program test_materials
   call start_mpi()
   call test_plane_neo_hookean_matches_general()
   call test_plane_linear_elastic_matches_general()
+  call test_model_table_lines_are_consistent()
+  call test_scene_state_names_follow_the_models()
+  call test_stress_update_dispatches_to_each_model_module()
+  call test_model_table_names_every_model_in_the_input_doc()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -100,5 +113,105 @@ contains
     call check_close(maxval(abs(s2 - s1))/maxval(abs(s1)), 0.0_wp, 0.0_wp, tol_rel, 'stress (relative)')
     call check_close(maxval(abs(vol2 - vol1))/maxval(vol1), 0.0_wp, 0.0_wp, tol_rel, 'volume (relative)')
   end subroutine test_plane_linear_elastic_matches_general
+
+  !> Each line of the table: found by its name, state names for exactly its nstate
+  !> values, names unique; an unknown name gives 0 and model_names lists every model.
+  subroutine test_model_table_lines_are_consistent()
+    integer :: m, j
+    call begin_test('model_table_lines_are_consistent')
+    do m = 1, size(model_table)
+      associate (t => model_table(m))
+        call check_equal_int(model_from_name(t%name), m, 'model '//trim(t%name)//' by its name')
+        call check(t%nstate >= 0 .and. t%nstate <= max_state, trim(t%name)//': nstate in range')
+        call check(all(t%state_names(1:t%nstate) /= '') .and. &
+                   all(t%state_names(t%nstate + 1:) == ''), &
+                   trim(t%name)//': a name for each state value and none more')
+        call check(index(model_names(), trim(t%name)) > 0, trim(t%name)//' in model_names')
+        do j = 1, m - 1
+          call check(model_table(j)%name /= t%name, trim(t%name)//' named once')
+        end do
+      end associate
+    end do
+    call check_equal_int(model_from_name('cam_clay_typo'), 0, 'an unknown model is 0')
+    call check_equal_int(model_from_name('  mohr_coulomb '), model_mohr_coulomb, &
+                         'blanks around a name are ignored')
+  end subroutine test_model_table_lines_are_consistent
+
+  !> The state values of a scene: as many as its model with the most, named by the models.
+  subroutine test_scene_state_names_follow_the_models()
+    character(len=24), allocatable :: names(:)
+    call begin_test('scene_state_names_follow_the_models')
+    names = scene_state_names([model_linear_elastic, model_neo_hookean])
+    call check_equal_int(size(names), 0, 'elastic scenes keep no state')
+    names = scene_state_names([model_linear_elastic, model_mohr_coulomb, model_drucker_prager])
+    call check_equal_int(size(names), 1, 'the plastic soils keep one value')
+    if (size(names) == 1) call check(names(1) == 'plastic_strain', 'named plastic_strain')
+  end subroutine test_scene_state_names_follow_the_models
+
+  !> stress_update gives what each model's module gives called directly (bit for bit), on
+  !> points of two materials, and each module has the interface model_update (checked by
+  !> the compiler in the pointer assignments).
+  subroutine test_stress_update_dispatches_to_each_model_module()
+    procedure(model_update), pointer :: direct
+    type(material_t), allocatable :: mats(:)
+    real(wp) :: vgrad(9, npt), s1(6, npt), s2(6, npt), f1(9, npt), f2(9, npt), e1(1, npt)
+    real(wp) :: e2(1, npt), vol1(npt), vol2(npt), vol0(npt), w1, w2
+    integer :: pmat(npt), m, p
+    call begin_test('stress_update_dispatches_to_each_model_module')
+    call materials_from_config([material_cfg_t(id=1, model='linear_elastic'), &
+                                material_cfg_t(id=2, model='neo_hookean'), &
+                                material_cfg_t(id=3, model='mohr_coulomb', cohesion=1.0e3_wp), &
+                                material_cfg_t(id=4, model='drucker_prager', &
+                                               cohesion=1.0e3_wp)], mats)
+    call plane_gradients(vgrad)
+    vgrad = 1.0e-2_wp*vgrad
+    do m = 1, size(mats)
+      select case (m)
+      case (1)
+        direct => elastic_update
+      case (2)
+        direct => neo_hookean_update
+      case default
+        direct => plastic_update
+      end select
+      pmat = [(merge(m, 5 - m, mod(p, 2) == 0), p=1, npt)]
+      s1 = 0.0_wp; s2 = 0.0_wp; vol1 = 1.0_wp; vol2 = 1.0_wp; vol0 = 1.0_wp
+      e1 = 0.0_wp; e2 = 0.0_wp; w1 = 0.0_wp; w2 = 0.0_wp
+      f1 = spread([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], 2, npt)
+      f2 = f1
+      call stress_update(mats(m), m, 1.0_wp, npt, pmat, vgrad, s1, vol1, vol0, f1, e1, w1, &
+                         plane=.true.)
+      call direct(mats(m), m, 1.0_wp, npt, pmat, vgrad, s2, vol2, vol0, f2, e2, w2, plane=.true.)
+      call check(all(s1 == s2) .and. all(vol1 == vol2) .and. all(f1 == f2) .and. &
+                 all(e1 == e2) .and. w1 == w2, trim(model_table(mats(m)%model)%name)// &
+                 ': stress_update is its module''s update')
+      call check(any(s1 /= 0.0_wp), trim(model_table(mats(m)%model)%name)//': stress changed')
+    end do
+  end subroutine test_stress_update_dispatches_to_each_model_module
+
+  !> doc/input.md (the program's first argument) names every model of the table.
+  subroutine test_model_table_names_every_model_in_the_input_doc()
+    character(len=4096) :: path
+    character(len=1024) :: line
+    logical :: seen(size(model_table))
+    integer :: u, ios, m
+    call begin_test('model_table_names_every_model_in_the_input_doc')
+    call get_command_argument(1, path)
+    open (newunit=u, file=trim(path), status='old', action='read', iostat=ios)
+    call check(ios == 0, 'doc/input.md opened: '//trim(path))
+    if (ios /= 0) return
+    seen = .false.
+    do
+      read (u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      do m = 1, size(model_table)
+        if (index(line, '`'//trim(model_table(m)%name)//'`') > 0) seen(m) = .true.
+      end do
+    end do
+    close (u)
+    do m = 1, size(model_table)
+      call check(seen(m), 'doc/input.md names `'//trim(model_table(m)%name)//'`')
+    end do
+  end subroutine test_model_table_names_every_model_in_the_input_doc
 
 end program test_materials

@@ -64,11 +64,11 @@ contains
     type(simulation_t) :: sim
     call begin_test('elastic_scene_has_no_plastic_history')
     call sim%init(scene('linear_elastic', 1), MPI_COMM_WORLD, write_output=.false.)
-    call check(.not. sim%phase(1)%pts%has_plastic .and. .not. allocated(sim%phase(1)%pts%epsp), &
+    call check(sim%phase(1)%pts%nstate == 0 .and. .not. allocated(sim%phase(1)%pts%state), &
                'no plastic strain stored for an elastic scene')
     call sim%free()
     call sim%init(scene('mohr_coulomb', 1), MPI_COMM_WORLD, write_output=.false.)
-    call check(sim%phase(1)%pts%has_plastic .and. allocated(sim%phase(1)%pts%epsp), &
+    call check(sim%phase(1)%pts%nstate == 1 .and. allocated(sim%phase(1)%pts%state), &
                'plastic strain stored for a Mohr-Coulomb scene')
     call sim%free()
   end subroutine test_elastic_scene_has_no_plastic_history
@@ -86,7 +86,7 @@ contains
     call sim%run()
     call sim%gather_points(ids, sx, sv, ss)
     epmax = 0.0_wp
-    if (sim%phase(1)%pts%n > 0) epmax = maxval(sim%phase(1)%pts%epsp(1:sim%phase(1)%pts%n))
+    if (sim%phase(1)%pts%n > 0) epmax = maxval(sim%phase(1)%pts%state(1, 1:sim%phase(1)%pts%n))
     call MPI_Allreduce(MPI_IN_PLACE, epmax, 1, mpi_wp(), MPI_MAX, MPI_COMM_WORLD)
     steps = sim%step
     drift = sim%energy_drift

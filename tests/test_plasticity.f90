@@ -796,8 +796,8 @@ contains
     logical :: gone(3)
     integer :: k
     call begin_test('points_carry_plastic_strain')
-    call a%init('solid', 2, .false., has_plastic=.true.)
-    call b%init('solid', 2, .false., has_plastic=.true.)
+    call a%init('solid', 2, .false., nstate=1)
+    call b%init('solid', 2, .false., nstate=1)
     call e%init('solid', 2, .false.)
     do k = 1, 3
       call a%append(int(k, i8), 1, [0.1_wp*k, 0.0_wp], [0.0_wp, 0.0_wp], 1.0_wp, 1.0_wp, &
@@ -805,18 +805,18 @@ contains
       call e%append(int(k, i8), 1, [0.1_wp*k, 0.0_wp], [0.0_wp, 0.0_wp], 1.0_wp, 1.0_wp, &
                     [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp])
     end do
-    call check(all(a%epsp(1:3) == 0.0_wp), 'new points start without plastic strain')
-    a%epsp(1:3) = [1.0e-3_wp, 2.0e-3_wp, 3.0e-3_wp]
+    call check(all(a%state(1, 1:3) == 0.0_wp), 'new points start without plastic strain')
+    a%state(1, 1:3) = [1.0e-3_wp, 2.0e-3_wp, 3.0e-3_wp]
     call check_equal_int(a%nreal_packed(), e%nreal_packed() + 1, 'one more packed real')
-    call check(.not. allocated(e%epsp), 'no plastic history without a plastic material')
+    call check(.not. allocated(e%state), 'no plastic history without a plastic material')
     allocate (buf(a%nreal_packed(), 2))
     call a%pack_points([3, 1], buf)
     call b%unpack_points(buf)
-    call check(b%n == 2 .and. b%epsp(1) == 3.0e-3_wp .and. b%epsp(2) == 1.0e-3_wp, &
+    call check(b%n == 2 .and. b%state(1, 1) == 3.0e-3_wp .and. b%state(1, 2) == 1.0e-3_wp, &
                'epsp travels with its points')
     gone = [.true., .false., .false.]
     call a%remove(gone)
-    call check(a%n == 2 .and. a%epsp(1) == 2.0e-3_wp .and. a%epsp(2) == 3.0e-3_wp, &
+    call check(a%n == 2 .and. a%state(1, 1) == 2.0e-3_wp .and. a%state(1, 2) == 3.0e-3_wp, &
                'epsp kept in order when points are removed')
     call a%free()
     call b%free()
@@ -828,7 +828,7 @@ contains
   !> plastic work V (tau_n + tau_n+1)/2 dgamma = V G (gamma - dgamma) dgamma / 2.
   subroutine test_stress_update_plastic_work()
     type(material_t), allocatable :: mats(:)
-    real(wp) :: vgrad(9, 1), stress(6, 1), vol(1), vol0(1), epsp(1), work, dt, gam, p0, f, dg
+    real(wp) :: vgrad(9, 1), stress(6, 1), vol(1), vol0(1), epsp(1, 1), work, dt, gam, p0, f, dg
     call begin_test('stress_update_plastic_work')
     call materials_from_config([material_cfg_t(id=1, model='drucker_prager', &
                                                youngs_modulus=youngs, poisson_ratio=nu, &
@@ -844,7 +844,7 @@ contains
     vol0 = 2.0_wp
     epsp = 0.0_wp
     work = 0.0_wp
-    call stress_update(mats(1), 1, dt, 1, [1], vgrad, stress, vol, vol0, epsp=epsp, &
+    call stress_update(mats(1), 1, dt, 1, [1], vgrad, stress, vol, vol0, state=epsp, &
                        dissipation=work)
     f = gs*gam + mats(1)%plastic%eta*p0 - mats(1)%plastic%xi*5.0e3_wp
     dg = f/gs
@@ -859,7 +859,7 @@ contains
   !> compression step lowers it from there by 0.95^2.
   subroutine test_dilation_bound()
     type(material_t), allocatable :: mats(:)
-    real(wp) :: vgrad(9, 1), stress(6, 1), vol(1), vol0(1), epsp(1), dt
+    real(wp) :: vgrad(9, 1), stress(6, 1), vol(1), vol0(1), epsp(1, 1), dt
     integer :: m, step
     character(len=*), parameter :: models(2) = [character(len=16) :: 'mohr_coulomb', 'drucker_prager']
     call begin_test('dilation_bound')
@@ -876,21 +876,21 @@ contains
       ! no bound
       stress = 0.0_wp; vol = 1.0e-4_wp; vol0 = 1.0e-4_wp; epsp = 0.0_wp
       do step = 1, 40
-        call stress_update(mats(1), 1, dt, 1, [1], vgrad, stress, vol, vol0, epsp=epsp)
+        call stress_update(mats(1), 1, dt, 1, [1], vgrad, stress, vol, vol0, state=epsp)
       end do
       call check_close(vol(1)/vol0(1), 1.05_wp**80, 1.0e-12_wp, 0.0_wp, trim(models(m))//' unbounded volume')
       call check(all(abs(stress) < 1.0e-9_wp), trim(models(m))//' stress free without the bound')
       ! bound 3
       stress = 0.0_wp; vol = 1.0e-4_wp; vol0 = 1.0e-4_wp; epsp = 0.0_wp
       do step = 1, 40
-        call stress_update(mats(2), 2, dt, 1, [2], vgrad, stress, vol, vol0, epsp=epsp)
+        call stress_update(mats(2), 2, dt, 1, [2], vgrad, stress, vol, vol0, state=epsp)
         call check(vol(1) <= 3.0_wp*vol0(1)*(1.0_wp + 1.0e-15_wp), trim(models(m))//' volume within the bound')
       end do
       call check_close(vol(1)/vol0(1), 3.0_wp, 1.0e-15_wp, 0.0_wp, trim(models(m))//' volume at the bound')
       call check(all(abs(stress) < 1.0e-9_wp), trim(models(m))//' stress free at the bound')
       vgrad(1, 1) = -0.05_wp/dt
       vgrad(5, 1) = -0.05_wp/dt
-      call stress_update(mats(2), 2, dt, 1, [2], vgrad, stress, vol, vol0, epsp=epsp)
+      call stress_update(mats(2), 2, dt, 1, [2], vgrad, stress, vol, vol0, state=epsp)
       call check_close(vol(1)/vol0(1), 3.0_wp*0.95_wp**2, 1.0e-14_wp, 0.0_wp, &
                        trim(models(m))//' compression lowers the volume from the bound')
     end do

@@ -20,7 +20,7 @@ program test_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: kernel_width, kernel_names, ngrid_kernels, max_stencil
   use dpmpm_stencil, only: psi_stencil, tensor_weights, stencil_offsets
-  use dpmpm_materials, only: voigt_to_tensor
+  use dpmpm_tensor, only: voigt_to_tensor
   use dpmpm_transfer, only: p2g, g2p, point_gradient, momentum_p2g, fluid_p2g, point_divergences, &
                             momentum_project_p2g, interp_two_values, solid_porosity_p2g, porous_p2g, &
                             g2p_remap, volume_p2g

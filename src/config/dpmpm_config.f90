@@ -86,12 +86,13 @@ module dpmpm_config
   end type config_t
 
   !> Datasets of a point set that &output solid_fields / fluid_fields may leave out (id, x, v,
-  !> mass and volume are always written; porosity, pore_pressure and plastic_strain only
-  !> where the set has them; a fluid set has no stress: its stress is -pore_pressure on the
-  !> diagonal).
+  !> mass and volume are always written; porosity, pore_pressure and state only where the
+  !> set has them; a fluid set has no stress: its stress is -pore_pressure on the diagonal).
+  !> state: the state values of the constitutive models, one dataset each, named by the
+  !> model table (plastic_strain of mohr_coulomb and drucker_prager).
   character(len=*), parameter :: optional_fields(6) = [character(len=14) :: 'displacement', &
                                                        'stress', 'material', 'porosity', &
-                                                       'pore_pressure', 'plastic_strain']
+                                                       'pore_pressure', 'state']
 
 contains
 

@@ -9,6 +9,7 @@ module dpmpm_input_check
                           porosity_varies, region_levels, level_unset, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
+  use dpmpm_model_table, only: model_from_name, model_names
   use dpmpm_mls, only: basis_from_name
   use dpmpm_shape_plan, only: shape_plan_t, max_gauss
   use dpmpm_plasticity, only: plastic_params_t, plastic_setup, softening_limit, dp_match_names, &
@@ -171,11 +172,8 @@ contains
     ! &material
     do k = 1, size(cfg%materials)
       associate (m => cfg%materials(k))
-        if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean', &
-                                  'fluid', 'mohr_coulomb', 'drucker_prager', 'rigid'])) &
-          call add_value(pb, g_material, k, 'model', quote(m%model), &
-                         'the models are linear_elastic, neo_hookean, fluid, mohr_coulomb, '// &
-                         'drucker_prager, rigid')
+        if (model_from_name(m%model) == 0) call add_value(pb, g_material, k, 'model', &
+          quote(m%model), 'the models are '//model_names())
         if (.not. real_ok(m%density, gt=0.0_wp)) call add_value(pb, g_material, k, 'density', &
           rtoa(m%density), 'must be > 0 (kg/m^3)')
         call check_finite(pb, g_material, k, 'velocity', m%velocity)

@@ -23,6 +23,7 @@ module dpmpm_output
   use dpmpm_strings, only: itoa, ftoa
   use dpmpm_config, only: config_t, optional_fields, field_listed
   use dpmpm_particles, only: particle_set_t
+  use dpmpm_model_table, only: model_from_name, scene_state_names
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
@@ -70,6 +71,9 @@ module dpmpm_output
     integer :: nchecks = 0
     integer :: nrewritten = 0
     real(wp) :: check_seconds = 0.0_wp
+    !> The names of the state values of the scene's models, one dataset each in the solid
+    !> set (dpmpm_model_table's scene_state_names).
+    character(len=24), allocatable :: state_names(:)
   contains
     procedure :: open => out_open
     procedure :: resume => out_resume
@@ -268,7 +272,8 @@ contains
     call h5check(err, 'h5fflush_f', where)
     self%is_open = .true.
     self%in_frame = .false.
-    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, self%sets(1:self%nsets))
+    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
+                                        self%sets(1:self%nsets), self%state_names)
     call MPI_Barrier(self%comm)
   end subroutine out_resume
 
@@ -325,7 +330,8 @@ contains
     call self%flush_diag()
     call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
     call h5check(err, 'h5fflush_f', where)
-    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, self%sets(1:self%nsets))
+    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
+                                        self%sets(1:self%nsets), self%state_names)
     call MPI_Barrier(self%comm)
     why = self%h5_path//' is damaged (as a kill while writing can leave it); kept as '//damaged// &
           ', its '//itoa(kept)//' readable frames of '//itoa(nframes)//' and '//itoa(ndiag)// &
@@ -339,6 +345,7 @@ contains
     class(output_t), intent(inout) :: self
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
+    integer :: k
     if (self%is_open) call self%close()
     call MPI_Comm_dup(comm, self%comm)
     call MPI_Comm_rank(self%comm, self%rank)
@@ -348,6 +355,8 @@ contains
     self%h5_path = output_h5_path(cfg)
     self%xmf_path = output_xmf_path(cfg)
     self%h5_base = trim(cfg%name)//'.h5'
+    self%state_names = scene_state_names([(model_from_name(cfg%materials(k)%model), &
+                                           k=1, size(cfg%materials))])
     self%nframes = 0
     self%nsets = 0
     self%ndiag_buf = 0
@@ -390,7 +399,14 @@ contains
       call h5dclose_f(dset, err)
       rec = set_rec_t(frame=k, name=trim(names(j)), n=int(dims(1), i8))
       do f = 1, size(optional_fields)
-        call h5lexists_f(gid, trim(names(j))//'/'//trim(optional_fields(f)), rec%has(f), err)
+        if (optional_fields(f) == 'state') then
+          ! the state values are written together: the first stands for them all
+          rec%has(f) = size(self%state_names) > 0
+          if (rec%has(f)) call h5lexists_f(gid, trim(names(j))//'/'//trim(self%state_names(1)), &
+                                           rec%has(f), err)
+        else
+          call h5lexists_f(gid, trim(names(j))//'/'//trim(optional_fields(f)), rec%has(f), err)
+        end if
       end do
       call add_set_rec(self, rec)
     end do
@@ -482,8 +498,9 @@ contains
   !> id, x, v, mass and volume are always written; of the optional datasets, those that
   !> cfg%solid_fields (cfg%fluid_fields for the set named 'fluid') lists: displacement,
   !> stress (not for the fluid: it is -pore_pressure on the diagonal), material, porosity
-  !> (when ps%has_porosity), pore_pressure (when ps%has_pressure) and plastic_strain (when
-  !> ps%has_plastic). Every rank must hold the set with the same flags.
+  !> (when ps%has_porosity), pore_pressure (when ps%has_pressure) and, for 'state', one
+  !> dataset per state value of the models (when ps%nstate > 0), named by the model table.
+  !> Every rank must hold the set with the same flags.
   subroutine out_write_set(self, ps, cfg)
     class(output_t), intent(inout) :: self
     type(particle_set_t), intent(in) :: ps
@@ -521,7 +538,10 @@ contains
     has(2) = has(2) .and. .not. fluid
     has(4) = has(4) .and. ps%has_porosity
     has(5) = has(5) .and. ps%has_pressure
-    has(6) = has(6) .and. ps%has_plastic
+    has(6) = has(6) .and. ps%nstate > 0
+    if (has(6) .and. ps%nstate /= size(self%state_names)) &
+      call fatal('point set '//trim(ps%name)//' keeps another number of state values than '// &
+                 'the scene''s models name', where)
 
     allocate (matid(n))
     do k = 1, n
@@ -546,8 +566,10 @@ contains
                                        ps%porosity(1:n))
     if (has(5)) call write_points_real(self, gid, 'pore_pressure', 0, nloc, offset, nglob, &
                                        ps%pressure(1:n))
-    if (has(6)) call write_points_real(self, gid, 'plastic_strain', 0, nloc, offset, nglob, &
-                                       ps%epsp(1:n))
+    do k = 1, merge(ps%nstate, 0, has(6))
+      call write_points_real(self, gid, trim(self%state_names(k)), 0, nloc, offset, nglob, &
+                             ps%state(k, 1:n))
+    end do
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f('//trim(ps%name)//')', where)
 
@@ -568,7 +590,8 @@ contains
     self%in_frame = .false.
     call self%flush_diag()
     call verify_written(self, where)
-    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, self%sets(1:self%nsets))
+    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
+                                        self%sets(1:self%nsets), self%state_names)
     call MPI_Barrier(self%comm)
   end subroutine out_end_frame
 

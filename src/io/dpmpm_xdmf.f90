@@ -23,7 +23,7 @@ module dpmpm_xdmf
     character(len=16) :: name = ''
     integer(i8) :: n = 0
     !> Which of optional_fields (displacement, stress, material, porosity, pore_pressure,
-    !> plastic_strain) the set holds in this frame.
+    !> state) the set holds in this frame.
     logical :: has(size(optional_fields)) = .false.
   end type set_rec_t
 
@@ -32,11 +32,12 @@ contains
   !> The XDMF 2 sidecar: one temporal collection per point set (named after the set, so
   !> that ParaView shows the same block name at every time), holding one point cloud per
   !> frame in which the set has points. Written to a temporary file and renamed.
-  subroutine write_xdmf(xmf_path, h5_base, ndim, frames, sets)
+  subroutine write_xdmf(xmf_path, h5_base, ndim, frames, sets, state_names)
     character(len=*), intent(in) :: xmf_path, h5_base
     integer, intent(in) :: ndim
     type(frame_rec_t), intent(in) :: frames(:)
     type(set_rec_t), intent(in) :: sets(:)
+    character(len=*), intent(in) :: state_names(:)  !< the datasets of the state values
     character(len=*), parameter :: where = 'output%end_frame'
     character(len=:), allocatable :: tmp_path
     character(len=16) :: names(8)
@@ -62,7 +63,7 @@ contains
       do s = 1, size(sets)
         if (sets(s)%name /= names(k) .or. sets(s)%n == 0) cycle
         write (tstr, '(es24.16e3)') frames(sets(s)%frame + 1)%time
-        call write_xdmf_set(h5_base, ndim, u, sets(s), trim(adjustl(tstr)))
+        call write_xdmf_set(h5_base, ndim, u, sets(s), trim(adjustl(tstr)), state_names)
       end do
       write (u, '(a)') '  </Grid>'
     end do
@@ -75,18 +76,28 @@ contains
 
   !> One Polyvertex grid of a set at one frame: geometry from x, the other datasets as
   !> node attributes; the stress as six scalars named by their components.
-  subroutine write_xdmf_set(h5_base, ndim, u, set, time)
+  subroutine write_xdmf_set(h5_base, ndim, u, set, time, state_names)
     character(len=*), intent(in) :: h5_base
     integer, intent(in) :: ndim
     integer, intent(in) :: u
     type(set_rec_t), intent(in) :: set
     character(len=*), intent(in) :: time
+    character(len=*), intent(in) :: state_names(:)
     !> Component names of the stress columns in file order (doc/output.md).
     character(len=2), parameter :: comp(6) = ['xx', 'yy', 'zz', 'yz', 'xz', 'xy']
     character(len=:), allocatable :: base, nstr, vec
     character(len=24) :: buf
     character(len=16) :: fstr
-    integer :: j
+    integer :: j, k, order(size(state_names))
+    order = [(j, j=1, size(state_names))]
+    do j = 2, size(order)
+      k = j
+      do while (k > 1)
+        if (llt(state_names(order(k - 1)), state_names(order(k)))) exit
+        order(k - 1:k) = order([k, k - 1])
+        k = k - 1
+      end do
+    end do
     write (buf, '(i0)') set%n
     nstr = trim(buf)
     write (fstr, '(i6.6)') set%frame
@@ -135,7 +146,10 @@ contains
     if (set%has(3)) call attribute('material', 'Scalar', nstr, 'Int', '4')
     if (set%has(4)) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
     if (set%has(5)) call attribute('pore_pressure', 'Scalar', nstr, 'Float', '8')
-    if (set%has(6)) call attribute('plastic_strain', 'Scalar', nstr, 'Float', '8')
+    ! the state values of the models in name order (as the Python package's sidecar lists them)
+    do j = 1, merge(size(state_names), 0, set%has(6))
+      call attribute(trim(state_names(order(j))), 'Scalar', nstr, 'Float', '8')
+    end do
     call attribute('id', 'Scalar', nstr, 'Int', '8')
     write (u, '(a)') '   </Grid>'
 

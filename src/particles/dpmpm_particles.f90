@@ -1,9 +1,9 @@
 !> A set of material points (solid or fluid) as a structure of arrays.
 !> Only the fields that the scene needs are allocated: the deformation gradient
 !> only when a material needs it (neo-Hookean), porosity only in two-phase
-!> scenes, pore pressure and inverse conductivity only on fluid points, the
-!> accumulated plastic strain only when a plastic soil (mohr_coulomb,
-!> drucker_prager) is present.
+!> scenes, pore pressure and inverse conductivity only on fluid points, the state values
+!> of the constitutive models (nstate per point, dpmpm_model_table) only when a model of
+!> the scene keeps some.
 !> Capacity grows geometrically.
 module dpmpm_particles
   use dpmpm_kinds, only: wp, i8
@@ -20,7 +20,7 @@ module dpmpm_particles
     logical :: has_defgrad = .false.         !< F stored (finite-strain materials)
     logical :: has_porosity = .false.        !< porosity stored (two-phase scenes)
     logical :: has_pressure = .false.        !< pore pressure and 1/k stored (fluid points)
-    logical :: has_plastic = .false.         !< accumulated plastic strain stored (plastic soils)
+    integer :: nstate = 0                    !< state values per point (the scene's models)
     integer(i8), allocatable :: id(:)        !< global id, unique, never changes
     integer, allocatable :: mat(:)           !< material index (1..nmat) into the scene's materials
     real(wp), allocatable :: x(:, :)         !< position (ndim, cap)
@@ -34,7 +34,9 @@ module dpmpm_particles
     real(wp), allocatable :: porosity(:)     !< volume fraction of the pores n_f
     real(wp), allocatable :: pressure(:)     !< pore pressure (Pa, positive in compression)
     real(wp), allocatable :: kinv(:)         !< 1 / hydraulic conductivity (s/m); 0 = no drag
-    real(wp), allocatable :: epsp(:)         !< accumulated plastic strain (MC, DP softening)
+    !> the state values of the points' models (nstate, cap): each model reads its own first
+    !> values (dpmpm_model_table); 0 at a new point
+    real(wp), allocatable :: state(:, :)
   contains
     procedure :: init => ps_init
     procedure :: reserve => ps_reserve
@@ -51,16 +53,17 @@ module dpmpm_particles
 contains
 
   !> Empty set for ndim dimensions; has_defgrad allocates F, has_porosity the
-  !> porosity, has_pressure the pore pressure and inverse conductivity, has_plastic the
-  !> accumulated plastic strain.
+  !> porosity, has_pressure the pore pressure and inverse conductivity, nstate (default 0)
+  !> the state values of the constitutive models.
   subroutine ps_init(self, name, ndim, has_defgrad, capacity, has_porosity, has_pressure, &
-                     has_plastic)
+                     nstate)
     class(particle_set_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     integer, intent(in) :: ndim
     logical, intent(in) :: has_defgrad
     integer, intent(in), optional :: capacity
-    logical, intent(in), optional :: has_porosity, has_pressure, has_plastic
+    logical, intent(in), optional :: has_porosity, has_pressure
+    integer, intent(in), optional :: nstate
     call self%free()
     self%name = name
     self%ndim = ndim
@@ -69,8 +72,8 @@ contains
     if (present(has_porosity)) self%has_porosity = has_porosity
     self%has_pressure = .false.
     if (present(has_pressure)) self%has_pressure = has_pressure
-    self%has_plastic = .false.
-    if (present(has_plastic)) self%has_plastic = has_plastic
+    self%nstate = 0
+    if (present(nstate)) self%nstate = nstate
     self%n = 0
     self%cap = 0
     if (present(capacity)) then
@@ -96,7 +99,7 @@ contains
     if (allocated(self%porosity)) deallocate (self%porosity)
     if (allocated(self%pressure)) deallocate (self%pressure)
     if (allocated(self%kinv)) deallocate (self%kinv)
-    if (allocated(self%epsp)) deallocate (self%epsp)
+    if (allocated(self%state)) deallocate (self%state)
     self%n = 0
     self%cap = 0
   end subroutine ps_free
@@ -118,7 +121,7 @@ contains
     if (allocated(self%porosity)) b = b + storage_size(self%porosity)/8
     if (allocated(self%pressure)) b = b + storage_size(self%pressure)/8
     if (allocated(self%kinv)) b = b + storage_size(self%kinv)/8
-    if (allocated(self%epsp)) b = b + storage_size(self%epsp)/8
+    if (allocated(self%state)) b = b + size(self%state, 1)*storage_size(self%state)/8
   end function ps_bytes_per_point
 
   !> Make room for at least m points, keeping the first n.
@@ -143,12 +146,12 @@ contains
       call grow_r1(self%pressure, newcap, self%n)
       call grow_r1(self%kinv, newcap, self%n)
     end if
-    if (self%has_plastic) call grow_r1(self%epsp, newcap, self%n)
+    if (self%nstate > 0) call grow_r2(self%state, self%nstate, newcap, self%n)
     self%cap = newcap
   end subroutine ps_reserve
 
   !> Append one new point at rest in its reference state (F = I, zero stress);
-  !> porosity, pressure and kinv (default 0) fill the fields the set stores; no plastic strain.
+  !> porosity, pressure and kinv (default 0) fill the fields the set stores; state values 0.
   subroutine ps_append(self, id, mat, x, v, mass, vol, stress, porosity, pressure, kinv)
     class(particle_set_t), intent(inout) :: self
     integer(i8), intent(in) :: id
@@ -179,7 +182,7 @@ contains
       self%kinv(k) = 0.0_wp
       if (present(kinv)) self%kinv(k) = kinv
     end if
-    if (self%has_plastic) self%epsp(k) = 0.0_wp
+    if (self%nstate > 0) self%state(:, k) = 0.0_wp
     self%n = k
   end subroutine ps_append
 
@@ -190,7 +193,7 @@ contains
     if (self%has_defgrad) m = m + 9
     if (self%has_porosity) m = m + 1
     if (self%has_pressure) m = m + 2
-    if (self%has_plastic) m = m + 1
+    m = m + self%nstate
   end function ps_nreal_packed
 
   !> Pack the points listed in idx into buf(nreal_packed, size(idx)) for migration or checkpoints.
@@ -222,7 +225,7 @@ contains
         buf(o + 1, j) = self%pressure(k)
         buf(o + 2, j) = self%kinv(k); o = o + 2
       end if
-      if (self%has_plastic) buf(o + 1, j) = self%epsp(k)
+      if (self%nstate > 0) buf(o + 1:o + self%nstate, j) = self%state(:, k)
     end do
   end subroutine ps_pack
 
@@ -255,7 +258,7 @@ contains
         self%pressure(k) = buf(o + 1, j)
         self%kinv(k) = buf(o + 2, j); o = o + 2
       end if
-      if (self%has_plastic) self%epsp(k) = buf(o + 1, j)
+      if (self%nstate > 0) self%state(:, k) = buf(o + 1:o + self%nstate, j)
     end do
     self%n = self%n + size(buf, 2)
   end subroutine ps_unpack
@@ -298,7 +301,7 @@ contains
         self%pressure(m) = self%pressure(k)
         self%kinv(m) = self%kinv(k)
       end if
-      if (self%has_plastic) self%epsp(m) = self%epsp(k)
+      if (self%nstate > 0) self%state(:, m) = self%state(:, k)
     end do
     self%n = m
   end subroutine ps_remove

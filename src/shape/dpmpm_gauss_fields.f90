@@ -24,7 +24,7 @@ module dpmpm_gauss_fields
                            is_grid_kernel, max_stencil, kernel_width, bspline_1d
   use dpmpm_stencil, only: psi_stencil, stencil_offsets, tensor_weights
   use dpmpm_mls, only: basis_size, packed_size, basis_eval, moment_add, mls_gamma, mls_stats_t
-  use dpmpm_materials, only: voigt_to_tensor
+  use dpmpm_tensor, only: voigt_to_tensor
   implicit none
   private
   public :: gauss_rule, gauss_cover_radius, field_components, stress_voigt_index

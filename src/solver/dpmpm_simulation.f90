@@ -13,7 +13,8 @@ module dpmpm_simulation
   use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components, gauss_cover_radius, &
                                 gauss_second_field_components
   use dpmpm_generate, only: generate_points
-  use dpmpm_materials, only: materials_from_config, model_neo_hookean, model_fluid, model_rigid, is_plastic
+  use dpmpm_materials, only: materials_from_config, model_fluid, model_rigid
+  use dpmpm_model_table, only: model_needs_defgrad, model_nstate
   use dpmpm_rigid, only: hold_rigid_points
   use dpmpm_output, only: output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
@@ -124,8 +125,9 @@ contains
     call self%dec%init(comm, cfg%ndim, cfg%ncells, self%plan%ghost_width(), cfg%dims)
     call materials_from_config(cfg%materials, self%mats)
     self%two_phase = any(cfg%regions%phase /= 'solid')
-    call self%phase(1)%pts%init('solid', self%nd, any(self%mats%model == model_neo_hookean), &
-                         has_porosity=self%two_phase, has_plastic=any(is_plastic(self%mats%model)))
+    call self%phase(1)%pts%init('solid', self%nd, any(model_needs_defgrad(self%mats%model)), &
+                         has_porosity=self%two_phase, &
+                         nstate=maxval([0, model_nstate(self%mats%model)]))
     if (self%two_phase) &
       call self%phase(2)%pts%init('fluid', self%nd, .false., has_porosity=.true., has_pressure=.true.)
     self%nph = merge(2, 1, self%two_phase)

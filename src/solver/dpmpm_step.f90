@@ -382,7 +382,7 @@ contains
       do m = 1, size(self%mats)
         if (coupled .and. self%mats(m)%model == model_fluid) cycle
         call stress_update(self%mats(m), m, dt, ns, s%pts%mat, s%vgrad, s%pts%stress, s%pts%vol, &
-                           s%pts%vol0, s%pts%defgrad, s%pts%epsp, wplastic, plane=nd == 2)
+                           s%pts%vol0, s%pts%defgrad, s%pts%state, wplastic, plane=nd == 2)
       end do
       ! The plastic work leaves the energy balance like the drag dissipation.
       self%ext_work = self%ext_work - wplastic

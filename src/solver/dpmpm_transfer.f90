@@ -12,7 +12,7 @@
 !> width read at run time, serve 1D and the general form with a third axis of one node.
 module dpmpm_transfer
   use dpmpm_kinds, only: wp
-  use dpmpm_materials, only: voigt_to_tensor
+  use dpmpm_tensor, only: voigt_to_tensor
   use dpmpm_drag, only: gravity_drag
   use dpmpm_transfer_w2, only: p2g_2d_w2 => p2g_2d, p2g_3d_w2 => p2g_3d, porous_p2g_2d_w2 => porous_p2g_2d, &
     porous_p2g_3d_w2 => porous_p2g_3d, p2g_body_2d_w2 => p2g_body_2d, p2g_body_3d_w2 => p2g_body_3d, g2p_2d_w2 => g2p_2d, &

@@ -70,11 +70,26 @@ def _set_grid(lines, base, sname, g, ndim, time):
                          f'</DataItem></Attribute>')
     if "material" in g:
         attribute("material", "Scalar", str(n), "Int", "4")
-    for name in ("porosity", "pore_pressure", "plastic_strain"):
+    for name in ("porosity", "pore_pressure"):
         if name in g:
             attribute(name, "Scalar", str(n), "Float", "8")
+    # The state values of the constitutive models (plastic_strain, ...): every other
+    # dataset, in name order as the writer lists them.
+    for name in state_datasets(g):
+        attribute(name, "Scalar", str(n), "Float", "8")
     attribute("id", "Scalar", str(n), "Int", "8")
     lines.append("   </Grid>")
+
+
+#: The datasets of a point set that are not state values of the constitutive models.
+FIXED_DATASETS = ("id", "x", "v", "displacement", "mass", "volume", "stress", "material",
+                  "porosity", "pore_pressure")
+
+
+def state_datasets(g):
+    """The names of the state values of the models in point set group g (one (n,) float64
+    dataset each, named by the model table of src/materials/dpmpm_model_table.f90), sorted."""
+    return sorted(name for name in g if name not in FIXED_DATASETS)
 
 
 def xdmf_text(h5path):

@@ -1,0 +1,27 @@
+!> The parameters of one material of a scene, with the derived elastic constants: what
+!> every model module reads (dpmpm_model_table lists the models).
+module dpmpm_material_params
+  use dpmpm_kinds, only: wp
+  use dpmpm_model_table, only: model_linear_elastic
+  use dpmpm_plasticity, only: plastic_params_t
+  implicit none
+  private
+  public :: material_t
+
+  !> Parameters of one material, with the derived elastic constants.
+  type :: material_t
+    integer :: id = 1
+    integer :: model = model_linear_elastic  !< a line of dpmpm_model_table's model_table
+    real(wp) :: density = 1.0_wp
+    real(wp) :: youngs = 1.0_wp, poisson = 0.0_wp
+    real(wp) :: lambda = 0.0_wp, mu = 0.0_wp, bulk = 0.0_wp
+    real(wp) :: pwave = 0.0_wp          !< constrained modulus lambda + 2 mu
+    real(wp) :: bulk_fluid = 0.0_wp     !< K_f of a fluid
+    real(wp) :: conductivity = 0.0_wp   !< hydraulic conductivity of a soil (m/s), 0 = none
+    logical :: kozeny_carman = .false.  !< k follows the porosity (Kozeny-Carman)
+    type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
+    real(wp) :: max_dilation = 0.0_wp   !< mohr_coulomb, drucker_prager: bound of V/V0, 0 = none
+    real(wp) :: velocity(3) = 0.0_wp    !< rigid: the prescribed velocity of the body (m/s)
+  end type material_t
+
+end module dpmpm_material_params

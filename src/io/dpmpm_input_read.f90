@@ -17,7 +17,7 @@ module dpmpm_input_read
                                   g_boundary, g_load, g_output, g_benchmark, add_value, add_raw, &
                                   add_file_problem, place, lines_of, real_ok
   use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote, lower
-  use dpmpm_nml_text, only: nml_records, nml_echo, nml_names
+  use dpmpm_nml_text, only: nml_records, nml_echo, nml_names, nml_size
   implicit none
   private
   public :: load_text, parse_input
@@ -62,12 +62,25 @@ contains
       if (ios /= 0) call add_file_problem(pb, 'cannot read the file: '//trim(msg))
     end if
     close (u)
-    ! A UTF-8 byte order mark (some Windows editors write one) would hide the first group
-    ! from scan_groups; the namelist reader skips it, so drop it here.
-    if (len(text) >= 3) then
-      if (text(1:3) == achar(239)//achar(187)//achar(191)) text = text(4:)
-    end if
+    call drop_byte_order_marks(text)
   end subroutine load_text
+
+  !> A UTF-8 byte order mark (some Windows editors write one) would hide the group after it
+  !> from scan_groups, and one in the middle of the file (two files joined) from the namelist
+  !> reader as well: drop every mark that starts a line. It is invisible in an editor.
+  subroutine drop_byte_order_marks(text)
+    character(len=:), allocatable, intent(inout) :: text
+    character(len=*), parameter :: bom = achar(239)//achar(187)//achar(191)
+    integer :: i
+    if (len(text) >= 3) then
+      if (text(1:3) == bom) text = text(4:)
+    end if
+    do
+      i = index(text, new_line('a')//bom)
+      if (i == 0) exit
+      text = text(1:i)//text(i + 4:)
+    end do
+  end subroutine drop_byte_order_marks
 
   !> Read every group of text into cfg (which holds the defaults): problems go to pb, and
   !> pb%read_ok tells which groups could be read. cfg%input_text is the text.
@@ -186,6 +199,7 @@ contains
         if (text(i:i) /= ' ' .and. text(i:i) /= char(9)) exit
         i = i + 1
       end do
+      j = i
       if (i < eol) then
         if (text(i:i) == '&') then
           j = i + 1
@@ -205,36 +219,96 @@ contains
           end if
         end if
       end if
+      call misplaced_group(pb, text(pos:eol - 1), j - pos + 1, line)
       pos = eol + 1
     end do
   end subroutine scan_groups
 
+  !> A '&' outside strings and comments at or after position from of line (number line of
+  !> the file), after other characters: the namelist reader looks for a group only where a
+  !> line starts with it and would skip this one without a word, so it is a problem.
+  subroutine misplaced_group(pb, line, from, number)
+    type(input_problems_t), intent(inout) :: pb
+    character(len=*), intent(in) :: line
+    integer, intent(in) :: from, number
+    character(len=1) :: quote
+    integer :: i, j
+    quote = ' '
+    do i = from, len(line)
+      if (quote /= ' ') then
+        if (line(i:i) == quote) quote = ' '
+        cycle
+      end if
+      select case (line(i:i))
+      case ("'", '"')
+        quote = line(i:i)
+      case ('!')
+        return
+      case ('&')
+        j = i + 1
+        do while (j <= len(line))
+          if (.not. is_name_char(line(j:j))) exit
+          j = j + 1
+        end do
+        call add_file_problem(pb, '&'//lower(line(i + 1:j - 1))//' (line '//itoa(number)// &
+                              '): the group opens after other characters ('// &
+                              quote_text(adjustl(line(1:i - 1)))//'); a group must open at the '// &
+                              'start of its line, else it is not read')
+        return
+      end select
+    end do
+  end subroutine misplaced_group
+
+  !> text in quotes, cut at 40 characters, without the characters that would not print.
+  function quote_text(text) result(s)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: s
+    integer :: i
+    s = ''
+    do i = 1, min(len_trim(text), 40)
+      if (iachar(text(i:i)) >= 32 .and. iachar(text(i:i)) < 127) then
+        s = s//text(i:i)
+      else
+        s = s//'?'
+      end if
+    end do
+    s = "'"//s//"'"
+  end function quote_text
+
   !> After the read of occurrence k of group g (status ios, message msg) and the write of
   !> its namelist into echo: ok tells whether it was read; if so, its echo is added to
   !> cfg_echo, else the error is a problem.
-  subroutine took_group(pb, g, k, ios, msg, echo, cfg_echo, ok)
+  subroutine took_group(pb, g, k, ios, msg, echo, cfg_echo, ok, records)
     type(input_problems_t), intent(inout) :: pb
     integer, intent(in) :: g, k, ios
-    character(len=*), intent(in) :: msg, echo(:)
+    character(len=*), intent(in) :: msg, echo(:), records(:)
     character(len=:), allocatable, intent(inout) :: cfg_echo
     logical, intent(out) :: ok
     ok = ios == 0
     if (ok) then
       cfg_echo = cfg_echo//nml_echo(echo)
     else
-      call read_error(pb, g, k, ios, msg, nml_names(echo))
+      call read_error(pb, g, k, ios, msg, echo, records)
     end if
   end subroutine took_group
 
-  !> Record a namelist read error of occurrence k of group g, whose variables are names.
-  subroutine read_error(pb, g, k, ios, msg, names)
+  !> Record a namelist read error of occurrence k of group g, whose variables are written in
+  !> echo. The compiler's message names the variable where the reader stopped, which is not
+  !> always the one at fault (after a vector given in part it blames the vector for the next
+  !> name); so the group's text is looked at first for names that are no variable of the
+  !> group and indices beyond a variable's size, each reported with its own line.
+  subroutine read_error(pb, g, k, ios, msg, echo, records)
     type(input_problems_t), intent(inout) :: pb
     integer, intent(in) :: g, k, ios
-    character(len=*), intent(in) :: msg, names
+    character(len=*), intent(in) :: msg, echo(:), records(:)
     character(len=*), parameter :: nomatch = 'Cannot match namelist object name '
-    character(len=:), allocatable :: what, hint, word
+    character(len=:), allocatable :: what, hint, word, names
     integer :: i
     logical :: is_name
+    names = nml_names(echo)
+    if (ios > 0) then
+      if (bad_assignments(pb, g, k, echo, records) > 0) return
+    end if
     if (ios < 0) then
       what = 'the namelist reader did not find this group (is it terminated by "/"?)'
     else
@@ -260,6 +334,129 @@ contains
                  place(pb, g, k))
   end subroutine read_error
 
+  !> Look at the text of occurrence k of group g (from its opening line to its closing "/")
+  !> for assignments "name = " or "name(index) = " whose name is no variable of the group
+  !> (the group written in echo) or whose index lies beyond the variable's size; each is a
+  !> problem naming its line. n: the problems found.
+  integer function bad_assignments(pb, g, k, echo, records) result(n)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: g, k
+    character(len=*), intent(in) :: echo(:), records(:)
+    character(len=1) :: quote
+    character(len=:), allocatable :: name, sub
+    integer :: r, i, j, m, p, last
+    n = 0
+    r = pb%line_of(g, k)
+    if (r < 1 .or. r > size(records)) return
+    ! past "&group" on its line
+    i = index(records(r), '&') + 1
+    do while (i <= len(records(r)))
+      if (.not. is_name_char(records(r)(i:i))) exit
+      i = i + 1
+    end do
+    quote = ' '
+    do while (r <= size(records))
+      last = len_trim(records(r))
+      do while (i <= last)
+        associate (line => records(r))
+          if (quote /= ' ') then
+            if (line(i:i) == quote) quote = ' '
+            i = i + 1
+            cycle
+          end if
+          select case (line(i:i))
+          case ("'", '"')
+            quote = line(i:i)
+            i = i + 1
+          case ('!')
+            exit
+          case ('/')
+            return
+          case ('a':'z', 'A':'Z')
+            j = i
+            do while (j <= last)
+              if (.not. (is_name_char(line(j:j)) .or. line(j:j) == '%')) exit
+              j = j + 1
+            end do
+            name = lower(line(i:j - 1))
+            m = skip_blanks(line, j)
+            sub = ''
+            if (m <= last) then
+              if (line(m:m) == '(') then
+                p = index(line(m:), ')')
+                if (p > 0) then
+                  sub = line(m + 1:m + p - 2)
+                  m = skip_blanks(line, m + p)
+                end if
+              end if
+            end if
+            i = j
+            if (m <= last) then
+              if (line(m:m) == '=') then
+                n = n + bad_assignment(pb, g, name, sub, r, echo)
+                i = m + 1
+              end if
+            end if
+          case default
+            i = i + 1
+          end select
+        end associate
+      end do
+      r = r + 1
+      i = 1
+    end do
+  end function bad_assignments
+
+  !> First position at or after i of line that is not a blank (len(line) + 1 if none).
+  pure integer function skip_blanks(line, i) result(j)
+    character(len=*), intent(in) :: line
+    integer, intent(in) :: i
+    j = i
+    do while (j <= len(line))
+      if (line(j:j) /= ' ' .and. line(j:j) /= char(9)) exit
+      j = j + 1
+    end do
+  end function skip_blanks
+
+  !> 1 (and a problem) if "name(sub) =" at line of group g names no variable of the group
+  !> written in echo, or an index beyond the variable's size; else 0. A subscript of more
+  !> than one dimension is left to the compiler.
+  integer function bad_assignment(pb, g, name, sub, line, echo) result(n)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: g, line
+    character(len=*), intent(in) :: name, sub, echo(:)
+    character(len=:), allocatable :: grp, at
+    integer :: nval, colon, lo, hi, ios
+    n = 0
+    if (index(name, '%') > 0) return
+    grp = '&'//trim(group_names(g))
+    nval = nml_size(echo, name)
+    at = ' (line '//itoa(line)//')'
+    if (nval == 0) then
+      call add_raw(pb, grp//' '//name//at//': no such variable; the variables of '//grp// &
+                   ' are '//nml_names(echo))
+      n = 1
+      return
+    end if
+    if (len_trim(sub) == 0 .or. index(sub, ',') > 0) return
+    colon = index(sub, ':')
+    lo = 1
+    hi = nval
+    ios = 0
+    if (colon == 0) then
+      read (sub, *, iostat=ios) lo
+      hi = lo
+    else
+      if (len_trim(sub(1:colon - 1)) > 0) read (sub(1:colon - 1), *, iostat=ios) lo
+      if (ios == 0 .and. len_trim(sub(colon + 1:)) > 0) read (sub(colon + 1:), *, iostat=ios) hi
+    end if
+    if (ios /= 0 .or. (lo >= 1 .and. hi <= nval)) return
+    call add_raw(pb, grp//' '//name//'('//trim(adjustl(sub))//')'//at//': index '// &
+                 itoa(merge(lo, hi, lo < 1 .or. lo > nval))//' is out of range: '//name// &
+                 ' has '//itoa(nval)//' entries, 1 to '//itoa(nval))
+    n = 1
+  end function bad_assignment
+
   !> Read &run (its variables: dpmpm_vars_run.inc).
   subroutine read_run(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
@@ -280,7 +477,7 @@ contains
     if (pb%count(g_run) > 0) read (records, nml=run, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=run)
-    call took_group(pb, g_run, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_run, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     ! Whether porosity_gradient was given: a second read from the other default keeps it
     ! only if the group sets it.
@@ -317,7 +514,7 @@ contains
     if (pb%count(g_grid) > 0) read (records, nml=grid, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=grid)
-    call took_group(pb, g_grid, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_grid, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
 #include "dpmpm_vars_as_kept.h"
@@ -344,7 +541,7 @@ contains
     if (pb%count(g_shape) > 0) read (records, nml=shape, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=shape)
-    call took_group(pb, g_shape, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_shape, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
 #include "dpmpm_vars_as_kept.h"
@@ -375,7 +572,7 @@ contains
       read (records(first_record(pb, g_material, k):), nml=material, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=material)
-      call took_group(pb, g_material, k, ios, msg, echo, cfg%echo, ok)
+      call took_group(pb, g_material, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
@@ -409,7 +606,7 @@ contains
       read (records(first_record(pb, g_region, k):), nml=region, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=region)
-      call took_group(pb, g_region, k, ios, msg, echo, cfg%echo, ok)
+      call took_group(pb, g_region, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
@@ -450,7 +647,7 @@ contains
       read (records(first_record(pb, g_boundary, k):), nml=boundary, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=boundary)
-      call took_group(pb, g_boundary, k, ios, msg, echo, cfg%echo, ok)
+      call took_group(pb, g_boundary, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       f = face_index(face)
       select case (trim(adjustl(condition)))
@@ -608,7 +805,7 @@ contains
       read (records(first_record(pb, g_load, k):), nml=load, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=load)
-      call took_group(pb, g_load, k, ios, msg, echo, cfg%echo, ok)
+      call took_group(pb, g_load, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
@@ -646,7 +843,7 @@ contains
     if (pb%count(g_output) > 0) read (records, nml=output, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=output)
-    call took_group(pb, g_output, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_output, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
 #include "dpmpm_vars_as_kept.h"
@@ -673,7 +870,7 @@ contains
     if (pb%count(g_benchmark) > 0) read (records, nml=benchmark, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=benchmark)
-    call took_group(pb, g_benchmark, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_benchmark, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
 #include "dpmpm_vars_as_kept.h"

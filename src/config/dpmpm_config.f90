@@ -49,6 +49,7 @@ module dpmpm_config
   type :: load_cfg_t
     integer :: face = 0                              !< index into face_names
 #include "dpmpm_vars_load.inc"
+    integer :: nfactors = 0                          !< factors given (one per time of a table)
   end type load_cfg_t
 
   !> All parameters of a run.

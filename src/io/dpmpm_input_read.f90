@@ -25,6 +25,8 @@ module dpmpm_input_read
   !> Length of the buffers that strings with a shorter limit are read into, so that a value
   !> longer than its limit is seen (and refused) instead of cut.
   integer, parameter :: long_len = 4096
+  !> Largest Coulomb friction coefficient of a rough wall: tan 63.4 degrees.
+  real(wp), parameter :: max_wall_friction = 2.0_wp
 
 contains
 
@@ -137,6 +139,7 @@ contains
     if (.not. allocated(cfg%loads)) allocate (cfg%loads(0))
     cfg%input_text = text
   end subroutine parse_input
+
 
   !> The lines of text as the records of an internal file (blank-padded to the longest line),
   !> split at new-line characters as the file's records were.
@@ -665,9 +668,12 @@ contains
         call add_value(pb, g_boundary, k, 'condition', quote(condition), &
                        'the conditions are free, fixed, roller, absorbing')
       end select
-      if (.not. real_ok(friction) .or. friction < 0.0_wp) then
+      if (.not. real_ok(friction, ge=0.0_wp, le=max_wall_friction)) then
         call add_value(pb, g_boundary, k, 'friction', rtoa(friction), &
-                       'must be a finite Coulomb friction coefficient >= 0 (0: a smooth wall)')
+                       'must be a finite Coulomb friction coefficient in [0, '// &
+                       rtoa(max_wall_friction)//']: mu = tan(delta) of a wall friction angle '// &
+                       'delta up to 63 degrees, above the friction angle of any soil (0: a '// &
+                       "smooth wall; a wall that holds the body is condition = 'fixed')")
       else if (friction > 0.0_wp .and. c /= bc_roller) then
         call add_value(pb, g_boundary, k, 'friction', rtoa(friction), &
                        "only a roller face takes a friction coefficient (condition = 'roller': "// &
@@ -793,7 +799,8 @@ contains
 #include "dpmpm_vars_load.inc"
 #include "dpmpm_vars_as_namelist.h"
 #include "dpmpm_vars_load.inc"
-    integer :: k, n, ios
+    real(wp), parameter :: factor_unset = -huge(1.0_wp)
+    integer :: k, n, ios, j, nfactors
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     allocate (list(pb%count(g_load)))
@@ -802,7 +809,14 @@ contains
     do k = 1, size(list)
 #include "dpmpm_vars_as_default.h"
 #include "dpmpm_vars_load.inc"
+      ! factors not given stay at a mark, so that their count can be held against the times
+      factors = factor_unset
       read (records(first_record(pb, g_load, k):), nml=load, iostat=ios, iomsg=msg)
+      nfactors = 0
+      do j = 1, size(factors)
+        if (factors(j) /= factor_unset) nfactors = j
+      end do
+      where (factors == factor_unset) factors = 0.0_wp
       call nml_records(echo)
       write (echo, nml=load)
       call took_group(pb, g_load, k, ios, msg, echo, cfg%echo, ok, records)
@@ -812,6 +826,7 @@ contains
 #include "dpmpm_vars_as_kept.h"
 #include "dpmpm_vars_load.inc"
         dest%time_function = lower(time_function)
+        dest%nfactors = nfactors
         dest%face = face_index(face)
         if (dest%face == 0) then
           call add_value(pb, g_load, k, 'face', quote(face), 'the faces are '//all_faces())

@@ -617,6 +617,7 @@ contains
 #include "dpmpm_vars_region.inc"
         dest%poly(1, :) = poly_x
         dest%poly(2, :) = poly_y
+        dest%line = pb%line_of(g_region, k)
       end associate
     end do
     cfg%regions = list(1:n)

@@ -137,9 +137,42 @@ contains
     if (.not. allocated(cfg%materials)) allocate (cfg%materials(0))
     if (.not. allocated(cfg%regions)) allocate (cfg%regions(0))
     if (.not. allocated(cfg%loads)) allocate (cfg%loads(0))
+    call lower_choices(cfg)
     cfg%input_text = text
   end subroutine parse_input
 
+  !> The values that choose among names (a scheme, a model, a placement...) in lower case,
+  !> as the group and variable names are not case sensitive: 'Points' is 'points'. Names of
+  !> files (name, restart, dir) keep their case.
+  subroutine lower_choices(cfg)
+    type(config_t), intent(inout) :: cfg
+    integer :: k
+    cfg%scheme = lower(cfg%scheme)
+    cfg%drag = lower(cfg%drag)
+    cfg%pressure_smoothing = lower(cfg%pressure_smoothing)
+    cfg%volumetric_smoothing = lower(cfg%volumetric_smoothing)
+    cfg%balance = lower(cfg%balance)
+    cfg%kernel = lower(cfg%kernel)
+    cfg%velocity_kernel = lower(cfg%velocity_kernel)
+    cfg%velocity_basis = lower(cfg%velocity_basis)
+    cfg%quadrature = lower(cfg%quadrature)
+    cfg%field_kernel = lower(cfg%field_kernel)
+    cfg%field_basis = lower(cfg%field_basis)
+    cfg%field_support = lower(cfg%field_support)
+    cfg%solid_fields = lower(cfg%solid_fields)
+    cfg%fluid_fields = lower(cfg%fluid_fields)
+    cfg%benchmark = lower(cfg%benchmark)
+    do k = 1, size(cfg%materials)
+      cfg%materials(k)%model = lower(cfg%materials(k)%model)
+      cfg%materials(k)%conductivity_law = lower(cfg%materials(k)%conductivity_law)
+      cfg%materials(k)%dp_match = lower(cfg%materials(k)%dp_match)
+    end do
+    do k = 1, size(cfg%regions)
+      cfg%regions(k)%shape = lower(cfg%regions(k)%shape)
+      cfg%regions(k)%phase = lower(cfg%regions(k)%phase)
+      cfg%regions(k)%placement = lower(cfg%regions(k)%placement)
+    end do
+  end subroutine lower_choices
 
   !> The lines of text as the records of an internal file (blank-padded to the longest line),
   !> split at new-line characters as the file's records were.
@@ -653,6 +686,9 @@ contains
       write (echo, nml=boundary)
       call took_group(pb, g_boundary, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
+      face = lower(face)
+      condition = lower(condition)
+      fluid = lower(fluid)
       f = face_index(face)
       select case (trim(adjustl(condition)))
       case ('free')
@@ -828,7 +864,7 @@ contains
 #include "dpmpm_vars_load.inc"
         dest%time_function = lower(time_function)
         dest%nfactors = nfactors
-        dest%face = face_index(face)
+        dest%face = face_index(lower(face))
         if (dest%face == 0) then
           call add_value(pb, g_load, k, 'face', quote(face), 'the faces are '//all_faces())
         else if (.not. face_in_grid(dest%face, cfg%ndim)) then

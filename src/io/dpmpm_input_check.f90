@@ -393,8 +393,8 @@ contains
     if (cfg%drag /= d%drag) call add_warning(pb, g_run, 1, 'drag', quote(cfg%drag), why)
     if (cfg%drag_safety /= d%drag_safety) &
       call add_warning(pb, g_run, 1, 'drag_safety', rtoa(cfg%drag_safety), why)
-    if (cfg%porosity_gradient_given) call add_warning(pb, g_run, 1, 'porosity_gradient', &
-      trim(merge('.true. ', '.false.', cfg%porosity_gradient)), why)
+    if (cfg%porosity_gradient .neqv. d%porosity_gradient) call add_warning(pb, g_run, 1, &
+      'porosity_gradient', trim(merge('.true. ', '.false.', cfg%porosity_gradient)), why)
     if (cfg%remap_drag .neqv. d%remap_drag) &
       call add_warning(pb, g_run, 1, 'remap_drag', '.false.', why)
     if (cfg%cavitation_pressure /= d%cavitation_pressure) &

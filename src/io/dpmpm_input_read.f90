@@ -387,7 +387,7 @@ contains
     ! past "&group" on its line
     i = index(records(r), '&') + 1
     do while (i <= len(records(r)))
-      if (.not. is_name_char(records(r)(i:i))) exit
+      if (.not. is_name_char(records(r) (i:i))) exit
       i = i + 1
     end do
     quote = ' '
@@ -856,6 +856,7 @@ contains
       where (factors == factor_unset) factors = 0.0_wp
       call nml_records(echo)
       write (echo, nml=load)
+      if (ios == 0) call echo_given(echo, 'factors', factors(1:nfactors))
       call took_group(pb, g_load, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       n = k
@@ -875,6 +876,24 @@ contains
     end do
     cfg%loads = list(1:n)
   end subroutine read_loads
+
+  !> In the group written in echo, variable name (an array) with only the values given, so
+  !> that the echo reads back with as many as the input had (the zeros after them would
+  !> count as given); left out when none was.
+  subroutine echo_given(echo, name, values)
+    character(len=*), intent(inout) :: echo(:)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: values(:)
+    integer :: k, eq
+    do k = 1, size(echo)
+      eq = index(echo(k), '=')
+      if (eq == 0) cycle
+      if (lower(trim(adjustl(echo(k) (1:eq - 1)))) /= name) cycle
+      echo(k) = ''
+      if (size(values) > 0) echo(k) = name//' = '//rtoa_list(values)
+      return
+    end do
+  end subroutine echo_given
 
   !> Read &output (its variables: dpmpm_vars_output.inc).
   subroutine read_output(pb, records, cfg, ok)

@@ -219,6 +219,7 @@ contains
           call add_value(pb, g_material, k, 'conductivity_law', quote(m%conductivity_law), &
                          'the laws are constant, kozeny_carman (k = conductivity n^3 (1 - n0)^2 / '// &
                          '((1 - n)^2 n0^3) at porosity n, initial porosity n0)')
+        call check_unused_material(pb, k, m)
         if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') then
           call check_plastic(pb, k, m)
         else if (m%max_dilation /= 0.0_wp) then
@@ -788,6 +789,51 @@ contains
       end if
     end do
   end function unknown_field
+
+  !> The variables of material k that its model does not use, given with another value than
+  !> the default: a warning each (a friction angle on an elastic material, a Young's
+  !> modulus on a fluid).
+  subroutine check_unused_material(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    type(material_cfg_t) :: d
+    logical :: plastic, skeleton
+    character(len=:), allocatable :: why
+    if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean', 'fluid', &
+                              'mohr_coulomb', 'drucker_prager', 'rigid'])) return
+    why = 'does nothing with model = '//quote(m%model)
+    plastic = m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager'
+    skeleton = m%model /= 'fluid' .and. m%model /= 'rigid'
+    if (.not. skeleton) then
+      if (m%youngs_modulus /= d%youngs_modulus) call add_warning(pb, g_material, k, &
+        'youngs_modulus', rtoa(m%youngs_modulus), why)
+      if (m%poisson_ratio /= d%poisson_ratio) call add_warning(pb, g_material, k, &
+        'poisson_ratio', rtoa(m%poisson_ratio), why)
+    end if
+    if (m%model /= 'fluid' .and. m%bulk_modulus /= d%bulk_modulus) call add_warning(pb, &
+      g_material, k, 'bulk_modulus', rtoa(m%bulk_modulus), why//" (only a 'fluid' takes it)")
+    if (plastic) then
+      if (m%model == 'mohr_coulomb' .and. m%dp_match /= d%dp_match) call add_warning(pb, &
+        g_material, k, 'dp_match', quote(m%dp_match), why//" (only 'drucker_prager' takes it)")
+      return
+    end if
+    why = why//' (only mohr_coulomb and drucker_prager take it)'
+    if (m%friction_angle /= d%friction_angle) call add_warning(pb, g_material, k, &
+      'friction_angle', rtoa(m%friction_angle), why)
+    if (m%dilatancy_angle /= d%dilatancy_angle) call add_warning(pb, g_material, k, &
+      'dilatancy_angle', rtoa(m%dilatancy_angle), why)
+    if (m%cohesion /= d%cohesion) call add_warning(pb, g_material, k, 'cohesion', &
+      rtoa(m%cohesion), why)
+    if (m%tensile_strength /= d%tensile_strength) call add_warning(pb, g_material, k, &
+      'tensile_strength', rtoa(m%tensile_strength), why)
+    if (m%cohesion_softening /= d%cohesion_softening) call add_warning(pb, g_material, k, &
+      'cohesion_softening', rtoa(m%cohesion_softening), why)
+    if (m%residual_cohesion /= d%residual_cohesion) call add_warning(pb, g_material, k, &
+      'residual_cohesion', rtoa(m%residual_cohesion), why)
+    if (m%dp_match /= d%dp_match) call add_warning(pb, g_material, k, 'dp_match', &
+      quote(m%dp_match), why)
+  end subroutine check_unused_material
 
   !> Strength parameters of a mohr_coulomb or drucker_prager material k.
   subroutine check_plastic(pb, k, m)

@@ -74,10 +74,11 @@ contains
       do r = 1, size(nreg)
         do j = 1, r - 1
           if (both(j, r) == 0) cycle
-          call report(cfg, '&region'//region_place(cfg, r)//' overlaps &region'//region_place(cfg, j)//': '// &
-                      i8toa(both(j, r))//' points lie in both, so that the overlap is filled '// &
-                      'twice (its points and mass count twice); regions must not overlap: let '// &
-                      'them meet at a common face')
+          call report(cfg, '&region'//region_place(cfg, r)//': its '//outline(cfg, r)// &
+                      ' overlap the '//outline(cfg, j)//' of &region'//region_place(cfg, j)// &
+                      ': '//i8toa(both(j, r))//' points lie in both, so that the overlap is '// &
+                      'filled twice (its points and mass count twice); regions must not '// &
+                      'overlap: let them meet at a common face')
         end do
       end do
       do r = 1, size(nreg)
@@ -124,6 +125,15 @@ contains
     if (size(cfg%regions) > 1) s = 'group '//itoa(k)//' of '//itoa(size(cfg%regions))//', '//s
     s = ' ('//s//')'
   end function region_place
+
+  !> The variables that give the outline of &region k: lo, hi or poly_x, poly_y.
+  function outline(cfg, k) result(s)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    character(len=:), allocatable :: s
+    s = 'lo, hi'
+    if (trim(cfg%regions(k)%shape) == 'polygon') s = 'poly_x, poly_y'
+  end function outline
 
   !> both(j, k), j < k: points of ps that lie in both region j and region k (by the test
   !> that keeps a generated point), added to what both holds.

@@ -466,12 +466,12 @@ contains
     call parse_input(text, bad, pb)
     call check_equal_int(pb%nprob, 1, 'one problem')
     if (pb%nprob == 1) then
-      call check(index(pb%prob(1)%s, 'dpmpm: input error: in_memory.nml: &material: ') == 1, &
+      call check(index(pb%prob(1)%s, 'dpmpm: input error: in_memory.nml: &material ') == 1, &
                  'the problem names the file and the group')
-      call check(index(pb%prob(1)%s, 'densty (no such variable)') > 0, 'the variable')
+      call check(index(pb%prob(1)%s, '&material densty (line 3): no such variable') > 0, &
+                 'the variable and its line')
       call check(index(pb%prob(1)%s, 'the variables of &material are id, model, density, '// &
                        'youngs_modulus, poisson_ratio, bulk_modulus') > 0, 'the variables of the group')
-      call check(index(pb%prob(1)%s, '[group 2 of 2, line 3]') > 0, 'the place')
     end if
     call check(.not. pb%read_ok(4) .and. pb%read_ok(2), 'read_ok per group')
     call pb%free()

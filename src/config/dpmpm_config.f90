@@ -42,6 +42,7 @@ module dpmpm_config
   type :: region_cfg_t
 #include "dpmpm_vars_region.inc"
     real(wp) :: poly(2, max_poly) = 0.0_wp           !< polygon vertices (x, y): poly_x, poly_y
+    integer :: line = 0                              !< line of the input where the group opens
   end type region_cfg_t
 
   !> One &load group: a traction on a grid face (or on the part lo..hi of it), times a
@@ -49,6 +50,7 @@ module dpmpm_config
   type :: load_cfg_t
     integer :: face = 0                              !< index into face_names
 #include "dpmpm_vars_load.inc"
+    integer :: nfactors = 0                          !< factors given (one per time of a table)
   end type load_cfg_t
 
   !> All parameters of a run.

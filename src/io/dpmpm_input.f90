@@ -3,7 +3,8 @@
 !> (dpmpm_input_read). Rank 0 resolves restart = 'latest' against its file system and
 !> checks the values (dpmpm_input_check), then tells every rank the verdict. On any
 !> problem rank 0 prints all of them, one per line, and every rank returns status 2; the
-!> caller stops. A new input variable is declared in config_t, read in its group's
+!> caller stops. Values that are valid but do nothing in the scene are printed by rank 0 as
+!> warnings, and the run goes on. A new input variable is declared in config_t, read in its group's
 !> namelist (which also gives its echo and its place in messages), checked and used:
 !> nothing here changes.
 module dpmpm_input
@@ -63,6 +64,7 @@ contains
       call refuse(pb, rank, status)
       return
     end if
+    if (rank == 0) call pb%write_warnings(error_unit)
     ! The initial state of level ground, where asked for (checked above).
     call resolve_geostatic(cfg)
     ! The checkpoint to continue from, as rank 0 found it.
@@ -94,12 +96,13 @@ contains
     if (n > 0) call MPI_Bcast(text, n, MPI_CHARACTER, 0, comm)
   end subroutine bcast_text
 
-  !> Rank 0 prints the problems; every rank returns input_refused.
+  !> Rank 0 prints the problems, then the warnings; every rank returns input_refused.
   subroutine refuse(pb, rank, status)
     type(input_problems_t), intent(inout) :: pb
     integer, intent(in) :: rank
     integer, intent(out) :: status
     if (rank == 0) call pb%write(error_unit)
+    if (rank == 0) call pb%write_warnings(error_unit)
     call pb%free()
     status = input_refused
   end subroutine refuse

@@ -6,6 +6,7 @@ module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, optional_fields, field_listed, &
+                          face_names, &
                           porosity_varies, region_levels, level_unset, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
@@ -15,7 +16,8 @@ module dpmpm_input_check
   use dpmpm_plasticity, only: plastic_params_t, plastic_setup, softening_limit, dp_match_names, &
                               dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
   use dpmpm_input_problems, only: input_problems_t, g_run, g_grid, g_shape, g_material, &
-                                  g_region, g_load, g_output, g_benchmark, add_value, real_ok
+                                  g_region, g_load, g_output, g_benchmark, add_value, add_warning, &
+                                  real_ok
   use dpmpm_strings, only: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, next_word
   use mpi_f08, only: MPI_Dims_create
   implicit none
@@ -34,6 +36,13 @@ contains
     logical :: grid_ok, ndim_ok, exists
 
     ! &run
+    if (len_trim(cfg%name) == 0) then
+      call add_value(pb, g_run, 1, 'name', "''", 'must not be empty: it names the output '// &
+                     'files <dir>/<name>.h5 and <dir>/<name>.ckpt.h5')
+    else if (scan(cfg%name, '/\') > 0) then
+      call add_value(pb, g_run, 1, 'name', quote(cfg%name), 'a base name without "/": the '// &
+                     'directory of the output files is &output dir')
+    end if
     if (.not. any(cfg%scheme == [character(len=4) :: 'musl', 'usl'])) call add_value(pb, g_run, &
       1, 'scheme', quote(cfg%scheme), 'the schemes are musl, usl')
     if (.not. real_ok(cfg%t_end, gt=0.0_wp)) call add_value(pb, g_run, 1, 't_end', &
@@ -80,8 +89,16 @@ contains
                      'points averaged over the points of each material in each cell)')
     if (.not. real_ok(cfg%growth_limit, ge=0.0_wp)) call add_value(pb, g_run, 1, &
       'growth_limit', rtoa(cfg%growth_limit), 'must be >= 0 (0 = no growth monitor)')
-    if (.not. real_ok(cfg%equilibrium_time, ge=0.0_wp)) call add_value(pb, g_run, 1, &
-      'equilibrium_time', rtoa(cfg%equilibrium_time), 'must be >= 0 (s; 0 = no equilibrium phase)')
+    if (.not. real_ok(cfg%equilibrium_time, ge=0.0_wp)) then
+      call add_value(pb, g_run, 1, 'equilibrium_time', rtoa(cfg%equilibrium_time), &
+                     'must be >= 0 (s; 0 = no equilibrium phase)')
+    else if (real_ok(cfg%t_end) .and. cfg%equilibrium_time > cfg%t_end) then
+      call add_value(pb, g_run, 1, 'equilibrium_time', rtoa(cfg%equilibrium_time), &
+                     'must not exceed t_end = '//rtoa(cfg%t_end)//' (s): the run would end '// &
+                     'inside the equilibrium phase, still damped (and gravity reaches its full '// &
+                     'value only at half of equilibrium_time)')
+    end if
+    call check_one_phase(pb, cfg)
     if (.not. real_ok(cfg%equilibrium_damping, ge=0.0_wp) .or. .not. cfg%equilibrium_damping < 1.0_wp) &
       call add_value(pb, g_run, 1, 'equilibrium_damping', rtoa(cfg%equilibrium_damping), &
                      'must be in [0, 1) (the fraction of the unbalanced force the damping takes)')
@@ -200,6 +217,7 @@ contains
           call add_value(pb, g_material, k, 'conductivity_law', quote(m%conductivity_law), &
                          'the laws are constant, kozeny_carman (k = conductivity n^3 (1 - n0)^2 / '// &
                          '((1 - n)^2 n0^3) at porosity n, initial porosity n0)')
+        call check_unused_material(pb, k, m)
         if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') then
           call check_plastic(pb, k, m)
         else if (m%max_dilation /= 0.0_wp) then
@@ -266,6 +284,24 @@ contains
     integer, intent(in) :: k
     type(load_cfg_t), intent(in) :: ld
     integer :: n, i
+    character(len=*), parameter :: unused = 'does nothing with time_function = '
+    if (trim(ld%time_function) /= 'ramp' .and. ld%ramp_time /= 0.0_wp) &
+      call add_warning(pb, g_load, k, 'ramp_time', rtoa(ld%ramp_time), unused// &
+                       quote(ld%time_function)//" (only 'ramp' takes it)")
+    if (trim(ld%time_function) /= 'sine') then
+      if (ld%frequency /= 0.0_wp) call add_warning(pb, g_load, k, 'frequency', &
+        rtoa(ld%frequency), unused//quote(ld%time_function)//" (only 'sine' takes it)")
+      if (ld%duration /= 0.0_wp) call add_warning(pb, g_load, k, 'duration', &
+        rtoa(ld%duration), unused//quote(ld%time_function)//" (only 'sine' takes it)")
+    end if
+    if (trim(ld%time_function) /= 'table') then
+      if (any(ld%times /= -1.0_wp)) call add_warning(pb, g_load, k, 'times', &
+        rtoa_list(pack(ld%times, ld%times /= -1.0_wp)), unused//quote(ld%time_function)// &
+        " (only 'table' takes it)")
+      if (ld%nfactors > 0) call add_warning(pb, g_load, k, 'factors', &
+        rtoa_list(ld%factors(1:ld%nfactors)), unused//quote(ld%time_function)// &
+        " (only 'table' takes it)")
+    end if
     select case (trim(ld%time_function))
     case ('ramp')
     case ('sine')
@@ -289,7 +325,12 @@ contains
           exit
         end if
       end do
+      if (n > 0) call check_finite(pb, g_load, k, 'times', ld%times(1:n))
       if (n > 0) call check_finite(pb, g_load, k, 'factors', ld%factors(1:n))
+      if (n > 0 .and. ld%nfactors /= n) &
+        call add_value(pb, g_load, k, 'factors', rtoa_list(ld%factors(1:max(1, ld%nfactors))), &
+                       itoa(ld%nfactors)//' factors for '//itoa(n)//' times: give one '// &
+                       'factor per time')
     case default
       call add_value(pb, g_load, k, 'time_function', quote(ld%time_function), &
                      'the time functions are ramp (over ramp_time), sine (frequency, duration), '// &
@@ -297,24 +338,69 @@ contains
     end select
   end subroutine check_load_time
 
-  !> The part lo..hi of the face of &load k: finite, and along each axis of the face where
-  !> hi > lo an interval that overlaps the grid.
+  !> The part lo..hi of the face of &load k: finite; along each axis of the face either
+  !> lo = hi = 0 (the whole face) or lo < hi within the face (with hi < lo the load took the
+  !> whole face, beyond it the part was cut at the grid's edge, both without a word); on the
+  !> face's normal axis the values do nothing (a warning).
   subroutine check_load_part(pb, cfg, k, ld)
     type(input_problems_t), intent(inout) :: pb
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: k
     type(load_cfg_t), intent(in) :: ld
-    integer :: t
+    integer :: t, j
+    real(wp) :: glo, ghi, tol
+    character(len=:), allocatable :: var, val
     call check_finite(pb, g_load, k, 'lo', ld%lo)
     call check_finite(pb, g_load, k, 'hi', ld%hi)
     if (ld%face < 1 .or. ld%face > 2*cfg%ndim) return
+    if (.not. all([(real_ok(ld%lo(j)) .and. real_ok(ld%hi(j)), j=1, 3)])) return
     do t = 1, cfg%ndim
-      if (t == (ld%face + 1)/2 .or. ld%hi(t) <= ld%lo(t)) cycle
-      if (ld%hi(t) <= cfg%origin(t) .or. ld%lo(t) >= cfg%origin(t) + cfg%length(t)) &
-        call add_value(pb, g_load, k, 'lo', rtoa(ld%lo(t)), 'the part '//rtoa(ld%lo(t))// &
-                       ' to '//rtoa(ld%hi(t))//' along axis '//itoa(t)//' lies outside the grid')
+      var = 'lo('//itoa(t)//'), hi('//itoa(t)//')'
+      val = rtoa(ld%lo(t))//', '//rtoa(ld%hi(t))
+      if (t == (ld%face + 1)/2) then
+        if (ld%lo(t) /= 0.0_wp .or. ld%hi(t) /= 0.0_wp) call add_warning(pb, g_load, k, var, &
+          val, 'axis '//itoa(t)//' is the normal of face '//face_names(ld%face)// &
+          ': these values do nothing; leave them 0')
+        cycle
+      end if
+      if (ld%lo(t) == 0.0_wp .and. ld%hi(t) == 0.0_wp) cycle
+      glo = cfg%origin(t)
+      ghi = cfg%origin(t) + cfg%length(t)
+      tol = 1.0e-12_wp*cfg%length(t)
+      if (ld%hi(t) <= ld%lo(t)) then
+        call add_value(pb, g_load, k, var, val, 'need lo < hi for a part of the face along '// &
+                       'axis '//itoa(t)//' (lo = hi = 0, the default, loads the whole face)')
+      else if (ld%lo(t) < glo - tol .or. ld%hi(t) > ghi + tol) then
+        call add_value(pb, g_load, k, var, val, 'the part must lie on the face, which spans ['// &
+                       rtoa(glo)//', '//rtoa(ghi)//'] along axis '//itoa(t))
+      end if
     end do
   end subroutine check_load_part
+
+  !> Settings of the pore water (&run) in a scene without it do nothing: a warning for each
+  !> that differs from its default.
+  subroutine check_one_phase(pb, cfg)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    type(config_t) :: d
+    character(len=*), parameter :: why = 'does nothing in a scene without pore or free water '// &
+                                   '(every &region has phase = ''solid'')'
+    if (.not. allocated(cfg%regions)) return
+    if (size(cfg%regions) == 0 .or. any(cfg%regions%phase /= 'solid')) return
+    if (cfg%pressure_smoothing /= d%pressure_smoothing) &
+      call add_warning(pb, g_run, 1, 'pressure_smoothing', quote(cfg%pressure_smoothing), why)
+    if (cfg%drag /= d%drag) call add_warning(pb, g_run, 1, 'drag', quote(cfg%drag), why)
+    if (cfg%drag_safety /= d%drag_safety) &
+      call add_warning(pb, g_run, 1, 'drag_safety', rtoa(cfg%drag_safety), why)
+    if (cfg%porosity_gradient .neqv. d%porosity_gradient) call add_warning(pb, g_run, 1, &
+      'porosity_gradient', trim(merge('.true. ', '.false.', cfg%porosity_gradient)), why)
+    if (cfg%remap_drag .neqv. d%remap_drag) &
+      call add_warning(pb, g_run, 1, 'remap_drag', '.false.', why)
+    if (cfg%cavitation_pressure /= d%cavitation_pressure) &
+      call add_warning(pb, g_run, 1, 'cavitation_pressure', rtoa(cfg%cavitation_pressure), why)
+    if (cfg%free_surface_fraction /= d%free_surface_fraction) &
+      call add_warning(pb, g_run, 1, 'free_surface_fraction', rtoa(cfg%free_surface_fraction), why)
+  end subroutine check_one_phase
 
   !> Check one MLS reconstruction choice of &shape (prefix velocity or field) when it is used.
   subroutine check_mls_choice(pb, prefix, kernel, basis, radius, used)
@@ -569,6 +655,13 @@ contains
       if (trim(cfg%regions(r)%phase) /= 'solid' .or. cfg%regions(r)%porosity /= 0.0_wp) &
         call add_value(pb, g_region, r, 'material', itoa(cfg%regions(r)%material), &
                        'a rigid material fills solid regions without porosity')
+      if (any(cfg%regions(r)%velocity /= 0.0_wp)) call add_warning(pb, g_region, r, &
+        'velocity', rtoa_list(cfg%regions(r)%velocity(1:cfg%ndim)), 'does nothing: a rigid '// &
+        'body (material '//itoa(cfg%regions(r)%material)//") moves at its &material velocity "// &
+        'from the start')
+      if (any(cfg%regions(r)%stress /= 0.0_wp) .or. any(cfg%regions(r)%stress_gradient /= 0.0_wp)) &
+        call add_warning(pb, g_region, r, 'stress', rtoa_list(cfg%regions(r)%stress), &
+                         'does nothing: a rigid body has no stress')
     end do
   end subroutine check_rigid
 
@@ -694,6 +787,51 @@ contains
       end if
     end do
   end function unknown_field
+
+  !> The variables of material k that its model does not use, given with another value than
+  !> the default: a warning each (a friction angle on an elastic material, a Young's
+  !> modulus on a fluid).
+  subroutine check_unused_material(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    type(material_cfg_t) :: d
+    logical :: plastic, skeleton
+    character(len=:), allocatable :: why
+    if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean', 'fluid', &
+                              'mohr_coulomb', 'drucker_prager', 'rigid'])) return
+    why = 'does nothing with model = '//quote(m%model)
+    plastic = m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager'
+    skeleton = m%model /= 'fluid' .and. m%model /= 'rigid'
+    if (.not. skeleton) then
+      if (m%youngs_modulus /= d%youngs_modulus) call add_warning(pb, g_material, k, &
+        'youngs_modulus', rtoa(m%youngs_modulus), why)
+      if (m%poisson_ratio /= d%poisson_ratio) call add_warning(pb, g_material, k, &
+        'poisson_ratio', rtoa(m%poisson_ratio), why)
+    end if
+    if (m%model /= 'fluid' .and. m%bulk_modulus /= d%bulk_modulus) call add_warning(pb, &
+      g_material, k, 'bulk_modulus', rtoa(m%bulk_modulus), why//" (only a 'fluid' takes it)")
+    if (plastic) then
+      if (m%model == 'mohr_coulomb' .and. m%dp_match /= d%dp_match) call add_warning(pb, &
+        g_material, k, 'dp_match', quote(m%dp_match), why//" (only 'drucker_prager' takes it)")
+      return
+    end if
+    why = why//' (only mohr_coulomb and drucker_prager take it)'
+    if (m%friction_angle /= d%friction_angle) call add_warning(pb, g_material, k, &
+      'friction_angle', rtoa(m%friction_angle), why)
+    if (m%dilatancy_angle /= d%dilatancy_angle) call add_warning(pb, g_material, k, &
+      'dilatancy_angle', rtoa(m%dilatancy_angle), why)
+    if (m%cohesion /= d%cohesion) call add_warning(pb, g_material, k, 'cohesion', &
+      rtoa(m%cohesion), why)
+    if (m%tensile_strength /= d%tensile_strength) call add_warning(pb, g_material, k, &
+      'tensile_strength', rtoa(m%tensile_strength), why)
+    if (m%cohesion_softening /= d%cohesion_softening) call add_warning(pb, g_material, k, &
+      'cohesion_softening', rtoa(m%cohesion_softening), why)
+    if (m%residual_cohesion /= d%residual_cohesion) call add_warning(pb, g_material, k, &
+      'residual_cohesion', rtoa(m%residual_cohesion), why)
+    if (m%dp_match /= d%dp_match) call add_warning(pb, g_material, k, 'dp_match', &
+      quote(m%dp_match), why)
+  end subroutine check_unused_material
 
   !> Strength parameters of a mohr_coulomb or drucker_prager material k.
   subroutine check_plastic(pb, k, m)

@@ -1,7 +1,9 @@
 !> The groups of the namelist input (names, variables, where each opens in the file) and the
 !> list of problems found while reading and checking it. Each problem is one line
 !> "dpmpm: input error: <file>: <text> [where]"; they are collected, not printed one by one,
-!> so that a user sees every problem of a file at once.
+!> so that a user sees every problem of a file at once. A value that is valid but does
+!> nothing in its scene is a warning, "dpmpm: input warning: ...", collected the same way:
+!> the run goes on.
 module dpmpm_input_problems
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
@@ -10,7 +12,7 @@ module dpmpm_input_problems
   private
   public :: input_problems_t, ngroups, group_names, repeatable
   public :: g_run, g_grid, g_shape, g_material, g_region, g_boundary, g_load, g_output, g_benchmark
-  public :: add_value, add_raw, add_file_problem, place, lines_of, real_ok
+  public :: add_value, add_raw, add_file_problem, add_warning, place, lines_of, real_ok
 
   integer, parameter :: g_run = 1, g_grid = 2, g_shape = 3, g_material = 4, g_region = 5, &
                         g_boundary = 6, g_load = 7, g_output = 8, g_benchmark = 9, ngroups = 9
@@ -19,6 +21,7 @@ module dpmpm_input_problems
   logical, parameter :: repeatable(ngroups) = [.false., .false., .false., .true., .true., &
                                                .true., .true., .false., .false.]
   character(len=*), parameter :: err_prefix = 'dpmpm: input error: '
+  character(len=*), parameter :: warn_prefix = 'dpmpm: input warning: '
 
   !> A string of any length, to collect messages.
   type :: text_t
@@ -35,12 +38,15 @@ module dpmpm_input_problems
     integer, allocatable :: open_group(:), open_line(:)
     integer :: nprob = 0
     type(text_t), allocatable :: prob(:)
+    integer :: nwarn = 0
+    type(text_t), allocatable :: warn(:)          !< values that do nothing (the run goes on)
   contains
     procedure :: init => problems_init
     procedure :: free => problems_free
     procedure :: opened => problems_opened
     procedure :: line_of => problems_line_of
     procedure :: write => problems_write
+    procedure :: write_warnings => problems_write_warnings
   end type input_problems_t
 
 contains
@@ -61,6 +67,8 @@ contains
     if (allocated(self%open_group)) deallocate (self%open_group)
     if (allocated(self%open_line)) deallocate (self%open_line)
     if (allocated(self%prob)) deallocate (self%prob)
+    if (allocated(self%warn)) deallocate (self%warn)
+    self%nwarn = 0
     self%count = 0
     self%read_ok = .true.
     self%nopen = 0
@@ -118,6 +126,26 @@ contains
     flush (unit)
   end subroutine problems_write
 
+  !> Every warning, one per line, on unit.
+  subroutine problems_write_warnings(self, unit)
+    class(input_problems_t), intent(in) :: self
+    integer, intent(in) :: unit
+    integer :: k
+    do k = 1, self%nwarn
+      write (unit, '(a)') self%warn(k)%s
+    end do
+    flush (unit)
+  end subroutine problems_write_warnings
+
+  !> A value that is valid but does nothing: "&group var = value: why [where]", a warning.
+  subroutine add_warning(pb, g, k, var, value, why)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: g, k
+    character(len=*), intent(in) :: var, value, why
+    call append(pb%warn, pb%nwarn, warn_prefix//pb%file//': &'//trim(group_names(g))//' '// &
+                var//' = '//value//': '//why//place(pb, g, k))
+  end subroutine add_warning
+
   !> A problem with one value: "&group var = value: allowed [where]".
   subroutine add_value(pb, g, k, var, value, allowed)
     type(input_problems_t), intent(inout) :: pb
@@ -138,16 +166,24 @@ contains
   subroutine add_raw(pb, text)
     type(input_problems_t), intent(inout) :: pb
     character(len=*), intent(in) :: text
-    type(text_t), allocatable :: tmp(:)
-    if (.not. allocated(pb%prob)) allocate (pb%prob(8))
-    if (pb%nprob == size(pb%prob)) then
-      allocate (tmp(2*size(pb%prob)))
-      tmp(1:pb%nprob) = pb%prob(1:pb%nprob)
-      call move_alloc(tmp, pb%prob)
-    end if
-    pb%nprob = pb%nprob + 1
-    pb%prob(pb%nprob)%s = err_prefix//pb%file//': '//text
+    call append(pb%prob, pb%nprob, err_prefix//pb%file//': '//text)
   end subroutine add_raw
+
+  !> Append line to the first n entries of list (grown as needed).
+  subroutine append(list, n, line)
+    type(text_t), allocatable, intent(inout) :: list(:)
+    integer, intent(inout) :: n
+    character(len=*), intent(in) :: line
+    type(text_t), allocatable :: tmp(:)
+    if (.not. allocated(list)) allocate (list(8))
+    if (n == size(list)) then
+      allocate (tmp(2*size(list)))
+      tmp(1:n) = list(1:n)
+      call move_alloc(tmp, list)
+    end if
+    n = n + 1
+    list(n)%s = line
+  end subroutine append
 
   !> " [line L]" or " [group k of n, line L]" for occurrence k of group g.
   function place(pb, g, k) result(s)

@@ -17,7 +17,7 @@ module dpmpm_input_read
                                   g_boundary, g_load, g_output, g_benchmark, add_value, add_raw, &
                                   add_file_problem, place, lines_of, real_ok
   use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote, lower
-  use dpmpm_nml_text, only: nml_records, nml_echo, nml_names
+  use dpmpm_nml_text, only: nml_records, nml_echo, nml_names, nml_size
   implicit none
   private
   public :: load_text, parse_input
@@ -25,6 +25,8 @@ module dpmpm_input_read
   !> Length of the buffers that strings with a shorter limit are read into, so that a value
   !> longer than its limit is seen (and refused) instead of cut.
   integer, parameter :: long_len = 4096
+  !> Largest Coulomb friction coefficient of a rough wall: tan 63.4 degrees.
+  real(wp), parameter :: max_wall_friction = 2.0_wp
 
 contains
 
@@ -62,12 +64,25 @@ contains
       if (ios /= 0) call add_file_problem(pb, 'cannot read the file: '//trim(msg))
     end if
     close (u)
-    ! A UTF-8 byte order mark (some Windows editors write one) would hide the first group
-    ! from scan_groups; the namelist reader skips it, so drop it here.
-    if (len(text) >= 3) then
-      if (text(1:3) == achar(239)//achar(187)//achar(191)) text = text(4:)
-    end if
+    call drop_byte_order_marks(text)
   end subroutine load_text
+
+  !> A UTF-8 byte order mark (some Windows editors write one) would hide the group after it
+  !> from scan_groups, and one in the middle of the file (two files joined) from the namelist
+  !> reader as well: drop every mark that starts a line. It is invisible in an editor.
+  subroutine drop_byte_order_marks(text)
+    character(len=:), allocatable, intent(inout) :: text
+    character(len=*), parameter :: bom = achar(239)//achar(187)//achar(191)
+    integer :: i
+    if (len(text) >= 3) then
+      if (text(1:3) == bom) text = text(4:)
+    end if
+    do
+      i = index(text, new_line('a')//bom)
+      if (i == 0) exit
+      text = text(1:i)//text(i + 4:)
+    end do
+  end subroutine drop_byte_order_marks
 
   !> Read every group of text into cfg (which holds the defaults): problems go to pb, and
   !> pb%read_ok tells which groups could be read. cfg%input_text is the text.
@@ -122,8 +137,42 @@ contains
     if (.not. allocated(cfg%materials)) allocate (cfg%materials(0))
     if (.not. allocated(cfg%regions)) allocate (cfg%regions(0))
     if (.not. allocated(cfg%loads)) allocate (cfg%loads(0))
+    call lower_choices(cfg)
     cfg%input_text = text
   end subroutine parse_input
+
+  !> The values that choose among names (a scheme, a model, a placement...) in lower case,
+  !> as the group and variable names are not case sensitive: 'Points' is 'points'. Names of
+  !> files (name, restart, dir) keep their case.
+  subroutine lower_choices(cfg)
+    type(config_t), intent(inout) :: cfg
+    integer :: k
+    cfg%scheme = lower(cfg%scheme)
+    cfg%drag = lower(cfg%drag)
+    cfg%pressure_smoothing = lower(cfg%pressure_smoothing)
+    cfg%volumetric_smoothing = lower(cfg%volumetric_smoothing)
+    cfg%balance = lower(cfg%balance)
+    cfg%kernel = lower(cfg%kernel)
+    cfg%velocity_kernel = lower(cfg%velocity_kernel)
+    cfg%velocity_basis = lower(cfg%velocity_basis)
+    cfg%quadrature = lower(cfg%quadrature)
+    cfg%field_kernel = lower(cfg%field_kernel)
+    cfg%field_basis = lower(cfg%field_basis)
+    cfg%field_support = lower(cfg%field_support)
+    cfg%solid_fields = lower(cfg%solid_fields)
+    cfg%fluid_fields = lower(cfg%fluid_fields)
+    cfg%benchmark = lower(cfg%benchmark)
+    do k = 1, size(cfg%materials)
+      cfg%materials(k)%model = lower(cfg%materials(k)%model)
+      cfg%materials(k)%conductivity_law = lower(cfg%materials(k)%conductivity_law)
+      cfg%materials(k)%dp_match = lower(cfg%materials(k)%dp_match)
+    end do
+    do k = 1, size(cfg%regions)
+      cfg%regions(k)%shape = lower(cfg%regions(k)%shape)
+      cfg%regions(k)%phase = lower(cfg%regions(k)%phase)
+      cfg%regions(k)%placement = lower(cfg%regions(k)%placement)
+    end do
+  end subroutine lower_choices
 
   !> The lines of text as the records of an internal file (blank-padded to the longest line),
   !> split at new-line characters as the file's records were.
@@ -186,6 +235,7 @@ contains
         if (text(i:i) /= ' ' .and. text(i:i) /= char(9)) exit
         i = i + 1
       end do
+      j = i
       if (i < eol) then
         if (text(i:i) == '&') then
           j = i + 1
@@ -205,36 +255,96 @@ contains
           end if
         end if
       end if
+      call misplaced_group(pb, text(pos:eol - 1), j - pos + 1, line)
       pos = eol + 1
     end do
   end subroutine scan_groups
 
+  !> A '&' outside strings and comments at or after position from of line (number line of
+  !> the file), after other characters: the namelist reader looks for a group only where a
+  !> line starts with it and would skip this one without a word, so it is a problem.
+  subroutine misplaced_group(pb, line, from, number)
+    type(input_problems_t), intent(inout) :: pb
+    character(len=*), intent(in) :: line
+    integer, intent(in) :: from, number
+    character(len=1) :: quote
+    integer :: i, j
+    quote = ' '
+    do i = from, len(line)
+      if (quote /= ' ') then
+        if (line(i:i) == quote) quote = ' '
+        cycle
+      end if
+      select case (line(i:i))
+      case ("'", '"')
+        quote = line(i:i)
+      case ('!')
+        return
+      case ('&')
+        j = i + 1
+        do while (j <= len(line))
+          if (.not. is_name_char(line(j:j))) exit
+          j = j + 1
+        end do
+        call add_file_problem(pb, '&'//lower(line(i + 1:j - 1))//' (line '//itoa(number)// &
+                              '): the group opens after other characters ('// &
+                              quote_text(adjustl(line(1:i - 1)))//'); a group must open at the '// &
+                              'start of its line, else it is not read')
+        return
+      end select
+    end do
+  end subroutine misplaced_group
+
+  !> text in quotes, cut at 40 characters, without the characters that would not print.
+  function quote_text(text) result(s)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: s
+    integer :: i
+    s = ''
+    do i = 1, min(len_trim(text), 40)
+      if (iachar(text(i:i)) >= 32 .and. iachar(text(i:i)) < 127) then
+        s = s//text(i:i)
+      else
+        s = s//'?'
+      end if
+    end do
+    s = "'"//s//"'"
+  end function quote_text
+
   !> After the read of occurrence k of group g (status ios, message msg) and the write of
   !> its namelist into echo: ok tells whether it was read; if so, its echo is added to
   !> cfg_echo, else the error is a problem.
-  subroutine took_group(pb, g, k, ios, msg, echo, cfg_echo, ok)
+  subroutine took_group(pb, g, k, ios, msg, echo, cfg_echo, ok, records)
     type(input_problems_t), intent(inout) :: pb
     integer, intent(in) :: g, k, ios
-    character(len=*), intent(in) :: msg, echo(:)
+    character(len=*), intent(in) :: msg, echo(:), records(:)
     character(len=:), allocatable, intent(inout) :: cfg_echo
     logical, intent(out) :: ok
     ok = ios == 0
     if (ok) then
       cfg_echo = cfg_echo//nml_echo(echo)
     else
-      call read_error(pb, g, k, ios, msg, nml_names(echo))
+      call read_error(pb, g, k, ios, msg, echo, records)
     end if
   end subroutine took_group
 
-  !> Record a namelist read error of occurrence k of group g, whose variables are names.
-  subroutine read_error(pb, g, k, ios, msg, names)
+  !> Record a namelist read error of occurrence k of group g, whose variables are written in
+  !> echo. The compiler's message names the variable where the reader stopped, which is not
+  !> always the one at fault (after a vector given in part it blames the vector for the next
+  !> name); so the group's text is looked at first for names that are no variable of the
+  !> group and indices beyond a variable's size, each reported with its own line.
+  subroutine read_error(pb, g, k, ios, msg, echo, records)
     type(input_problems_t), intent(inout) :: pb
     integer, intent(in) :: g, k, ios
-    character(len=*), intent(in) :: msg, names
+    character(len=*), intent(in) :: msg, echo(:), records(:)
     character(len=*), parameter :: nomatch = 'Cannot match namelist object name '
-    character(len=:), allocatable :: what, hint, word
+    character(len=:), allocatable :: what, hint, word, names
     integer :: i
     logical :: is_name
+    names = nml_names(echo)
+    if (ios > 0) then
+      if (bad_assignments(pb, g, k, echo, records) > 0) return
+    end if
     if (ios < 0) then
       what = 'the namelist reader did not find this group (is it terminated by "/"?)'
     else
@@ -260,6 +370,129 @@ contains
                  place(pb, g, k))
   end subroutine read_error
 
+  !> Look at the text of occurrence k of group g (from its opening line to its closing "/")
+  !> for assignments "name = " or "name(index) = " whose name is no variable of the group
+  !> (the group written in echo) or whose index lies beyond the variable's size; each is a
+  !> problem naming its line. n: the problems found.
+  integer function bad_assignments(pb, g, k, echo, records) result(n)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: g, k
+    character(len=*), intent(in) :: echo(:), records(:)
+    character(len=1) :: quote
+    character(len=:), allocatable :: name, sub
+    integer :: r, i, j, m, p, last
+    n = 0
+    r = pb%line_of(g, k)
+    if (r < 1 .or. r > size(records)) return
+    ! past "&group" on its line
+    i = index(records(r), '&') + 1
+    do while (i <= len(records(r)))
+      if (.not. is_name_char(records(r) (i:i))) exit
+      i = i + 1
+    end do
+    quote = ' '
+    do while (r <= size(records))
+      last = len_trim(records(r))
+      do while (i <= last)
+        associate (line => records(r))
+          if (quote /= ' ') then
+            if (line(i:i) == quote) quote = ' '
+            i = i + 1
+            cycle
+          end if
+          select case (line(i:i))
+          case ("'", '"')
+            quote = line(i:i)
+            i = i + 1
+          case ('!')
+            exit
+          case ('/')
+            return
+          case ('a':'z', 'A':'Z')
+            j = i
+            do while (j <= last)
+              if (.not. (is_name_char(line(j:j)) .or. line(j:j) == '%')) exit
+              j = j + 1
+            end do
+            name = lower(line(i:j - 1))
+            m = skip_blanks(line, j)
+            sub = ''
+            if (m <= last) then
+              if (line(m:m) == '(') then
+                p = index(line(m:), ')')
+                if (p > 0) then
+                  sub = line(m + 1:m + p - 2)
+                  m = skip_blanks(line, m + p)
+                end if
+              end if
+            end if
+            i = j
+            if (m <= last) then
+              if (line(m:m) == '=') then
+                n = n + bad_assignment(pb, g, name, sub, r, echo)
+                i = m + 1
+              end if
+            end if
+          case default
+            i = i + 1
+          end select
+        end associate
+      end do
+      r = r + 1
+      i = 1
+    end do
+  end function bad_assignments
+
+  !> First position at or after i of line that is not a blank (len(line) + 1 if none).
+  pure integer function skip_blanks(line, i) result(j)
+    character(len=*), intent(in) :: line
+    integer, intent(in) :: i
+    j = i
+    do while (j <= len(line))
+      if (line(j:j) /= ' ' .and. line(j:j) /= char(9)) exit
+      j = j + 1
+    end do
+  end function skip_blanks
+
+  !> 1 (and a problem) if "name(sub) =" at line of group g names no variable of the group
+  !> written in echo, or an index beyond the variable's size; else 0. A subscript of more
+  !> than one dimension is left to the compiler.
+  integer function bad_assignment(pb, g, name, sub, line, echo) result(n)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: g, line
+    character(len=*), intent(in) :: name, sub, echo(:)
+    character(len=:), allocatable :: grp, at
+    integer :: nval, colon, lo, hi, ios
+    n = 0
+    if (index(name, '%') > 0) return
+    grp = '&'//trim(group_names(g))
+    nval = nml_size(echo, name)
+    at = ' (line '//itoa(line)//')'
+    if (nval == 0) then
+      call add_raw(pb, grp//' '//name//at//': no such variable; the variables of '//grp// &
+                   ' are '//nml_names(echo))
+      n = 1
+      return
+    end if
+    if (len_trim(sub) == 0 .or. index(sub, ',') > 0) return
+    colon = index(sub, ':')
+    lo = 1
+    hi = nval
+    ios = 0
+    if (colon == 0) then
+      read (sub, *, iostat=ios) lo
+      hi = lo
+    else
+      if (len_trim(sub(1:colon - 1)) > 0) read (sub(1:colon - 1), *, iostat=ios) lo
+      if (ios == 0 .and. len_trim(sub(colon + 1:)) > 0) read (sub(colon + 1:), *, iostat=ios) hi
+    end if
+    if (ios /= 0 .or. (lo >= 1 .and. hi <= nval)) return
+    call add_raw(pb, grp//' '//name//'('//trim(adjustl(sub))//')'//at//': index '// &
+                 itoa(merge(lo, hi, lo < 1 .or. lo > nval))//' is out of range: '//name// &
+                 ' has '//itoa(nval)//' entries, 1 to '//itoa(nval))
+    n = 1
+  end function bad_assignment
+
   !> Read &run (its variables: dpmpm_vars_run.inc).
   subroutine read_run(pb, records, cfg, ok)
     type(input_problems_t), intent(inout) :: pb
@@ -280,7 +513,7 @@ contains
     if (pb%count(g_run) > 0) read (records, nml=run, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=run)
-    call took_group(pb, g_run, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_run, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     ! Whether porosity_gradient was given: a second read from the other default keeps it
     ! only if the group sets it.
@@ -317,7 +550,7 @@ contains
     if (pb%count(g_grid) > 0) read (records, nml=grid, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=grid)
-    call took_group(pb, g_grid, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_grid, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
 #include "dpmpm_vars_as_kept.h"
@@ -344,7 +577,7 @@ contains
     if (pb%count(g_shape) > 0) read (records, nml=shape, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=shape)
-    call took_group(pb, g_shape, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_shape, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
 #include "dpmpm_vars_as_kept.h"
@@ -375,7 +608,7 @@ contains
       read (records(first_record(pb, g_material, k):), nml=material, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=material)
-      call took_group(pb, g_material, k, ios, msg, echo, cfg%echo, ok)
+      call took_group(pb, g_material, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
@@ -409,7 +642,7 @@ contains
       read (records(first_record(pb, g_region, k):), nml=region, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=region)
-      call took_group(pb, g_region, k, ios, msg, echo, cfg%echo, ok)
+      call took_group(pb, g_region, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
@@ -417,6 +650,7 @@ contains
 #include "dpmpm_vars_region.inc"
         dest%poly(1, :) = poly_x
         dest%poly(2, :) = poly_y
+        dest%line = pb%line_of(g_region, k)
       end associate
     end do
     cfg%regions = list(1:n)
@@ -450,8 +684,11 @@ contains
       read (records(first_record(pb, g_boundary, k):), nml=boundary, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=boundary)
-      call took_group(pb, g_boundary, k, ios, msg, echo, cfg%echo, ok)
+      call took_group(pb, g_boundary, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
+      face = lower(face)
+      condition = lower(condition)
+      fluid = lower(fluid)
       f = face_index(face)
       select case (trim(adjustl(condition)))
       case ('free')
@@ -468,9 +705,12 @@ contains
         call add_value(pb, g_boundary, k, 'condition', quote(condition), &
                        'the conditions are free, fixed, roller, absorbing')
       end select
-      if (.not. real_ok(friction) .or. friction < 0.0_wp) then
+      if (.not. real_ok(friction, ge=0.0_wp, le=max_wall_friction)) then
         call add_value(pb, g_boundary, k, 'friction', rtoa(friction), &
-                       'must be a finite Coulomb friction coefficient >= 0 (0: a smooth wall)')
+                       'must be a finite Coulomb friction coefficient in [0, '// &
+                       rtoa(max_wall_friction)//']: mu = tan(delta) of a wall friction angle '// &
+                       'delta up to 63 degrees, above the friction angle of any soil (0: a '// &
+                       "smooth wall; a wall that holds the body is condition = 'fixed')")
       else if (friction > 0.0_wp .and. c /= bc_roller) then
         call add_value(pb, g_boundary, k, 'friction', rtoa(friction), &
                        "only a roller face takes a friction coefficient (condition = 'roller': "// &
@@ -596,7 +836,8 @@ contains
 #include "dpmpm_vars_load.inc"
 #include "dpmpm_vars_as_namelist.h"
 #include "dpmpm_vars_load.inc"
-    integer :: k, n, ios
+    real(wp), parameter :: factor_unset = -huge(1.0_wp)
+    integer :: k, n, ios, j, nfactors
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     allocate (list(pb%count(g_load)))
@@ -605,17 +846,26 @@ contains
     do k = 1, size(list)
 #include "dpmpm_vars_as_default.h"
 #include "dpmpm_vars_load.inc"
+      ! factors not given stay at a mark, so that their count can be held against the times
+      factors = factor_unset
       read (records(first_record(pb, g_load, k):), nml=load, iostat=ios, iomsg=msg)
+      nfactors = 0
+      do j = 1, size(factors)
+        if (factors(j) /= factor_unset) nfactors = j
+      end do
+      where (factors == factor_unset) factors = 0.0_wp
       call nml_records(echo)
       write (echo, nml=load)
-      call took_group(pb, g_load, k, ios, msg, echo, cfg%echo, ok)
+      if (ios == 0) call echo_given(echo, 'factors', factors(1:nfactors))
+      call took_group(pb, g_load, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
 #include "dpmpm_vars_as_kept.h"
 #include "dpmpm_vars_load.inc"
         dest%time_function = lower(time_function)
-        dest%face = face_index(face)
+        dest%nfactors = nfactors
+        dest%face = face_index(lower(face))
         if (dest%face == 0) then
           call add_value(pb, g_load, k, 'face', quote(face), 'the faces are '//all_faces())
         else if (.not. face_in_grid(dest%face, cfg%ndim)) then
@@ -626,6 +876,24 @@ contains
     end do
     cfg%loads = list(1:n)
   end subroutine read_loads
+
+  !> In the group written in echo, variable name (an array) with only the values given, so
+  !> that the echo reads back with as many as the input had (the zeros after them would
+  !> count as given); left out when none was.
+  subroutine echo_given(echo, name, values)
+    character(len=*), intent(inout) :: echo(:)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: values(:)
+    integer :: k, eq
+    do k = 1, size(echo)
+      eq = index(echo(k), '=')
+      if (eq == 0) cycle
+      if (lower(trim(adjustl(echo(k) (1:eq - 1)))) /= name) cycle
+      echo(k) = ''
+      if (size(values) > 0) echo(k) = name//' = '//rtoa_list(values)
+      return
+    end do
+  end subroutine echo_given
 
   !> Read &output (its variables: dpmpm_vars_output.inc).
   subroutine read_output(pb, records, cfg, ok)
@@ -646,7 +914,7 @@ contains
     if (pb%count(g_output) > 0) read (records, nml=output, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=output)
-    call took_group(pb, g_output, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_output, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
 #include "dpmpm_vars_as_kept.h"
@@ -673,7 +941,7 @@ contains
     if (pb%count(g_benchmark) > 0) read (records, nml=benchmark, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=benchmark)
-    call took_group(pb, g_benchmark, 1, ios, msg, echo, cfg%echo, ok)
+    call took_group(pb, g_benchmark, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
 #include "dpmpm_vars_as_kept.h"

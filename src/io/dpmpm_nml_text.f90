@@ -9,7 +9,7 @@ module dpmpm_nml_text
   use dpmpm_strings, only: lower, rtoa
   implicit none
   private
-  public :: nml_records, nml_echo, nml_names
+  public :: nml_records, nml_echo, nml_names, nml_size
 
   !> Record length and count of the internal file a group is written to: one
   !> variable per record, the longest a 4096-character string or 64 reals.
@@ -63,6 +63,53 @@ contains
       list = list//lower(trim(rec(1:eq - 1)))
     end do
   end function nml_names
+
+  !> The number of values of variable name (lower case) in the group in records: 1 for a
+  !> scalar, the size of an array; 0 when the group has no such variable.
+  integer function nml_size(records, name) result(n)
+    character(len=*), intent(in) :: records(:)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: rec
+    integer :: k, eq
+    n = 0
+    do k = 1, size(records)
+      rec = trim(adjustl(records(k)))
+      if (len(rec) == 0) cycle
+      if (rec(1:1) == '&' .or. rec == '/') cycle
+      eq = index(rec, '=')
+      if (eq == 0) cycle
+      if (lower(trim(rec(1:eq - 1))) /= name) cycle
+      n = values_count(rec(eq + 1:))
+      return
+    end do
+  end function nml_size
+
+  !> How many values the compiler's list s ("1.0, 2*0.5, "a, b"") stands for.
+  integer function values_count(s) result(n)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: tok
+    integer :: i, start, star, r, ios
+    logical :: quoted
+    n = 0
+    quoted = .false.
+    start = 1
+    do i = 1, len(s) + 1
+      if (i <= len(s)) then
+        if (s(i:i) == '"') quoted = .not. quoted
+        if (quoted .or. s(i:i) /= ',') cycle
+      end if
+      tok = trim(adjustl(s(start:i - 1)))
+      start = i + 1
+      if (len(tok) == 0) cycle
+      r = 1
+      star = index(tok, '*')
+      if (star > 1 .and. tok(1:1) /= '"') then
+        read (tok(1:star - 1), *, iostat=ios) r
+        if (ios /= 0) r = 1
+      end if
+      n = n + r
+    end do
+  end function values_count
 
   !> The comma-separated values of one variable, each in the input's style.
   function values_text(s) result(t)

@@ -1,5 +1,6 @@
-!> Checks of a scene that need its points: every &region makes points, and every &load
-!> and absorbing face acts on a face that the body touches. Run once the points are generated; a failure is
+!> Checks of a scene that need its points: every &region makes points, no two regions
+!> overlap (the points of both would fill the overlap twice, with twice its mass), and
+!> every &load and absorbing face acts on a face that the body touches. Run once the points are generated; a failure is
 !> reported like an input error, once by rank 0, and every rank returns status 2 (the
 !> caller stops, with exit code 2).
 module dpmpm_scene_check
@@ -8,7 +9,8 @@ module dpmpm_scene_check
   use dpmpm_config, only: config_t, face_names
   use dpmpm_grid, only: grid_t, cell_of
   use dpmpm_particles, only: particle_set_t
-  use dpmpm_strings, only: itoa
+  use dpmpm_generate, only: in_region
+  use dpmpm_strings, only: itoa, i8toa
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_SUM
   implicit none
   private
@@ -28,13 +30,18 @@ contains
     type(particle_set_t), intent(in) :: solid
     integer, intent(out) :: status
     type(particle_set_t), intent(in), optional :: fluid
-    integer(i8), allocatable :: nreg(:), nload(:)
+    integer(i8), allocatable :: nreg(:), nload(:), both(:, :)
     integer(i8) :: nabs(6)
-    integer :: r, l, f, rank, nbad
+    integer :: r, l, f, rank, nbad, j
     character(len=32) :: spacing
     call MPI_Comm_rank(comm, rank)
     nreg = counts
     call MPI_Allreduce(MPI_IN_PLACE, nreg, size(nreg), MPI_INTEGER8, MPI_SUM, comm)
+    allocate (both(size(nreg), size(nreg)))
+    both = 0
+    call count_overlaps(cfg, grid%ndim, solid, both)
+    if (present(fluid)) call count_overlaps(cfg, grid%ndim, fluid, both)
+    call MPI_Allreduce(MPI_IN_PLACE, both, size(both), MPI_INTEGER8, MPI_SUM, comm)
     ! (a config_t built by hand may have no load list at all)
     if (allocated(cfg%loads)) then
       allocate (nload(size(cfg%loads)))
@@ -60,10 +67,20 @@ contains
       if (present(fluid)) nabs(f) = nabs(f) + points_next_to_face(grid, f, fluid)
     end do
     call MPI_Allreduce(MPI_IN_PLACE, nabs, 6, MPI_INTEGER8, MPI_SUM, comm)
-    nbad = count(nreg == 0) + count(nload == 0) + count(nabs == 0)
+    nbad = count(nreg == 0) + count(nload == 0) + count(nabs == 0) + count(both > 0)
     status = 0
     if (nbad == 0) return
     if (rank == 0) then
+      do r = 1, size(nreg)
+        do j = 1, r - 1
+          if (both(j, r) == 0) cycle
+          call report(cfg, '&region'//region_place(cfg, r)//': its '//outline(cfg, r)// &
+                      ' overlap the '//outline(cfg, j)//' of &region'//region_place(cfg, j)// &
+                      ': '//i8toa(both(j, r))//' points lie in both, so that the overlap is '// &
+                      'filled twice (its points and mass count twice); regions must not '// &
+                      'overlap: let them meet at a common face')
+        end do
+      end do
       do r = 1, size(nreg)
         if (nreg(r) > 0) cycle
         write (spacing, '(es10.3)') minval(grid%h(1:grid%ndim))/real(cfg%regions(r)%ppc, wp)
@@ -98,6 +115,52 @@ contains
     end if
     status = 2
   end subroutine check_scene_points
+
+  !> " (group k of n, line L)" of &region k (" (line L)" when it is the only one).
+  function region_place(cfg, k) result(s)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    character(len=:), allocatable :: s
+    s = 'line '//itoa(cfg%regions(k)%line)
+    if (size(cfg%regions) > 1) s = 'group '//itoa(k)//' of '//itoa(size(cfg%regions))//', '//s
+    s = ' ('//s//')'
+  end function region_place
+
+  !> The variables that give the outline of &region k: lo, hi or poly_x, poly_y.
+  function outline(cfg, k) result(s)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: k
+    character(len=:), allocatable :: s
+    s = 'lo, hi'
+    if (trim(cfg%regions(k)%shape) == 'polygon') s = 'poly_x, poly_y'
+  end function outline
+
+  !> both(j, k), j < k: points of ps that lie in both region j and region k (by the test
+  !> that keeps a generated point), added to what both holds.
+  subroutine count_overlaps(cfg, nd, ps, both)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: nd
+    type(particle_set_t), intent(in) :: ps
+    integer(i8), intent(inout) :: both(:, :)
+    logical :: inside(size(cfg%regions))
+    real(wp) :: x(3)
+    integer :: p, r, j
+    if (size(cfg%regions) < 2) return
+    x = 0.0_wp
+    do p = 1, ps%n
+      x(1:nd) = ps%x(1:nd, p)
+      do r = 1, size(cfg%regions)
+        inside(r) = in_region(cfg%regions(r), x, nd)
+      end do
+      if (count(inside) < 2) cycle
+      do r = 1, size(cfg%regions)
+        if (.not. inside(r)) cycle
+        do j = 1, r - 1
+          if (inside(j)) both(j, r) = both(j, r) + 1
+        end do
+      end do
+    end do
+  end subroutine count_overlaps
 
   !> " (group k of n)" when the group is repeated, "" when it is given once.
   function which(k, n) result(s)

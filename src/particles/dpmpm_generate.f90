@@ -24,7 +24,7 @@ module dpmpm_generate
   use dpmpm_materials, only: material_t
   implicit none
   private
-  public :: generate_points, point_in_polygon
+  public :: generate_points, point_in_polygon, in_region
 
   !> What one region puts into the set being filled.
   type :: fill_t
@@ -318,6 +318,8 @@ contains
     end if
   end function region_hi
 
+  !> Does region reg hold position x (the first nd coordinates)? The test that keeps a
+  !> generated point: a box holds lo <= x < hi, so that boxes meeting at a face share no point.
   pure logical function in_region(reg, x, nd)
     type(region_cfg_t), intent(in) :: reg
     real(wp), intent(in) :: x(3)

@@ -1,0 +1,48 @@
+#!/bin/sh
+# Run `dpmpm --check` on an input that is valid and check that it is accepted the way a user
+# should see it:
+#   check_input_accepted.sh <mpiexec> <dpmpm> <nranks> <file.nml> <expected-warning | ->
+# Passes when the check ends within 60 s with exit code 0, there is no input error and no
+# Fortran runtime error, and stderr holds the expected warning exactly once (printed by
+# rank 0 only); with "-", when stderr holds no input warning at all.
+set -u
+if [ $# -ne 5 ]; then
+  echo "usage: $0 <mpiexec> <dpmpm> <nranks> <file.nml> <expected-warning | ->" >&2
+  exit 2
+fi
+mpiexec=$1 exe=$2 nranks=$3 file=$4 expected=$5
+out=$(mktemp) err=$(mktemp)
+trap 'rm -f "$out" "$err"' EXIT
+
+timeout 60 "$mpiexec" --oversubscribe -n "$nranks" "$exe" --check "$file" >"$out" 2>"$err"
+rc=$?
+echo "--- exit code $rc; stderr:"; cat "$err"
+echo "---"
+
+fail=0
+if [ "$rc" -ne 0 ]; then
+  echo "FAIL: exit code $rc for a valid input"; fail=1
+fi
+if grep -qF -- "dpmpm: input error" "$err"; then
+  echo "FAIL: an input error for a valid input"; fail=1
+fi
+for bad in "Backtrace" "Error termination" "At line"; do
+  if grep -qF -- "$bad" "$out" "$err"; then
+    echo "FAIL: Fortran runtime error in the output ($bad)"; fail=1
+  fi
+done
+if [ "$expected" = "-" ]; then
+  if grep -qF -- "dpmpm: input warning" "$err"; then
+    echo "FAIL: a warning where none was expected"; fail=1
+  fi
+else
+  n=$(grep -cF -- "$expected" "$err")
+  if [ "$n" -ne 1 ]; then
+    echo "FAIL: stderr holds the expected warning $n times, not once: $expected"; fail=1
+  fi
+  if ! grep -F -- "$expected" "$err" | grep -qF "dpmpm: input warning"; then
+    echo "FAIL: the expected text is not on an input warning line"; fail=1
+  fi
+fi
+if [ "$fail" -eq 0 ]; then echo "PASS"; fi
+exit $fail

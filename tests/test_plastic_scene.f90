@@ -151,8 +151,9 @@ contains
     cfg%cfl = 0.5_wp
     cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
     allocate (cfg%materials(1), cfg%regions(2), cfg%loads(0))
-    cfg%materials(1) = material_cfg_t(id=1, model='mohr_coulomb', density=rho, youngs_modulus=2.0e7_wp, &
-                                      poisson_ratio=0.3_wp, friction_angle=0.0_wp, &
+    cfg%materials(1) = material_cfg_t(id=1, model='mohr_coulomb', density=rho, &
+                                      youngs_modulus=2.0e7_wp, poisson_ratio=0.3_wp, &
+                                      friction_angle=0.0_wp, &
                                       dilatancy_angle=0.0_wp, cohesion=2.5e4_wp)
     cfg%regions(1)%lo = 0.0_wp
     cfg%regions(1)%hi = [1.2_wp, 0.6_wp, 1.0_wp]

@@ -594,8 +594,9 @@ contains
     ! the state times exp(-eps_v^p), eps_v^p = (p - sigma_t)/K the opening
     a = exp(-(1.0e4_wp - t)/kb)
     call check_close(sum(out(1:3))/3.0_wp, t*a, 1.0e-12_wp, 0.0_wp, 'p = sigma_t')
-    call check(maxval(abs((out(1:3) - sum(out(1:3))/3.0_wp) - (s0(1:3) - 1.0e4_wp)*a)) <= 1.0e-9_wp &
-               .and. maxval(abs(out(4:6) - s0(4:6)*a)) <= 1.0e-9_wp, 'deviator unchanged')
+    call check(maxval(abs((out(1:3) - sum(out(1:3))/3.0_wp) - (s0(1:3) - 1.0e4_wp)*a)) &
+               <= 1.0e-9_wp .and. maxval(abs(out(4:6) - s0(4:6)*a)) <= 1.0e-9_wp, &
+               'deviator unchanged')
   end subroutine test_dp_tension_cutoff
 
   !> Rotating the state and the increment, returning, and rotating back gives the same stress.
@@ -902,7 +903,8 @@ contains
       do i = 1, 3
         e(i, i) = e(i, i) + 1.0_wp
       end do
-      jac = e(1, 1)*(e(2, 2)*e(3, 3) - e(2, 3)*e(3, 2)) - e(1, 2)*(e(2, 1)*e(3, 3) - e(2, 3)*e(3, 1)) &
+      jac = e(1, 1)*(e(2, 2)*e(3, 3) - e(2, 3)*e(3, 2)) &
+            - e(1, 2)*(e(2, 1)*e(3, 3) - e(2, 3)*e(3, 1)) &
             + e(1, 3)*(e(2, 1)*e(3, 2) - e(2, 2)*e(3, 1))
       w0 = 0.5_wp*dot_product(s0, compliance(s0))
       w1 = 0.5_wp*dot_product(out, compliance(out))

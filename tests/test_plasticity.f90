@@ -51,6 +51,7 @@ program test_plasticity
   call test_points_carry_plastic_strain()
   call test_stress_update_plastic_work()
   call test_dilation_bound()
+  call test_cutoff_opening_gains_no_energy()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -543,10 +544,11 @@ contains
     call plastic_return(par, zero6, out, epsp, code, cut)
     call check(cut, 'cut-off acts')
     call check_equal_int(code, ret_elastic, 'no shear return')
+    ! (each result times exp(-eps_v^p), eps_v^p the sum of the multipliers: the opening)
     g1 = 3.0e4_wp/d
-    call check_close(out(1), t, 1.0e-12_wp, 0.0_wp, 'sigma_1 = sigma_t')
-    call check_close(out(2), -lam*g1, 1.0e-12_wp, 0.0_wp, 'sigma_2 = -lambda dgamma')
-    call check_close(out(3), -lam*g1, 1.0e-12_wp, 0.0_wp, 'sigma_3 = -lambda dgamma')
+    call check_close(out(1), t*exp(-g1), 1.0e-12_wp, 0.0_wp, 'sigma_1 = sigma_t')
+    call check_close(out(2), -lam*g1*exp(-g1), 1.0e-12_wp, 0.0_wp, 'sigma_2 = -lambda dgamma')
+    call check_close(out(3), -lam*g1*exp(-g1), 1.0e-12_wp, 0.0_wp, 'sigma_3 = -lambda dgamma')
     call check_close(epsp, 0.0_wp, 0.0_wp, 0.0_wp, 'cut-off leaves epsp')
     ! corner of two planes
     out = [3.0e4_wp, 2.0e4_wp, -5.0e4_wp, 0.0_wp, 0.0_wp, 0.0_wp]
@@ -557,13 +559,15 @@ contains
     g1 = (d*r1 - lam*r2)/(d*d - lam*lam)
     g2 = (d*r2 - lam*r1)/(d*d - lam*lam)
     call check(cut .and. g1 > 0.0_wp .and. g2 > 0.0_wp, 'two planes active')
-    call check_close(out(1), t, 1.0e-12_wp, 0.0_wp, 'sigma_1 = sigma_t')
-    call check_close(out(2), t, 1.0e-12_wp, 0.0_wp, 'sigma_2 = sigma_t')
-    call check_close(out(3), -5.0e4_wp - lam*(g1 + g2), 1.0e-12_wp, 0.0_wp, 'sigma_3')
-    ! hydrostatic tension below the apex: all three
+    call check_close(out(1), t*exp(-g1 - g2), 1.0e-12_wp, 0.0_wp, 'sigma_1 = sigma_t')
+    call check_close(out(2), t*exp(-g1 - g2), 1.0e-12_wp, 0.0_wp, 'sigma_2 = sigma_t')
+    call check_close(out(3), (-5.0e4_wp - lam*(g1 + g2))*exp(-g1 - g2), 1.0e-12_wp, 0.0_wp, &
+                     'sigma_3')
+    ! hydrostatic tension below the apex: all three, each multiplier (2e4 - t)/(3K)
     out = [2.0e4_wp, 2.0e4_wp, 2.0e4_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     call plastic_return(par, zero6, out, epsp, code, cut)
-    call check(maxval(abs(out - [t, t, t, 0.0_wp, 0.0_wp, 0.0_wp])) <= 1.0e-10_wp*t, &
+    call check(maxval(abs(out - t*exp(-(2.0e4_wp - t)/kb)*[1.0_wp, 1.0_wp, 1.0_wp, 0.0_wp, &
+                                                           0.0_wp, 0.0_wp])) <= 1.0e-10_wp*t, &
                'sigma = sigma_t I')
     ! a shear return followed by the cut-off stays inside MC
     out = [6.0e4_wp, -1.0e4_wp, -9.0e4_wp, 2.0e4_wp, 0.0_wp, 0.0_wp]
@@ -575,7 +579,7 @@ contains
 
   subroutine test_dp_tension_cutoff()
     type(plastic_params_t) :: par
-    real(wp) :: t, out(6), s0(6), epsp
+    real(wp) :: t, out(6), s0(6), epsp, a
     integer :: code
     logical :: cut
     call begin_test('dp_tension_cutoff')
@@ -587,9 +591,12 @@ contains
     epsp = 0.0_wp
     call plastic_return(par, zero6, out, epsp, code, cut)
     call check(cut, 'cut-off acts')
-    call check_close(sum(out(1:3))/3.0_wp, t, 1.0e-12_wp, 0.0_wp, 'p = sigma_t')
-    call check(maxval(abs((out(1:3) - sum(out(1:3))/3.0_wp) - (s0(1:3) - 1.0e4_wp))) <= 1.0e-9_wp &
-               .and. all(out(4:6) == s0(4:6)), 'deviator unchanged')
+    ! the state times exp(-eps_v^p), eps_v^p = (p - sigma_t)/K the opening
+    a = exp(-(1.0e4_wp - t)/kb)
+    call check_close(sum(out(1:3))/3.0_wp, t*a, 1.0e-12_wp, 0.0_wp, 'p = sigma_t')
+    call check(maxval(abs((out(1:3) - sum(out(1:3))/3.0_wp) - (s0(1:3) - 1.0e4_wp)*a)) &
+               <= 1.0e-9_wp .and. maxval(abs(out(4:6) - s0(4:6)*a)) <= 1.0e-9_wp, &
+               'deviator unchanged')
   end subroutine test_dp_tension_cutoff
 
   !> Rotating the state and the increment, returning, and rotating back gives the same stress.
@@ -857,6 +864,67 @@ contains
   !> (zero stress). Without a bound its volume grows as 1.05^(2n); with max_dilation = 3
   !> it stops at 3 V0 (for Mohr-Coulomb and Drucker-Prager alike), and the first
   !> compression step lowers it from there by 0.95^2.
+  !> A point on the tension cut-off (sigma_t = 0, Tresca c = 25 kPa; principal stresses 0, s2
+  !> and s3 within Tresca, in random axes) opened along the axis n of its zero principal
+  !> stress by d eps = delta (n n + a random rest of 0.1), delta in [1e-4, 1e-3], 2000 times.
+  !> The grid does the work W = (sigma_n + sigma_n+1)/2 : d eps per unit of the old volume,
+  !> and the new volume is J = det(I + d eps) times the old, so the stored energy may not
+  !> grow by more than W: J w(sigma_n+1) - w(sigma_n) - W <= 0, w = sigma : C^-1 : sigma / 2.
+  !> Measured, as a fraction of delta w(sigma_n): at most -0.89 with the opening factor,
+  !> +1.12 with the Cauchy stress kept through the opening (energy without work)
+  !> (doc/verification.md, "Tension cut-off: opening without work").
+  subroutine test_cutoff_opening_gains_no_energy()
+    type(plastic_params_t) :: par
+    real(wp) :: s0(6), out(6), de(6), n(3), e(3, 3), delta, epsp, w0, w1, work, jac, worst, gain
+    integer :: k, i, j
+    logical :: cut
+    call begin_test('cutoff_opening_gains_no_energy')
+    par = params(surface_mohr_coulomb, 0.0_wp, 0.0_wp, 2.5e4_wp, 0.0_wp)
+    worst = -huge(1.0_wp)
+    do k = 1, 2000
+      n = random_axis()
+      ! principal values 0, s2 and s3 within Tresca (s2 - s3 <= 2c), in random axes
+      s0 = stress_in_axes([0.0_wp, -2.5e4_wp*urand(), -2.5e4_wp - 2.5e4_wp*urand()], n, &
+                          2.0_wp*pi*urand())
+      delta = 1.0e-4_wp + 9.0e-4_wp*urand()
+      ! the opening along the principal axis of the zero value
+      call opening_axis(s0, n)
+      do j = 1, 3
+        do i = 1, 3
+          e(i, j) = delta*(n(i)*n(j) + 0.1_wp*(urand() - 0.5_wp))
+        end do
+      end do
+      e = 0.5_wp*(e + transpose(e))
+      de = [e(1, 1), e(2, 2), e(3, 3), 2.0_wp*e(2, 3), 2.0_wp*e(1, 3), 2.0_wp*e(1, 2)]
+      out = s0
+      epsp = 0.0_wp
+      call plastic_return(par, de, out, epsp, cut=cut)
+      call check(cut, 'the cut-off acts')
+      do i = 1, 3
+        e(i, i) = e(i, i) + 1.0_wp
+      end do
+      jac = e(1, 1)*(e(2, 2)*e(3, 3) - e(2, 3)*e(3, 2)) &
+            - e(1, 2)*(e(2, 1)*e(3, 3) - e(2, 3)*e(3, 1)) &
+            + e(1, 3)*(e(2, 1)*e(3, 2) - e(2, 2)*e(3, 1))
+      w0 = 0.5_wp*dot_product(s0, compliance(s0))
+      w1 = 0.5_wp*dot_product(out, compliance(out))
+      work = 0.5_wp*dot_product(s0 + out, de)
+      gain = (jac*w1 - w0 - work)/(delta*w0)
+      worst = max(worst, gain)
+    end do
+    print '(a,es10.2)', '  largest energy gain over delta w(sigma_n): ', worst
+    call check(worst <= 0.0_wp, 'no energy from an opening at the cut-off')
+  end subroutine test_cutoff_opening_gains_no_energy
+
+  !> n: the unit principal axis of the Voigt stress sv whose principal value is closest to 0.
+  subroutine opening_axis(sv, n)
+    real(wp), intent(in) :: sv(6)
+    real(wp), intent(out) :: n(3)
+    real(wp) :: sig(3), vec(3, 3)
+    call principal_stresses(sv, sig, vec)
+    n = vec(:, minloc(abs(sig), dim=1))
+  end subroutine opening_axis
+
   subroutine test_dilation_bound()
     type(material_t), allocatable :: mats(:)
     real(wp) :: vgrad(9, 1), stress(6, 1), vol(1), vol0(1), epsp(1, 1), dt

@@ -18,7 +18,8 @@
 !>   MC: Rankine, every principal stress <= sigma_t, associated flow, with the corners
 !>       where two or three principal stresses reach sigma_t;
 !>   DP: the mean stress p <= sigma_t, associated (volumetric) flow, s unchanged.
-!> The cut-off does not change epsp.
+!> The cut-off does not change epsp. The volume it opens, eps_v^p, scales the returned stress
+!> by exp(-eps_v^p) (opening_factor: the Kirchhoff stress J sigma is what an opening leaves).
 module dpmpm_plasticity
   use dpmpm_kinds, only: wp
   implicit none
@@ -233,7 +234,7 @@ contains
     real(wp), intent(inout) :: epsp
     integer, intent(out) :: kind
     logical, intent(out) :: cutoff
-    real(wp) :: st(3), vec(3, 3), sig(3), dgam(2), cn, f, scale, tol, pa, cot, lam, dep
+    real(wp) :: st(3), vec(3, 3), sig(3), dgam(2), cn, f, scale, tol, pa, cot, lam, dep, tr0
     integer :: pl(2, 2)
     logical :: ok, plane
     kind = ret_elastic
@@ -280,7 +281,9 @@ contains
     cutoff = sig(1) > par%tensile
     if (cutoff) then
       lam = par%bulk - 2.0_wp*par%shear/3.0_wp
+      tr0 = sum(sig)
       call rankine(lam, lam + 2.0_wp*par%shear, par%tensile, sig)
+      sig = sig*opening_factor(par, tr0 - sum(sig))
     end if
     if (kind == ret_elastic .and. .not. cutoff) then
       stress = trial
@@ -404,6 +407,28 @@ contains
     sig = s
   end subroutine rankine
 
+  !> The factor exp(-d eps_v^p) that the stress takes after the tension cut-off, with
+  !> d eps_v^p = tr(C^-1 (sigma_before - sigma_after)) = dtr/(3K) the volume the cut-off
+  !> opened (the sum of its multipliers: each Rankine flow vector has unit trace).
+  !> Why: the cut-off is the one plastic flow here whose volume change has no bound
+  !> (with sigma_t = 0 it opens at no cost). The point's volume V follows the total
+  !> strain, so with the Cauchy stress kept, V sigma (its force on the grid) and its
+  !> elastic energy V sigma : C^-1 : sigma / 2 grow with the opening at no work: a point
+  !> squeezed sideways, opened, then let go gives back more than it took (a closed box of
+  !> such soil, kicked, came to hold 18 % more energy than it was given, doc/verification.md
+  !> "Tension cut-off: opening without work"). In finite strain plasticity the return works
+  !> on the Kirchhoff stress
+  !> tau = J sigma (de Souza Neto et al. 2008, ch. 14), and a plastic volume ratio J^p
+  !> leaves tau as it is, so sigma = tau/J falls by 1/J^p = exp(-eps_v^p): the force that
+  !> the opened point carries stays that of the closed one, and its elastic energy falls.
+  !> The scaled state stays admissible (every surface here contains sigma = 0). Returns
+  !> without the cut-off are untouched.
+  pure real(wp) function opening_factor(par, dtr) result(a)
+    type(plastic_params_t), intent(in) :: par
+    real(wp), intent(in) :: dtr
+    a = exp(-max(dtr, 0.0_wp)/(3.0_wp*par%bulk))
+  end function opening_factor
+
   !> Drucker-Prager return (de Souza Neto et al. 2008, ch. 8): smooth cone with
   !> dgamma = f_tr / (G + K eta eta_bar - xi^2 h); when sqrt(J2_tr) - G dgamma < 0 the
   !> apex, p = xi c / eta, s = 0. Then the cut-off p <= sigma_t.
@@ -414,7 +439,7 @@ contains
     real(wp), intent(inout) :: epsp
     integer, intent(out) :: kind
     logical, intent(out) :: cutoff
-    real(wp) :: ptr, s(6), q, cn, f, dgam, p, dep, h
+    real(wp) :: ptr, s(6), q, cn, f, dgam, p, dep, h, a
     kind = ret_elastic
     ptr = sum(trial(1:3))/3.0_wp
     s = trial
@@ -444,9 +469,16 @@ contains
     end if
     epsp = epsp + dep
     cutoff = p > par%tensile
-    if (cutoff) p = par%tensile
+    a = 1.0_wp
+    if (cutoff) then
+      a = opening_factor(par, 3.0_wp*(p - par%tensile))
+      p = par%tensile
+    end if
     if (kind == ret_elastic .and. .not. cutoff) then
       stress = trial
+    else if (cutoff) then
+      stress(1:3) = (s(1:3) + p)*a
+      stress(4:6) = s(4:6)*a
     else
       stress(1:3) = s(1:3) + p
       stress(4:6) = s(4:6)

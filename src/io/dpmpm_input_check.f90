@@ -204,6 +204,8 @@ contains
           ! A linear compressible fluid: only density and bulk_modulus matter.
           if (.not. real_ok(m%bulk_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
             'bulk_modulus', rtoa(m%bulk_modulus), 'must be > 0 (Pa) for a fluid')
+        else if (m%model == 'cam_clay') then
+          call check_cam_clay(pb, k, m)
         else
           if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
             'youngs_modulus', rtoa(m%youngs_modulus), 'must be > 0 (Pa)')
@@ -798,9 +800,15 @@ contains
     type(material_cfg_t) :: d
     logical :: plastic, skeleton
     character(len=:), allocatable :: why
-    if (.not. any(m%model == [character(len=14) :: 'linear_elastic', 'neo_hookean', 'fluid', &
-                              'mohr_coulomb', 'drucker_prager', 'rigid'])) return
+    if (model_from_name(m%model) == 0) return
     why = 'does nothing with model = '//quote(m%model)
+    if (m%model == 'cam_clay') then
+      if (m%youngs_modulus /= d%youngs_modulus) call add_warning(pb, g_material, k, &
+        'youngs_modulus', rtoa(m%youngs_modulus), why//' (its stiffness follows the pressure: '// &
+        'swelling_index, with poisson_ratio or shear_modulus)')
+    else
+      call warn_cam_clay_variables(pb, k, m, d, why//" (only 'cam_clay' takes it)")
+    end if
     plastic = m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager'
     skeleton = m%model /= 'fluid' .and. m%model /= 'rigid'
     if (.not. skeleton) then
@@ -832,6 +840,66 @@ contains
     if (m%dp_match /= d%dp_match) call add_warning(pb, g_material, k, 'dp_match', &
       quote(m%dp_match), why)
   end subroutine check_unused_material
+
+  !> The variables of Modified Cam-Clay given to material k of another model.
+  subroutine warn_cam_clay_variables(pb, k, m, d, why)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m, d
+    character(len=*), intent(in) :: why
+    if (m%compression_index /= d%compression_index) call add_warning(pb, g_material, k, &
+      'compression_index', rtoa(m%compression_index), why)
+    if (m%swelling_index /= d%swelling_index) call add_warning(pb, g_material, k, &
+      'swelling_index', rtoa(m%swelling_index), why)
+    if (m%critical_state_ratio /= d%critical_state_ratio) call add_warning(pb, g_material, k, &
+      'critical_state_ratio', rtoa(m%critical_state_ratio), why)
+    if (m%void_ratio /= d%void_ratio) call add_warning(pb, g_material, k, 'void_ratio', &
+      rtoa(m%void_ratio), why)
+    if (m%preconsolidation_pressure /= d%preconsolidation_pressure) call add_warning(pb, &
+      g_material, k, 'preconsolidation_pressure', rtoa(m%preconsolidation_pressure), why)
+    if (m%ocr /= d%ocr) call add_warning(pb, g_material, k, 'ocr', rtoa(m%ocr), why)
+    if (m%shear_modulus /= d%shear_modulus) call add_warning(pb, g_material, k, 'shear_modulus', &
+      rtoa(m%shear_modulus), why)
+    if (m%min_pressure /= d%min_pressure) call add_warning(pb, g_material, k, 'min_pressure', &
+      rtoa(m%min_pressure), why)
+  end subroutine warn_cam_clay_variables
+
+  !> The parameters of a cam_clay material k (Modified Cam-Clay, doc/input.md): lambda >
+  !> kappa > 0, M > 0, e0 > 0, p_c0 >= 0, ocr >= 1, p_m >= 0, G >= 0 (0: from K and nu).
+  subroutine check_cam_clay(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    if (.not. real_ok(m%swelling_index, gt=0.0_wp)) then
+      call add_value(pb, g_material, k, 'swelling_index', rtoa(m%swelling_index), &
+                     'must be > 0: kappa, the slope of e against ln p'' on unloading (a cam_clay '// &
+                     'soil needs it; 0.01-0.05 for clays)')
+    else if (.not. real_ok(m%compression_index, gt=m%swelling_index)) then
+      call add_value(pb, g_material, k, 'compression_index', rtoa(m%compression_index), &
+                     'must be > swelling_index = '//rtoa(m%swelling_index)//': lambda, the slope '// &
+                     'of e against ln p'' on the normal compression line')
+    end if
+    if (.not. real_ok(m%critical_state_ratio, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'critical_state_ratio', rtoa(m%critical_state_ratio), 'must be > 0: M = q/p'' at the '// &
+      'critical state (6 sin(phi)/(3 - sin(phi)) in compression)')
+    if (.not. real_ok(m%void_ratio, gt=0.0_wp)) call add_value(pb, g_material, k, 'void_ratio', &
+      rtoa(m%void_ratio), 'must be > 0: the void ratio e0 at the initial stress')
+    if (.not. real_ok(m%preconsolidation_pressure, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'preconsolidation_pressure', rtoa(m%preconsolidation_pressure), &
+      'must be >= 0 (Pa; 0 = ocr times the yield surface through the initial stress)')
+    if (.not. real_ok(m%ocr, ge=1.0_wp)) call add_value(pb, g_material, k, 'ocr', rtoa(m%ocr), &
+      'must be >= 1 (1: normally consolidated)')
+    if (.not. real_ok(m%min_pressure, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'min_pressure', rtoa(m%min_pressure), 'must be >= 0 (Pa)')
+    if (.not. real_ok(m%shear_modulus, ge=0.0_wp)) then
+      call add_value(pb, g_material, k, 'shear_modulus', rtoa(m%shear_modulus), &
+                     'must be >= 0 (Pa; 0 = from the bulk modulus and poisson_ratio)')
+    else if (m%shear_modulus == 0.0_wp .and. .not. real_ok(m%poisson_ratio, gt=-1.0_wp, &
+                                                          lt=0.5_wp)) then
+      call add_value(pb, g_material, k, 'poisson_ratio', rtoa(m%poisson_ratio), &
+                     'must be in (-1, 0.5) (it gives G from K with shear_modulus = 0)')
+    end if
+  end subroutine check_cam_clay
 
   !> Strength parameters of a mohr_coulomb or drucker_prager material k.
   subroutine check_plastic(pb, k, m)

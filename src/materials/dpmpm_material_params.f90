@@ -22,6 +22,12 @@ module dpmpm_material_params
     type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
     real(wp) :: max_dilation = 0.0_wp   !< mohr_coulomb, drucker_prager: bound of V/V0, 0 = none
     real(wp) :: velocity(3) = 0.0_wp    !< rigid: the prescribed velocity of the body (m/s)
+    !> cam_clay (dpmpm_model_cam_clay): compression and swelling indices lambda, kappa, the
+    !> critical state ratio M, the initial void ratio e0, the preconsolidation pressure p_c0
+    !> (0: from ocr), the overconsolidation ratio, a constant shear modulus (0: from K and
+    !> nu), and the pressure p_m whose stiffness a point at zero stress keeps (Pa)
+    real(wp) :: cc_lambda = 0.0_wp, cc_kappa = 0.0_wp, cc_m = 0.0_wp, cc_e0 = 0.0_wp
+    real(wp) :: cc_pc0 = 0.0_wp, cc_ocr = 1.0_wp, cc_shear = 0.0_wp, cc_min_pressure = 0.0_wp
   end type material_t
 
 end module dpmpm_material_params

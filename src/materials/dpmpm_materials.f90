@@ -8,20 +8,23 @@ module dpmpm_materials
   use dpmpm_config, only: material_cfg_t
   use dpmpm_model_table, only: model_linear_elastic, model_neo_hookean, model_fluid, &
                                model_mohr_coulomb, model_drucker_prager, model_rigid, &
-                               model_from_name, is_plastic
+                               model_cam_clay, model_from_name, is_plastic, &
+                               is_pressure_dependent
   use dpmpm_material_params, only: material_t
   use dpmpm_plasticity, only: plastic_setup, dp_match_names, dp_plane_strain, &
                               surface_mohr_coulomb, surface_drucker_prager
   use dpmpm_model_elastic, only: elastic_update
   use dpmpm_model_neo_hookean, only: neo_hookean_update
   use dpmpm_model_plastic, only: plastic_update
+  use dpmpm_model_cam_clay, only: cam_clay_update, cam_clay_init_state, cam_clay_moduli, &
+                                  cam_clay_energy
   use dpmpm_tensor, only: as_3x3, det3
   implicit none
   private
   public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
-  public :: model_mohr_coulomb, model_drucker_prager, model_rigid, is_plastic
+  public :: model_mohr_coulomb, model_drucker_prager, model_rigid, model_cam_clay, is_plastic
   public :: materials_from_config, stress_update, strain_energy, wave_speed, wave_speeds
-  public :: model_update
+  public :: model_update, init_state, point_moduli
 
   !> The interface of every model's update (elastic_update, neo_hookean_update,
   !> plastic_update, ...): stress, volume, and where the model keeps them the deformation
@@ -70,7 +73,7 @@ contains
       mats(k)%bulk_fluid = cfgs(k)%bulk_modulus
       mats(k)%conductivity = cfgs(k)%conductivity
       mats(k)%kozeny_carman = cfgs(k)%conductivity_law == 'kozeny_carman'
-      if (is_plastic(mats(k)%model)) then
+      if (mats(k)%model == model_mohr_coulomb .or. mats(k)%model == model_drucker_prager) then
         match = findloc(dp_match_names, trim(cfgs(k)%dp_match), dim=1)
         if (match == 0) match = dp_plane_strain
         mats(k)%plastic = plastic_setup(merge(surface_mohr_coulomb, surface_drucker_prager, &
@@ -84,6 +87,20 @@ contains
       if (mats(k)%model == model_fluid) then
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
         mats(k)%bulk = cfgs(k)%bulk_modulus
+      end if
+      if (mats(k)%model == model_cam_clay) then
+        mats(k)%cc_lambda = cfgs(k)%compression_index
+        mats(k)%cc_kappa = cfgs(k)%swelling_index
+        mats(k)%cc_m = cfgs(k)%critical_state_ratio
+        mats(k)%cc_e0 = cfgs(k)%void_ratio
+        mats(k)%cc_pc0 = cfgs(k)%preconsolidation_pressure
+        mats(k)%cc_ocr = cfgs(k)%ocr
+        mats(k)%cc_shear = cfgs(k)%shear_modulus
+        mats(k)%cc_min_pressure = cfgs(k)%min_pressure
+        ! the stiffness follows the pressure: each point's own (point_moduli)
+        mats(k)%youngs = 0.0_wp
+        mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
+        mats(k)%bulk = 0.0_wp
       end if
       if (mats(k)%model == model_rigid) then
         ! no stress (stress_update and strain_energy leave it out) and no wave to resolve
@@ -101,17 +118,24 @@ contains
   end function wave_speed
 
   !> wave_speed of n points of materials mats(pmat(:)) at density mass / vol, in c
-  !> (the same formula; the time step's scan takes them in chunks).
-  pure subroutine wave_speeds(mats, n, pmat, mass, vol, c)
+  !> (the same formula; the time step's scan takes them in chunks). With the points' stress
+  !> and state, a model whose stiffness follows the pressure takes each point's modulus
+  !> (point_moduli).
+  pure subroutine wave_speeds(mats, n, pmat, mass, vol, c, stress, state)
     type(material_t), intent(in) :: mats(:)
     integer, intent(in) :: n, pmat(:)
     real(wp), intent(in) :: mass(:), vol(:)
     real(wp), intent(out) :: c(:)
+    real(wp), intent(in), optional :: stress(:, :), state(:, :)
     integer :: p
     ! (the moduli gathered first, so that the loop of roots vectorises)
-    do p = 1, n
-      c(p) = mats(pmat(p))%pwave
-    end do
+    if (present(stress)) then
+      call point_moduli(mats, n, pmat, stress, state, c)
+    else
+      do p = 1, n
+        c(p) = mats(pmat(p))%pwave
+      end do
+    end if
     do p = 1, n
       c(p) = sqrt(c(p)/(mass(p)/vol(p)))
     end do
@@ -142,19 +166,61 @@ contains
     case (model_mohr_coulomb, model_drucker_prager)
       call plastic_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
                           dissipation, plane)
+    case (model_cam_clay)
+      call cam_clay_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
+                           dissipation, plane)
     end select
   end subroutine stress_update
+
+  !> The initial state values of the points of material index m from their initial stress
+  !> (after the geostatic start; a restart reads them instead): 0 for every model but
+  !> cam_clay (its preconsolidation pressure and void ratio).
+  subroutine init_state(mat, m, n, pmat, stress, state)
+    type(material_t), intent(in) :: mat
+    integer, intent(in) :: m, n
+    integer, intent(in) :: pmat(:)
+    real(wp), intent(in) :: stress(:, :)
+    real(wp), intent(inout) :: state(:, :)
+    select case (mat%model)
+    case (model_cam_clay)
+      call cam_clay_init_state(mat, m, n, pmat, stress, state)
+    end select
+  end subroutine init_state
+
+  !> The constrained modulus K + 4G/3 of each of n points (materials mats(pmat(:))) in pw:
+  !> the material's, or for a model whose stiffness follows the pressure, the one at the
+  !> point's stress and state.
+  pure subroutine point_moduli(mats, n, pmat, stress, state, pw)
+    type(material_t), intent(in) :: mats(:)
+    integer, intent(in) :: n, pmat(:)
+    real(wp), intent(in) :: stress(:, :)
+    real(wp), intent(in), optional :: state(:, :)
+    real(wp), intent(out) :: pw(:)
+    real(wp) :: k, g
+    integer :: p
+    do p = 1, n
+      pw(p) = mats(pmat(p))%pwave
+    end do
+    if (.not. any(is_pressure_dependent(mats%model))) return
+    do p = 1, n
+      if (mats(pmat(p))%model /= model_cam_clay) cycle
+      call cam_clay_moduli(mats(pmat(p)), -(stress(1, p) + stress(2, p) + stress(3, p))/3.0_wp, &
+                           state(2, p), k, g)
+      pw(p) = k + 4.0_wp*g/3.0_wp
+    end do
+  end subroutine point_moduli
 
   !> Stored elastic energy of the points of material index m (J, per unit
   !> length/area in 2D/1D). Linear elastic (and the elastic part of the plastic soils):
   !> sigma : C^-1 : sigma / 2 times volume;
   !> neo-Hookean: (mu/2)(tr C - 3) - mu ln J + (lambda/2) (ln J)^2 per reference volume.
-  pure real(wp) function strain_energy(mat, m, n, pmat, stress, vol, vol0, defgrad) result(e)
+  pure real(wp) function strain_energy(mat, m, n, pmat, stress, vol, vol0, defgrad, state) &
+    result(e)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
     integer, intent(in) :: pmat(:)
     real(wp), intent(in) :: stress(:, :), vol(:), vol0(:)
-    real(wp), intent(in), optional :: defgrad(:, :)
+    real(wp), intent(in), optional :: defgrad(:, :), state(:, :)
     real(wp) :: s(6), tr, w, f(3, 3), lnj
     integer :: p
     e = 0.0_wp
@@ -173,6 +239,8 @@ contains
         lnj = log(det3(f))
         w = 0.5_wp*mat%mu*(sum(f**2) - 3.0_wp) - mat%mu*lnj + 0.5_wp*mat%lambda*lnj**2
         e = e + w*vol0(p)
+      case (model_cam_clay)
+        e = e + cam_clay_energy(mat, stress(:, p), state(2, p), vol(p))
       end select
     end do
   end function strain_energy

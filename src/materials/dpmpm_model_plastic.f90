@@ -12,7 +12,7 @@ module dpmpm_model_plastic
   use dpmpm_plasticity, only: plastic_returns
   implicit none
   private
-  public :: plastic_update
+  public :: plastic_update, jaumann_strain
 
 contains
 

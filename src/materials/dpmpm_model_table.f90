@@ -10,7 +10,7 @@ module dpmpm_model_table
   public :: model_info_t, model_table, max_state, model_from_name, model_names, model_nstate
   public :: model_needs_defgrad, is_plastic, scene_state_names
   public :: model_linear_elastic, model_neo_hookean, model_fluid, model_mohr_coulomb
-  public :: model_drucker_prager, model_rigid
+  public :: model_drucker_prager, model_rigid, model_cam_clay, is_pressure_dependent
 
   !> The most state values a model may keep per point.
   integer, parameter :: max_state = 16
@@ -35,13 +35,20 @@ module dpmpm_model_table
   !> Model codes: the lines of model_table.
   integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
   integer, parameter :: model_mohr_coulomb = 4, model_drucker_prager = 5, model_rigid = 6
+  integer, parameter :: model_cam_clay = 7
 
   !> The one state value of the Mohr-Coulomb and Drucker-Prager soils: the accumulated
   !> plastic strain that softens the cohesion (dpmpm_plasticity).
   character(len=24), parameter :: plastic_strain(max_state) = &
     reshape([character(len=24) :: 'plastic_strain'], [max_state], pad=[character(len=24) :: ''])
 
-  type(model_info_t), parameter :: model_table(6) = [ &
+  !> The state values of Modified Cam-Clay: the preconsolidation pressure p_c (Pa) and the
+  !> void ratio e.
+  character(len=24), parameter :: cam_clay_state(max_state) = &
+    reshape([character(len=24) :: 'preconsolidation', 'void_ratio'], [max_state], &
+            pad=[character(len=24) :: ''])
+
+  type(model_info_t), parameter :: model_table(7) = [ &
     model_info_t(name='linear_elastic', skeleton=.true.), &
     model_info_t(name='neo_hookean', needs_defgrad=.true., skeleton=.true.), &
     model_info_t(name='fluid'), &
@@ -49,7 +56,9 @@ module dpmpm_model_table
                  plastic=.true.), &
     model_info_t(name='drucker_prager', nstate=1, state_names=plastic_strain, skeleton=.true., &
                  plastic=.true.), &
-    model_info_t(name='rigid', stressed=.false.)]
+    model_info_t(name='rigid', stressed=.false.), &
+    model_info_t(name='cam_clay', nstate=2, state_names=cam_clay_state, &
+                 pressure_dependent=.true., skeleton=.true., plastic=.true.)]
 
 contains
 
@@ -92,6 +101,14 @@ contains
     is_plastic = .false.
     if (m >= 1 .and. m <= size(model_table)) is_plastic = model_table(m)%plastic
   end function is_plastic
+
+  !> True for the models whose stiffness follows the pressure (the wave speed of each point
+  !> then comes from its own stress and state, dpmpm_materials' point_moduli).
+  elemental logical function is_pressure_dependent(m) result(yes)
+    integer, intent(in) :: m
+    yes = .false.
+    if (m >= 1 .and. m <= size(model_table)) yes = model_table(m)%pressure_dependent
+  end function is_pressure_dependent
 
   !> The names of the state values of a point set whose points carry the models of codes
   !> models(:): slot k is named by the models that have a k-th value, 'state_<k>' where

@@ -35,7 +35,8 @@ contains
     do m = 1, size(self%mats)
       if (self%mats(m)%model == model_fluid) cycle
       s(2) = s(2) + strain_energy(self%mats(m), m, self%phase(1)%pts%n, self%phase(1)%pts%mat, self%phase(1)%pts%stress, &
-                                  self%phase(1)%pts%vol, self%phase(1)%pts%vol0, self%phase(1)%pts%defgrad)
+                                  self%phase(1)%pts%vol, self%phase(1)%pts%vol0, self%phase(1)%pts%defgrad, &
+                                  self%phase(1)%pts%state)
     end do
     if (self%two_phase) then
       do p = 1, self%phase(2)%pts%n

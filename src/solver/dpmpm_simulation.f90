@@ -13,8 +13,8 @@ module dpmpm_simulation
   use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components, gauss_cover_radius, &
                                 gauss_second_field_components
   use dpmpm_generate, only: generate_points
-  use dpmpm_materials, only: materials_from_config, model_fluid, model_rigid
-  use dpmpm_model_table, only: model_needs_defgrad, model_nstate
+  use dpmpm_materials, only: materials_from_config, model_fluid, model_rigid, init_state
+  use dpmpm_model_table, only: model_needs_defgrad, model_nstate, is_pressure_dependent
   use dpmpm_rigid, only: hold_rigid_points
   use dpmpm_output, only: output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
@@ -75,7 +75,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
     logical, intent(in), optional :: write_output
-    integer :: nmin, nmax, status, nloc(2)
+    integer :: nmin, nmax, status, nloc(2), m
     logical :: changed
     integer(i8) :: ntot, nfl
     integer(i8), allocatable :: counts(:), fcounts(:)
@@ -140,6 +140,12 @@ contains
       call generate_points(cfg, self%grid, self%dec%clo, self%dec%chi, self%mats, self%phase(1)%pts, &
                            counts=counts)
       call benchmark_setup(cfg, self%mats, self%phase(1)%pts)
+      ! the models' state values from the initial stress (a restart reads them instead)
+      do m = 1, size(self%mats)
+        associate (ps => self%phase(1)%pts)
+          if (ps%nstate > 0) call init_state(self%mats(m), m, ps%n, ps%mat, ps%stress, ps%state)
+        end associate
+      end do
       if (self%two_phase) then
         call generate_points(cfg, self%grid, self%dec%clo, self%dec%chi, self%mats, self%phase(2)%pts, &
                              'fluid', fcounts)
@@ -166,6 +172,7 @@ contains
     self%has_surface_loads = .false.
     if (allocated(cfg%loads)) self%has_surface_loads = any(cfg%loads%surface)
     self%has_rigid = any(self%mats%model == model_rigid)
+    self%pressure_dependent = any(is_pressure_dependent(self%mats%model))
     if (self%has_rigid) then
       allocate (self%drive_hist(4, 64))
       ! the drive's first interval begins at the start (a restart: at its time)

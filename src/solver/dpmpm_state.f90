@@ -79,6 +79,9 @@ module dpmpm_state
     !> drive's impulse on this rank since the last diagnostics record and the time of that
     !> record, and the mean drive force over each interval (time, force(3)) for the output.
     logical :: has_rigid = .false.
+    !> a model of the scene has a stiffness that follows the pressure: the time step takes
+    !> each point's modulus (point_moduli)
+    logical :: pressure_dependent = .false.
     !> &load surface = .true. (dpmpm_surface_loads): their nodal forces this step
     logical :: has_surface_loads = .false.
     real(wp), allocatable :: sforce(:, :, :, :)

@@ -5,7 +5,7 @@ module dpmpm_time_step
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp, i8
   use dpmpm_strings, only: i8toa
-  use dpmpm_materials, only: wave_speed, wave_speeds, is_plastic
+  use dpmpm_materials, only: wave_speeds, point_moduli, model_mohr_coulomb, model_drucker_prager
   use dpmpm_state, only: state_t, exit_bad_input, exit_monitor
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Allreduce, MPI_Bcast, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_2DOUBLE_PRECISION, &
@@ -89,13 +89,22 @@ contains
           ! (the porous points of two-phase scenes take the undrained speed below instead)
           drained = .not. self%two_phase
           if (.not. drained) drained = .not. all(ps%porosity(p0:p0 + m - 1) > 0.0_wp)
-          if (drained) &
+          if (drained .and. self%pressure_dependent) then
+            call wave_speeds(self%mats, m, ps%mat(p0:p0 + m - 1), ps%mass(p0:p0 + m - 1), ps%vol(p0:p0 + m - 1), c, &
+                             ps%stress(:, p0:p0 + m - 1), ps%state(:, p0:p0 + m - 1))
+          else if (drained) then
             call wave_speeds(self%mats, m, ps%mat(p0:p0 + m - 1), ps%mass(p0:p0 + m - 1), ps%vol(p0:p0 + m - 1), c)
+          end if
           if (self%two_phase) then
             ! (without a branch, so that the loop vectorises: n = 1 stands in where n = 0)
-            do k = 1, m
-              pw(k) = self%mats(ps%mat(p0 + k - 1))%pwave
-            end do
+            if (self%pressure_dependent) then
+              call point_moduli(self%mats, m, ps%mat(p0:p0 + m - 1), ps%stress(:, p0:p0 + m - 1), &
+                                ps%state(:, p0:p0 + m - 1), pw)
+            else
+              do k = 1, m
+                pw(k) = self%mats(ps%mat(p0 + k - 1))%pwave
+              end do
+            end if
             nfs(1:m) = merge(ps%porosity(p0:p0 + m - 1), 1.0_wp, ps%porosity(p0:p0 + m - 1) > 0.0_wp)
             cu(1:m) = sqrt((pw(1:m) + kf/nfs(1:m))/(ps%mass(p0:p0 + m - 1)/ps%vol(p0:p0 + m - 1) + &
                                                      nfs(1:m)*rhof))
@@ -136,15 +145,21 @@ contains
   real(wp) function signal_speed(self, is, p) result(r)
     class(state_t), intent(in) :: self
     integer, intent(in) :: is, p
-    real(wp) :: c, rho, nf
+    real(wp) :: c, rho, nf, pw(1)
     if (is == 1) then
-      rho = self%phase(1)%pts%mass(p)/self%phase(1)%pts%vol(p)
-      c = wave_speed(self%mats(self%phase(1)%pts%mat(p)), rho)
-      if (self%two_phase) then
-        nf = self%phase(1)%pts%porosity(p)
-        if (nf > 0.0_wp) c = sqrt((self%mats(self%phase(1)%pts%mat(p))%pwave + self%kf_max/nf)/ &
-                                  (rho + nf*self%rhof_min))
-      end if
+      associate (ps => self%phase(1)%pts)
+        rho = ps%mass(p)/ps%vol(p)
+        if (self%pressure_dependent) then
+          call point_moduli(self%mats, 1, ps%mat(p:p), ps%stress(:, p:p), ps%state(:, p:p), pw)
+        else
+          pw(1) = self%mats(ps%mat(p))%pwave
+        end if
+        c = sqrt(pw(1)/rho)
+        if (self%two_phase) then
+          nf = ps%porosity(p)
+          if (nf > 0.0_wp) c = sqrt((pw(1) + self%kf_max/nf)/(rho + nf*self%rhof_min))
+        end if
+      end associate
     else
       associate (mat => self%mats(self%phase(2)%pts%mat(p)))
         c = sqrt(mat%bulk_fluid/mat%density)
@@ -217,7 +232,8 @@ contains
       info(7) = ps%vol(p)/ps%vol0(p)
       ! A dilated plastic point without a bound on its volume: name the bound.
       if (is == 1 .and. info(7) > 2.0_wp) then
-        if (is_plastic(self%mats(ps%mat(p))%model) .and. self%mats(ps%mat(p))%max_dilation == 0.0_wp) &
+        if (any(self%mats(ps%mat(p))%model == [model_mohr_coulomb, model_drucker_prager]) .and. &
+            self%mats(ps%mat(p))%max_dilation == 0.0_wp) &
           info(8) = 1.0_wp
       end if
     end subroutine describe

@@ -1,5 +1,6 @@
 /* POSIX services that Fortran has no portable binding for: creating one directory with
- * the reason of a failure (errno), flushing a file to the disk, and noting the stop signals a batch scheduler sends
+ * the reason of a failure (errno), flushing a file to the disk, errno itself, whether a
+ * path is a directory, and noting the stop signals a batch scheduler sends
  * before it kills a job (SIGTERM, SIGUSR1). Used through module dpmpm_posix. */
 #include <errno.h>
 #include <fcntl.h>
@@ -38,6 +39,18 @@ int dpmpm_fsync(const char *path)
 
 /* The system's text for an errno value. */
 const char *dpmpm_strerror(int err) { return strerror(err); }
+
+/* errno as it is now, and setting it to 0: a library call that fails without giving its
+ * reason (HDF5's writes) leaves the reason of the system call under it there. */
+int dpmpm_errno(void) { return errno; }
+void dpmpm_clear_errno(void) { errno = 0; }
+
+/* 1 when path names a directory (following links), else 0. */
+int dpmpm_is_directory(const char *path)
+{
+  struct stat st;
+  return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
 
 /* The last stop signal received, 0 before any. A handler may only set a flag of this
  * type; the run loop looks at it between steps. */

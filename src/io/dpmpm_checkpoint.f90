@@ -29,7 +29,8 @@ module dpmpm_checkpoint
   use dpmpm_particles, only: particle_set_t
   use dpmpm_grid, only: cell_of
   use dpmpm_h5, only: h5check, make_dir, rename_file, write_columns, write_check_t, &
-                      mpio_access_list, collective_transfer_list, attr_i4, attr_i8, attr_string
+                      mpio_access_list, collective_transfer_list, attr_i4, attr_i8, attr_string, &
+                      io_begin, io_check
   use dpmpm_posix, only: posix_fsync, posix_strerror, posix_is_directory
   use dpmpm_error, only: fatal
   use dpmpm_checksum, only: checksum_columns
@@ -102,9 +103,10 @@ contains
     if (rank == 0) call make_dir(trim(output_dir))
     call MPI_Barrier(comm)
     fapl = mpio_access_list(comm, where)
+    call io_begin()
     call h5fcreate_f(path//'.tmp', H5F_ACC_TRUNC_F, file, err, creation_prp=H5P_DEFAULT_F, &
                      access_prp=fapl)
-    call h5check(err, 'h5fcreate_f('//path//'.tmp)', where)
+    call io_check(err, 'h5fcreate_f', path//'.tmp', where)
     call h5pclose_f(fapl, err)
     dxpl = collective_transfer_list(where)
     state = state_to_array(st)
@@ -124,8 +126,9 @@ contains
       nrewritten, ' blocks read back differently from what the collective write was '// &
       'given; rewritten with independent I/O and verified'
     call h5pclose_f(dxpl, err)
+    call io_begin()
     call h5fclose_f(file, err)
-    call h5check(err, 'h5fclose_f('//path//'.tmp)', where)
+    call io_check(err, 'h5fclose_f', path//'.tmp', where)
     call MPI_Barrier(comm)
     ! On the disk before it replaces the previous checkpoint, and the new name on the disk
     ! after: a crash of the machine (not only of the run) leaves one whole checkpoint.

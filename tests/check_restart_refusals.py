@@ -8,7 +8,9 @@ while a grid with another origin or another length (same ncells) and a checkpoin
 point made non-finite and one moved outside the grid must stop with a non-zero exit code
 and a message saying why (the grid, or how many points). A checkpoint of the earlier
 layout (18 numbers in /state: no drag dissipation, no monitor state) still continues, and the
-log says that the energy monitor measures from the restart.
+log says that the energy monitor measures from the restart. The changed checkpoints are
+stamped with their new checksums (tests/checkpoint_checksum.py), so that what is refused is
+what was changed.
 """
 import pathlib
 import shutil
@@ -17,6 +19,8 @@ import sys
 
 import h5py
 import numpy as np
+
+from checkpoint_checksum import restamp
 
 mpiexec, dpmpm, work = sys.argv[1], sys.argv[2], pathlib.Path(sys.argv[3])
 shutil.rmtree(work, ignore_errors=True)
@@ -74,12 +78,14 @@ with h5py.File(damaged, "r+") as f:
     pts[0, :] = np.nan
     pts[1, :] = 1.0e30
     f["solid"][...] = pts
+    restamp(f)  # the points, not the checksum, are to be found wrong
 p = run("damaged.nml", scene(restart="out/damaged.ckpt.h5"))
 expect(p.returncode != 0, "damaged checkpoint: refused (non-zero exit code)")
 expect(f"1 of its {pts.shape[0]} solid points have a non-finite value and 1 lie outside the grid"
        in p.stderr, "damaged checkpoint: the message counts the points")
 
-# The earlier layout: /state without the drag dissipation and the monitor's state.
+# The earlier layout: /state without the drag dissipation and the monitor's state (and,
+# as every file of then, without format_version and checksums).
 earlier = work / "out" / "earlier.ckpt.h5"
 shutil.copy(ckpt, earlier)
 with h5py.File(earlier, "r+") as f:
@@ -87,6 +93,8 @@ with h5py.File(earlier, "r+") as f:
     expect(state.size > 18, f"/state holds the monitor's state ({state.size} numbers)")
     del f["state"]
     f["state"] = state.reshape(-1)[:18].reshape(1, 18)
+    del f.attrs["format_version"]
+    del f["solid"].attrs["checksum"]
 p = run("earlier.nml", scene(restart="out/earlier.ckpt.h5"))
 expect(p.returncode == 0, "a checkpoint of the earlier layout continues")
 expect("holds no monitor state" in p.stdout, "the log says the monitor starts over")

@@ -3,10 +3,14 @@
 !> rank 0; the check must stop the run (exit code 4) on every rank, and must pass the
 !> undamaged state. The damage is written into the fields directly, so that no
 !> arithmetic on it runs before the check (the debug build traps invalid operations).
+!> A non-finite stress carried into a step (as a non-finite load gives it) makes the
+!> positions non-finite within the step: the check before the migration must stop the run
+!> with the monitor's exit code on every rank count, not migration (which loses such points).
 program test_state_check
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
   use dpmpm_kinds, only: wp
+  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed
   use dpmpm_simulation, only: simulation_t
   use dpmpm_state, only: exit_monitor
   use dpmpm_energy, only: check_state
@@ -21,6 +25,7 @@ program test_state_check
   call test_negative_volume_stops_the_run()
   call test_nonfinite_stress_stops_the_run()
   call test_nonfinite_pore_pressure_stops_the_run()
+  call test_nonfinite_stress_stops_the_step_before_migration()
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -75,5 +80,39 @@ contains
     call begin_test('nonfinite_pore_pressure_stops_the_run')
     call check(code_after(3) == exit_monitor, 'exit code of the monitor on every rank')
   end subroutine test_nonfinite_pore_pressure_stops_the_run
+
+  !> A block of soil on a fixed floor over the two halves of the grid (one per rank on two).
+  function block_scene() result(cfg)
+    type(config_t) :: cfg
+    cfg%name = 'block'
+    cfg%ndim = 2
+    cfg%ncells = [8, 8, 1]
+    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
+    cfg%t_end = 1.0_wp
+    cfg%max_steps = 3
+    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
+    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
+    cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=1000.0_wp, &
+                                      youngs_modulus=1.0e6_wp, poisson_ratio=0.3_wp)
+    cfg%regions(1)%lo = [0.125_wp, 0.0_wp, 0.0_wp]
+    cfg%regions(1)%hi = [0.875_wp, 0.5_wp, 1.0_wp]
+    cfg%regions(1)%material = 1
+    cfg%bc(3) = bc_fixed
+  end function block_scene
+
+  subroutine test_nonfinite_stress_stops_the_step_before_migration()
+    type(simulation_t) :: sim
+    call begin_test('nonfinite_stress_stops_the_step_before_migration')
+    call sim%init(block_scene(), MPI_COMM_WORLD, write_output=.false.)
+    call check(sim%exit_code == 0, 'the block is set up')
+    if (rank == 0) then
+      call check(sim%phase(1)%pts%n > 0, 'rank 0 holds points')
+      sim%phase(1)%pts%stress(2, 1) = ieee_value(1.0_wp, ieee_quiet_nan)
+    end if
+    call sim%run()
+    call check(sim%exit_code == exit_monitor, 'exit code of the monitor on every rank')
+    call check(sim%step == 1, 'stopped in the first step')
+    call sim%free()
+  end subroutine test_nonfinite_stress_stops_the_step_before_migration
 
 end program test_state_check

@@ -1,7 +1,10 @@
 /* POSIX services that Fortran has no portable binding for: creating one directory with
- * the reason of a failure (errno), flushing a file to the disk, and noting the stop signals a batch scheduler sends
+ * the reason of a failure (errno), flushing a file to the disk, writing a whole file with
+ * the reason of a failure, errno itself, whether a
+ * path is a directory, and noting the stop signals a batch scheduler sends
  * before it kills a job (SIGTERM, SIGUSR1). Used through module dpmpm_posix. */
 #include <errno.h>
+#include <stddef.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
@@ -38,6 +41,44 @@ int dpmpm_fsync(const char *path)
 
 /* The system's text for an errno value. */
 const char *dpmpm_strerror(int err) { return strerror(err); }
+
+/* errno as it is now, and setting it to 0: a library call that fails without giving its
+ * reason (HDF5's writes) leaves the reason of the system call under it there. */
+int dpmpm_errno(void) { return errno; }
+void dpmpm_clear_errno(void) { errno = 0; }
+
+/* Write the n bytes at text to path (created or truncated), every byte or an error: 0, or
+ * the errno of the first failure (open, a short write, close). */
+int dpmpm_write_file(const char *path, const char *text, size_t n)
+{
+  int fd, err = 0;
+  ssize_t w;
+  fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+  if (fd < 0) return errno;
+  while (n > 0) {
+    w = write(fd, text, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      err = errno;
+      break;
+    }
+    if (w == 0) {
+      err = EIO;
+      break;
+    }
+    text += w;
+    n -= (size_t)w;
+  }
+  if (close(fd) != 0 && err == 0) err = errno;
+  return err;
+}
+
+/* 1 when path names a directory (following links), else 0. */
+int dpmpm_is_directory(const char *path)
+{
+  struct stat st;
+  return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
 
 /* The last stop signal received, 0 before any. A handler may only set a flag of this
  * type; the run loop looks at it between steps. */

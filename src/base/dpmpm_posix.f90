@@ -1,13 +1,16 @@
 !> POSIX services through the small C file beside this module (dpmpm_posix.c): making
-!> one directory without a shell, flushing a file to the disk, and the stop signals of batch schedulers (SIGTERM,
+!> one directory without a shell, flushing a file to the disk, writing a whole file with the
+!> reason of a failure, errno and whether a path is
+!> a directory, and the stop signals of batch schedulers (SIGTERM,
 !> SIGUSR1), whose handler only sets a flag that the run loop reads between steps.
 module dpmpm_posix
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_f_pointer, &
-                                         c_associated
+                                         c_associated, c_size_t
   implicit none
   private
   public :: posix_mkdir, posix_strerror, posix_fsync, catch_stop_signals, stop_signal, signal_name
-  public :: peak_resident_kib
+  public :: peak_resident_kib, posix_errno, posix_clear_errno, posix_is_directory
+  public :: posix_write_file
 
   interface
     function c_mkdir(path) bind(C, name='dpmpm_mkdir') result(err)
@@ -25,6 +28,23 @@ module dpmpm_posix
       integer(c_int), value :: err
       type(c_ptr) :: p
     end function c_strerror
+    function c_write_file(path, text, n) bind(C, name='dpmpm_write_file') result(err)
+      import :: c_char, c_int, c_size_t
+      character(kind=c_char), intent(in) :: path(*), text(*)
+      integer(c_size_t), value :: n
+      integer(c_int) :: err
+    end function c_write_file
+    function c_errno() bind(C, name='dpmpm_errno') result(err)
+      import :: c_int
+      integer(c_int) :: err
+    end function c_errno
+    subroutine c_clear_errno() bind(C, name='dpmpm_clear_errno')
+    end subroutine c_clear_errno
+    function c_is_directory(path) bind(C, name='dpmpm_is_directory') result(r)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: r
+    end function c_is_directory
     function c_catch_stop_signals() bind(C, name='dpmpm_catch_stop_signals') result(r)
       import :: c_int
       integer(c_int) :: r
@@ -61,6 +81,30 @@ contains
     character(len=:), allocatable :: text
     text = c_string(c_strerror(int(err, c_int)))
   end function posix_strerror
+
+  !> Write text to the file path (created or truncated), all of it: 0, or the errno of the
+  !> failure (a full disk: ENOSPC, where Fortran's own output may drop the error).
+  integer function posix_write_file(path, text) result(err)
+    character(len=*), intent(in) :: path, text
+    err = int(c_write_file(path//c_null_char, text, int(len(text), c_size_t)))
+  end function posix_write_file
+
+  !> errno now: the reason of the last failed system call of this process (0: none since
+  !> posix_clear_errno). Read it right after a call that failed.
+  integer function posix_errno() result(err)
+    err = int(c_errno())
+  end function posix_errno
+
+  !> Set errno to 0, before a call whose failure is to be explained by posix_errno.
+  subroutine posix_clear_errno()
+    call c_clear_errno()
+  end subroutine posix_clear_errno
+
+  !> True when path names a directory.
+  logical function posix_is_directory(path) result(is_dir)
+    character(len=*), intent(in) :: path
+    is_dir = c_is_directory(path//c_null_char) /= 0
+  end function posix_is_directory
 
   !> From now on SIGTERM and SIGUSR1 only set the stop flag; false if they cannot be caught.
   logical function catch_stop_signals() result(ok)

@@ -15,13 +15,16 @@ module dpmpm_h5
                   h5tget_size_f, H5F_SCOPE_GLOBAL_F, h5pcreate_f, h5pclose_f, h5pset_chunk_f, &
                   h5pset_shuffle_f, h5pset_deflate_f, H5P_DATASET_CREATE_F, H5P_DEFAULT_F, &
                   h5pset_chunk_cache_f, H5P_DATASET_ACCESS_F, h5open_f, h5pset_fapl_mpio_f, &
-                  h5pset_dxpl_mpio_f, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5FD_MPIO_COLLECTIVE_F
+                  h5pset_dxpl_mpio_f, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5FD_MPIO_COLLECTIVE_F, &
+                  h5eset_auto_f, h5eprint_f, h5fget_name_f
   use dpmpm_kinds, only: wp, i8, i4
   use dpmpm_error, only: fatal
+  use dpmpm_posix, only: posix_errno, posix_clear_errno, posix_strerror
   implicit none
   private
   public :: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, rename_file
   public :: write_columns, write_check_t, mpio_access_list, collective_transfer_list
+  public :: io_begin, io_check, file_name
 
   interface
     function c_rename(old, new) bind(C, name='rename') result(r)
@@ -68,6 +71,47 @@ contains
     character(len=*), intent(in) :: call_name, where
     if (err < 0) call fatal(call_name//' failed', where)
   end subroutine h5check
+
+  !> Before an HDF5 call that writes to a file (a dataset, a flush, a close): HDF5's error
+  !> printing off and errno cleared, so that io_check can say what the system said (a full
+  !> disk, a quota) instead of HDF5's stack of its own layers.
+  subroutine io_begin()
+    integer :: err
+    call h5eset_auto_f(0, err)
+    call posix_clear_errno()
+  end subroutine io_begin
+
+  !> After the call that io_begin prepared: on failure (err < 0) stop with the call, the file
+  !> (file, as file_name gives it for an open object) and the reason the system gave (errno),
+  !> or, where it gave none, HDF5's error stack first. HDF5's error printing is on again.
+  subroutine io_check(err, call_name, file, where)
+    integer, intent(in) :: err
+    character(len=*), intent(in) :: call_name, file, where
+    integer :: errno_now, e2
+    errno_now = posix_errno()
+    if (err < 0 .and. errno_now == 0) call h5eprint_f(e2)
+    call h5eset_auto_f(1, e2)
+    if (err >= 0) return
+    if (errno_now /= 0) then
+      call fatal(call_name//' failed on '//file//': '//posix_strerror(errno_now), where)
+    else
+      call fatal(call_name//' failed on '//file//' (the system gave no reason; HDF5''s '// &
+                 'account above)', where)
+    end if
+  end subroutine io_check
+
+  !> The name of the file that the open HDF5 object obj belongs to, for messages.
+  function file_name(obj) result(name)
+    integer(hid_t), intent(in) :: obj
+    character(len=:), allocatable :: name
+    character(len=4096) :: buf
+    integer(size_t) :: n
+    integer :: err
+    buf = ''
+    call h5fget_name_f(obj, buf, n, err)
+    name = trim(buf)
+    if (err < 0) name = '(a file HDF5 cannot name)'
+  end function file_name
 
   !> A file access list for parallel HDF5 (MPI-IO) over comm, the library opened first.
   !> The caller closes it.
@@ -190,11 +234,12 @@ contains
     call put_attr(loc, name, H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), c_loc(buf))
   end subroutine attr_real
 
-  !> Rename a file (the last step of writing to a temporary name); fatal on failure.
+  !> Rename a file (the last step of writing to a temporary name); fatal on failure, with
+  !> the system's reason.
   subroutine rename_file(old, new, where)
     character(len=*), intent(in) :: old, new, where
     if (c_rename(old//c_null_char, new//c_null_char) /= 0) &
-      call fatal('cannot rename '//old//' to '//new, where)
+      call fatal('cannot rename '//old//' to '//new//': '//posix_strerror(posix_errno()), where)
   end subroutine rename_file
 
   !> Create dataset <name> under gid for nglob points and write this rank's nloc points at
@@ -275,9 +320,10 @@ contains
     end if
     ! An empty dataset has no storage to write to; nglob is the same on every rank.
     if (nglob > 0) then
+      call io_begin()
       call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
                       xfer_prp=dxpl)
-      call h5check(err, 'h5dwrite_f('//name//')', where)
+      call io_check(err, 'h5dwrite_f('//name//')', file_name(dset), where)
     end if
     if (present(check)) call check%add(dset, mtype, rank, start, cnt, ptr, name, where, &
                                        dxpl=dxpl, filtered=level > 0 .and. nglob > 0)
@@ -350,8 +396,9 @@ contains
     logical, allocatable :: bad(:), anybad(:)
     integer :: k, nbad, nstill, err
     allocate (bad(self%n), anybad(self%n))
+    call io_begin()
     call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, err)
-    call h5check(err, 'h5fflush_f', where)
+    call io_check(err, 'h5fflush_f', file_name(file_id), where)
     call MPI_Barrier(comm)
     do k = 1, self%n
       bad(k) = .not. block_reads_back(self%rec(k), where)
@@ -368,8 +415,9 @@ contains
           call rewrite_block(self%rec(k), where)
         end if
       end do
+      call io_begin()
       call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, err)
-      call h5check(err, 'h5fflush_f', where)
+      call io_check(err, 'h5fflush_f', file_name(file_id), where)
       call MPI_Barrier(comm)
       do k = 1, self%n
         if (bad(k)) bad(k) = .not. block_reads_back(self%rec(k), where)
@@ -434,13 +482,14 @@ contains
     call block_spaces(r, fspace, mspace, where)
     p = c_loc(none)
     if (size(r%bytes) > 0) p = c_loc(r%bytes)
+    call io_begin()
     if (present(dxpl)) then
       call h5dwrite_f(r%dset, r%mtype, p, err, mem_space_id=mspace, file_space_id=fspace, &
                       xfer_prp=dxpl)
     else
       call h5dwrite_f(r%dset, r%mtype, p, err, mem_space_id=mspace, file_space_id=fspace)
     end if
-    call h5check(err, 'h5dwrite_f('//r%name//', rewrite)', where)
+    call io_check(err, 'h5dwrite_f('//r%name//', rewrite)', file_name(r%dset), where)
     call close_spaces(r, fspace, mspace, where)
   end subroutine rewrite_block
 

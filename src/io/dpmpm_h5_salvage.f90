@@ -3,7 +3,7 @@
 !> run checks and rebuilds its output (dpmpm_output, salvage).
 module dpmpm_h5_salvage
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc
-  use hdf5, only: hid_t, hsize_t, h5fopen_f, h5fclose_f, h5lexists_f, h5oopen_f, h5oclose_f, &
+  use hdf5, only: hid_t, hsize_t, h5open_f, h5fopen_f, h5fclose_f, h5lexists_f, h5oopen_f, h5oclose_f, &
                   h5dopen_f, h5dclose_f, h5dread_f, h5dget_space_f, h5sclose_f, &
                   h5sget_simple_extent_dims_f, h5eset_auto_f, h5kind_to_type, H5F_ACC_RDONLY_F, &
                   H5_INTEGER_KIND, H5_REAL_KIND, h5gopen_f, h5gclose_f, h5gget_info_f, &
@@ -12,7 +12,7 @@ module dpmpm_h5_salvage
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   implicit none
   private
-  public :: file_sound, frame_sound, object_sound, read_diag_records, read_column
+  public :: file_sound, frame_sound, object_sound, read_diag_records, read_column, last_record
 
 contains
 
@@ -153,6 +153,51 @@ contains
       recs(1:n)%values(k) = vals(1:n)
     end do
   end subroutine read_diag_records
+
+  !> The step and time of the last diagnostics record of the output file path (serial, on
+  !> one rank); found is false where the file or its records cannot be read or there are
+  !> none. HDF5's error printing is off meanwhile.
+  subroutine last_record(path, step, time, found)
+    character(len=*), intent(in) :: path
+    integer(i8), intent(out) :: step
+    real(wp), intent(out) :: time
+    logical, intent(out) :: found
+    integer(hid_t) :: file, dset, space
+    integer(hsize_t) :: dims(1), maxdims(1)
+    integer(i8), allocatable, target :: steps(:)
+    real(wp), allocatable, target :: times(:)
+    integer :: err, e2
+    found = .false.
+    step = 0
+    time = 0.0_wp
+    call h5open_f(err)
+    if (err < 0) return
+    call h5eset_auto_f(0, err)
+    call h5fopen_f(path, H5F_ACC_RDONLY_F, file, err)
+    if (err >= 0) then
+      call h5dopen_f(file, 'diagnostics/step', dset, err)
+      if (err >= 0) then
+        call h5dget_space_f(dset, space, err)
+        if (err >= 0) call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
+        if (err >= 0) call h5sclose_f(space, e2)
+        call h5dclose_f(dset, e2)
+      end if
+      if (err >= 0 .and. dims(1) > 0) then
+        allocate (steps(dims(1)), times(dims(1)))
+        call read_column(file, 'diagnostics/step', h5kind_to_type(i8, H5_INTEGER_KIND), &
+                         c_loc(steps), err)
+        if (err >= 0) call read_column(file, 'diagnostics/time', &
+                                       h5kind_to_type(wp, H5_REAL_KIND), c_loc(times), err)
+        if (err >= 0) then
+          found = .true.
+          step = steps(dims(1))
+          time = times(dims(1))
+        end if
+      end if
+      call h5fclose_f(file, e2)
+    end if
+    call h5eset_auto_f(1, e2)
+  end subroutine last_record
 
   !> Read a whole 1D dataset into buf (err < 0 when it cannot be read).
   subroutine read_column(file, path, mtype, buf, err)

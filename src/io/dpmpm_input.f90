@@ -10,7 +10,10 @@
 module dpmpm_input
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use dpmpm_config, only: config_t, resolve_geostatic
-  use dpmpm_input_problems, only: input_problems_t
+  use dpmpm_input_problems, only: input_problems_t, add_value, g_run
+  use dpmpm_kinds, only: wp, i8
+  use dpmpm_strings, only: i8toa, rtoa
+  use dpmpm_h5_salvage, only: last_record
   use dpmpm_input_read, only: load_text, parse_input
   use dpmpm_input_check, only: check_config
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_INTEGER, &
@@ -28,13 +31,14 @@ contains
   !> input_refused after rank 0 printed every problem to stderr (the exit code of a refused
   !> input is 2). With restart_latest (the command line's --restart) the input's &run
   !> restart is taken as 'latest': continue from <dir>/<name>.ckpt.h5 when it exists, else
-  !> start afresh.
-  subroutine read_input(filename, comm, cfg, status, restart_latest)
+  !> start afresh, unless the output holds a finished run: that is refused unless start_over
+  !> (the command line's --start-over) asks to run it again.
+  subroutine read_input(filename, comm, cfg, status, restart_latest, start_over)
     character(len=*), intent(in) :: filename
     type(MPI_Comm), intent(in) :: comm
     type(config_t), intent(out) :: cfg
     integer, intent(out) :: status
-    logical, intent(in), optional :: restart_latest
+    logical, intent(in), optional :: restart_latest, start_over
     type(input_problems_t) :: pb
     character(len=:), allocatable :: text
     integer :: rank, nranks, nprob
@@ -55,7 +59,7 @@ contains
       if (present(restart_latest)) then
         if (restart_latest) cfg%restart = 'latest'
       end if
-      call resolve_latest(cfg)
+      call resolve_latest(cfg, pb, present_and_true(start_over))
       call check_config(pb, cfg, nranks)
       nprob = pb%nprob
     end if
@@ -118,11 +122,18 @@ contains
 
   !> restart = 'latest': the run's own checkpoint <dir>/<name>.ckpt.h5 when it exists (the
   !> run continues), else none (the run starts at t = 0); said on standard output. This
-  !> lets a chain of batch jobs run the same input again and again.
-  subroutine resolve_latest(cfg)
+  !> lets a chain of batch jobs run the same input again and again. Without a checkpoint,
+  !> an output <dir>/<name>.h5 whose last record reached this input's t_end or max_steps is
+  !> a finished run: starting again would replace it, so that is a problem in pb unless
+  !> start_over.
+  subroutine resolve_latest(cfg, pb, start_over)
     type(config_t), intent(inout) :: cfg
-    character(len=:), allocatable :: path
-    logical :: exists
+    type(input_problems_t), intent(inout) :: pb
+    logical, intent(in) :: start_over
+    character(len=:), allocatable :: path, out
+    logical :: exists, found
+    integer(i8) :: step
+    real(wp) :: time
     if (trim(cfg%restart) /= 'latest') return
     path = trim(cfg%output_dir)//'/'//trim(cfg%name)//'.ckpt.h5'
     inquire (file=path, exist=exists)
@@ -131,10 +142,32 @@ contains
       write (output_unit, '(a)') 'dpmpm: restart = ''latest'': continuing from '//path
     else
       cfg%restart = ''
-      write (output_unit, '(a)') 'dpmpm: restart = ''latest'': no checkpoint '//path// &
-        ' yet, starting at t = 0'
+      out = trim(cfg%output_dir)//'/'//trim(cfg%name)//'.h5'
+      inquire (file=out, exist=exists)
+      found = .false.
+      if (exists) call last_record(out, step, time, found)
+      if (found) found = time >= cfg%t_end*(1.0_wp - 1.0e-12_wp) .or. step >= cfg%max_steps
+      if (found .and. .not. start_over) then
+        call add_value(pb, g_run, 1, 'restart', '''latest''', 'there is no checkpoint '// &
+                       path//' to continue, and '//out//' holds a finished run (step '// &
+                       i8toa(step)//', t = '//rtoa(time)//'); dpmpm --restart --start-over '// &
+                       'runs it again from t = 0, replacing that output')
+      else if (found) then
+        write (output_unit, '(a)') 'dpmpm: restart = ''latest'' with --start-over: no '// &
+          'checkpoint '//path//'; running the finished run of '//out//' again from t = 0'
+      else
+        write (output_unit, '(a)') 'dpmpm: restart = ''latest'': no checkpoint '//path// &
+          ' yet, starting at t = 0'
+      end if
     end if
     flush (output_unit)
   end subroutine resolve_latest
+
+  !> An optional flag given and true.
+  pure logical function present_and_true(flag)
+    logical, intent(in), optional :: flag
+    present_and_true = .false.
+    if (present(flag)) present_and_true = flag
+  end function present_and_true
 
 end module dpmpm_input

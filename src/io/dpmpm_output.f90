@@ -28,7 +28,7 @@ module dpmpm_output
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
                       write_columns, write_check_t, mpio_access_list, &
-                      collective_transfer_list, rename_file
+                      collective_transfer_list, rename_file, io_begin, io_check
   use dpmpm_log, only: log_t
   use dpmpm_xdmf, only: frame_rec_t, set_rec_t, write_xdmf
   use dpmpm_h5_salvage, only: file_sound, frame_sound, read_diag_records
@@ -124,9 +124,10 @@ contains
     call MPI_Barrier(self%comm)
 
     fapl = mpio_access_list(self%comm, where)
+    call io_begin()
     call h5fcreate_f(self%h5_path, H5F_ACC_TRUNC_F, self%file_id, err, &
                      creation_prp=H5P_DEFAULT_F, access_prp=fapl)
-    call h5check(err, 'h5fcreate_f('//self%h5_path//')', where)
+    call io_check(err, 'h5fcreate_f', self%h5_path, where)
     call h5pclose_f(fapl, err)
     call h5check(err, 'h5pclose_f(file access)', where)
     self%dxpl = collective_transfer_list(where)
@@ -152,8 +153,9 @@ contains
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f(/diagnostics)', where)
 
+    call io_begin()
     call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
-    call h5check(err, 'h5fflush_f', where)
+    call io_check(err, 'h5fflush_f', self%h5_path, where)
     self%is_open = .true.
     self%in_frame = .false.
   end subroutine out_open
@@ -268,8 +270,9 @@ contains
       call h5check(err, 'h5dset_extent_f(diagnostics)', where)
     end do
     self%ndiag_written = nkeep
+    call io_begin()
     call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
-    call h5check(err, 'h5fflush_f', where)
+    call io_check(err, 'h5fflush_f', self%h5_path, where)
     self%is_open = .true.
     self%in_frame = .false.
     if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
@@ -328,8 +331,9 @@ contains
       call self%add_diag(recs(k))
     end do
     call self%flush_diag()
+    call io_begin()
     call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
-    call h5check(err, 'h5fflush_f', where)
+    call io_check(err, 'h5fflush_f', self%h5_path, where)
     if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
                                         self%sets(1:self%nsets), self%state_names)
     call MPI_Barrier(self%comm)
@@ -698,8 +702,9 @@ contains
     call h5pclose_f(self%dxpl, err)
     call h5check(err, 'h5pclose_f(transfer)', where)
     self%dxpl = -1
+    call io_begin()
     call h5fclose_f(self%file_id, err)
-    call h5check(err, 'h5fclose_f('//self%h5_path//')', where)
+    call io_check(err, 'h5fclose_f', self%h5_path, where)
     self%file_id = -1
     call MPI_Comm_free(self%comm)
     self%is_open = .false.
@@ -751,8 +756,9 @@ contains
     call h5check(err, 'h5screate_f(scalar)', where)
     call h5dcreate_f(self%file_id, 'input', stype, space, dset, err)
     call h5check(err, 'h5dcreate_f(/input)', where)
+    call io_begin()
     call h5dwrite_f(dset, stype, c_loc(text), err, xfer_prp=self%dxpl)
-    call h5check(err, 'h5dwrite_f(/input)', where)
+    call io_check(err, 'h5dwrite_f(/input)', self%h5_path, where)
     call h5dclose_f(dset, err)
     call h5check(err, 'h5dclose_f(/input)', where)
     call h5sclose_f(space, err)
@@ -791,8 +797,9 @@ contains
     character(len=*), parameter :: where = 'output%flush_diag'
     integer(hid_t) :: fspace, mspace
     integer :: err
+    call io_begin()
     call h5dset_extent_f(dset, [int(self%ndiag_written + m, hsize_t)], err)
-    call h5check(err, 'h5dset_extent_f', where)
+    call io_check(err, 'h5dset_extent_f', self%h5_path, where)
     call h5dget_space_f(dset, fspace, err)
     call h5check(err, 'h5dget_space_f', where)
     call h5screate_simple_f(1, [int(m, hsize_t)], mspace, err)
@@ -807,9 +814,10 @@ contains
       call h5sselect_none_f(mspace, err)
       call h5check(err, 'h5sselect_none_f', where)
     end if
+    call io_begin()
     call h5dwrite_f(dset, mtype, ptr, err, mem_space_id=mspace, file_space_id=fspace, &
                     xfer_prp=self%dxpl)
-    call h5check(err, 'h5dwrite_f', where)
+    call io_check(err, 'h5dwrite_f', self%h5_path, where)
     call self%check%add(dset, mtype, 1, [int(self%ndiag_written, hsize_t)], &
                         [int(merge(m, 0, self%rank == 0), hsize_t)], ptr, 'diagnostics', where)
     call h5sclose_f(mspace, err)

@@ -1,14 +1,25 @@
 !> The XDMF 2 sidecar <name>.xmf of a run's HDF5 output, for ParaView: the frames and
 !> point sets written so far, each dataset referred to in the HDF5 file (doc/output.md).
-!> Written by rank 0 alone; no HDF5 call here.
+!> Written by rank 0 alone; no HDF5 call here. The text is made in memory and written
+!> with one checked write(2) (posix_write_file): Fortran's formatted output dropped the
+!> error of a full disk and left a cut sidecar behind.
 module dpmpm_xdmf
   use dpmpm_kinds, only: wp, i8
   use dpmpm_error, only: fatal
   use dpmpm_config, only: optional_fields
   use dpmpm_h5, only: rename_file
+  use dpmpm_posix, only: posix_write_file, posix_strerror
   implicit none
   private
   public :: frame_rec_t, set_rec_t, write_xdmf
+
+  !> Lines of text in one growing buffer (its capacity doubles).
+  type :: text_t
+    character(len=:), allocatable :: buf
+    integer :: n = 0
+  contains
+    procedure :: add => text_add
+  end type text_t
 
   !> One frame as listed in the XDMF sidecar.
   type :: frame_rec_t
@@ -42,10 +53,10 @@ contains
     character(len=:), allocatable :: tmp_path
     character(len=16) :: names(8)
     character(len=32) :: tstr
-    integer :: u, ios, s, k, nnames
+    type(text_t) :: doc
+    integer :: err, s, k, nnames
     tmp_path = xmf_path//'.tmp'
-    open (newunit=u, file=tmp_path, status='replace', action='write', iostat=ios)
-    if (ios /= 0) call fatal('cannot write '//tmp_path, where)
+    allocate (character(len=65536) :: doc%buf)
     ! The set names in the order they first appear.
     nnames = 0
     do s = 1, size(sets)
@@ -54,32 +65,34 @@ contains
       nnames = nnames + 1
       names(nnames) = sets(s)%name
     end do
-    write (u, '(a)') '<?xml version="1.0" ?>'
-    write (u, '(a)') '<Xdmf Version="2.0">'
-    write (u, '(a)') ' <Domain>'
+    call doc%add('<?xml version="1.0" ?>')
+    call doc%add('<Xdmf Version="2.0">')
+    call doc%add(' <Domain>')
     do k = 1, nnames
-      write (u, '(a)') '  <Grid Name="'//xml_escape(trim(names(k)))// &
-        '" GridType="Collection" CollectionType="Temporal">'
+      call doc%add('  <Grid Name="'//xml_escape(trim(names(k)))// &
+        '" GridType="Collection" CollectionType="Temporal">')
       do s = 1, size(sets)
         if (sets(s)%name /= names(k) .or. sets(s)%n == 0) cycle
         write (tstr, '(es24.16e3)') frames(sets(s)%frame + 1)%time
-        call write_xdmf_set(h5_base, ndim, u, sets(s), trim(adjustl(tstr)), state_names)
+        call write_xdmf_set(h5_base, ndim, doc, sets(s), trim(adjustl(tstr)), state_names)
       end do
-      write (u, '(a)') '  </Grid>'
+      call doc%add('  </Grid>')
     end do
-    write (u, '(a)') ' </Domain>'
-    write (u, '(a)') '</Xdmf>'
-    close (u, iostat=ios)
-    if (ios /= 0) call fatal('cannot close '//tmp_path, where)
+    call doc%add(' </Domain>')
+    call doc%add('</Xdmf>')
+    ! On a failure the previous sidecar stays as it was (one frame behind, whole).
+    err = posix_write_file(tmp_path, doc%buf(1:doc%n))
+    if (err /= 0) call fatal('cannot write '//tmp_path//': '//posix_strerror(err)// &
+                             ' (the sidecar '//xmf_path//' is left as it was)', where)
     call rename_file(tmp_path, xmf_path, where)
   end subroutine write_xdmf
 
   !> One Polyvertex grid of a set at one frame: geometry from x, the other datasets as
   !> node attributes; the stress as six scalars named by their components.
-  subroutine write_xdmf_set(h5_base, ndim, u, set, time, state_names)
+  subroutine write_xdmf_set(h5_base, ndim, doc, set, time, state_names)
     character(len=*), intent(in) :: h5_base
     integer, intent(in) :: ndim
-    integer, intent(in) :: u
+    type(text_t), intent(inout) :: doc
     type(set_rec_t), intent(in) :: set
     character(len=*), intent(in) :: time
     character(len=*), intent(in) :: state_names(:)
@@ -104,27 +117,27 @@ contains
     base = xml_escape(h5_base)//':/frames/'//trim(fstr)//'/'//xml_escape(trim(set%name))//'/'
     write (buf, '(i0)') ndim
     vec = nstr//' '//trim(buf)
-    write (u, '(a)') '   <Grid Name="'//xml_escape(trim(set%name))//'" GridType="Uniform">'
-    write (u, '(a)') '    <Time Value="'//time//'"/>'
-    write (u, '(a)') '    <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
-      '" NodesPerElement="1"/>'
+    call doc%add('   <Grid Name="'//xml_escape(trim(set%name))//'" GridType="Uniform">')
+    call doc%add('    <Time Value="'//time//'"/>')
+    call doc%add('    <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
+      '" NodesPerElement="1"/>')
     select case (ndim)
     case (1)
       ! ParaView needs 3D coordinates: x from the file, y = z = x - x = 0.
-      write (u, '(a)') '    <Geometry GeometryType="X_Y_Z">'
-      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
-      write (u, '(a)') '     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
-        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>'
-      write (u, '(a)') '     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
-        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>'
+      call doc%add('    <Geometry GeometryType="X_Y_Z">')
+      call doc%add('     '//item(vec, 'Float', '8', base//'x'))
+      call doc%add('     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
+        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>')
+      call doc%add('     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
+        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>')
     case (2)
-      write (u, '(a)') '    <Geometry GeometryType="XY">'
-      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
+      call doc%add('    <Geometry GeometryType="XY">')
+      call doc%add('     '//item(vec, 'Float', '8', base//'x'))
     case default
-      write (u, '(a)') '    <Geometry GeometryType="XYZ">'
-      write (u, '(a)') '     '//item(vec, 'Float', '8', base//'x')
+      call doc%add('    <Geometry GeometryType="XYZ">')
+      call doc%add('     '//item(vec, 'Float', '8', base//'x'))
     end select
-    write (u, '(a)') '    </Geometry>'
+    call doc%add('    </Geometry>')
     if (ndim == 1) then
       call attribute('v', 'Scalar', vec, 'Float', '8')
       if (set%has(1)) call attribute('displacement', 'Scalar', vec, 'Float', '8')
@@ -137,11 +150,11 @@ contains
     do j = 1, merge(6, 0, set%has(2))
       ! Column j of the (n, 6) stress dataset: start (0, j-1), stride (1, 1), count (n, 1).
       write (buf, '(i0)') j - 1
-      write (u, '(a)') '    <Attribute Name="stress_'//comp(j)// &
+      call doc%add('    <Attribute Name="stress_'//comp(j)// &
         '" AttributeType="Scalar" Center="Node"><DataItem ItemType="HyperSlab" Dimensions="'// &
         nstr//' 1" Type="HyperSlab"><DataItem Dimensions="3 2" Format="XML">0 '//trim(buf)// &
         ' 1 1 '//nstr//' 1</DataItem>'//item(nstr//' 6', 'Float', '8', base//'stress')// &
-        '</DataItem></Attribute>'
+        '</DataItem></Attribute>')
     end do
     if (set%has(3)) call attribute('material', 'Scalar', nstr, 'Int', '4')
     if (set%has(4)) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
@@ -151,17 +164,33 @@ contains
       call attribute(trim(state_names(order(j))), 'Scalar', nstr, 'Float', '8')
     end do
     call attribute('id', 'Scalar', nstr, 'Int', '8')
-    write (u, '(a)') '   </Grid>'
+    call doc%add('   </Grid>')
 
   contains
 
     subroutine attribute(name, atype, dims, ntype, prec)
       character(len=*), intent(in) :: name, atype, dims, ntype, prec
-      write (u, '(a)') '    <Attribute Name="'//name//'" AttributeType="'//atype// &
-        '" Center="Node">'//item(dims, ntype, prec, base//name)//'</Attribute>'
+      call doc%add('    <Attribute Name="'//name//'" AttributeType="'//atype// &
+        '" Center="Node">'//item(dims, ntype, prec, base//name)//'</Attribute>')
     end subroutine attribute
 
   end subroutine write_xdmf_set
+
+  !> Append one line (and its newline) to the text.
+  subroutine text_add(self, line)
+    class(text_t), intent(inout) :: self
+    character(len=*), intent(in) :: line
+    character(len=:), allocatable :: tmp
+    integer :: need
+    need = self%n + len(line) + 1
+    if (need > len(self%buf)) then
+      allocate (character(len=max(need, 2*len(self%buf))) :: tmp)
+      tmp(1:self%n) = self%buf(1:self%n)
+      call move_alloc(tmp, self%buf)
+    end if
+    self%buf(self%n + 1:need) = line//new_line('a')
+    self%n = need
+  end subroutine text_add
 
   !> An HDF DataItem referring to a dataset of the sidecar's HDF5 file.
   function item(dims, ntype, prec, ref) result(s)

@@ -11,8 +11,8 @@ module dpmpm_app
   private
   public :: run_app
 
-  character(len=*), parameter :: usage = 'usage: dpmpm [--check] [--restart] scene.nml | '// &
-                                         '--help | --version'
+  character(len=*), parameter :: usage = 'usage: dpmpm [--check] [--restart [--start-over]] '// &
+                                         'scene.nml | --help | --version'
 
 contains
 
@@ -24,7 +24,7 @@ contains
     type(MPI_Comm), intent(in) :: comm
     type(config_t) :: cfg
     character(len=:), allocatable :: arg, file
-    logical :: check_only, restart_latest
+    logical :: check_only, restart_latest, start_over
     integer :: rank, nranks, k, n
 
     status = 0
@@ -32,6 +32,7 @@ contains
     call MPI_Comm_size(comm, nranks)
     check_only = .false.
     restart_latest = .false.
+    start_over = .false.
     file = ''
     do k = 1, command_argument_count()
       call get_command_argument(k, length=n)
@@ -47,6 +48,8 @@ contains
         check_only = .true.
       else if (arg == '--restart') then
         restart_latest = .true.
+      else if (arg == '--start-over') then
+        start_over = .true.
       else if (arg(1:min(1, n)) == '-' .or. len(file) > 0) then
         status = usage_error(rank, 'unexpected argument '''//arg//'''')
         return
@@ -60,7 +63,7 @@ contains
       return
     end if
 
-    call read_input(file, comm, cfg, status, restart_latest)
+    call read_input(file, comm, cfg, status, restart_latest, start_over)
     if (status /= 0) return
     if (check_only) then
       if (rank == 0) call print_config(cfg, output_unit)
@@ -98,7 +101,12 @@ contains
       '  mpirun -n N dpmpm --restart scene.nml continue from <dir>/<name>.ckpt.h5 when it', &
       '                                        exists, else start at t = 0 (&run restart =', &
       '                                        ''latest''): the same line for every job of a', &
-      '                                        chain', &
+      '                                        chain; where there is no checkpoint and', &
+      '                                        <dir>/<name>.h5 holds a finished run, it', &
+      '                                        stops (exit code 2) instead of replacing it', &
+      '  mpirun -n N dpmpm --restart --start-over scene.nml', &
+      '                                        the same, but a finished run without a', &
+      '                                        checkpoint is run again from t = 0', &
       '  dpmpm --help                          this text', &
       '  dpmpm --version                       version and git commit of the build', &
       '', &

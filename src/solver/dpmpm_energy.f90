@@ -11,10 +11,11 @@ module dpmpm_energy
   use dpmpm_verification_log, only: record_benchmark_errors, record_drive
   use dpmpm_state, only: state_t, exit_monitor
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM, MPI_MAX, MPI_Wtime, &
-                     MPI_MAXLOC, MPI_2DOUBLE_PRECISION, MPI_Bcast
+                     MPI_MAXLOC, MPI_2DOUBLE_PRECISION, MPI_Bcast, MPI_LOGICAL, MPI_LAND
   implicit none
   private
   public :: diagnostics, monitor_stopped, check_state, monitor_state, set_monitor_state, end_equilibrium
+  public :: state_valid
 
 contains
 
@@ -299,8 +300,11 @@ contains
     info = 0.0_wp
     info(1) = real(ps%id(p), wp)
     info(2:1 + self%nd) = ps%x(:, p)
+    ! (the cell of a finite position only: a non-finite one has none)
     do d = 1, self%nd
-      info(4 + d) = real(floor((ps%x(d, p) - self%grid%origin(d))/self%grid%h(d)), wp)
+      if (.not. ieee_is_finite(ps%x(d, p))) cycle
+      if (abs(ps%x(d, p) - self%grid%origin(d)) < 1.0e9_wp*self%grid%h(d)) &
+        info(4 + d) = real(floor((ps%x(d, p) - self%grid%origin(d))/self%grid%h(d)), wp)
     end do
   end function point_info
 
@@ -363,7 +367,9 @@ contains
           code = 2; v = sum(ps%v(:, p))
         else if (.not. all(ieee_is_finite(ps%stress(:, p)))) then
           code = 3; v = sum(ps%stress(:, p))
-        else if (.not. (ps%vol(p) > 0.0_wp .and. ieee_is_finite(ps%vol(p)))) then
+        else if (.not. ieee_is_finite(ps%vol(p))) then
+          code = 4; v = ps%vol(p)
+        else if (ps%vol(p) <= 0.0_wp) then
           code = 4; v = ps%vol(p)
         end if
         if (code == 0 .and. ps%has_pressure) then
@@ -387,6 +393,16 @@ contains
     end subroutine scan_set
   end subroutine check_state
 
+  !> Collective: every point of every set on every rank passes the tests of check_state.
+  !> The step asks it before the migration, which would lose a point whose position is not
+  !> finite (on more than one rank) before check_state could name it.
+  logical function state_valid(self) result(ok)
+    class(state_t), intent(in) :: self
+    ok = set_valid(self%phase(1)%pts)
+    if (self%two_phase .and. ok) ok = set_valid(self%phase(2)%pts)
+    call MPI_Allreduce(MPI_IN_PLACE, ok, 1, MPI_LOGICAL, MPI_LAND, self%dec%comm)
+  end function state_valid
+
   !> Whether every point of ps passes the tests of check_state's scan_set: the bad
   !> values counted field by field in loops without a branch, which the compiler
   !> vectorises (scan_set, with a branch per point, then names the first bad point).
@@ -396,10 +412,11 @@ contains
     n = ps%n
     nb = count_nonfinite(size(ps%x, 1)*n, ps%x) + count_nonfinite(size(ps%v, 1)*n, ps%v) + &
          count_nonfinite(size(ps%stress, 1)*n, ps%stress)
-    ! (positive and finite: 0 < v <= huge, false for NaN; two selects instead of .and.,
-    ! which would branch)
+    ! (positive and finite: the non-finite counted, then the others compared with 0, a
+    ! non-finite one replaced by 1 first: a comparison with NaN traps in the debug build)
+    nb = nb + count_nonfinite(n, ps%vol)
     do p = 1, n
-      nb = nb + 1 - merge(1, 0, ps%vol(p) > 0.0_wp)*merge(1, 0, ps%vol(p) <= huge(1.0_wp))
+      nb = nb + merge(0, 1, merge(ps%vol(p), 1.0_wp, ieee_is_finite(ps%vol(p))) > 0.0_wp)
     end do
     if (ps%has_pressure) nb = nb + count_nonfinite(n, ps%pressure)
     if (ps%has_porosity) nb = nb + count_nonfinite(n, ps%porosity)

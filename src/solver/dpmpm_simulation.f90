@@ -482,6 +482,8 @@ contains
       self%exit_code = exit_bad_input
       return
     end if
+    if (.not. st%has_checksum) call self%log%info('dpmpm: '//path//' carries no checksums '// &
+      '(an earlier version wrote it): its data are used unchecked')
     self%step = st%step
     self%time = st%time
     self%inflow_id0 = st%inflow_id0

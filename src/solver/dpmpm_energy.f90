@@ -330,6 +330,11 @@ contains
     integer :: iset
     character(len=*), parameter :: fields(6) = [character(len=24) :: 'position', 'velocity', &
       'stress', 'volume', 'pore pressure', 'porosity']
+    ! (the step found every point valid before its migration, which changes no value)
+    if (self%checked_valid) then
+      self%checked_valid = .false.
+      return
+    end if
     bad = [0.0_wp, real(self%dec%rank, wp)]
     info = 0.0_wp
     value = 0.0_wp

@@ -82,6 +82,9 @@ module dpmpm_state
     !> a model of the scene has a stiffness that follows the pressure: the time step takes
     !> each point's modulus (point_moduli)
     logical :: pressure_dependent = .false.
+    !> the step has found every point valid before its migration (state_valid), so that
+    !> check_state after it need not scan the points again
+    logical :: checked_valid = .false.
     !> &load surface = .true. (dpmpm_surface_loads): their nodal forces this step
     logical :: has_surface_loads = .false.
     real(wp), allocatable :: sforce(:, :, :, :)

@@ -410,7 +410,8 @@ contains
     ! in the wall test, on some rank counts only: the points stay where they are and the
     ! check of the state after the step (check_state) names the point and stops the run.
     call self%timers%tic(t_migrate)
-    if (.not. state_valid(self)) then
+    self%checked_valid = state_valid(self)
+    if (.not. self%checked_valid) then
       call self%timers%toc(t_migrate)
       return
     end if

@@ -39,6 +39,7 @@ from dpmpm.run import open_run  # noqa: E402
 SCENES = {
     "axial_bar": 0.1,
     "c1_a2": 0.05,
+    "cam_clay_undrained_2d": 0.2,
     "c1_3d": 0.02,
     "consolidation_2d": 0.1,
     "dam_break_dry_bed_2d": 0.05,

@@ -17,8 +17,10 @@
 !> exponential forms a constant-volume step keeps ln p + ((lambda - kappa)/kappa) ln p_c
 !> exactly, so that an undrained triaxial path lies on the closed form
 !> p/p_0 = (1 + eta^2/M^2)^(-(lambda - kappa)/lambda) at any step size (doc/verification.md).
-!> A step whose Newton iteration does not converge is split into 2, 4, ... substeps (up to
-!> 2^max_halvings); one that still fails is reported, never skipped.
+!> A trial stress in mean tension (possible down to -p_m) returns to the apex, zero effective
+!> stress: the soil has come apart. A step whose Newton iteration does not converge is split
+!> into 2, 4, ... substeps (up to 2^max_halvings); one that still fails is reported, never
+!> skipped.
 !> Two state values per point (dpmpm_model_table): the preconsolidation pressure p_c and the
 !> void ratio e (e + 1 follows the volume: (1 + e) = (1 + e_n) J over a step).
 module dpmpm_model_cam_clay
@@ -146,6 +148,14 @@ contains
     sdev = sdev + 2.0_wp*g*ddev
     qtr = sqrt(1.5_wp*(sdev(1)**2 + sdev(2)**2 + sdev(3)**2 + 2.0_wp*sum(sdev(4:6)**2)))
     pc = st(1)
+    ! A trial in mean tension lies beyond the apex of the surface, which holds p >= 0 only:
+    ! the soil has come apart and carries no effective stress (the apex return; p_c stays,
+    ! no plastic work is booked).
+    if (ptr <= 0.0_wp) then
+      stress = 0.0_wp
+      deps_e = deps
+      return
+    end if
     scale = max(pc, pn + pm, ptr + pm)**2
     if (qtr**2/m2 + ptr*(ptr - pc) <= newton_tol*scale) then
       stress = sdev

@@ -141,7 +141,7 @@ contains
       character(len=*), intent(in) :: name
       real(wp), intent(in) :: v(:)
       real(wp), allocatable :: c(:, :)
-      names = [names, [character(len=24) :: name]]
+      names = [character(len=24) :: names, name]
       allocate (c(hist%nrec, size(cols, 2) + 1))
       c(:, 1:size(cols, 2)) = cols
       c(:, size(c, 2)) = v(1:hist%nrec)

@@ -221,7 +221,7 @@ contains
     case (path_triaxial_undrained)
       if (strain_control) then
         ! eps_r = -eps_a / 2
-        dir = -split_ra
+        dir = split_ra
       else
         nu = 1
         bmat(:, 1) = -split_ra

@@ -499,7 +499,7 @@ contains
   subroutine test_cyclic_simple_shear_strain_control()
     type(element_cfg_t) :: cfg
     type(element_history_t) :: h
-    real(wp) :: eg
+    real(wp) :: eg, ew, f, w
     integer :: k
     call begin_test('cyclic_simple_shear_strain_control')
     cfg = elastic_test('simple_shear_undrained', 'strain')
@@ -508,12 +508,17 @@ contains
     h = run(cfg)
     call check_equal_int(h%status, element_ok, 'the path is complete')
     eg = 0.0_wp
+    ew = 0.0_wp
     do k = 1, h%nrec
       eg = max(eg, abs(h%shear_stress(k) - shear*h%shear_strain(k))/(shear*cfg%amplitude))
+      f = modulo(real(k - 1, wp)/cfg%steps, 1.0_wp)
+      w = merge(4.0_wp*f, merge(2.0_wp - 4.0_wp*f, 4.0_wp*f - 4.0_wp, f <= 0.75_wp), f <= 0.25_wp)
+      ew = max(ew, abs(h%shear_strain(k) - cfg%amplitude*w)/cfg%amplitude)
     end do
-    print '(a,es10.2)', '  measured: tau - G gamma ', eg
-    ! measured 1.9e-16: margin 500
+    print '(a,2es10.2)', '  measured: tau - G gamma, gamma off the triangle ', eg, ew
+    ! measured 1.9e-16 and exactly 0 (the increments of a triangle sum exactly here)
     call check(eg <= 1.0e-13_wp, 'tau = G gamma')
+    call check(ew <= 1.0e-13_wp, 'gamma on the triangle')
     call check_close(maxval(h%shear_strain(1:h%nrec)), cfg%amplitude, 1.0e-14_wp, 0.0_wp, &
                      'peak gamma')
     call check_close(minval(h%shear_strain(1:h%nrec)), -cfg%amplitude, 1.0e-14_wp, 0.0_wp, &

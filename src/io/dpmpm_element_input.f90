@@ -252,6 +252,8 @@ contains
     if (any(cfg%initial_stress /= 0.0_wp)) then
       if (cfg%p0 /= 0.0_wp) call bad('p0', rtoa(cfg%p0), 'give the initial stress once: '// &
                                      'p0 (with k0) or initial_stress, not both')
+      if (cfg%k0 /= 1.0_wp) call bad('k0', rtoa(cfg%k0), 'initial_stress gives every normal '// &
+                                     'stress: leave k0 out')
       if (.not. (all(abs(cfg%initial_stress) < huge(1.0_wp)) .and. &
                  -sum(cfg%initial_stress) > 0.0_wp)) then
         call bad('initial_stress', rtoa_list(cfg%initial_stress), 'must be finite with a '// &

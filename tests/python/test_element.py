@@ -113,3 +113,26 @@ def test_example_element_test_runs_and_plots(workdir):
     assert r.returncode == 0, r.stderr
     with open(png, "rb") as f:
         assert f.read(8) == PNG
+
+
+def test_element_check_prints_parameters_that_read_back(workdir):
+    exe = os.environ.get("DPMPM_ELEMENT_BIN")
+    if not exe:
+        pytest.skip("DPMPM_ELEMENT_BIN not set: no dpmpm_element executable to run")
+    d = os.path.join(workdir, "element_check")
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(d)
+    nml = os.path.join(ROOT, "inputs", "element", "triaxial_drained.nml")
+    first = subprocess.run([os.path.abspath(exe), "--check", nml], capture_output=True,
+                           text=True, cwd=d)
+    assert first.returncode == 0, first.stderr
+    assert "&material" in first.stdout and "&element" in first.stdout
+    assert "friction_angle = 32.0" in first.stdout and "steps = 200" in first.stdout
+    echo = os.path.join(d, "echo.nml")
+    with open(echo, "w") as f:
+        f.write(first.stdout)
+    again = subprocess.run([os.path.abspath(exe), "--check", echo], capture_output=True,
+                           text=True, cwd=d)
+    assert again.returncode == 0, again.stderr
+    assert again.stdout.splitlines()[1:] == first.stdout.splitlines()[1:]
+    assert not os.path.exists(os.path.join(d, "out")), "--check writes no file"

@@ -110,6 +110,7 @@ contains
     eps = 0.0_wp
     vol = 1.0_wp
     defgrad = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp]
+    ! the model's state values at the initial stress: set_initial_state, the one place
     call set_initial_state(mat, sig0, st)
     call plan(path, strain_control, dir, bmat, nu)
     y0 = stress_measure(path, sig0)
@@ -156,8 +157,10 @@ contains
         hist%message = 'step '//itoa(k)//' of '//itoa(nsteps)//' did not converge in '// &
                        itoa(cfg%max_iterations)//' iterations: the stress conditions are off by '// &
                        num(res)//' of the stress scale '//num(scale)//' Pa (tolerance '// &
-                       num(cfg%tolerance)//'); a stress target beyond the strength of the '// &
-                       'material has no strain that reaches it'
+                       num(cfg%tolerance)//')'
+        if (.not. strain_control) hist%message = hist%message//'; a stress target beyond '// &
+                                                 'the strength of the material has no strain '// &
+                                                 'that reaches it'
         return
       end if
       call update(mat, cfg%dt, deps, sig, vol, defgrad, st)

@@ -8,6 +8,7 @@
 """
 from .compare import Comparison, compare_runs
 from .consolidation import compare_terzaghi, terzaghi_setup
+from .element import ElementTest, read_element
 from .profile import Profile, bin_edges, cell_average, profile
 from .run import STRESS_COMPONENTS, Frame, Grid, PointSet, Run, open_run, von_mises
 from .xdmf import write_xdmf, xdmf_text
@@ -32,9 +33,15 @@ def plot_terzaghi(run, out, times=None, setup=None, dpi=120):
     return consolidation.plot_terzaghi(run, out, times=times, setup=setup, dpi=dpi)
 
 
+def plot_element(test, out, dpi=110):
+    """The calibration plots of an element test in a PNG (dpmpm.element.plot_element)."""
+    from . import element
+    return element.plot_element(test, out, dpi=dpi)
+
+
 __version__ = "0.1.0"
 
 __all__ = ["open_run", "Run", "Frame", "PointSet", "Grid", "STRESS_COMPONENTS", "von_mises",
            "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
            "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",
-           "compare_terzaghi", "plot_terzaghi"]
+           "compare_terzaghi", "plot_terzaghi", "read_element", "ElementTest", "plot_element"]

@@ -1,4 +1,4 @@
-"""Command line: python -m dpmpm {info,plot,profile,compare,xdmf,terzaghi} FILE...
+"""Command line: python -m dpmpm {info,plot,profile,compare,xdmf,terzaghi,element} FILE...
 
 Exit status: 0 success (compare: the runs agree within --rtol), 1 the runs differ
 (compare), 2 bad arguments or a file that cannot be read.
@@ -127,6 +127,22 @@ def cmd_terzaghi(args):
     return 0
 
 
+def cmd_element(args):
+    from .element import plot_element, read_element
+    test = read_element(args.file)
+    out = args.output or os.path.splitext(args.file)[0] + ".png"
+    plot_element(test, out)
+    last = -1
+    print(f"# {test.model}: {test.path}, {test.control} control, {test.steps_done} of "
+          f"{test.steps} steps ({test.status}); at the end p' = {test['p'][last]:.6g} Pa, "
+          f"q = {test['q'][last]:.6g} Pa, eps_a = {test['axial_strain'][last]:.6g}, "
+          f"eps_v = {test['volumetric_strain'][last]:.6g}")
+    if not test.complete:
+        print(f"# stopped: {test.message}")
+    print(out)
+    return 0
+
+
 def parser():
     ap = argparse.ArgumentParser(prog="dpmpm-py", description="Read, plot and check dpmpm "
                                  "output files (HDF5, doc/output.md).")
@@ -180,6 +196,12 @@ def parser():
                    "(repeatable; default: five frames)")
     p.add_argument("--tolerance", type=float, help="exit 1 when an error exceeds this (/ p0)")
     p.set_defaults(func=cmd_terzaghi)
+
+    p = sub.add_parser("element", help="an element test (dpmpm_element): q-p', q-eps_a, "
+                       "e-log p' and pore pressure against cycles in a PNG")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("-o", "--output", help="PNG to write (default: FILE with .png)")
+    p.set_defaults(func=cmd_element)
     return ap
 
 

@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """The undrained path of a Modified Cam-Clay element in a dpmpm run against its closed form.
 
-Usage: scripts/cam_clay_undrained.py OUT.h5 [--bound B] [--png FILE]
+Usage: scripts/cam_clay_undrained.py FILE.h5 [FILE.h5 ...] [--bound B] [--png FILE]
+
+Each file is a run's output (every solid point of every frame) or an element test's file
+(dpmpm_element: every step).
 
 For a normally consolidated soil that keeps its volume, p'/p'0 = (1 + eta^2/M^2)^(-Lambda),
 Lambda = (lambda - kappa)/lambda, eta = q/p' (Wood 1990, ch. 7; doc/theory.md 5.7), along any
@@ -41,31 +44,48 @@ def clay_constants(f):
     raise SystemExit("no cam_clay material in the run's input")
 
 
+def run_paths(f, big, mcs):
+    """A run's solid points, frame by frame: p0 and a list of (p, q); prints each frame."""
+    frames = f["frames"]
+    names = sorted(frames)
+    p0 = invariants(frames[names[0]]["solid"]["stress"][...])[0].mean()
+    paths = []
+    for k in names:
+        fr = frames[k]
+        p, q = invariants(fr["solid"]["stress"][...])
+        ref = p0 * (1.0 + (q / p / mcs) ** 2) ** (-big)
+        u = fr["fluid"]["pore_pressure"][...].mean() if "fluid" in fr else float("nan")
+        print(f"t = {fr.attrs['time']:7.3f} s  eta {np.mean(q / p):6.3f}  largest "
+              f"|p'/closed form - 1| {np.abs(p / ref - 1.0).max():9.2e}  mean pore pressure "
+              f"{u:10.1f} Pa")
+        paths.append((p, q))
+    return p0, paths
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("h5")
+    ap.add_argument("h5", nargs="+")
     ap.add_argument("--bound", type=float, default=None)
     ap.add_argument("--png", default=None)
     a = ap.parse_args()
-    with h5py.File(a.h5, "r") as f:
-        lam, kap, mcs = clay_constants(f)
-        big = 1.0 - kap / lam
-        frames = f["frames"]
-        names = sorted(frames)
-        p0 = invariants(frames[names[0]]["solid"]["stress"][...])[0].mean()
-        worst = 0.0
-        paths = []
-        for k in names:
-            fr = frames[k]
-            p, q = invariants(fr["solid"]["stress"][...])
-            ref = p0 * (1.0 + (q / p / mcs) ** 2) ** (-big)
-            err = float(np.abs(p / ref - 1.0).max())
+    worst = 0.0
+    curves = []
+    for name in a.h5:
+        with h5py.File(name, "r") as f:
+            lam, kap, mcs = clay_constants(f)
+            big = 1.0 - kap / lam
+            if "element" in f:
+                p, q = f["element/p"][...], f["element/q"][...]
+                p0 = p[0]
+                paths = [(p, q)]
+            else:
+                p0, paths = run_paths(f, big, mcs)
+            err = max(float(np.abs(p / (p0 * (1.0 + (q / p / mcs) ** 2) ** (-big)) - 1.0).max())
+                      for p, q in paths)
+            print(f"{name}: largest |p'/closed form - 1| {err:.3e}")
             worst = max(worst, err)
-            u = fr["fluid"]["pore_pressure"][...].mean() if "fluid" in fr else float("nan")
-            print(f"t = {fr.attrs['time']:7.3f} s  eta {np.mean(q / p):6.3f}  "
-                  f"largest |p'/closed form - 1| {err:9.2e}  mean pore pressure {u:10.1f} Pa")
-            paths.append((p, q))
-    print(f"largest difference over the run {worst:.3e}")
+            curves.append((name, "element" in f, paths))
+    print(f"largest difference {worst:.3e}")
     if a.png:
         import matplotlib
         matplotlib.use("Agg")
@@ -75,9 +95,14 @@ def main():
         pc = p0 * (1.0 + (eta / mcs) ** 2) ** (-big)
         ax.plot(pc / 1e3, eta * pc / 1e3, "k-", label="closed form")
         ax.plot(np.array([0, p0]) / 1e3, mcs * np.array([0, p0]) / 1e3, "k:", label="q = M p'")
-        for p, q in paths:
-            ax.plot(p / 1e3, q / 1e3, "o", ms=2, color="tab:red")
-        ax.plot([], [], "o", ms=2, color="tab:red", label="points, every frame")
+        for name, element, paths in curves:
+            if element:
+                p, q = paths[0]
+                ax.plot(p / 1e3, q / 1e3, "--", color="tab:blue", label="element test (triaxial)")
+            else:
+                for p, q in paths:
+                    ax.plot(p / 1e3, q / 1e3, "o", ms=2, color="tab:red")
+                ax.plot([], [], "o", ms=2, color="tab:red", label="scene points, every frame")
         ax.set_xlabel("p' (kPa)")
         ax.set_ylabel("q (kPa)")
         ax.legend()

@@ -27,7 +27,7 @@ module dpmpm_element_path
                                   path_triaxial_drained, path_triaxial_undrained, &
                                   path_simple_shear_drained, path_simple_shear_undrained, &
                                   path_from_name, target_of, initial_effective_stress
-  use dpmpm_materials, only: material_t, stress_update
+  use dpmpm_materials, only: material_t, stress_update, init_state, point_moduli
   use dpmpm_model_table, only: model_nstate, model_table
   use dpmpm_strings, only: itoa
   implicit none
@@ -80,7 +80,11 @@ contains
     type(material_t), intent(in) :: mat
     real(wp), intent(in) :: stress(6)
     real(wp), intent(out) :: state(:)
-    state = 0.0_wp
+    real(wp) :: s(6, 1), st(size(state), 1)
+    s(:, 1) = stress
+    st = 0.0_wp
+    if (size(state) > 0) call init_state(mat, 1, 1, [1], s, st)
+    state = st(:, 1)
   end subroutine set_initial_state
 
   !> Run the element test cfg of material mat (material index 1 of stress_update) into
@@ -382,7 +386,7 @@ contains
     integer, intent(out) :: it
     logical, intent(out) :: ok
     real(wp) :: r(max_unknowns), rt(max_unknowns), jac(max_unknowns, max_unknowns)
-    real(wp) :: du(max_unknowns), ut(max_unknowns), h, lam, href, rnorm, tnorm
+    real(wp) :: du(max_unknowns), ut(max_unknowns), h, lam, href, rnorm, tnorm, pw(1)
     integer :: j
     logical :: strain_control
     strain_control = trim(cfg%control) == 'strain'
@@ -392,7 +396,10 @@ contains
     deps = dknown
     if (nu == 0) return
     ! forward-difference steps: small against the strains that change the stress by scale
-    href = 1.0e-8_wp*scale/max(mat%youngs, 1.0_wp)
+    ! (the constrained modulus of the point: a model whose stiffness follows the pressure
+    ! has its own at this stress)
+    call point_moduli([mat], 1, [1], reshape(s, [6, 1]), reshape(state, [size(state), 1]), pw)
+    href = 1.0e-8_wp*scale/max(pw(1), 1.0_wp)
     r(1:nu) = conditions_at(u)
     rnorm = maxval(abs(r(1:nu)))
     do

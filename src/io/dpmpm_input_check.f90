@@ -10,14 +10,12 @@ module dpmpm_input_check
                           porosity_varies, region_levels, level_unset, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
-  use dpmpm_model_table, only: model_from_name, model_names
   use dpmpm_mls, only: basis_from_name
   use dpmpm_shape_plan, only: shape_plan_t, max_gauss
-  use dpmpm_plasticity, only: plastic_params_t, plastic_setup, softening_limit, dp_match_names, &
-                              dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
   use dpmpm_input_problems, only: input_problems_t, g_run, g_grid, g_shape, g_material, &
                                   g_region, g_load, g_output, g_benchmark, add_value, add_warning, &
-                                  real_ok
+                                  real_ok, check_finite
+  use dpmpm_input_check_material, only: check_material
   use dpmpm_strings, only: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, next_word
   use mpi_f08, only: MPI_Dims_create
   implicit none
@@ -32,7 +30,7 @@ contains
     type(input_problems_t), intent(inout) :: pb
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: nranks
-    integer :: nd, d, k, j
+    integer :: nd, d, k
     logical :: grid_ok, ndim_ok, exists
 
     ! &run
@@ -188,52 +186,8 @@ contains
 
     ! &material
     do k = 1, size(cfg%materials)
-      associate (m => cfg%materials(k))
-        if (model_from_name(m%model) == 0) call add_value(pb, g_material, k, 'model', &
-          quote(m%model), 'the models are '//model_names())
-        if (.not. real_ok(m%density, gt=0.0_wp)) call add_value(pb, g_material, k, 'density', &
-          rtoa(m%density), 'must be > 0 (kg/m^3)')
-        call check_finite(pb, g_material, k, 'velocity', m%velocity)
-        if (any(m%velocity /= 0.0_wp) .and. m%model /= 'rigid') call add_value(pb, g_material, &
-          k, 'velocity', rtoa_list(m%velocity), "only a rigid body (model = 'rigid') has a "// &
-          'prescribed velocity; give a moving body its initial velocity in &region velocity')
-        if (m%model == 'rigid') then
-          ! A rigid body: only density and velocity matter.
-          call check_rigid(pb, cfg, k)
-        else if (m%model == 'fluid') then
-          ! A linear compressible fluid: only density and bulk_modulus matter.
-          if (.not. real_ok(m%bulk_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
-            'bulk_modulus', rtoa(m%bulk_modulus), 'must be > 0 (Pa) for a fluid')
-        else if (m%model == 'cam_clay') then
-          call check_cam_clay(pb, k, m)
-        else
-          if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
-            'youngs_modulus', rtoa(m%youngs_modulus), 'must be > 0 (Pa)')
-          if (.not. real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) call add_value(pb, &
-            g_material, k, 'poisson_ratio', rtoa(m%poisson_ratio), &
-            'must be in (-1, 0.5): 0.5 is incompressible, which these models cannot represent')
-        end if
-        if (.not. real_ok(m%conductivity, ge=0.0_wp)) call add_value(pb, g_material, k, &
-          'conductivity', rtoa(m%conductivity), 'must be >= 0 (m/s; 0 = no pore fluid flow)')
-        if (.not. any(m%conductivity_law == [character(len=13) :: 'constant', 'kozeny_carman'])) &
-          call add_value(pb, g_material, k, 'conductivity_law', quote(m%conductivity_law), &
-                         'the laws are constant, kozeny_carman (k = conductivity n^3 (1 - n0)^2 / '// &
-                         '((1 - n)^2 n0^3) at porosity n, initial porosity n0)')
-        call check_unused_material(pb, k, m)
-        if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') then
-          call check_plastic(pb, k, m)
-        else if (m%max_dilation /= 0.0_wp) then
-          call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
-                         'only a mohr_coulomb or drucker_prager soil has this bound; leave it 0')
-        end if
-        do j = 1, k - 1
-          if (cfg%materials(j)%id == m%id) then
-            call add_value(pb, g_material, k, 'id', itoa(m%id), &
-                           'ids must be unique; &material number '//itoa(j)//' has it already')
-            exit
-          end if
-        end do
-      end associate
+      call check_material(pb, cfg%materials, k)
+      if (cfg%materials(k)%model == 'rigid') call check_rigid(pb, cfg, k)
     end do
 
     ! &region
@@ -741,20 +695,6 @@ contains
     end associate
   end subroutine check_saturated
 
-  !> A problem when any value of x is not a finite number.
-  subroutine check_finite(pb, g, k, var, x)
-    type(input_problems_t), intent(inout) :: pb
-    integer, intent(in) :: g, k
-    character(len=*), intent(in) :: var
-    real(wp), intent(in) :: x(:)
-    integer :: j
-    do j = 1, size(x)
-      if (.not. ieee_is_finite(x(j))) then
-        call add_value(pb, g, k, var//'('//itoa(j)//')', rtoa(x(j)), 'must be a finite number')
-      end if
-    end do
-  end subroutine check_finite
-
   !> solid_fields / fluid_fields: known names only; a fluid set has no stress to write.
   subroutine check_fields(pb, var, list, fluid)
     type(input_problems_t), intent(inout) :: pb
@@ -789,187 +729,6 @@ contains
       end if
     end do
   end function unknown_field
-
-  !> The variables of material k that its model does not use, given with another value than
-  !> the default: a warning each (a friction angle on an elastic material, a Young's
-  !> modulus on a fluid).
-  subroutine check_unused_material(pb, k, m)
-    type(input_problems_t), intent(inout) :: pb
-    integer, intent(in) :: k
-    type(material_cfg_t), intent(in) :: m
-    type(material_cfg_t) :: d
-    logical :: plastic, skeleton
-    character(len=:), allocatable :: why
-    if (model_from_name(m%model) == 0) return
-    why = 'does nothing with model = '//quote(m%model)
-    if (m%model == 'cam_clay') then
-      if (m%youngs_modulus /= d%youngs_modulus) call add_warning(pb, g_material, k, &
-        'youngs_modulus', rtoa(m%youngs_modulus), why//' (its stiffness follows the pressure: '// &
-        'swelling_index, with poisson_ratio or shear_modulus)')
-    else
-      call warn_cam_clay_variables(pb, k, m, d, why//" (only 'cam_clay' takes it)")
-    end if
-    plastic = m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager'
-    skeleton = m%model /= 'fluid' .and. m%model /= 'rigid'
-    if (.not. skeleton) then
-      if (m%youngs_modulus /= d%youngs_modulus) call add_warning(pb, g_material, k, &
-        'youngs_modulus', rtoa(m%youngs_modulus), why)
-      if (m%poisson_ratio /= d%poisson_ratio) call add_warning(pb, g_material, k, &
-        'poisson_ratio', rtoa(m%poisson_ratio), why)
-    end if
-    if (m%model /= 'fluid' .and. m%bulk_modulus /= d%bulk_modulus) call add_warning(pb, &
-      g_material, k, 'bulk_modulus', rtoa(m%bulk_modulus), why//" (only a 'fluid' takes it)")
-    if (plastic) then
-      if (m%model == 'mohr_coulomb' .and. m%dp_match /= d%dp_match) call add_warning(pb, &
-        g_material, k, 'dp_match', quote(m%dp_match), why//" (only 'drucker_prager' takes it)")
-      return
-    end if
-    why = why//' (only mohr_coulomb and drucker_prager take it)'
-    if (m%friction_angle /= d%friction_angle) call add_warning(pb, g_material, k, &
-      'friction_angle', rtoa(m%friction_angle), why)
-    if (m%dilatancy_angle /= d%dilatancy_angle) call add_warning(pb, g_material, k, &
-      'dilatancy_angle', rtoa(m%dilatancy_angle), why)
-    if (m%cohesion /= d%cohesion) call add_warning(pb, g_material, k, 'cohesion', &
-      rtoa(m%cohesion), why)
-    if (m%tensile_strength /= d%tensile_strength) call add_warning(pb, g_material, k, &
-      'tensile_strength', rtoa(m%tensile_strength), why)
-    if (m%cohesion_softening /= d%cohesion_softening) call add_warning(pb, g_material, k, &
-      'cohesion_softening', rtoa(m%cohesion_softening), why)
-    if (m%residual_cohesion /= d%residual_cohesion) call add_warning(pb, g_material, k, &
-      'residual_cohesion', rtoa(m%residual_cohesion), why)
-    if (m%dp_match /= d%dp_match) call add_warning(pb, g_material, k, 'dp_match', &
-      quote(m%dp_match), why)
-  end subroutine check_unused_material
-
-  !> The variables of Modified Cam-Clay given to material k of another model.
-  subroutine warn_cam_clay_variables(pb, k, m, d, why)
-    type(input_problems_t), intent(inout) :: pb
-    integer, intent(in) :: k
-    type(material_cfg_t), intent(in) :: m, d
-    character(len=*), intent(in) :: why
-    if (m%compression_index /= d%compression_index) call add_warning(pb, g_material, k, &
-      'compression_index', rtoa(m%compression_index), why)
-    if (m%swelling_index /= d%swelling_index) call add_warning(pb, g_material, k, &
-      'swelling_index', rtoa(m%swelling_index), why)
-    if (m%critical_state_ratio /= d%critical_state_ratio) call add_warning(pb, g_material, k, &
-      'critical_state_ratio', rtoa(m%critical_state_ratio), why)
-    if (m%void_ratio /= d%void_ratio) call add_warning(pb, g_material, k, 'void_ratio', &
-      rtoa(m%void_ratio), why)
-    if (m%preconsolidation_pressure /= d%preconsolidation_pressure) call add_warning(pb, &
-      g_material, k, 'preconsolidation_pressure', rtoa(m%preconsolidation_pressure), why)
-    if (m%ocr /= d%ocr) call add_warning(pb, g_material, k, 'ocr', rtoa(m%ocr), why)
-    if (m%shear_modulus /= d%shear_modulus) call add_warning(pb, g_material, k, 'shear_modulus', &
-      rtoa(m%shear_modulus), why)
-    if (m%min_pressure /= d%min_pressure) call add_warning(pb, g_material, k, 'min_pressure', &
-      rtoa(m%min_pressure), why)
-  end subroutine warn_cam_clay_variables
-
-  !> The parameters of a cam_clay material k (Modified Cam-Clay, doc/input.md): lambda >
-  !> kappa > 0, M > 0, e0 > 0, p_c0 >= 0, ocr >= 1, p_m >= 0, G >= 0 (0: from K and nu).
-  subroutine check_cam_clay(pb, k, m)
-    type(input_problems_t), intent(inout) :: pb
-    integer, intent(in) :: k
-    type(material_cfg_t), intent(in) :: m
-    if (.not. real_ok(m%swelling_index, gt=0.0_wp)) then
-      call add_value(pb, g_material, k, 'swelling_index', rtoa(m%swelling_index), &
-                     'must be > 0: kappa, the slope of e against ln p'' on unloading (a cam_clay '// &
-                     'soil needs it; 0.01-0.05 for clays)')
-    else if (.not. real_ok(m%compression_index, gt=m%swelling_index)) then
-      call add_value(pb, g_material, k, 'compression_index', rtoa(m%compression_index), &
-                     'must be > swelling_index = '//rtoa(m%swelling_index)//': lambda, the slope '// &
-                     'of e against ln p'' on the normal compression line')
-    end if
-    if (.not. real_ok(m%critical_state_ratio, gt=0.0_wp)) call add_value(pb, g_material, k, &
-      'critical_state_ratio', rtoa(m%critical_state_ratio), 'must be > 0: M = q/p'' at the '// &
-      'critical state (6 sin(phi)/(3 - sin(phi)) in compression)')
-    if (.not. real_ok(m%void_ratio, gt=0.0_wp)) call add_value(pb, g_material, k, 'void_ratio', &
-      rtoa(m%void_ratio), 'must be > 0: the void ratio e0 at the initial stress')
-    if (.not. real_ok(m%preconsolidation_pressure, ge=0.0_wp)) call add_value(pb, g_material, k, &
-      'preconsolidation_pressure', rtoa(m%preconsolidation_pressure), &
-      'must be >= 0 (Pa; 0 = ocr times the yield surface through the initial stress)')
-    if (.not. real_ok(m%ocr, ge=1.0_wp)) call add_value(pb, g_material, k, 'ocr', rtoa(m%ocr), &
-      'must be >= 1 (1: normally consolidated)')
-    if (.not. real_ok(m%min_pressure, ge=0.0_wp)) call add_value(pb, g_material, k, &
-      'min_pressure', rtoa(m%min_pressure), 'must be >= 0 (Pa)')
-    if (.not. real_ok(m%shear_modulus, ge=0.0_wp)) then
-      call add_value(pb, g_material, k, 'shear_modulus', rtoa(m%shear_modulus), &
-                     'must be >= 0 (Pa; 0 = from the bulk modulus and poisson_ratio)')
-    else if (m%shear_modulus == 0.0_wp .and. .not. real_ok(m%poisson_ratio, gt=-1.0_wp, &
-                                                          lt=0.5_wp)) then
-      call add_value(pb, g_material, k, 'poisson_ratio', rtoa(m%poisson_ratio), &
-                     'must be in (-1, 0.5) (it gives G from K with shear_modulus = 0)')
-    end if
-  end subroutine check_cam_clay
-
-  !> Strength parameters of a mohr_coulomb or drucker_prager material k.
-  subroutine check_plastic(pb, k, m)
-    type(input_problems_t), intent(inout) :: pb
-    integer, intent(in) :: k
-    type(material_cfg_t), intent(in) :: m
-    type(plastic_params_t) :: par
-    real(wp) :: hmax
-    integer :: match
-    logical :: ok
-    ok = .true.
-    if (.not. real_ok(m%friction_angle, ge=0.0_wp, lt=90.0_wp)) then
-      call add_value(pb, g_material, k, 'friction_angle', rtoa(m%friction_angle), &
-                     'must be in [0, 90) (degrees)')
-      ok = .false.
-    end if
-    if (.not. real_ok(m%dilatancy_angle, ge=0.0_wp)) then
-      call add_value(pb, g_material, k, 'dilatancy_angle', rtoa(m%dilatancy_angle), &
-                     'must be >= 0 (degrees)')
-      ok = .false.
-    else if (ok .and. m%dilatancy_angle > m%friction_angle) then
-      call add_value(pb, g_material, k, 'dilatancy_angle', rtoa(m%dilatancy_angle), &
-                     'must not exceed friction_angle = '//rtoa(m%friction_angle)// &
-                     ' (psi > phi would create energy)')
-      ok = .false.
-    end if
-    if (.not. real_ok(m%cohesion, ge=0.0_wp)) then
-      call add_value(pb, g_material, k, 'cohesion', rtoa(m%cohesion), 'must be >= 0 (Pa)')
-      ok = .false.
-    else if (ok .and. m%cohesion == 0.0_wp .and. m%friction_angle == 0.0_wp) then
-      call add_value(pb, g_material, k, 'cohesion', rtoa(m%cohesion), &
-                     'with friction_angle = 0 the soil needs a cohesion > 0 (Pa): it has no '// &
-                     'shear strength at all')
-    end if
-    if (.not. real_ok(m%tensile_strength, ge=0.0_wp)) call add_value(pb, g_material, k, &
-      'tensile_strength', rtoa(m%tensile_strength), 'must be >= 0 (Pa; 0 = no tension)')
-    if (.not. real_ok(m%max_dilation, ge=0.0_wp) .or. (m%max_dilation > 0.0_wp .and. m%max_dilation <= 1.0_wp)) &
-      call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
-                     'must be 0 (no bound) or > 1 (the largest volume of a point over its initial one)')
-    if (.not. real_ok(m%residual_cohesion, ge=0.0_wp)) then
-      call add_value(pb, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
-                     'must be >= 0 (Pa)')
-    else if (real_ok(m%cohesion) .and. m%residual_cohesion > m%cohesion) then
-      call add_value(pb, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
-                     'must not exceed cohesion = '//rtoa(m%cohesion)//' (softening lowers it)')
-    end if
-    match = findloc(dp_match_names, trim(m%dp_match), dim=1)
-    if (match == 0) then
-      call add_value(pb, g_material, k, 'dp_match', quote(m%dp_match), &
-                     'the matchings of Drucker-Prager to Mohr-Coulomb are plane_strain, outer, '// &
-                     'inner')
-      match = dp_plane_strain
-    end if
-    if (.not. real_ok(m%cohesion_softening, ge=0.0_wp)) then
-      call add_value(pb, g_material, k, 'cohesion_softening', rtoa(m%cohesion_softening), &
-                     'must be >= 0 (Pa per unit plastic strain; 0 = no softening)')
-    else if (ok .and. real_ok(m%youngs_modulus, gt=0.0_wp) .and. &
-             real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) then
-      par = plastic_setup(merge(surface_mohr_coulomb, surface_drucker_prager, &
-                                m%model == 'mohr_coulomb'), &
-                          m%youngs_modulus/(3.0_wp*(1.0_wp - 2.0_wp*m%poisson_ratio)), &
-                          m%youngs_modulus/(2.0_wp*(1.0_wp + m%poisson_ratio)), &
-                          m%friction_angle, m%dilatancy_angle, m%cohesion, m%tensile_strength, &
-                          m%cohesion_softening, m%residual_cohesion, match)
-      hmax = softening_limit(par)
-      if (m%cohesion_softening >= hmax) call add_value(pb, g_material, k, 'cohesion_softening', &
-        rtoa(m%cohesion_softening), 'must be < '//rtoa(hmax)//' (Pa) with these elastic '// &
-        'constants and angles: a steeper softening has no unique return')
-    end if
-  end subroutine check_plastic
 
   !> The names of the first n kernels, comma separated.
   function all_kernels(n) result(s)

@@ -7,12 +7,13 @@
 module dpmpm_input_problems
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
-  use dpmpm_strings, only: itoa
+  use dpmpm_strings, only: itoa, rtoa
   implicit none
   private
   public :: input_problems_t, ngroups, group_names, repeatable
   public :: g_run, g_grid, g_shape, g_material, g_region, g_boundary, g_load, g_output, g_benchmark
   public :: add_value, add_raw, add_file_problem, add_warning, place, lines_of, real_ok
+  public :: check_finite
 
   integer, parameter :: g_run = 1, g_grid = 2, g_shape = 3, g_material = 4, g_region = 5, &
                         g_boundary = 6, g_load = 7, g_output = 8, g_benchmark = 9, ngroups = 9
@@ -234,5 +235,19 @@ contains
     if (present(lt)) ok = ok .and. x < lt
     if (present(le)) ok = ok .and. x <= le
   end function real_ok
+
+  !> A problem when any value of x is not a finite number.
+  subroutine check_finite(pb, g, k, var, x)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: g, k
+    character(len=*), intent(in) :: var
+    real(wp), intent(in) :: x(:)
+    integer :: j
+    do j = 1, size(x)
+      if (.not. ieee_is_finite(x(j))) then
+        call add_value(pb, g, k, var//'('//itoa(j)//')', rtoa(x(j)), 'must be a finite number')
+      end if
+    end do
+  end subroutine check_finite
 
 end module dpmpm_input_problems

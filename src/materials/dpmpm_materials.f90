@@ -18,7 +18,7 @@ module dpmpm_materials
   use dpmpm_model_plastic, only: plastic_update
   use dpmpm_model_cam_clay, only: cam_clay_update, cam_clay_init_state, cam_clay_moduli, &
                                   cam_clay_energy
-  use dpmpm_model_umat, only: umat_update
+  use dpmpm_model_umat, only: umat_update, umat_init_state
   use dpmpm_tensor, only: as_3x3, det3
   implicit none
   private
@@ -192,7 +192,7 @@ contains
 
   !> The initial state values of the points of material index m from their initial stress
   !> (after the geostatic start; a restart reads them instead): 0 for every model but
-  !> cam_clay (its preconsolidation pressure and void ratio).
+  !> cam_clay (its preconsolidation pressure and void ratio) and umat (SSE).
   subroutine init_state(mat, m, n, pmat, stress, state)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
@@ -202,6 +202,8 @@ contains
     select case (mat%model)
     case (model_cam_clay)
       call cam_clay_init_state(mat, m, n, pmat, stress, state)
+    case (model_umat)
+      call umat_init_state(mat, m, n, pmat, stress, state)
     end select
   end subroutine init_state
 

@@ -29,7 +29,7 @@ module dpmpm_model_umat
   use dpmpm_error, only: fatal
   implicit none
   private
-  public :: umat_update, umat_own, max_substeps, abaqus_order
+  public :: umat_update, umat_init_state, umat_own, max_substeps, abaqus_order
 
   !> The state values the wrapper keeps before the UMAT's STATEV: STRAN (6), SSE, SPD, SCD.
   integer, parameter :: umat_own = 9
@@ -137,6 +137,30 @@ contains
     end do
     if (present(dissipation)) dissipation = wsum
   end subroutine umat_update
+
+  !> The state of the points of material index m at the start: STRAN, SPD, SCD and the
+  !> STATEV 0 (a UMAT that needs its own start sets it at its first call), and SSE the
+  !> elastic energy of the initial stress with youngs_modulus and poisson_ratio,
+  !> sigma : C^-1 : sigma / 2, so that the stored energy does not jump at the first step
+  !> (exact for a linear-elastic UMAT of those constants; from the first step on SSE is the
+  !> UMAT's).
+  subroutine umat_init_state(mat, m, n, pmat, stress, state)
+    type(material_t), intent(in) :: mat
+    integer, intent(in) :: m, n
+    integer, intent(in) :: pmat(:)
+    real(wp), intent(in) :: stress(:, :)
+    real(wp), intent(inout) :: state(:, :)
+    real(wp) :: s(6), tr
+    integer :: p
+    do p = 1, n
+      if (pmat(p) /= m) cycle
+      s = stress(:, p)
+      tr = s(1) + s(2) + s(3)
+      state(:, p) = 0.0_wp
+      state(7, p) = 0.5_wp*((1.0_wp + mat%poisson)*(sum(s(1:3)**2) + 2.0_wp*sum(s(4:6)**2)) - &
+                            mat%poisson*tr**2)/mat%youngs
+    end do
+  end subroutine umat_init_state
 
   !> One step of one point in nsub substeps of dt/nsub: the stress s and the state st
   !> (the wrapper's values and STATEV) from the start of the step to its end; done is false

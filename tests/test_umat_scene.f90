@@ -1,13 +1,15 @@
-!> A full scene with the UMAT wrapper (dpmpm_model_umat) and the linear-elastic example
-!> UMAT (umat/umat_linear_elastic.f, linked into this program): a column under gravity,
-!> released on one side, in 2D (plane strain) and 3D, ends where the same scene with the
-!> built-in linear_elastic ends, to round-off (positions, velocities, stresses of every
-!> point, and the energy balance), on 1 and 2 ranks. The points of the umat keep STRAN,
-!> SSE, SPD, SCD and the UMAT's STATEV. Measured differences and bounds:
-!> doc/verification.md, "A user's UMAT".
+!> A full scene with the UMAT wrapper (dpmpm_model_umat) and an example UMAT linked into
+!> this program: a column under gravity, released on one side, ends where the same scene
+!> with the built-in model ends, to round-off (positions, velocities, stresses of every
+!> point, and the energy balance), on 1 and 2 ranks. Built twice (tests/CMakeLists.txt):
+!> with umat/umat_linear_elastic.f against linear_elastic in 2D (plane strain) and 3D, and
+!> with the argument cam_clay, with umat/umat_cam_clay.f90 against cam_clay in 2D. The
+!> points of the umat keep STRAN, SSE, SPD, SCD and the UMAT's STATEV. Measured
+!> differences and bounds: doc/verification.md, "A user's UMAT".
 program test_umat_scene
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
-  use dpmpm_kinds, only: wp, i8
+  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, &
+                     MPI_IN_PLACE, MPI_MAX
+  use dpmpm_kinds, only: wp, i8, mpi_wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, max_props
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, finish_tests, am_root
@@ -18,11 +20,17 @@ program test_umat_scene
   !> bound 1e-13 (14x). The energy balance: measured 8.8e-16 apart, bound 1e-13.
   real(wp), parameter :: tol = 1.0e-13_wp
   integer :: status, rank
+  character(len=16) :: arg
   call MPI_Init()
   call MPI_Comm_rank(MPI_COMM_WORLD, rank)
   am_root = rank == 0
-  call test_elastic_umat_column_matches_linear_elastic_in_2d()
-  call test_elastic_umat_column_matches_linear_elastic_in_3d()
+  call get_command_argument(1, arg)
+  if (arg == 'cam_clay') then
+    call test_cam_clay_umat_column_matches_cam_clay()
+  else
+    call test_elastic_umat_column_matches_linear_elastic_in_2d()
+    call test_elastic_umat_column_matches_linear_elastic_in_3d()
+  end if
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -68,12 +76,39 @@ contains
     if (ndim == 3) cfg%bc(5:6) = bc_roller
   end function scene
 
+  !> The 2D column of Modified Cam-Clay (lambda = 0.2, kappa = 0.05, M = 1, e0 = 1.2,
+  !> nu = 0.3, p_m = 1 kPa, p_c0 = 20 kPa, above the surface through the initial stress at
+  !> the base, so that the side released fails and the rest does not), 'cam_clay' or 'umat'
+  !> with those PROPS (its STATEV set at the zero-increment call of the start), at a fixed
+  !> step of
+  !> 5e-4 s (the built-in model's step follows each point's modulus, the umat's
+  !> youngs_modulus = 1 MPa, the stiffest the clay gets here).
+  function clay_scene(model, nsteps) result(cfg)
+    character(len=*), intent(in) :: model
+    integer, intent(in) :: nsteps
+    type(config_t) :: cfg
+    real(wp) :: props(max_props)
+    cfg = scene(model, 2, nsteps)
+    cfg%dt = 5.0e-4_wp
+    if (model == 'umat') then
+      props = 0.0_wp
+      props(1:9) = [0.2_wp, 0.05_wp, 1.0_wp, 0.3_wp, 0.0_wp, 1.0e3_wp, 1.2_wp, 2.0e4_wp, 1.0_wp]
+      cfg%materials(1)%umat_props = props
+      cfg%materials(1)%umat_nprops = 9
+    else
+      cfg%materials(1) = material_cfg_t(id=1, model=model, density=rho, compression_index=0.2_wp, &
+                                        swelling_index=0.05_wp, critical_state_ratio=1.0_wp, &
+                                        void_ratio=1.2_wp, poisson_ratio=0.3_wp, &
+                                        min_pressure=1.0e3_wp, preconsolidation_pressure=2.0e4_wp)
+    end if
+  end function clay_scene
+
   !> Run cfg: the solid points on rank 0 (sorted by id), the energy balance, the state
-  !> values per point, and the largest |SSE| and |STATEV| of this rank's points.
-  subroutine run(cfg, sx, sv, ss, drift, nstate, sse, statev)
+  !> values per point, and the largest SSE and SPD of a umat's points.
+  subroutine run(cfg, sx, sv, ss, drift, nstate, sse, spd)
     type(config_t), intent(in) :: cfg
     real(wp), allocatable, intent(out) :: sx(:, :), sv(:, :), ss(:, :)
-    real(wp), intent(out) :: drift, sse, statev
+    real(wp), intent(out) :: drift, sse, spd
     integer, intent(out) :: nstate
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
@@ -85,24 +120,29 @@ contains
     nstate = sim%phase(1)%pts%nstate
     n = sim%phase(1)%pts%n
     sse = 0.0_wp
-    statev = 0.0_wp
-    if (nstate >= 11 .and. n > 0) then
-      sse = maxval(sim%phase(1)%pts%state(7, 1:n))
-      statev = maxval(abs(sim%phase(1)%pts%state(10:11, 1:n)))
-    end if
+    spd = 0.0_wp
+    if (nstate >= 9 .and. n > 0) sse = maxval(sim%phase(1)%pts%state(7, 1:n))
+    if (nstate >= 9 .and. n > 0) spd = maxval(sim%phase(1)%pts%state(8, 1:n))
+    call MPI_Allreduce(MPI_IN_PLACE, sse, 1, mpi_wp(), MPI_MAX, MPI_COMM_WORLD)
+    call MPI_Allreduce(MPI_IN_PLACE, spd, 1, mpi_wp(), MPI_MAX, MPI_COMM_WORLD)
     call sim%free()
   end subroutine run
 
-  !> The column with 'umat' and with 'linear_elastic'.
-  subroutine compare(ndim, nsteps)
-    integer, intent(in) :: ndim, nsteps
+  !> The built-in model's scene a and the umat's b (ndim dimensions): points and energy
+  !> balance compared within tol; the umat's points keep 9 values and its STATEV, and their
+  !> SSE.
+  subroutine compare(a, b, ndim)
+    type(config_t), intent(in) :: a, b
+    integer, intent(in) :: ndim
     real(wp), allocatable :: ax(:, :), av(:, :), as(:, :), bx(:, :), bv(:, :), bs(:, :)
-    real(wp) :: da, db, sse, statev, dx, dv, ds
+    real(wp) :: da, db, sse, spd, dx, dv, ds
     integer :: na, nb
-    call run(scene('linear_elastic', ndim, nsteps), ax, av, as, da, na, sse, statev)
-    call run(scene('umat', ndim, nsteps), bx, bv, bs, db, nb, sse, statev)
-    call check(na == 0 .and. nb == 11, 'no state for linear_elastic; 9 + 2 for the umat')
-    call check(sse > 0.0_wp .and. statev == 0.0_wp, 'SSE kept, the STATEV left alone')
+    call run(a, ax, av, as, da, na, sse, spd)
+    call run(b, bx, bv, bs, db, nb, sse, spd)
+    call check(nb == 9 + b%materials(1)%umat_nstatev, 'the umat keeps 9 values and its STATEV')
+    call check(sse > 0.0_wp, 'SSE kept')
+    call check((spd > 0.0_wp) .eqv. (a%materials(1)%model == 'cam_clay'), &
+               'plastic dissipation where the soil is plastic')
     if (rank == 0) then
       call check(size(ax, 2) == size(bx, 2), 'the same points')
       if (size(ax, 2) /= size(bx, 2)) return
@@ -119,12 +159,17 @@ contains
 
   subroutine test_elastic_umat_column_matches_linear_elastic_in_2d()
     call begin_test('elastic_umat_column_matches_linear_elastic_in_2d')
-    call compare(2, 300)
+    call compare(scene('linear_elastic', 2, 300), scene('umat', 2, 300), 2)
   end subroutine test_elastic_umat_column_matches_linear_elastic_in_2d
 
   subroutine test_elastic_umat_column_matches_linear_elastic_in_3d()
     call begin_test('elastic_umat_column_matches_linear_elastic_in_3d')
-    call compare(3, 100)
+    call compare(scene('linear_elastic', 3, 100), scene('umat', 3, 100), 3)
   end subroutine test_elastic_umat_column_matches_linear_elastic_in_3d
+
+  subroutine test_cam_clay_umat_column_matches_cam_clay()
+    call begin_test('cam_clay_umat_column_matches_cam_clay')
+    call compare(clay_scene('cam_clay', 300), clay_scene('umat', 300), 2)
+  end subroutine test_cam_clay_umat_column_matches_cam_clay
 
 end program test_umat_scene

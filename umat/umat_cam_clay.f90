@@ -14,8 +14,9 @@
 !
 ! PROPS: 1 lambda, 2 kappa, 3 M, 4 nu, 5 G (Pa; 0: from K and nu), 6 p_m (Pa), 7 e0,
 !        8 p_c0 (Pa; 0: from OCR), 9 OCR.
-! STATEV: 1 p_c (Pa), 2 e. Both 0 at the first call: then e = e0 and p_c = p_c0, or OCR times
-!        the yield surface through the stress given, p + q^2/(M^2 p) (p at least p_m).
+! STATEV: 1 p_c (Pa), 2 e. Both 0 at the first call (dpmpm's call with a zero increment at
+!        the start, KINC = 0): then e = e0 and p_c = p_c0, or OCR times the yield surface
+!        through the stress given, p + q^2/(M^2 p) (p at least p_m), if that is larger.
 ! The void ratio follows the volume: 1 + e = (1 + e_n) det(DFGRD1)/det(DFGRD0).
 ! SSE = p^2/(2K) + q^2/(6G) at the new stress; SPD gains (sigma_n + sigma)/2 : deps^p.
 subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, &

@@ -192,18 +192,22 @@ contains
 
   !> The initial state values of the points of material index m from their initial stress
   !> (after the geostatic start; a restart reads them instead): 0 for every model but
-  !> cam_clay (its preconsolidation pressure and void ratio) and umat (SSE).
-  subroutine init_state(mat, m, n, pmat, stress, state)
+  !> cam_clay (its preconsolidation pressure and void ratio) and umat (from a first call of
+  !> the UMAT with a zero increment, dpmpm_model_umat's umat_init_state).
+  subroutine init_state(mat, m, n, pmat, stress, state, x, ids)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
     integer, intent(in) :: pmat(:)
     real(wp), intent(in) :: stress(:, :)
     real(wp), intent(inout) :: state(:, :)
+    !> for a umat only: the points' positions and ids (COORDS and NOEL of its first call)
+    real(wp), intent(in), optional :: x(:, :)
+    integer(i8), intent(in), optional :: ids(:)
     select case (mat%model)
     case (model_cam_clay)
       call cam_clay_init_state(mat, m, n, pmat, stress, state)
     case (model_umat)
-      call umat_init_state(mat, m, n, pmat, stress, state)
+      call umat_init_state(mat, m, n, pmat, stress, state, x, ids)
     end select
   end subroutine init_state
 

@@ -14,6 +14,8 @@
 !> - state: a point keeps STRAN (6 values, dpmpm's order), SSE, SPD and SCD (J/m^3) and
 !>   then the UMAT's NSTATV values (dpmpm_model_table, umat_state); SSE V is the point's
 !>   stored energy and the rise of (SPD + SCD) V its dissipation, in the energy balance;
+!>   at the start one call with a zero increment (KINC = 0) lets the UMAT set STATEV and
+!>   SSE from the initial stress (umat_init_state);
 !> - PNEWDT < 1 (the UMAT asks for a shorter increment): the stress, state and F of the
 !>   point are restored and the step is taken in ceiling(1/PNEWDT) times as many substeps
 !>   (each with dt/nsub, the same L, its own rotation), up to max_substeps; a point that
@@ -138,27 +140,50 @@ contains
     if (present(dissipation)) dissipation = wsum
   end subroutine umat_update
 
-  !> The state of the points of material index m at the start: STRAN, SPD, SCD and the
-  !> STATEV 0 (a UMAT that needs its own start sets it at its first call), and SSE the
-  !> elastic energy of the initial stress with youngs_modulus and poisson_ratio,
-  !> sigma : C^-1 : sigma / 2, so that the stored energy does not jump at the first step
-  !> (exact for a linear-elastic UMAT of those constants; from the first step on SSE is the
-  !> UMAT's).
-  subroutine umat_init_state(mat, m, n, pmat, stress, state)
+  !> The state of the points of material index m at the start (not on a restart): one call
+  !> of the UMAT per point with a zero increment (DSTRAN = 0, DTIME = 0, KINC = 0, F = I,
+  !> COORDS the position x where given, NOEL the id), whose STATEV, SSE, SPD and SCD are kept
+  !> and whose stress is not: the UMAT's chance to set its state from the initial stress (as
+  !> Abaqus' SDVINI would) and its stored energy, so that the energy does not jump at the
+  !> first step. STRAN starts at 0.
+  subroutine umat_init_state(mat, m, n, pmat, stress, state, x, ids)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
     integer, intent(in) :: pmat(:)
     real(wp), intent(in) :: stress(:, :)
     real(wp), intent(inout) :: state(:, :)
-    real(wp) :: s(6), tr
-    integer :: p
+    real(wp), intent(in), optional :: x(:, :)
+    integer(i8), intent(in), optional :: ids(:)
+    real(dp) :: a_s(6), zero6(6), ddsdde(6, 6), sse, spd, scd, rpl, ddsddt(6), drplde(6)
+    real(dp) :: drpldt, predef(1), dpred(1), coords(3), eye(3, 3), pnewdt
+    real(dp) :: props(max(mat%umat_nprops, 1)), statev(max(mat%umat_nstatev, 1))
+    integer :: p, nsv, noel
+    nsv = mat%umat_nstatev
+    props = 0.0_dp
+    props(1:mat%umat_nprops) = real(mat%umat_props(1:mat%umat_nprops), dp)
+    eye = real(identity(), dp)
+    zero6 = 0.0_dp
     do p = 1, n
       if (pmat(p) /= m) cycle
-      s = stress(:, p)
-      tr = s(1) + s(2) + s(3)
+      a_s = real(stress(abaqus_order, p), dp)
+      statev = 0.0_dp
+      sse = 0.0_dp; spd = 0.0_dp; scd = 0.0_dp
+      ddsdde = 0.0_dp; rpl = 0.0_dp; ddsddt = 0.0_dp; drplde = 0.0_dp; drpldt = 0.0_dp
+      predef = 0.0_dp; dpred = 0.0_dp
+      coords = 0.0_dp
+      if (present(x)) coords(1:size(x, 1)) = real(x(:, p), dp)
+      noel = 0
+      if (present(ids)) noel = int(min(ids(p), int(huge(noel), i8)))
+      pnewdt = pnewdt_none
+      call umat(a_s, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, zero6, zero6, &
+                [0.0_dp, 0.0_dp], 0.0_dp, 0.0_dp, 0.0_dp, predef, dpred, mat%umat_name, 3, 3, 6, &
+                nsv, props, mat%umat_nprops, coords, eye, pnewdt, 0.0_dp, eye, eye, noel, 1, 1, 1, &
+                [1, 1, 1, 0], 0)
       state(:, p) = 0.0_wp
-      state(7, p) = 0.5_wp*((1.0_wp + mat%poisson)*(sum(s(1:3)**2) + 2.0_wp*sum(s(4:6)**2)) - &
-                            mat%poisson*tr**2)/mat%youngs
+      state(7, p) = real(sse, wp)
+      state(8, p) = real(spd, wp)
+      state(9, p) = real(scd, wp)
+      state(umat_own + 1:umat_own + nsv, p) = real(statev(1:nsv), wp)
     end do
   end subroutine umat_init_state
 

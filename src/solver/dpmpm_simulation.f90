@@ -143,7 +143,8 @@ contains
       ! the models' state values from the initial stress (a restart reads them instead)
       do m = 1, size(self%mats)
         associate (ps => self%phase(1)%pts)
-          if (ps%nstate > 0) call init_state(self%mats(m), m, ps%n, ps%mat, ps%stress, ps%state)
+          if (ps%nstate > 0) call init_state(self%mats(m), m, ps%n, ps%mat, ps%stress, ps%state, &
+                                             ps%x, ps%id)
         end associate
       end do
       if (self%two_phase) then

@@ -2,7 +2,8 @@
 !> group of points, not per point: each update routine loops over the points of
 !> one material. Stress is Cauchy, tension positive, Voigt order xx yy zz yz xz xy.
 !> The models are the lines of dpmpm_model_table, each in a module of its own with the
-!> interface model_update below; stress_update dispatches to them.
+!> interface model_update below; stress_update dispatches to them (to a user's UMAT,
+!> dpmpm_model_umat, with the few arguments more that only a UMAT reads).
 module dpmpm_materials
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: material_cfg_t
@@ -237,7 +238,8 @@ contains
   !> Stored elastic energy of the points of material index m (J, per unit
   !> length/area in 2D/1D). Linear elastic (and the elastic part of the plastic soils):
   !> sigma : C^-1 : sigma / 2 times volume;
-  !> neo-Hookean: (mu/2)(tr C - 3) - mu ln J + (lambda/2) (ln J)^2 per reference volume.
+  !> neo-Hookean: (mu/2)(tr C - 3) - mu ln J + (lambda/2) (ln J)^2 per reference volume;
+  !> umat: the UMAT's SSE times the volume.
   pure real(wp) function strain_energy(mat, m, n, pmat, stress, vol, vol0, defgrad, state) &
     result(e)
     type(material_t), intent(in) :: mat

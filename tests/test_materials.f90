@@ -10,7 +10,8 @@ program test_materials
   use dpmpm_materials, only: material_t, stress_update, model_neo_hookean, model_linear_elastic, &
                              model_update, materials_from_config
   use dpmpm_model_table, only: model_table, max_state, model_from_name, model_names, &
-                               scene_state_names, model_mohr_coulomb, model_drucker_prager
+                               scene_state_names, model_mohr_coulomb, model_drucker_prager, &
+                               model_umat, model_cam_clay
   use dpmpm_model_elastic, only: elastic_update
   use dpmpm_model_neo_hookean, only: neo_hookean_update
   use dpmpm_model_plastic, only: plastic_update
@@ -146,6 +147,16 @@ contains
     names = scene_state_names([model_linear_elastic, model_mohr_coulomb, model_drucker_prager])
     call check_equal_int(size(names), 1, 'the plastic soils keep one value')
     if (size(names) == 1) call check(names(1) == 'plastic_strain', 'named plastic_strain')
+    ! a umat: the wrapper's 9 values, then its material's umat_nstatev STATEV
+    names = scene_state_names([model_linear_elastic, model_umat], [5, 3])
+    call check_equal_int(size(names), 12, 'a umat keeps 9 values and its 3 STATEV')
+    if (size(names) == 12) call check(names(1) == 'strain_xx' .and. names(9) == 'scd' .and. &
+                                      names(10) == 'statev_1' .and. names(12) == 'statev_3', &
+                                      'named strain_xx .. scd, statev_1 .. statev_3')
+    names = scene_state_names([model_cam_clay, model_umat], [0, 0])
+    call check_equal_int(size(names), 9, 'a umat without STATEV keeps 9 values')
+    if (size(names) == 9) call check(names(1) == 'state_1' .and. names(3) == 'strain_zz', &
+                                     'shared slots named state_<k>, the others by the umat')
   end subroutine test_scene_state_names_follow_the_models
 
   !> stress_update gives what each model's module gives called directly (bit for bit), on

@@ -7,7 +7,7 @@ module dpmpm_config
   implicit none
   private
   public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t, table_length
-  public :: max_poly, max_table, name_len, face_names, face_index
+  public :: max_poly, max_table, max_props, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
   public :: optional_fields, field_listed, porosity_varies, resolve_geostatic, region_levels, &
@@ -17,6 +17,7 @@ module dpmpm_config
   !> Largest number of vertices of a 2D polygon region.
   integer, parameter :: max_poly = 64
   integer, parameter :: max_table = 64   !< entries of a load's time table
+  integer, parameter :: max_props = 64   !< values of a material's umat_props (PROPS of a UMAT)
   !> Grid faces in the order used by every per-face array: x-, x+, y-, y+, z-, z+.
   character(len=2), parameter :: face_names(6) = ['x-', 'x+', 'y-', 'y+', 'z-', 'z+']
   !> surface and water_level of a region not given (a finite value, so that the echo of
@@ -36,6 +37,7 @@ module dpmpm_config
   type :: material_cfg_t
 #include "dpmpm_vars_as_component.h"
 #include "dpmpm_vars_material.inc"
+    integer :: umat_nprops = 0                       !< umat_props given (NPROPS of a UMAT)
   end type material_cfg_t
 
   !> One &region group: a box or a 2D polygon filled with points of one material.

@@ -8,14 +8,15 @@
 !> applies here as it stands.
 module dpmpm_element_input
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, name_len
+  use dpmpm_config, only: config_t, material_cfg_t, name_len, max_props
   use dpmpm_element_config, only: element_cfg_t, element_paths, element_controls, &
                                   element_senses, path_from_name, target_names, ntargets, &
                                   target_of, initial_effective_stress, path_isotropic, &
                                   path_oedometer, path_triaxial_drained, path_triaxial_undrained, &
                                   path_simple_shear_drained, path_simple_shear_undrained
   use dpmpm_model_table, only: model_from_name, model_table
-  use dpmpm_input_problems, only: input_problems_t, g_material, add_raw, add_file_problem, real_ok
+  use dpmpm_input_problems, only: input_problems_t, g_material, add_raw, add_file_problem, real_ok, &
+                                  prop_unset, count_given
   use dpmpm_input_read, only: load_text
   use dpmpm_input_check, only: check_config
   use dpmpm_nml_text, only: nml_records, nml_echo, nml_names
@@ -123,12 +124,15 @@ contains
 #include "dpmpm_vars_material.inc"
 #include "dpmpm_vars_as_namelist.h"
 #include "dpmpm_vars_material.inc"
-    integer :: ios
+    integer :: ios, nprops
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
 #include "dpmpm_vars_as_default.h"
 #include "dpmpm_vars_material.inc"
+    ! props not given stay at a mark, so that NPROPS is the count of those given
+    umat_props = prop_unset
     read (records, nml=material, iostat=ios, iomsg=msg)
+    nprops = count_given(umat_props)
     call nml_records(echo)
     write (echo, nml=material)
     call took_group(pb, 'material', ios, msg, echo, cfg%echo, ok)
@@ -136,6 +140,7 @@ contains
     associate (dest => cfg%material)
 #include "dpmpm_vars_as_kept.h"
 #include "dpmpm_vars_material.inc"
+      dest%umat_nprops = nprops
     end associate
   end subroutine read_material
 

@@ -41,6 +41,7 @@ contains
       else if (m%model == 'cam_clay') then
         call check_cam_clay(pb, k, m)
       else if (m%model /= 'rigid') then
+        if (m%model == 'umat') call check_umat(pb, k, m)
         if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
         'youngs_modulus', rtoa(m%youngs_modulus), 'must be > 0 (Pa)')
         if (.not. real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) call add_value(pb, &
@@ -89,6 +90,7 @@ contains
     else
       call warn_cam_clay_variables(pb, k, m, d, why//" (only 'cam_clay' takes it)")
     end if
+    if (m%model /= 'umat') call warn_umat_variables(pb, k, m, d, why//" (only 'umat' takes it)")
     plastic = m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager'
     skeleton = m%model /= 'fluid' .and. m%model /= 'rigid'
     if (.not. skeleton) then
@@ -180,6 +182,43 @@ contains
                      'must be in (-1, 0.5) (it gives G from K with shear_modulus = 0)')
     end if
   end subroutine check_cam_clay
+
+  !> The variables of a umat material k (a user's UMAT, doc/input.md): its PROPS given,
+  !> NSTATV >= 0. (youngs_modulus and poisson_ratio, the stiffest the UMAT gets, are
+  !> checked as for the elastic models.)
+  subroutine check_umat(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    integer :: j
+    if (m%umat_nprops == 0) call add_value(pb, g_material, k, 'umat_props', '(not given)', &
+      'a umat needs its PROPS: umat_props = the values the UMAT reads, in its order (NPROPS is '// &
+      'their count)')
+    do j = 1, m%umat_nprops
+      if (.not. real_ok(m%umat_props(j))) then
+        call add_value(pb, g_material, k, 'umat_props('//itoa(j)//')', rtoa(m%umat_props(j)), &
+                       'must be a finite number')
+        exit
+      end if
+    end do
+    if (m%umat_nstatev < 0) call add_value(pb, g_material, k, 'umat_nstatev', &
+      itoa(m%umat_nstatev), 'must be >= 0: the number of state variables (NSTATV) the UMAT '// &
+      'keeps per point')
+  end subroutine check_umat
+
+  !> The umat variables given to material k of another model.
+  subroutine warn_umat_variables(pb, k, m, d, why)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m, d
+    character(len=*), intent(in) :: why
+    if (m%umat_nprops > 0) call add_warning(pb, g_material, k, 'umat_props', &
+      rtoa_list(m%umat_props(1:m%umat_nprops)), why)
+    if (m%umat_nstatev /= d%umat_nstatev) call add_warning(pb, g_material, k, 'umat_nstatev', &
+      itoa(m%umat_nstatev), why)
+    if (m%umat_name /= d%umat_name) call add_warning(pb, g_material, k, 'umat_name', &
+      quote(m%umat_name), why)
+  end subroutine warn_umat_variables
 
   !> Strength parameters of a mohr_coulomb or drucker_prager material k.
   subroutine check_plastic(pb, k, m)

@@ -13,7 +13,10 @@ module dpmpm_input_problems
   public :: input_problems_t, ngroups, group_names, repeatable
   public :: g_run, g_grid, g_shape, g_material, g_region, g_boundary, g_load, g_output, g_benchmark
   public :: add_value, add_raw, add_file_problem, add_warning, place, lines_of, real_ok
-  public :: check_finite
+  public :: check_finite, prop_unset, count_given
+
+  !> The mark of array values not given in a namelist (set before the read; count_given).
+  real(wp), parameter :: prop_unset = -huge(1.0_wp)
 
   integer, parameter :: g_run = 1, g_grid = 2, g_shape = 3, g_material = 4, g_region = 5, &
                         g_boundary = 6, g_load = 7, g_output = 8, g_benchmark = 9, ngroups = 9
@@ -249,5 +252,17 @@ contains
       end if
     end do
   end subroutine check_finite
+
+  !> The number of values of a that the namelist gave (a was filled with prop_unset before
+  !> the read): up to the last one given; the others become 0.
+  integer function count_given(a) result(n)
+    real(wp), intent(inout) :: a(:)
+    integer :: j
+    n = 0
+    do j = 1, size(a)
+      if (a(j) /= prop_unset) n = j
+    end do
+    where (a == prop_unset) a = 0.0_wp
+  end function count_given
 
 end module dpmpm_input_problems

@@ -10,12 +10,12 @@
 module dpmpm_input_read
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
-                          name_len, max_table, face_names, face_index, bc_free, bc_fixed, bc_roller, &
+                          name_len, max_table, max_props, face_names, face_index, bc_free, bc_fixed, bc_roller, &
                           bc_names, fbc_default, fbc_drained, fbc_impermeable, level_unset
   use dpmpm_input_problems, only: input_problems_t, ngroups, group_names, &
                                   repeatable, g_run, g_grid, g_shape, g_material, g_region, &
                                   g_boundary, g_load, g_output, g_benchmark, add_value, add_raw, &
-                                  add_file_problem, place, lines_of, real_ok
+                                  add_file_problem, place, lines_of, real_ok, prop_unset, count_given
   use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote, lower
   use dpmpm_nml_text, only: nml_records, nml_echo, nml_names, nml_size
   implicit none
@@ -596,7 +596,7 @@ contains
 #include "dpmpm_vars_material.inc"
 #include "dpmpm_vars_as_namelist.h"
 #include "dpmpm_vars_material.inc"
-    integer :: k, n, ios
+    integer :: k, n, ios, nprops
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
     allocate (list(pb%count(g_material)))
@@ -605,15 +605,20 @@ contains
     do k = 1, size(list)
 #include "dpmpm_vars_as_default.h"
 #include "dpmpm_vars_material.inc"
+      ! props not given stay at a mark, so that NPROPS is the count of those given
+      umat_props = prop_unset
       read (records(first_record(pb, g_material, k):), nml=material, iostat=ios, iomsg=msg)
+      nprops = count_given(umat_props)
       call nml_records(echo)
       write (echo, nml=material)
+      if (ios == 0) call echo_given(echo, 'umat_props', umat_props(1:nprops))
       call took_group(pb, g_material, k, ios, msg, echo, cfg%echo, ok, records)
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
 #include "dpmpm_vars_as_kept.h"
 #include "dpmpm_vars_material.inc"
+        dest%umat_nprops = nprops
       end associate
     end do
     cfg%materials = list(1:n)

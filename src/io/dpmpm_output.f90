@@ -360,7 +360,8 @@ contains
     self%xmf_path = output_xmf_path(cfg)
     self%h5_base = trim(cfg%name)//'.h5'
     self%state_names = scene_state_names([(model_from_name(cfg%materials(k)%model), &
-                                           k=1, size(cfg%materials))])
+                                           k=1, size(cfg%materials))], &
+                                         [(cfg%materials(k)%umat_nstatev, k=1, size(cfg%materials))])
     self%nframes = 0
     self%nsets = 0
     self%ndiag_buf = 0

@@ -4,6 +4,7 @@ module dpmpm_material_params
   use dpmpm_kinds, only: wp
   use dpmpm_model_table, only: model_linear_elastic
   use dpmpm_plasticity, only: plastic_params_t
+  use dpmpm_config, only: max_props
   implicit none
   private
   public :: material_t
@@ -28,6 +29,12 @@ module dpmpm_material_params
     !> nu), and the pressure p_m whose stiffness a point at zero stress keeps (Pa)
     real(wp) :: cc_lambda = 0.0_wp, cc_kappa = 0.0_wp, cc_m = 0.0_wp, cc_e0 = 0.0_wp
     real(wp) :: cc_pc0 = 0.0_wp, cc_ocr = 1.0_wp, cc_shear = 0.0_wp, cc_min_pressure = 0.0_wp
+    !> the state values a point of this material keeps (dpmpm_model_table's material_nstate)
+    integer :: nstate = 0
+    !> umat (dpmpm_model_umat): PROPS (umat_nprops of them), NSTATV and CMNAME
+    real(wp) :: umat_props(max_props) = 0.0_wp
+    integer :: umat_nprops = 0, umat_nstatev = 0
+    character(len=80) :: umat_name = 'UMAT'
   end type material_t
 
 end module dpmpm_material_params

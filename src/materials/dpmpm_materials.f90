@@ -2,14 +2,15 @@
 !> group of points, not per point: each update routine loops over the points of
 !> one material. Stress is Cauchy, tension positive, Voigt order xx yy zz yz xz xy.
 !> The models are the lines of dpmpm_model_table, each in a module of its own with the
-!> interface model_update below; stress_update dispatches to them.
+!> interface model_update below; stress_update dispatches to them (to a user's UMAT,
+!> dpmpm_model_umat, with the few arguments more that only a UMAT reads).
 module dpmpm_materials
-  use dpmpm_kinds, only: wp
+  use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: material_cfg_t
   use dpmpm_model_table, only: model_linear_elastic, model_neo_hookean, model_fluid, &
                                model_mohr_coulomb, model_drucker_prager, model_rigid, &
-                               model_cam_clay, model_from_name, is_plastic, &
-                               is_pressure_dependent
+                               model_cam_clay, model_umat, model_from_name, is_plastic, &
+                               is_pressure_dependent, material_nstate
   use dpmpm_material_params, only: material_t
   use dpmpm_plasticity, only: plastic_setup, dp_match_names, dp_plane_strain, &
                               surface_mohr_coulomb, surface_drucker_prager
@@ -18,11 +19,13 @@ module dpmpm_materials
   use dpmpm_model_plastic, only: plastic_update
   use dpmpm_model_cam_clay, only: cam_clay_update, cam_clay_init_state, cam_clay_moduli, &
                                   cam_clay_energy
+  use dpmpm_model_umat, only: umat_update, umat_init_state
   use dpmpm_tensor, only: as_3x3, det3
   implicit none
   private
   public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
   public :: model_mohr_coulomb, model_drucker_prager, model_rigid, model_cam_clay, is_plastic
+  public :: model_umat
   public :: materials_from_config, stress_update, strain_energy, wave_speed, wave_speeds
   public :: model_update, init_state, point_moduli
 
@@ -102,6 +105,14 @@ contains
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
         mats(k)%bulk = 0.0_wp
       end if
+      mats(k)%nstate = material_nstate(mats(k)%model, cfgs(k)%umat_nstatev)
+      if (mats(k)%model == model_umat) then
+        ! youngs_modulus and poisson_ratio: the stiffest the UMAT gets, for the time step
+        mats(k)%umat_props = cfgs(k)%umat_props
+        mats(k)%umat_nprops = cfgs(k)%umat_nprops
+        mats(k)%umat_nstatev = cfgs(k)%umat_nstatev
+        mats(k)%umat_name = cfgs(k)%umat_name
+      end if
       if (mats(k)%model == model_rigid) then
         ! no stress (stress_update and strain_energy leave it out) and no wave to resolve
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
@@ -145,7 +156,7 @@ contains
   !> dt (model_update's arguments): the update of mat%model. The fluid and a rigid body
   !> have no stress to update. In a saturated soil this is the effective stress.
   subroutine stress_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
-                           dissipation, plane)
+                           dissipation, plane, time, step, x, ids, celent)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
     real(wp), intent(in) :: dt
@@ -156,6 +167,11 @@ contains
     real(wp), intent(inout), optional :: defgrad(:, :), state(:, :)
     real(wp), intent(inout), optional :: dissipation
     logical, intent(in), optional :: plane
+    !> for a umat only (TIME, KINC, COORDS, NOEL, CELENT; zero where absent): the time at
+    !> the start of the step, the steps done, the points' positions and ids, the cell size
+    real(wp), intent(in), optional :: time, celent
+    integer(i8), intent(in), optional :: step, ids(:)
+    real(wp), intent(in), optional :: x(:, :)
     select case (mat%model)
     case (model_linear_elastic)
       call elastic_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
@@ -169,21 +185,30 @@ contains
     case (model_cam_clay)
       call cam_clay_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
                            dissipation, plane)
+    case (model_umat)
+      call umat_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
+                       dissipation, plane, time, step, x, ids, celent)
     end select
   end subroutine stress_update
 
   !> The initial state values of the points of material index m from their initial stress
   !> (after the geostatic start; a restart reads them instead): 0 for every model but
-  !> cam_clay (its preconsolidation pressure and void ratio).
-  subroutine init_state(mat, m, n, pmat, stress, state)
+  !> cam_clay (its preconsolidation pressure and void ratio) and umat (from a first call of
+  !> the UMAT with a zero increment, dpmpm_model_umat's umat_init_state).
+  subroutine init_state(mat, m, n, pmat, stress, state, x, ids)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
     integer, intent(in) :: pmat(:)
     real(wp), intent(in) :: stress(:, :)
     real(wp), intent(inout) :: state(:, :)
+    !> for a umat only: the points' positions and ids (COORDS and NOEL of its first call)
+    real(wp), intent(in), optional :: x(:, :)
+    integer(i8), intent(in), optional :: ids(:)
     select case (mat%model)
     case (model_cam_clay)
       call cam_clay_init_state(mat, m, n, pmat, stress, state)
+    case (model_umat)
+      call umat_init_state(mat, m, n, pmat, stress, state, x, ids)
     end select
   end subroutine init_state
 
@@ -213,7 +238,8 @@ contains
   !> Stored elastic energy of the points of material index m (J, per unit
   !> length/area in 2D/1D). Linear elastic (and the elastic part of the plastic soils):
   !> sigma : C^-1 : sigma / 2 times volume;
-  !> neo-Hookean: (mu/2)(tr C - 3) - mu ln J + (lambda/2) (ln J)^2 per reference volume.
+  !> neo-Hookean: (mu/2)(tr C - 3) - mu ln J + (lambda/2) (ln J)^2 per reference volume;
+  !> umat: the UMAT's SSE times the volume.
   pure real(wp) function strain_energy(mat, m, n, pmat, stress, vol, vol0, defgrad, state) &
     result(e)
     type(material_t), intent(in) :: mat
@@ -241,6 +267,9 @@ contains
         e = e + w*vol0(p)
       case (model_cam_clay)
         e = e + cam_clay_energy(mat, stress(:, p), state(2, p), vol(p))
+      case (model_umat)
+        ! the UMAT's SSE, per unit volume (dpmpm_model_umat)
+        e = e + state(7, p)*vol(p)
       end select
     end do
   end function strain_energy

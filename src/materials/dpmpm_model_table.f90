@@ -8,9 +8,9 @@ module dpmpm_model_table
   implicit none
   private
   public :: model_info_t, model_table, max_state, model_from_name, model_names, model_nstate
-  public :: model_needs_defgrad, is_plastic, scene_state_names
+  public :: model_needs_defgrad, is_plastic, scene_state_names, material_nstate
   public :: model_linear_elastic, model_neo_hookean, model_fluid, model_mohr_coulomb
-  public :: model_drucker_prager, model_rigid, model_cam_clay, is_pressure_dependent
+  public :: model_drucker_prager, model_rigid, model_cam_clay, is_pressure_dependent, model_umat
 
   !> The most state values a model may keep per point.
   integer, parameter :: max_state = 16
@@ -35,7 +35,7 @@ module dpmpm_model_table
   !> Model codes: the lines of model_table.
   integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
   integer, parameter :: model_mohr_coulomb = 4, model_drucker_prager = 5, model_rigid = 6
-  integer, parameter :: model_cam_clay = 7
+  integer, parameter :: model_cam_clay = 7, model_umat = 8
 
   !> The one state value of the Mohr-Coulomb and Drucker-Prager soils: the accumulated
   !> plastic strain that softens the cohesion (dpmpm_plasticity).
@@ -48,7 +48,15 @@ module dpmpm_model_table
     reshape([character(len=24) :: 'preconsolidation', 'void_ratio'], [max_state], &
             pad=[character(len=24) :: ''])
 
-  type(model_info_t), parameter :: model_table(7) = [ &
+  !> The state values the umat wrapper keeps itself (dpmpm_model_umat), before the UMAT's
+  !> own STATEV (named statev_1, statev_2, ...): the total strain STRAN (dpmpm's Voigt order,
+  !> engineering shears) and the specific energies SSE, SPD and SCD (J/m^3).
+  character(len=24), parameter :: umat_state(max_state) = &
+    reshape([character(len=24) :: 'strain_xx', 'strain_yy', 'strain_zz', 'strain_yz', &
+             'strain_xz', 'strain_xy', 'sse', 'spd', 'scd'], [max_state], &
+            pad=[character(len=24) :: ''])
+
+  type(model_info_t), parameter :: model_table(8) = [ &
     model_info_t(name='linear_elastic', skeleton=.true.), &
     model_info_t(name='neo_hookean', needs_defgrad=.true., skeleton=.true.), &
     model_info_t(name='fluid'), &
@@ -58,7 +66,9 @@ module dpmpm_model_table
                  plastic=.true.), &
     model_info_t(name='rigid', stressed=.false.), &
     model_info_t(name='cam_clay', nstate=2, state_names=cam_clay_state, &
-                 pressure_dependent=.true., skeleton=.true., plastic=.true.)]
+                 pressure_dependent=.true., skeleton=.true., plastic=.true.), &
+    model_info_t(name='umat', nstate=9, state_names=umat_state, needs_defgrad=.true., &
+                 skeleton=.true., plastic=.true.)]
 
 contains
 
@@ -110,22 +120,46 @@ contains
     if (m >= 1 .and. m <= size(model_table)) yes = model_table(m)%pressure_dependent
   end function is_pressure_dependent
 
+  !> State values per point of a material of model code m: the model's, and for a umat
+  !> the UMAT's own nstatev (umat_nstatev) after the wrapper's.
+  elemental integer function material_nstate(m, nstatev) result(k)
+    integer, intent(in) :: m, nstatev
+    k = model_nstate(m)
+    if (m == model_umat) k = k + max(nstatev, 0)
+  end function material_nstate
+
+  !> The name of state value k of a material of model code m (statev_<j> for the j-th
+  !> STATEV of a umat).
+  function state_name(m, k) result(name)
+    integer, intent(in) :: m, k
+    character(len=24) :: name
+    if (k <= model_nstate(m)) then
+      name = model_table(m)%state_names(k)
+    else
+      write (name, '(a,i0)') 'statev_', k - model_nstate(m)
+    end if
+  end function state_name
+
   !> The names of the state values of a point set whose points carry the models of codes
-  !> models(:): slot k is named by the models that have a k-th value, 'state_<k>' where
+  !> models(:) (with the umat_nstatev of each material in nstatev, where a umat may be
+  !> among them): slot k is named by the models that have a k-th value, 'state_<k>' where
   !> two of them name it differently. Its size is the largest nstate among them.
-  function scene_state_names(models) result(names)
+  function scene_state_names(models, nstatev) result(names)
     integer, intent(in) :: models(:)
+    integer, intent(in), optional :: nstatev(:)
     character(len=24), allocatable :: names(:)
-    integer :: k, j, ns
-    ns = maxval([0, model_nstate(models)])
+    integer :: k, j, ns, counts(size(models))
+    counts = model_nstate(models)
+    if (present(nstatev)) counts = material_nstate(models, nstatev)
+    ns = maxval([0, counts])
     allocate (names(ns))
     names = ''
     do k = 1, ns
       do j = 1, size(models)
-        if (model_nstate(models(j)) < k) cycle
+        if (counts(j) < k) cycle
         if (names(k) == '') then
-          names(k) = model_table(models(j))%state_names(k)
-        else if (names(k) /= model_table(models(j))%state_names(k)) then
+          names(k) = state_name(models(j), k)
+        else if (names(k) /= state_name(models(j), k)) then
           write (names(k), '(a,i0)') 'state_', k
           exit
         end if

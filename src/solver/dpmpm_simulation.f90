@@ -14,7 +14,7 @@ module dpmpm_simulation
                                 gauss_second_field_components
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: materials_from_config, model_fluid, model_rigid, init_state
-  use dpmpm_model_table, only: model_needs_defgrad, model_nstate, is_pressure_dependent
+  use dpmpm_model_table, only: model_needs_defgrad, is_pressure_dependent
   use dpmpm_rigid, only: hold_rigid_points
   use dpmpm_output, only: output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
@@ -127,7 +127,7 @@ contains
     self%two_phase = any(cfg%regions%phase /= 'solid')
     call self%phase(1)%pts%init('solid', self%nd, any(model_needs_defgrad(self%mats%model)), &
                          has_porosity=self%two_phase, &
-                         nstate=maxval([0, model_nstate(self%mats%model)]))
+                         nstate=maxval([0, self%mats%nstate]))
     if (self%two_phase) &
       call self%phase(2)%pts%init('fluid', self%nd, .false., has_porosity=.true., has_pressure=.true.)
     self%nph = merge(2, 1, self%two_phase)
@@ -143,7 +143,8 @@ contains
       ! the models' state values from the initial stress (a restart reads them instead)
       do m = 1, size(self%mats)
         associate (ps => self%phase(1)%pts)
-          if (ps%nstate > 0) call init_state(self%mats(m), m, ps%n, ps%mat, ps%stress, ps%state)
+          if (ps%nstate > 0) call init_state(self%mats(m), m, ps%n, ps%mat, ps%stress, ps%state, &
+                                             ps%x, ps%id)
         end associate
       end do
       if (self%two_phase) then

@@ -383,7 +383,9 @@ contains
       do m = 1, size(self%mats)
         if (coupled .and. self%mats(m)%model == model_fluid) cycle
         call stress_update(self%mats(m), m, dt, ns, s%pts%mat, s%vgrad, s%pts%stress, s%pts%vol, &
-                           s%pts%vol0, s%pts%defgrad, s%pts%state, wplastic, plane=nd == 2)
+                           s%pts%vol0, s%pts%defgrad, s%pts%state, wplastic, plane=nd == 2, &
+                           time=self%time, step=self%step, x=s%pts%x, ids=s%pts%id, &
+                           celent=self%grid%cell_volume**(1.0_wp/nd))
       end do
       ! The plastic work leaves the energy balance like the drag dissipation.
       self%ext_work = self%ext_work - wplastic

@@ -108,6 +108,10 @@ def scene_text(scene, outdir, name, extra):
     t_end = float(sets.pop("run.t_end", SCENES[base]))
     values = {"run.name": f"'{name}'", "run.t_end": repr(t_end),
               "output.dir": f"'{outdir}'", "output.frame_interval": repr(t_end / 4)}
+    # an equilibrium phase longer than the cut run is refused by the input: cut it with the run
+    eq = namelist.group(text, "run").get("equilibrium_time")
+    if eq and float(eq[0]) > t_end:
+        values["run.equilibrium_time"] = repr(t_end)
     values.update(sets)
     values.update(extra)
     return namelist.edit(text, values)

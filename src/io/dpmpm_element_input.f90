@@ -17,7 +17,7 @@ module dpmpm_element_input
   use dpmpm_model_table, only: model_from_name, model_table
   use dpmpm_input_problems, only: input_problems_t, g_material, add_raw, add_file_problem, real_ok, &
                                   prop_unset, count_given
-  use dpmpm_input_read, only: load_text
+  use dpmpm_input_read, only: load_text, split_records, next_eol
   use dpmpm_input_check, only: check_config
   use dpmpm_nml_text, only: nml_records, nml_echo, nml_names
   use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote, lower
@@ -392,41 +392,5 @@ contains
       s = s//', '//trim(names(k))
     end do
   end function listed
-
-  !> The lines of text as the records of an internal file (blank-padded to the longest).
-  subroutine split_records(text, records)
-    character(len=*), intent(in) :: text
-    character(len=:), allocatable, intent(out) :: records(:)
-    integer :: pos, eol, n, w, k
-    n = 0
-    w = 1
-    pos = 1
-    do while (pos <= len(text))
-      eol = next_eol(text, pos)
-      n = n + 1
-      w = max(w, eol - pos)
-      pos = eol + 1
-    end do
-    allocate (character(len=w) :: records(max(n, 1)))
-    records = ''
-    pos = 1
-    do k = 1, n
-      eol = next_eol(text, pos)
-      records(k) = text(pos:eol - 1)
-      pos = eol + 1
-    end do
-  end subroutine split_records
-
-  !> Position of the first new-line character of text at or after pos (len(text) + 1 if none).
-  pure integer function next_eol(text, pos) result(eol)
-    character(len=*), intent(in) :: text
-    integer, intent(in) :: pos
-    eol = index(text(pos:), new_line('a'))
-    if (eol == 0) then
-      eol = len(text) + 1
-    else
-      eol = pos + eol - 1
-    end if
-  end function next_eol
 
 end module dpmpm_element_input

@@ -21,7 +21,7 @@ module dpmpm_input_read
   use dpmpm_input_read_error, only: read_error, is_name_char
   implicit none
   private
-  public :: load_text, parse_input
+  public :: load_text, parse_input, split_records, next_eol
 
   !> Length of the buffers that strings with a shorter limit are read into, so that a value
   !> longer than its limit is seen (and refused) instead of cut.
@@ -190,7 +190,8 @@ contains
       w = max(w, eol - pos)
       pos = eol + 1
     end do
-    allocate (character(len=w) :: records(n))
+    allocate (character(len=w) :: records(max(n, 1)))
+    records = ''
     pos = 1
     do k = 1, n
       eol = next_eol(text, pos)

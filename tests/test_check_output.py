@@ -2,12 +2,18 @@
 """scripts/check_output.py finds what a corrupt output file looks like.
 
 Usage: test_check_output.py FILE.h5 WORKDIR
+       test_check_output.py --drained DPMPM MPIEXEC SCENE WORKDIR
 
 FILE.h5 (with its .xmf) is a good dpmpm output file of at least two frames. Each test
 copies it into WORKDIR, damages one thing in the last frame, and expects check_output.py
 to fail with the message that names it; the untouched copy must pass.
+
+With --drained, SCENE (inputs/seepage_layers_1d.nml) is first run on 2 ranks, shortened
+and with ten times the head so that fluid points leave at x = 1 m and enter at x = 0
+between frames, and the damage is done to the fluid points of that run.
 """
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -90,11 +96,104 @@ def test_truncated_file_is_reported(src, workdir):
     return rc == 1 and "cannot be read" in out and "Traceback" not in out, out
 
 
+def fluid_frames(f):
+    return [f["frames"][k]["fluid"] for k in sorted(f["frames"])]
+
+
+def test_drained_run_passes(src, workdir):
+    path = copy(src, workdir, "drained_good")
+    with h5py.File(path, "r") as f:
+        ids = [set(g["id"][...].tolist()) for g in fluid_frames(f)]
+    left = set.union(*ids[:-1]) - ids[-1]
+    entered = ids[-1] - ids[0]
+    rc, out = check(path)
+    # The run must exchange points, or the test checks nothing.
+    return rc == 0 and len(left) > 0 and len(entered) > 0, out + f"left {left}, entered {entered}"
+
+
+def test_drained_id_repeated(src, workdir):
+    path = copy(src, workdir, "drained_twice")
+    with h5py.File(path, "r+") as f:
+        ids = fluid_frames(f)[-1]["id"]
+        ids[1] = ids[0]
+    rc, out = check(path)
+    return rc != 0 and "1 ids repeated" in out, out
+
+
+def test_drained_mass_changed(src, workdir):
+    path = copy(src, workdir, "drained_mass")
+    with h5py.File(path, "r+") as f:
+        m = fluid_frames(f)[-1]["mass"]
+        m[0] = 1.001 * m[0]
+    rc, out = check(path)
+    return rc != 0 and "fluid: total mass" in out and "changed their mass" in out, out
+
+
+def test_drained_departed_id_back(src, workdir):
+    path = copy(src, workdir, "drained_back")
+    with h5py.File(path, "r+") as f:
+        frames = fluid_frames(f)
+        gone = sorted(set(frames[0]["id"][...].tolist()) - set(frames[-1]["id"][...].tolist()))
+        ids = frames[-1]["id"]
+        ids[0] = gone[0]
+    rc, out = check(path)
+    return rc != 0 and "ids that left come back" in out, out
+
+
+def test_drained_new_id_below(src, workdir):
+    path = copy(src, workdir, "drained_low")
+    with h5py.File(path, "r+") as f:
+        ids = fluid_frames(f)[-1]["id"]
+        ids[0] = 0
+    rc, out = check(path)
+    return rc != 0 and "new ids not above every earlier id" in out, out
+
+
+def test_drained_solid_stays_strict(src, workdir):
+    path = copy(src, workdir, "drained_solid")
+    with h5py.File(path, "r+") as f:
+        ids = last_set(f)["id"]
+        ids[0] = ids[...].max() + 1
+    rc, out = check(path)
+    return rc != 0 and "solid: ids differ from the first frame" in out, out
+
+
+def run_drained(dpmpm, mpiexec, scene, workdir):
+    """The scene run into workdir on 2 ranks; returns its output file."""
+    text = open(scene).read()
+    for pat, val in ((r"t_end\s*=\s*[^\s,/]+", "t_end = 0.2"),
+                     (r"frame_interval\s*=\s*[^\s,/]+", "frame_interval = 0.04"),
+                     (r"dir\s*=\s*'[^']*'", f"dir = '{workdir}'"),
+                     (r"pore_pressure\s*=\s*9810\.0", "pore_pressure = 98100.0")):
+        text, n = re.subn(pat, val, text, count=1)
+        if n != 1:
+            sys.exit(f"{scene}: {pat} not found")
+    nml = os.path.join(workdir, "drained.nml")
+    with open(nml, "w") as f:
+        f.write(text)
+    r = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", dpmpm, nml], cwd=workdir,
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"the run failed:\n{r.stdout}\n{r.stderr}")
+    name = re.search(r"name\s*=\s*'([^']*)'", text).group(1)
+    return os.path.join(workdir, name + ".h5")
+
+
 def main():
-    src, workdir = sys.argv[1], sys.argv[2]
-    os.makedirs(workdir, exist_ok=True)
-    tests = [test_good_file_passes, test_ids_overwritten_by_doubles, test_mass_changed,
-             test_non_finite_velocity, test_xdmf_time_differs, test_truncated_file_is_reported]
+    if sys.argv[1] == "--drained":
+        dpmpm, mpiexec, scene, workdir = sys.argv[2:6]
+        os.makedirs(workdir, exist_ok=True)
+        src = run_drained(os.path.abspath(dpmpm), mpiexec, os.path.abspath(scene),
+                          os.path.abspath(workdir))
+        tests = [test_drained_run_passes, test_drained_id_repeated, test_drained_mass_changed,
+                 test_drained_departed_id_back, test_drained_new_id_below,
+                 test_drained_solid_stays_strict]
+    else:
+        src, workdir = sys.argv[1], sys.argv[2]
+        os.makedirs(workdir, exist_ok=True)
+        tests = [test_good_file_passes, test_ids_overwritten_by_doubles, test_mass_changed,
+                 test_non_finite_velocity, test_xdmf_time_differs,
+                 test_truncated_file_is_reported]
     failed = 0
     for t in tests:
         ok, out = t(src, workdir)

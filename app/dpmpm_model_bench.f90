@@ -106,7 +106,8 @@ contains
     call init_state(mats(m), m, n, pmat, stress, state)
     ncall = merge(2, 20, quick)
     call system_clock(count_rate=rate)
-    ! the first calls load the soils to their surfaces
+    ! the first calls load the soils to their surfaces (w sums the plastic work of the calls)
+    w = 0.0_wp
     do c = 1, ncall
       call stress_update(mats(m), m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
                          w, plane=nd == 2)

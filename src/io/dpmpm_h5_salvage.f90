@@ -34,7 +34,7 @@ contains
     call h5fopen_f(path, H5F_ACC_RDONLY_F, file, err)
     sound = err >= 0
     if (sound) then
-      sound = object_sound(file, 'diagnostics/step')
+      sound = diagnostics_sound(file)
       if (sound) sound = index_sound(file)
       do k = 0, nframes - 1
         if (.not. sound) exit
@@ -54,6 +54,45 @@ contains
     end if
     call h5eset_auto_f(1, e2)
   end function file_sound
+
+  !> Every dataset of /diagnostics of an open file opens and holds as many records as
+  !> diagnostics/step: the continued run extends them all together, and a kill between
+  !> two of their extensions (or inside one) leaves them apart.
+  logical function diagnostics_sound(file) result(sound)
+    integer(hid_t), intent(in) :: file
+    integer(hid_t) :: dset, space
+    integer(hsize_t) :: dims(1), maxdims(1), nstep
+    integer :: err, e2, k
+    character(len=64) :: name
+    sound = object_sound(file, 'diagnostics/step')
+    nstep = 0
+    do k = 0, ndiag_real + 1
+      if (.not. sound) exit
+      select case (k)
+      case (0)
+        name = 'diagnostics/step'
+      case (1)
+        name = 'diagnostics/npoints'
+      case default
+        name = 'diagnostics/'//trim(diag_real_names(k - 1))
+      end select
+      sound = object_sound(file, trim(name))
+      if (.not. sound) exit
+      call h5dopen_f(file, trim(name), dset, err)
+      sound = err >= 0
+      if (.not. sound) exit
+      call h5dget_space_f(dset, space, err)
+      sound = err >= 0
+      if (sound) then
+        call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
+        sound = err >= 0
+        call h5sclose_f(space, e2)
+      end if
+      call h5dclose_f(dset, e2)
+      if (k == 0) nstep = dims(1)
+      if (sound) sound = dims(1) == nstep
+    end do
+  end function diagnostics_sound
 
   !> The link index of /frames of an open file lists 000000, 000001, ... in name order,
   !> each once and nothing else.

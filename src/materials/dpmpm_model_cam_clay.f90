@@ -25,6 +25,7 @@
 !> void ratio e (e + 1 follows the volume: (1 + e) = (1 + e_n) J over a step).
 module dpmpm_model_cam_clay
   use dpmpm_kinds, only: wp
+  use dpmpm_error, only: fatal
   use dpmpm_material_params, only: material_t
   use dpmpm_model_plastic, only: jaumann_strain
   implicit none
@@ -45,7 +46,7 @@ contains
   !> increment dt D; state(1, :) is p_c, state(2, :) the void ratio. dissipation gains
   !> V (sigma_n + sigma_n+1)/2 : (deps - deps^e), the elastic part from the swelling line
   !> and G. A point whose return fails even in 2^max_halvings substeps stops the run
-  !> through error stop with its index (dpmpm_materials names the point).
+  !> through fatal (MPI_Abort: every rank stops) with its index, p_c and stress.
   subroutine cam_clay_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
                              dissipation, plane)
     type(material_t), intent(in) :: mat
@@ -59,6 +60,7 @@ contains
     real(wp), intent(inout), optional :: dissipation
     logical, intent(in), optional :: plane
     real(wp) :: sr(6), de(6), jac, sn(6), st(2), wsum, dee(6)
+    character(len=256) :: msg
     integer :: p, code
     logical :: flat
     flat = .false.
@@ -72,9 +74,10 @@ contains
       sn = sr
       call cam_clay_return(mat, de, sn, st, code, dee)
       if (code /= 0) then
-        write (*, '(a,i0,a,es12.5,a,6es12.4)') 'dpmpm: error: the Cam-Clay return of point ', &
-          p, ' did not converge in 2^10 substeps; p_c = ', state(1, p), ', stress ', stress(:, p)
-        error stop 1
+        write (msg, '(a,i0,a,i0,a,es12.5,a,6es12.4)') 'the Cam-Clay return of point ', p, &
+          ' did not converge in ', 2**max_halvings, ' substeps; p_c = ', state(1, p), ', stress ', &
+          stress(:, p)
+        call fatal(trim(msg), 'cam_clay_update')
       end if
       if (present(dissipation)) wsum = wsum + 0.5_wp*vol(p)*dot_product(sr + sn, de - dee)
       stress(:, p) = sn

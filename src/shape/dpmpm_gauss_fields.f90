@@ -28,7 +28,7 @@ module dpmpm_gauss_fields
   implicit none
   private
   public :: gauss_rule, gauss_cover_radius, field_components, stress_voigt_index
-  public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_velocity_gradient, gauss_strain
+  public :: gauss_accumulate, gauss_solve, gauss_forces, gauss_masses, gauss_velocity_gradient, gauss_strain
   public :: occupancy_pass, gauss_cell_components, gauss_solution_components, gauss_second_field_components
   public :: reach_cache_t, reach_cache_entries, reach_cache_bytes
   public :: thin_fraction, thin_node_forces
@@ -645,6 +645,42 @@ contains
       end do
     end do
   end subroutine gauss_forces
+
+  !> The Gauss-point integral of a density (the first field of sol, one value per
+  !> Gauss point) against the grid functions, gm(1, I) += sum_g w_g rho_g Psi_I(x_g):
+  !> the nodal masses of the quadrature that integrates the forces (gauss_forces), whose
+  !> gravity the forces of a stress at rest balance.
+  subroutine gauss_masses(nd, ng, basis, kernel, h, lo, clo, chi, sol, gm, isotropic)
+    integer, intent(in) :: nd, ng, basis, kernel, lo(3), clo(3), chi(3)
+    real(wp), intent(in) :: h(3)
+    real(wp), intent(in) :: sol(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: gm(:, lo(1):, lo(2):, lo(3):)
+    logical, intent(in), optional :: isotropic
+    integer :: i, j, k, g, nb, nf, bs, m, nn, idx(3)
+    integer, allocatable :: off(:, :, :)
+    real(wp), allocatable :: gr(:, :, :), psi(:, :)
+    real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), wq, sv
+    nb = basis_size(basis, nd)
+    nf = fields_of(nd, isotropic)
+    call gauss_points_of_cell(nd, ng, yg, wg)
+    call gauss_psi_table(nd, ng, kernel, h, nn, off, gr, psi)
+    do k = clo(3), chi(3)
+      do j = clo(2), chi(2)
+        do i = clo(1), chi(1)
+          if (sol(1, i, j, k) < 0.5_wp) cycle
+          do g = 1, ng**nd
+            bs = 1 + (g - 1)*(nb + nf)
+            wq = wg(g)*product(h(1:nd))
+            sv = sol(bs + nb + 1, i, j, k)
+            do m = 1, nn
+              idx = [i, j, k] + off(:, m, g)
+              gm(1, idx(1), idx(2), idx(3)) = gm(1, idx(1), idx(2), idx(3)) + wq*sv*psi(m, g)
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine gauss_masses
 
   !> Clear the internal forces (node components 2+nd:1+2nd) of the nodes olo..ohi that
   !> are thin for their point set: nvol(1, I) = sum_p V_p Psi_I(x_p) below thin_fraction

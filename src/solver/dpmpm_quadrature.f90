@@ -6,7 +6,7 @@
 module dpmpm_quadrature
   use dpmpm_kinds, only: wp
   use dpmpm_timer, only: t_halo
-  use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_solve, gauss_forces, &
+  use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_solve, gauss_forces, gauss_masses, &
                                gauss_velocity_gradient, gauss_strain
   use dpmpm_phase, only: phase_t
   use dpmpm_state, only: state_t
@@ -20,7 +20,7 @@ contains
   !> the points of phase tr (fields(1, :), an isotropic field, when tr%giso),
   !> reconstructed by MLS (solution in sol), added to node;
   !> keeps the positions and volumes for the transposed strain operator.
-  subroutine gauss_force_integrals(self, tr, fields, sol, node, fields2, sol2, node2)
+  subroutine gauss_force_integrals(self, tr, fields, sol, node, fields2, sol2, node2, gmass)
     class(state_t), intent(inout) :: self
     type(phase_t), intent(inout) :: tr
     real(wp), intent(in) :: fields(:, :)
@@ -34,9 +34,12 @@ contains
                                               self%dec%alo(3):)
     real(wp), intent(inout), optional :: node2(:, self%dec%alo(1):, self%dec%alo(2):, &
                                                self%dec%alo(3):)
+    !> In place of node2: the second field is a density (in its first component),
+    !> integrated against the grid functions into gmass(1, :) (gauss_masses).
+    real(wp), intent(inout), optional :: gmass(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     integer :: n
     logical :: two
-    two = present(fields2) .and. present(sol2) .and. present(node2)
+    two = present(fields2) .and. present(sol2) .and. (present(node2) .or. present(gmass))
     n = tr%pts%n
     tr%xold(:, 1:n) = tr%pts%x(:, 1:n)
     tr%volold(1:n) = tr%pts%vol(1:n)
@@ -72,8 +75,13 @@ contains
       call self%timers%toc(t_halo)
       call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
                         self%dec%alo, clo, chi, sol, node, tr%nvol(2:2, :, :, :), tr%giso)
-      if (two) call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
-                                 self%dec%alo, clo, chi, sol2, node2, isotropic=tr%giso)
+      if (two .and. present(gmass)) then
+        call gauss_masses(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, self%dec%alo, clo, chi, &
+                          sol2, gmass, tr%giso)
+      else if (two) then
+        call gauss_forces(self%nd, pl%ngauss, pl%field_basis, self%kernel, self%grid%h, &
+                          self%dec%alo, clo, chi, sol2, node2, isotropic=tr%giso)
+      end if
     end associate
   end subroutine gauss_force_integrals
 

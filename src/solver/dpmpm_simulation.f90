@@ -357,6 +357,13 @@ contains
                               lo(2):hi(2), lo(3):hi(3)))
           allocate (self%phase(1)%glg(ng**nd*nd*nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
           allocate (self%phase(1)%nvol(2, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+          if (any(self%cfg%gravity /= 0.0_wp)) then
+            ! (the density at the Gauss points for their gravity; its counts and moments
+            ! are those of gacc)
+            allocate (self%phase(1)%gacc2(gauss_second_field_components(nd, ng, basis), lo(1):hi(1), &
+                                          lo(2):hi(2), lo(3):hi(3)))
+            allocate (self%phase(1)%gsol2, mold=self%phase(1)%gsol)
+          end if
         end associate
         allocate (self%occ(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         allocate (self%occ2, mold=self%occ)

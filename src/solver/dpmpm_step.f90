@@ -30,7 +30,7 @@ module dpmpm_step
   use dpmpm_inflow, only: refill_inflow
   use dpmpm_cell_smoothing, only: smooth_volumetric_rate, smoothed_mean_stress, cell_mean
   use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients, gauss_point_divergences
-  use dpmpm_gauss_fields, only: thin_node_forces
+  use dpmpm_gauss_fields, only: thin_node_forces, thin_fraction
   use dpmpm_time_step, only: report_governing
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points
   use dpmpm_surface_loads, only: surface_forces
@@ -54,10 +54,14 @@ contains
     real(wp) :: wplastic, rforce(3)
     real(wp), allocatable :: fvol(:, :, :, :), sheld(:, :), pheld(:), pforce(:)
     real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), gnrel(:), skinv(:)
+    real(wp), allocatable :: gpf(:, :, :, :), gps(:, :, :, :), gms(:, :, :, :), gmf(:, :, :, :)
+    logical :: ggrav
     coupled = self%nph == 2
     ! the free surface of the pore fluid is looked for (free_surface_points)
     surface = coupled .and. self%cfg%free_surface_fraction > 0.0_wp .and. .not. self%plan%gauss
     nd = self%nd
+    ! gravity by the Gauss quadrature of the forces (gauss_gravity)
+    ggrav = self%plan%gauss .and. any(self%cfg%gravity /= 0.0_wp)
     ns = self%phase(solid_phase)%pts%n
     nf = 0
     if (coupled) nf = self%phase(fluid_phase)%pts%n
@@ -151,10 +155,46 @@ contains
           call volume_p2g(ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%vol, self%dec%alo, ph%nvol)
         end associate
       end do
+      ! With gravity the Gauss points carry the density as well: the nodal masses of the
+      ! same quadrature take the gravity (gauss_gravity), so that a stress at rest on
+      ! scattered points balances it (doc/theory.md 3.6).
       associate (s => self%phase(solid_phase))
-        call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node)
+        if (ggrav) then
+          allocate (pseudo(size(s%pts%stress, 1), ns))
+          pseudo = 0.0_wp
+          pseudo(1, :) = s%pts%mass(1:ns)/s%pts%vol(1:ns)
+          allocate (gms(1 + nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                        self%dec%alo(3):self%dec%ahi(3)))
+          gms = 0.0_wp
+          call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node, pseudo, s%gsol2, gmass=gms)
+          deallocate (pseudo)
+        else
+          call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node)
+        end if
       end associate
-      if (coupled) then
+      if (coupled .and. self%cfg%porosity_gradient) then
+        ! With the porosity-gradient terms the Gauss points carry p alone; its forces
+        ! are shared between the phases at the nodes, n_I to the fluid and 1 - n_I to
+        ! the solid, once the nodal porosity is known (gauss_pressure_forces; the
+        ! transpose of the mixture-flux divergence, doc/theory.md 2.6).
+        associate (f => self%phase(fluid_phase))
+          allocate (pseudo(1, nf))
+          pseudo(1, :) = -f%pts%pressure(1:nf)
+          allocate (gpf, mold=f%node)
+          gpf = 0.0_wp
+          if (ggrav) then
+            allocate (pseudo2(1, nf))
+            ! (the fluid's own density m / (n V): its gravity is shared by n_I like p's force)
+            pseudo2(1, :) = f%pts%mass(1:nf)/(f%pts%porosity(1:nf)*f%pts%vol(1:nf))
+            allocate (gmf, mold=gms)
+            gmf = 0.0_wp
+            call gauss_force_integrals(self, f, pseudo, f%gsol, gpf, pseudo2, f%gsol2, gmass=gmf)
+          else
+            call gauss_force_integrals(self, f, pseudo, f%gsol, gpf)
+          end if
+          gps = gpf
+        end associate
+      else if (coupled) then
         ! Pore pressure at the Gauss points from the fluid points: -n_f p on the
         ! fluid, -(1 - n_f) p on the solid (doc/theory.md 3.6), in one pass.
         associate (f => self%phase(fluid_phase))
@@ -181,6 +221,13 @@ contains
       call self%mirror%fold(self%nporo, 3, self%grid%bc)
       call self%mirror%fold(self%ndrag, 1, self%phase(fluid_phase)%bc)
     end if
+    ! (each share folded with the conditions of the phase it goes to)
+    if (allocated(gpf)) then
+      call self%mirror%fold(gpf, 1, self%phase(fluid_phase)%bc)
+      call self%mirror%fold(gps, 1, self%phase(solid_phase)%bc)
+    end if
+    if (allocated(gms)) call self%mirror%fold(gms, 1, self%phase(solid_phase)%bc)
+    if (allocated(gmf)) call self%mirror%fold(gmf, 1, self%phase(fluid_phase)%bc)
     if (self%plan%velocity_mls) then
       do ip = 1, self%nph
         associate (ph => self%phase(ip), ps => self%phase(ip)%pts, pl => self%plan)
@@ -204,6 +251,12 @@ contains
       call self%dec%halo_sum(self%nporo)
       call self%dec%halo_sum(self%ndrag)
     end if
+    if (allocated(gpf)) then
+      call self%dec%halo_sum(gpf)
+      call self%dec%halo_sum(gps)
+    end if
+    if (allocated(gms)) call self%dec%halo_sum(gms)
+    if (allocated(gmf)) call self%dec%halo_sum(gmf)
     if (self%plan%velocity_mls) then
       do ip = 1, self%nph
         call self%dec%halo_sum(self%phase(ip)%vacc)
@@ -215,6 +268,9 @@ contains
     ! (Not with Gauss quadrature: the forces come from the fields reconstructed over whole
     ! cells, and a thin node inside a scattered set is no surface.)
     if (surface) call free_surface_points(self, fvol, fsurf)
+    ! Porosity and 1/k of the porous skeleton at the owned nodes (doc/theory.md 3.5).
+    if (coupled) call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%nporo)
+    if (allocated(gpf)) call gauss_pressure_forces(self, gpf, gps)
     ! Nodes that the Gauss points of a set reach but its points barely reach take no
     ! internal force (thin_node_forces).
     if (self%plan%gauss) then
@@ -222,6 +278,12 @@ contains
         call thin_node_forces(nd, self%dec%alo, blo, bhi, self%phase(ip)%nvol, self%phase(ip)%node, &
                               self%nthin)
       end do
+      if (allocated(gmf)) then
+        call gauss_gravity(self, self%phase(fluid_phase), gmf, self%nporo)
+        call gauss_gravity(self, self%phase(solid_phase), gms, transfer=gmf)
+      else if (allocated(gms)) then
+        call gauss_gravity(self, self%phase(solid_phase), gms)
+      end if
     end if
 
     ! 4. Nodal update: MLS nodal velocities, then each phase alone or both with drag.
@@ -248,11 +310,10 @@ contains
       if (self%has_rigid) call drive_rigid(self, dt)
       call self%timers%toc(t_nodal)
     else
-      ! Porosity and 1/k of the porous skeleton at the nodes, then at the fluid points
-      ! (start-of-step positions, doc/theory.md 3.5): the porosity for the pressure
-      ! update, 1/k for the next step's drag; the interphase force when asked for.
-      ! Free water (no porous solid around) gets n = 1 and no drag.
-      call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%nporo)
+      ! Porosity and 1/k of the porous skeleton at the fluid points (start-of-step
+      ! positions, doc/theory.md 3.5): the porosity for the pressure update, 1/k for the
+      ! next step's drag; the interphase force when asked for. Free water (no porous
+      ! solid around) gets n = 1 and no drag.
       call self%timers%toc(t_nodal)
       call self%timers%tic(t_halo)
       call self%dec%halo_copy(self%nporo)
@@ -264,7 +325,7 @@ contains
         call interp_two_values(nd, f%st%nw, nf, f%st%i0, f%st%sw, self%dec%alo, self%nporo, 3, nval, nkinv)
         call self%timers%toc(t_g2p)
         ! (with the porosity the fluid points had in p2g)
-        if (self%cfg%porosity_gradient) then
+        if (self%cfg%porosity_gradient .and. .not. self%plan%gauss) then
           if (allocated(pforce)) then
             call add_interphase_force(self, pforce)
           else
@@ -303,8 +364,11 @@ contains
       call self%timers%toc(t_nodal)
     end if
 
-    ! The work of the surface loads over the step (their nodes' mean velocity).
+    ! The work of the surface loads over the step (their nodes' mean velocity), and of
+    ! the gravity by Gauss quadrature beyond the points' own.
     if (self%has_surface_loads) call surface_work(self, dt)
+    if (allocated(gms)) call gauss_gravity_work(self, self%phase(solid_phase)%nvel, gms, dt)
+    if (allocated(gmf)) call gauss_gravity_work(self, self%phase(fluid_phase)%nvel, gmf, dt)
 
     ! 5. Forward halo exchange, and the exterior nodes from their mirror images.
     call self%timers%tic(t_halo)
@@ -363,7 +427,9 @@ contains
       associate (s => self%phase(solid_phase))
         call gauss_point_gradients(self, s, s%gsol, s%nvel, s%vgrad)
       end associate
-      if (coupled) then
+      if (coupled .and. self%cfg%porosity_gradient) then
+        call gauss_mixture_divergence(self, gnrel)
+      else if (coupled) then
         associate (f => self%phase(fluid_phase))
           call gauss_point_divergences(self, f, f%gsol, f%nvel, self%phase(solid_phase)%nvel, f%divf, &
                                        f%divs)
@@ -743,6 +809,124 @@ contains
     self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) + ff
     self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) + fs
   end subroutine add_interphase_force
+  !> With Gauss quadrature and the porosity-gradient terms: the forces of the pore
+  !> pressure at the Gauss points, F_I = sum_g w_g p_g grad N_I(x_g) (node components
+  !> 2+nd:1+2nd of gpf, folded with the fluid's conditions, and of gps, the same folded
+  !> with the solid's; both summed over the ranks), shared at the owned nodes: n_I F_I
+  !> to the fluid and (1 - n_I) F_I to the solid ((3.3a) with the Gauss points in the
+  !> place of the fluid points; the owned nodal porosity is known).
+  subroutine gauss_pressure_forces(self, gpf, gps)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: gpf(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in) :: gps(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    integer :: i, j, k, nd
+    real(wp) :: nI
+    nd = self%nd
+    associate (olo => self%dec%olo, ohi => self%dec%ohi, fn => self%phase(fluid_phase)%node, &
+               sn => self%phase(solid_phase)%node)
+      do k = olo(3), ohi(3)
+        do j = olo(2), ohi(2)
+          do i = olo(1), ohi(1)
+            nI = self%nporo(1, i, j, k)
+            fn(2 + nd:1 + 2*nd, i, j, k) = fn(2 + nd:1 + 2*nd, i, j, k) + nI*gpf(2 + nd:1 + 2*nd, i, j, k)
+            sn(2 + nd:1 + 2*nd, i, j, k) = sn(2 + nd:1 + 2*nd, i, j, k) + &
+                                           (1.0_wp - nI)*gps(2 + nd:1 + 2*nd, i, j, k)
+          end do
+        end do
+      end do
+    end associate
+  end subroutine gauss_pressure_forces
+
+  !> Gravity by the Gauss quadrature of the forces: the nodal update gives each node
+  !> m_I g of its points' masses; the difference (M_I - m_I) g to the Gauss masses
+  !> M_I = sum_g w_g rho_g N_I(x_g) (gm(1, :), summed over the ranks; gauss_masses) joins
+  !> the forces of the owned nodes that take internal forces (not the thin ones, whose
+  !> points barely reach them) and is kept in gm(2:1+nd, :) for its work
+  !> (gauss_gravity_work). On points scattered in the cells m_I scatters from node to
+  !> node while the Gauss-point forces of a stress at rest do not, and the difference
+  !> drove free water at rest (doc/theory.md 3.6, item 8). With nporo (the pore fluid
+  !> with the porosity-gradient terms, rho_g its own density) the fluid takes n_I M_I g,
+  !> shared like the pressure's force n_I F_I that balances it at rest; the solid then
+  !> takes the rest of the fluid's weight (transfer: the fluid's difference, taken from
+  !> it where the solid has a node), so that the nodes carry the weight of the points.
+  subroutine gauss_gravity(self, ph, gm, nporo, transfer)
+    class(state_t), intent(inout) :: self
+    type(phase_t), intent(inout) :: ph
+    real(wp), intent(inout) :: gm(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in), optional :: nporo(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in), optional :: transfer(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    integer :: i, j, k, nd
+    real(wp) :: g(3), mg
+    nd = self%nd
+    g = gravity_now(self)
+    associate (olo => self%dec%olo, ohi => self%dec%ohi, node => ph%node)
+      do k = olo(3), ohi(3)
+        do j = olo(2), ohi(2)
+          do i = olo(1), ohi(1)
+            gm(2:1 + nd, i, j, k) = 0.0_wp
+            if (node(1, i, j, k) <= 0.0_wp) cycle
+            if (ph%nvol(1, i, j, k) < thin_fraction*ph%nvol(2, i, j, k)) cycle
+            mg = gm(1, i, j, k)
+            if (present(nporo)) mg = nporo(1, i, j, k)*mg
+            gm(2:1 + nd, i, j, k) = (mg - node(1, i, j, k))*g(1:nd)
+            if (present(transfer)) gm(2:1 + nd, i, j, k) = gm(2:1 + nd, i, j, k) - transfer(2:1 + nd, i, j, k)
+            node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + gm(2:1 + nd, i, j, k)
+          end do
+        end do
+      end do
+    end associate
+  end subroutine gauss_gravity
+
+  !> The work over the step of the gravity beyond the points' own (gauss_gravity; the
+  !> force in gm(2:1+nd, :) of the owned nodes) at the nodes' mean velocity.
+  subroutine gauss_gravity_work(self, nvel, gm, dt)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: nvel(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in) :: gm(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(in) :: dt
+    integer :: i, j, k, nd
+    nd = self%nd
+    associate (olo => self%dec%olo, ohi => self%dec%ohi)
+      do k = olo(3), ohi(3)
+        do j = olo(2), ohi(2)
+          do i = olo(1), ohi(1)
+            self%ext_work = self%ext_work + 0.5_wp*dt*dot_product(gm(2:1 + nd, i, j, k), &
+                                                                  nvel(1:nd, i, j, k) + nvel(nd + 1:2*nd, i, j, k))
+          end do
+        end do
+      end do
+    end associate
+  end subroutine gauss_gravity_work
+
+  !> With Gauss quadrature and the porosity-gradient terms: the divergence of the
+  !> mixture flux n_I v_f,I + (1 - n_I) v_s,I at the fluid points by the transpose of
+  !> the Gauss pressure forces (gauss_pressure_forces), into mix; the fluid points'
+  !> divf and divs are then 0, so that the pressure update takes mix alone. A point out
+  !> of the Gauss points' reach keeps its point-wise value, divf and divs of the
+  !> nodal velocities weighted by its porosity plus mix from mixture_flux on entry.
+  subroutine gauss_mixture_divergence(self, mix)
+    class(state_t), intent(inout) :: self
+    real(wp), intent(inout) :: mix(:)
+    real(wp), allocatable :: uf(:, :, :, :), us(:, :, :, :)
+    integer :: nd, nf, c
+    nd = self%nd
+    associate (f => self%phase(fluid_phase), s => self%phase(solid_phase))
+      nf = f%pts%n
+      uf = f%nvel
+      us = s%nvel
+      do c = nd + 1, 2*nd
+        uf(c, :, :, :) = self%nporo(1, :, :, :)*uf(c, :, :, :)
+        us(c, :, :, :) = (1.0_wp - self%nporo(1, :, :, :))*us(c, :, :, :)
+      end do
+      f%divf(1:nf) = f%pts%porosity(1:nf)*f%divf(1:nf) + mix(1:nf)
+      f%divs(1:nf) = (1.0_wp - f%pts%porosity(1:nf))*f%divs(1:nf)
+      call gauss_point_divergences(self, f, f%gsol, uf, us, f%divf, f%divs)
+      mix(1:nf) = f%divf(1:nf) + f%divs(1:nf)
+      f%divf(1:nf) = 0.0_wp
+      f%divs(1:nf) = 0.0_wp
+    end associate
+  end subroutine gauss_mixture_divergence
+
   !> Gravity at the start of the step: ramped linearly over the first half of the
   !> equilibrium phase (&run equilibrium_time), full afterwards.
   function gravity_now(self) result(g)

@@ -71,29 +71,32 @@ CHOICES = {
                              "field_kernel = 'wendland_c2', field_radius = 2.0"),
 }
 
-# Variants of linear + one Gauss point on W4 (label -> shape, changes to the scene).
-DIAGNOSE = {
-    "linear + one Gauss point": (LINEAR_GAUSS, {}),
-    "the same, 2 Gauss points per axis": (LINEAR_GAUSS.replace("gauss_points = 1", "gauss_points = 2"), {}),
-    "the same, field_radius 1.0": (LINEAR_GAUSS.replace("0.75", "1.0"), {}),
-    "the same, box of half-width 0.65": (LINEAR_GAUSS.replace("0.75", "0.65") + ", field_support = 'box'", {}),
-    "the same, Wendland C2 of radius 2": (LINEAR_GAUSS.replace("field_kernel = 'linear', field_radius = 0.75",
-                                                               "field_kernel = 'wendland_c2', field_radius = 2.0"), {}),
-    "linear, 3 Gauss points, Wendland C2 r 2": ("kernel = 'linear', quadrature = 'gauss', gauss_points = 3, "
-                                                "field_kernel = 'wendland_c2', field_radius = 2.0", {}),
-    "cubic grid functions, one Gauss point r 0.75": (LINEAR_GAUSS.replace("kernel = 'linear', quad",
-                                                                           "kernel = 'cubic', quad"), {}),
-    "Standard MPM": ("kernel = 'linear'", {}),
-    "Standard MPM, flip 0.95": ("kernel = 'linear'", {"flip": 0.95}),
-    "linear + one Gauss point, flip 0.95": (LINEAR_GAUSS, {"flip": 0.95}),
-    "linear + one Gauss point, USL": (LINEAR_GAUSS, {"scheme": "usl"}),
-    "linear + one Gauss point, cfl 0.1": (LINEAR_GAUSS, {"cfl": 0.1}),
-    "linear + one Gauss point, W1's k (1e-5)": (LINEAR_GAUSS, {"k": 1.0e-5}),
-    "Standard MPM, W1's k (1e-5)": ("kernel = 'linear'", {"k": 1.0e-5}),
-    "linear + one Gauss point, 200 cells": (LINEAR_GAUSS, {"ncells": 200}),
-    "Standard MPM, 200 cells": ("kernel = 'linear'", {"ncells": 200}),
+# The diagnosis (--diagnose). Table 1: W4 with uniform points, seeds 1-10, three choices.
+# Table 2: variants of linear + one Gauss point, and the other columns, on the placements
+# regular and random and on uniform seeds where it lost (5, 7) or not (1).
+SEEDS = list(range(1, 11))
+SCAN = ["Standard MPM", "linear + one Gauss point", "pair, 2 Gauss points"]
+VARIANTS = {
+    "linear + one Gauss point (r 0.75)": ("W4", LINEAR_GAUSS),
+    "the same, 2 x 2 Gauss points": ("W4", LINEAR_GAUSS.replace("gauss_points = 1", "gauss_points = 2")),
+    "the same, radius 1.0": ("W4", LINEAR_GAUSS.replace("0.75", "1.0")),
+    "the same, box of half-width 0.65": ("W4", LINEAR_GAUSS.replace("0.75", "0.65")
+                                         + ", field_support = 'box'"),
+    "the same, Wendland C2 of radius 2": ("W4", LINEAR_GAUSS.replace(
+        "field_kernel = 'linear', field_radius = 0.75", "field_kernel = 'wendland_c2', field_radius = 2.0")),
+    "Standard MPM": ("W4", CHOICES["Standard MPM"]),
+    "W1 column, linear + one Gauss point": ("W1", LINEAR_GAUSS),
+    "W1 column, Standard MPM": ("W1", CHOICES["Standard MPM"]),
+    "W2 column, linear + one Gauss point": ("W2", LINEAR_GAUSS),
+    "W2 column, Standard MPM": ("W2", CHOICES["Standard MPM"]),
+    "W3 column, linear + one Gauss point": ("W3", LINEAR_GAUSS),
+    "W3 column, Standard MPM": ("W3", CHOICES["Standard MPM"]),
 }
-DIAG_PLACEMENTS = [("regular", 1), ("random", 1), ("uniform", 1), ("uniform", 2), ("uniform", 3)]
+VARIANT_PLACEMENTS = [("regular", 1), ("random", 1), ("uniform", 1), ("uniform", 5), ("uniform", 7)]
+
+
+def place_label(placement, seed):
+    return f"uniform, seed {seed}" if placement == "uniform" else placement
 
 
 def slug(s):
@@ -101,31 +104,21 @@ def slug(s):
 
 
 def scene(tag, outdir, col, shape, placement, seed, extra=None):
-    """2D column of 100 x 2 cells (ncells along the column from extra), rollers on the side
-    faces, drained loaded top, fixed impermeable bottom, 1 Pa step load, benchmark
-    biot_column. Along x (top x-, as inputs/w1_2d.nml), or with extra axis = 'y' upright
-    (top y+, bottom y-), which the benchmark's measures do not cover (measure() does)."""
+    """2D column along x (as inputs/w1_2d.nml): 100 x 2 cells, rollers on y- and y+, the
+    drained loaded top x-, the fixed impermeable bottom x+, a 1 Pa step load, benchmark
+    biot_column. extra may set cfl, flip, scheme, ppc, fluid_seed, ncells (along x) and the
+    column's parameters, for runs beside the study's."""
     extra = extra or {}
     c = dict(col, **{k: v for k, v in extra.items() if k in col})
     nx = extra.get("ncells", NCELLS)
     ny = max(2, round(WIDTH / (LENGTH / nx)))
-    upright = extra.get("axis", "x") == "y"
-    if upright:
-        grid = f"ncells = {ny}, {nx}\n  origin = 0.0, 0.0\n  length = {WIDTH}, {LENGTH}"
-        box = f"hi = {WIDTH}, {LENGTH}"
-        faces = ("&boundary face = 'y+' condition = 'free' fluid = 'drained' /\n"
-                 "&boundary face = 'y-' condition = 'fixed' fluid = 'impermeable' /\n"
-                 "&boundary face = 'x-' condition = 'roller' /\n"
-                 "&boundary face = 'x+' condition = 'roller' /")
-        load = "face = 'y+'\n  traction = 0.0, -1.0"
-    else:
-        grid = f"ncells = {nx}, {ny}\n  origin = 0.0, 0.0\n  length = {LENGTH}, {WIDTH}"
-        box = f"hi = {LENGTH}, {WIDTH}"
-        faces = ("&boundary face = 'x-' condition = 'free' fluid = 'drained' /\n"
-                 "&boundary face = 'x+' condition = 'fixed' fluid = 'impermeable' /\n"
-                 "&boundary face = 'y-' condition = 'roller' /\n"
-                 "&boundary face = 'y+' condition = 'roller' /")
-        load = "face = 'x-'\n  traction = 1.0, 0.0"
+    grid = f"ncells = {nx}, {ny}\n  origin = 0.0, 0.0\n  length = {LENGTH}, {WIDTH}"
+    box = f"hi = {LENGTH}, {WIDTH}"
+    faces = ("&boundary face = 'x-' condition = 'free' fluid = 'drained' /\n"
+             "&boundary face = 'x+' condition = 'fixed' fluid = 'impermeable' /\n"
+             "&boundary face = 'y-' condition = 'roller' /\n"
+             "&boundary face = 'y+' condition = 'roller' /")
+    load = "face = 'x-'\n  traction = 1.0, 0.0"
     return f"""&run
   name = '{tag}'
   t_end = {c['t_end']}
@@ -166,6 +159,7 @@ def scene(tag, outdir, col, shape, placement, seed, extra=None):
   ppc = {extra.get('ppc', 2)}
   placement = '{placement}'
   seed = {seed}
+  fluid_seed = {extra.get('fluid_seed', -1)}
 /
 {faces}
 &load
@@ -212,29 +206,33 @@ def log_step_time(outdir, tag):
     return float(m.group(1)) if m else np.nan
 
 
-def measure(outdir, tag, col, ncells=NCELLS, axis="x"):
+def log_empty_solves(outdir, tag):
+    """Gauss-point reconstructions that found no point in reach, summed over the run (the
+    last number of the log line 'MLS solves: ... empty'); 0 without Gauss quadrature."""
+    m = re.search(r"MLS solves:[^:]*empty:\s+(?:\d+\s+){4}(\d+)", open(os.path.join(outdir, tag + ".log")).read())
+    return int(m.group(1)) if m else 0
+
+
+def measure(outdir, tag, col, ncells=NCELLS):
     """The measures of the module header for one finished run, or None."""
     path = os.path.join(outdir, tag + ".h5")
     if not os.path.exists(path):
         return None
-    a = 0 if axis == "x" else 1
     with h5py.File(path, "r") as f:
         if "verification" not in f or "frames" not in f or not len(f["frames"]):
             return None
         v = f["verification"]
         last = f["frames"][sorted(f["frames"])[-1]]
         t = float(last.attrs["time"])
-        xs, sig, vs = last["solid"]["x"][:, a], last["solid"]["stress"][:, a], last["solid"]["volume"][...]
-        xf, p, vf = last["fluid"]["x"][:, a], last["fluid"]["pore_pressure"][...], last["fluid"]["volume"][...]
+        xs, sig, vs = last["solid"]["x"][:, 0], last["solid"]["stress"][:, 0], last["solid"]["volume"][...]
+        xf, p, vf = last["fluid"]["x"][:, 0], last["fluid"]["pore_pressure"][...], last["fluid"]["volume"][...]
         if "wall_time_step_loop" in v.attrs:
             ms = 1e3 * float(v.attrs["wall_time_step_loop"]) / float(v.attrs["steps"])
         else:
             ms = log_step_time(outdir, tag)
         prof = (v["profile_z"][...], v["profile_p"][...], v["profile_sigma_eff"][...]) \
-            if "profile_z" in v and axis == "x" else None
+            if "profile_z" in v else None
         run_err = float(v.attrs.get("final_error_sigma_eff", np.nan))
-    if axis == "y":
-        xs, xf = LENGTH - xs, LENGTH - xf
     bc, z, ref = reference(col, t)
     c_u = biot_laplace.wave_speed(bc)
     h = LENGTH / ncells
@@ -245,7 +243,8 @@ def measure(outdir, tag, col, ncells=NCELLS, axis="x"):
         far = np.abs(prof[0] - c_u * t) > FRONT_MARGIN * h
         check = max(np.abs(np.interp(prof[0], z, ref["p"]) - prof[1])[far].max(),
                     np.abs(np.interp(prof[0], z, ref["sigma_eff"]) - prof[2])[far].max())
-    out = dict(ms=ms, ref_check=float(check), run_error_sigma_eff=run_err, time=t)
+    out = dict(ms=ms, ref_check=float(check), run_error_sigma_eff=run_err, time=t,
+               empty_solves=log_empty_solves(outdir, tag))
     edges = np.linspace(0.0, LENGTH, ncells + 1)
     for name, x, val, vol, field in (("sig", xs, sig, vs, "sigma_eff"), ("p", xf, p, vf, "p")):
         d = val - np.interp(x, z, ref[field])
@@ -263,26 +262,27 @@ def measure(outdir, tag, col, ncells=NCELLS, axis="x"):
 
 
 def cases(diagnose):
+    """(table, row, column label, tag, column parameters, scene maker) of every run."""
     out = []
+
+    def add(table, row, cname, shape, placement, seed):
+        col = COLUMNS[cname]
+        tag = f"{'diag' if diagnose else 'col'}_{cname.lower()}_{placement}_{seed}_{slug(shape)[:60]}"
+        out.append((table, row, place_label(placement, seed) if diagnose else placement, tag, col,
+                    lambda outdir, tag=tag, col=col, shape=shape, p=placement, s=seed:
+                    scene(tag, outdir, col, shape, p, s)))
     if diagnose:
-        for label, (shape, extra) in DIAGNOSE.items():
-            col = dict(COLUMNS["W4"], **{k: v for k, v in extra.items() if k in COLUMNS["W4"]})
-            for placement, seed in DIAG_PLACEMENTS:
-                if extra.get("ncells") and seed > 1:
-                    continue
-                tag = f"diag_w4_{slug(label)}_{placement}_{seed}"
-                out.append((label, f"{placement}, seed {seed}" if placement == "uniform" else placement,
-                            tag, col, extra.get("ncells", NCELLS),
-                            lambda outdir, tag=tag, col=col, shape=shape, p=placement, s=seed, e=extra:
-                            scene(tag, outdir, col, shape, p, s, e)))
+        for label in SCAN:
+            for seed in SEEDS:
+                add("seeds", label, "W4", CHOICES[label], "uniform", seed)
+        for label, (cname, shape) in VARIANTS.items():
+            for placement, seed in VARIANT_PLACEMENTS:
+                add("variants", label, cname, shape, placement, seed)
         return out
-    for cname, col in COLUMNS.items():
+    for cname in COLUMNS:
         for placement in PLACEMENTS:
             for label, shape in CHOICES.items():
-                tag = f"col_{cname.lower()}_{placement}_{slug(label)}"
-                out.append(((cname, label), placement, tag, col, NCELLS,
-                            lambda outdir, tag=tag, col=col, shape=shape, p=placement:
-                            scene(tag, outdir, col, shape, p, 1)))
+                add(cname, label, cname, shape, placement, 1)
     return out
 
 
@@ -290,55 +290,61 @@ def fmt(r, key):
     return f"{r[key]:.3f}" if r else "failed"
 
 
+def quad(r, keys=("sig_points", "p_points", "sig_cells", "p_cells")):
+    return " / ".join(f"{r[k]:.3f}" for k in keys) if r else "failed"
+
+
 def tables(res):
     md = ["Measured by `scripts/pareto_columns.py` (release build, one rank, one run at a time, "
           f"Courant number {CFL}): RMS errors behind the front (depth below c_u t - 3 cells) in "
           "units of the load, at the points and of the cell means, against the Laplace-domain "
           "solution at the points' depths (`scripts/biot_laplace.py`), and the wall time of the "
-          "step loop per step. 2D column of 100 x 2 cells, 2 x 2 points per cell and phase; "
-          "`uniform` scatters the 800 + 800 points over the whole column (seed 1), `random` "
-          "scatters 4 per cell.", ""]
+          "step loop per step (lowest to highest of the three runs; the host was shared, so "
+          "read the costs as ratios). 2D column of 100 x 2 cells, 2 x 2 points per cell and "
+          "phase; `uniform` scatters the 800 + 800 points over the whole column (seed 1), "
+          "`random` scatters 4 per cell. Each entry: sigma' points / p points / sigma' cell "
+          "means / p cell means.", ""]
     for cname, col in COLUMNS.items():
         md.append(f"**{cname}** (n_f {col['porosity']}, rho_s {col['rho_s']:g}, E_c "
                   f"{col['youngs'] / 1e6:g} MPa, K_f {col['k_f'] / 1e6:g} MPa, k {col['k']:g} m/s, "
-                  f"{col['drag']} drag, t = {col['t_end']:g} s): sigma' points / p points / "
-                  "sigma' cell means / p cell means, ms per step.\n")
+                  f"{col['drag']} drag, t = {col['t_end']:g} s)\n")
         md.append("| choice | " + " | ".join(PLACEMENTS) + " | ms / step |")
         md.append("|---|" + "---|" * (len(PLACEMENTS) + 1))
         for label in CHOICES:
-            cells, costs = [], []
-            for placement in PLACEMENTS:
-                r = res.get(f"{cname}|{label}|{placement}")
-                if r is None:
-                    cells.append("failed")
-                    continue
-                cells.append(" / ".join(f"{r[k]:.3f}" for k in ("sig_points", "p_points",
-                                                                  "sig_cells", "p_cells")))
-                costs.append(r["ms"])
-            md.append(f"| {label} | " + " | ".join(cells) + " | "
+            rs = [res.get(f"{cname}|{label}|{p}") for p in PLACEMENTS]
+            costs = [r["ms"] for r in rs if r]
+            md.append(f"| {label} | " + " | ".join(quad(r) for r in rs) + " | "
                       + (f"{min(costs):.2f}-{max(costs):.2f}" if costs else "") + " |")
         md.append("")
     return "\n".join(md)
 
 
 def diag_table(res):
-    md = ["Measured by `scripts/pareto_columns.py --diagnose` on W4 (as the table of "
-          "doc/performance.md, \"Saturated columns of other physics\"): sigma' points / p points "
-          "/ sigma' cell means / p cell means behind the front, in units of the load.", ""]
-    cols = [f"{p}, seed {s}" if p == "uniform" else p for p, s in DIAG_PLACEMENTS]
+    md = ["Measured by `scripts/pareto_columns.py --diagnose` (as the tables of "
+          "doc/performance.md, \"Saturated columns of other physics\"). W4 with `uniform` "
+          "points, ten seeds (the fluid points take seed + 1): sigma' points / p points / "
+          "sigma' cell means / p cell means behind the front, in units of the load; under "
+          "each seed the Gauss-point reconstructions of linear + one Gauss point that found "
+          "no point (the log's `MLS solves ... empty`, summed over the steps).", ""]
+    md.append("| choice | " + " | ".join(f"seed {s}" for s in SEEDS) + " |")
+    md.append("|---|" + "---|" * len(SEEDS))
+    for label in SCAN:
+        md.append(f"| {label} | " + " | ".join(quad(res.get(f"seeds|{label}|uniform, seed {s}"))
+                                               for s in SEEDS) + " |")
+    lg = [res.get(f"seeds|linear + one Gauss point|uniform, seed {s}") for s in SEEDS]
+    md.append("| empty reconstructions | " + " | ".join(str(r["empty_solves"]) if r else "-" for r in lg)
+              + " |")
+    cols = [place_label(p, s) for p, s in VARIANT_PLACEMENTS]
+    md += ["", "Variants on W4, and the other columns, on the same points: sigma' points / p "
+           "points, and in brackets the empty reconstructions.", ""]
     md.append("| variant | " + " | ".join(cols) + " | ms / step |")
     md.append("|---|" + "---|" * (len(cols) + 1))
-    for label in DIAGNOSE:
-        row, costs = [], []
-        for c in cols:
-            r = res.get(f"{label}|{c}")
-            if r is None:
-                row.append("-")
-                continue
-            row.append(" / ".join(f"{r[k]:.3f}" for k in ("sig_points", "p_points", "sig_cells", "p_cells")))
-            costs.append(r["ms"])
-        md.append(f"| {label} | " + " | ".join(row) + " | "
-                  + (f"{min(costs):.2f}-{max(costs):.2f}" if costs else "") + " |")
+    for label in VARIANTS:
+        rs = [res.get(f"variants|{label}|{c}") for c in cols]
+        costs = [r["ms"] for r in rs if r]
+        md.append(f"| {label} | " + " | ".join(
+            f"{quad(r, ('sig_points', 'p_points'))} ({r['empty_solves']})" if r else "failed" for r in rs)
+            + " | " + (f"{min(costs):.2f}-{max(costs):.2f}" if costs else "") + " |")
     return "\n".join(md)
 
 
@@ -365,18 +371,17 @@ def main():
     outdir = os.path.abspath(a.out)
     os.makedirs(outdir, exist_ok=True)
     res = {}
-    for key, placement, tag, col, ncells, make in cases(a.diagnose):
+    for table, row, column, tag, col, make in cases(a.diagnose):
         if a.only and not re.search(a.only, tag):
             continue
-        r = measure(outdir, tag, col, ncells) if a.skip_runs or a.missing else None
+        r = measure(outdir, tag, col) if a.skip_runs or a.missing else None
         if not a.skip_runs and r is None:
             rc = run(a.build, outdir, tag, make(outdir))
-            r = measure(outdir, tag, col, ncells)
+            r = measure(outdir, tag, col)
             print(f"pareto_columns: {tag} rc {rc} "
-                  + (" ".join(f"{k} {v:.4g}" for k, v in r.items() if isinstance(v, float)) if r else "failed"),
+                  + (" ".join(f"{k} {v:.4g}" for k, v in r.items()) if r else "failed"),
                   file=sys.stderr, flush=True)
-        name = "|".join(key) if isinstance(key, tuple) else key
-        res[f"{name}|{placement}"] = r
+        res[f"{table}|{row}|{column}"] = r
     with open(os.path.join(outdir, "diagnose.json" if a.diagnose else "columns.json"), "w") as f:
         json.dump(res, f, indent=1)
     text = diag_table(res) if a.diagnose else tables(res)

@@ -25,6 +25,7 @@ Usage: scripts/pareto_columns.py [--diagnose] [--skip-runs | --missing] [--only 
        [--out out/pareto_columns] [--build build/release]
 """
 import argparse
+import hashlib
 import json
 import os
 import re
@@ -86,10 +87,13 @@ VARIANTS = {
         "field_kernel = 'linear', field_radius = 0.75", "field_kernel = 'wendland_c2', field_radius = 2.0")),
     "Standard MPM": ("W4", CHOICES["Standard MPM"]),
     "W1 column, linear + one Gauss point": ("W1", LINEAR_GAUSS),
+    "W1 column, linear + one Gauss point, radius 1.0": ("W1", LINEAR_GAUSS.replace("0.75", "1.0")),
     "W1 column, Standard MPM": ("W1", CHOICES["Standard MPM"]),
     "W2 column, linear + one Gauss point": ("W2", LINEAR_GAUSS),
+    "W2 column, linear + one Gauss point, radius 1.0": ("W2", LINEAR_GAUSS.replace("0.75", "1.0")),
     "W2 column, Standard MPM": ("W2", CHOICES["Standard MPM"]),
     "W3 column, linear + one Gauss point": ("W3", LINEAR_GAUSS),
+    "W3 column, linear + one Gauss point, radius 1.0": ("W3", LINEAR_GAUSS.replace("0.75", "1.0")),
     "W3 column, Standard MPM": ("W3", CHOICES["Standard MPM"]),
 }
 VARIANT_PLACEMENTS = [("regular", 1), ("random", 1), ("uniform", 1), ("uniform", 5), ("uniform", 7)]
@@ -267,7 +271,9 @@ def cases(diagnose):
 
     def add(table, row, cname, shape, placement, seed):
         col = COLUMNS[cname]
-        tag = f"{'diag' if diagnose else 'col'}_{cname.lower()}_{placement}_{seed}_{slug(shape)[:60]}"
+        # The same column, points and shape give the same tag, so that --missing runs them once.
+        key = hashlib.sha1(shape.encode()).hexdigest()[:10]
+        tag = f"{'diag' if diagnose else 'col'}_{cname.lower()}_{placement}_{seed}_{key}"
         out.append((table, row, place_label(placement, seed) if diagnose else placement, tag, col,
                     lambda outdir, tag=tag, col=col, shape=shape, p=placement, s=seed:
                     scene(tag, outdir, col, shape, p, s)))

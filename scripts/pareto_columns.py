@@ -103,10 +103,6 @@ def place_label(placement, seed):
     return f"uniform, seed {seed}" if placement == "uniform" else placement
 
 
-def slug(s):
-    return re.sub(r"[^a-z0-9]+", "_", s.lower()).strip("_")
-
-
 def scene(tag, outdir, col, shape, placement, seed, extra=None):
     """2D column along x (as inputs/w1_2d.nml): 100 x 2 cells, rollers on y- and y+, the
     drained loaded top x-, the fixed impermeable bottom x+, a 1 Pa step load, benchmark
@@ -290,10 +286,6 @@ def cases(diagnose):
             for label, shape in CHOICES.items():
                 add(cname, label, cname, shape, placement, 1)
     return out
-
-
-def fmt(r, key):
-    return f"{r[key]:.3f}" if r else "failed"
 
 
 def quad(r, keys=("sig_points", "p_points", "sig_cells", "p_cells")):

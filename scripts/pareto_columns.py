@@ -16,7 +16,7 @@ in units of the load q:
     mean of (field - reference) over its points, RMS over the columns behind the front;
   * ms per step: wall_time_step_loop / steps of the run's /verification.
 With --diagnose, the variants of the linear + one Gauss point choice on W4 that look for the
-cause of its loss (doc/verification.md, "Linear grid functions with one Gauss point on W4").
+cause of its loss (doc/verification.md, "Empty Gauss points of linear + one Gauss point").
 
 Writes the tables between <!-- columns:begin --> and <!-- columns:end --> of
 doc/performance.md (--diagnose: <!-- columns_diag:begin/end --> of doc/verification.md).

@@ -4,6 +4,7 @@
 module dpmpm_verification_log
   use dpmpm_kinds, only: wp, i8
   use dpmpm_timer, only: t_total
+  use dpmpm_strings, only: i8toa
   use dpmpm_benchmarks, only: benchmark_errors, benchmark_error_names, benchmark_nerr, nbench_err
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_state, only: state_t
@@ -139,6 +140,14 @@ contains
     write (line, '(a,5(1x,i0),a,i0)') '  MLS solves: full, reduced basis, regularised, constant '// &
       'basis, empty:', c(1:5), '; point gradients left point-wise: ', c(6)
     call self%log%info(line)
+    ! (without MLS velocities every solve is one of a Gauss point of an occupied cell)
+    if (self%plan%gauss .and. .not. self%plan%velocity_mls .and. c(5) > 0) then
+      call self%log%warning('Gauss points of occupied cells found no point within field_radius '// &
+                            i8toa(c(5))//' times: their cells entered the forces with no stress or '// &
+                            'pore pressure, a hole in the body; field_radius = 1.0 or the pair of '// &
+                            'doc/theory.md 3.6 reach across empty cells (doc/verification.md, "Empty '// &
+                            'Gauss points of linear + one Gauss point")')
+    end if
     if (self%plan%gauss) then
       nthin = self%nthin
       call MPI_Allreduce(MPI_IN_PLACE, nthin, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)

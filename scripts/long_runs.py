@@ -10,8 +10,13 @@ ended (its exit code, monitor warnings and stops), the monitor's largest
 (kinetic + stored) / (work + initial) and its largest balance error, the steps
 and the wall time. A shape that the input refuses is listed with the reason.
 
-usage: scripts/long_runs.py [--bin build/release/dpmpm] [--np 2] [--out DIR]
-       [--scenes a,b,...] [--shapes standard,quadratic,cubic,pair] [--transits 20]
+With --placement random or uniform every &region of the scene places its points that way
+(doc/input.md, `placement`; doc/verification.md, "Saturated soil at rest on scattered
+points"); --np takes a list of rank counts (2D and 3D scenes run on each).
+
+usage: scripts/long_runs.py [--bin build/release/dpmpm] [--np 2 | --np 1,2] [--out DIR]
+       [--scenes a,b,...] [--shapes standard,quadratic,cubic,pair,linear_gauss]
+       [--placement as_shipped|random|uniform] [--transits 20]
 
 By default every scene but the W1-W3 columns, which scripts/stability_map.py covers.
 """
@@ -22,7 +27,11 @@ import re
 import subprocess
 import time
 
-from stability_map import SHAPES  # the same four shape choices as the stability map
+from stability_map import SHAPES as MAP_SHAPES  # the four shape choices of the stability map
+
+# and linear grid functions with one Gauss point per cell (doc/input.md, "Which to pick")
+SHAPES = dict(MAP_SHAPES, linear_gauss="kernel = 'linear', quadrature = 'gauss', gauss_points = 1, "
+                                       "field_kernel = 'linear', field_radius = 0.75")
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # the columns of the stability map (scripts/stability_map.py) are left to it
@@ -53,6 +62,19 @@ def grid(txt):
             return [default] * ndim
         return [float(x) for x in m.group(1).replace(',', ' ').split()][:ndim]
     return ndim, vec('ncells', 1.0), vec('length', 1.0)
+
+
+def set_placement(txt, placement):
+    """Every &region group with its points placed as placement (one seed per region)."""
+    k = [0]
+
+    def one(m):
+        body = m.group(0)
+        k[0] += 1
+        body = re.sub(r"(?m),?\s*\bplacement\s*=\s*'[^']*'", '', body)
+        body = re.sub(r"(?m),?\s*\bseed\s*=\s*\d+", '', body)
+        return body.replace('&region', "&region placement = '%s', seed = %d," % (placement, k[0]), 1)
+    return re.sub(r'(?s)&region\b.*?\n?\s*/', one, txt)
 
 
 def make(txt, shape, name, outdir, t_end=None, max_steps=None):
@@ -127,7 +149,8 @@ def refusal(log):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--bin', default=os.path.join(ROOT, 'build', 'release', 'dpmpm'))
-    ap.add_argument('--np', type=int, default=2)
+    ap.add_argument('--np', default='2', help='rank counts of 2D and 3D scenes, comma-separated')
+    ap.add_argument('--placement', default='as_shipped', choices=('as_shipped', 'random', 'uniform'))
     ap.add_argument('--out', default='/tmp/dpmpm_long_runs')
     ap.add_argument('--scenes', default='', help='scene names (default: every file in inputs/)')
     ap.add_argument('--shapes', default='standard,quadratic,cubic,pair')
@@ -142,6 +165,8 @@ def main():
     print('|---|---|---|---|---|---|---|---|---|---|---|---|')
     for scene in scenes:
         txt = open(os.path.join(ROOT, 'inputs', scene + '.nml')).read()
+        if args.placement != 'as_shipped':
+            txt = set_placement(txt, args.placement)
         cfl_m = re.search(r'(?m)^\s*cfl\s*=\s*([\d.eE+-]+)', txt)
         cfl = float(cfl_m.group(1)) if cfl_m else 0.5
         ndim, ncells, length = grid(txt)
@@ -152,9 +177,11 @@ def main():
             continue
         transit = max(length) / (cfl * h / dt)
         t_end = args.transits * transit
-        np_ = 1 if ndim == 1 else args.np
-        for shape in args.shapes.split(','):
-            name = '%s_%s' % (scene, shape)
+        for shape, np_ in [(sh, n) for sh in args.shapes.split(',')
+                           for n in ([1] if ndim == 1 else [int(v) for v in args.np.split(',')])]:
+            name = '%s_%s_np%d' % (scene, shape, np_)
+            if args.placement != 'as_shipped':
+                name += '_' + args.placement
             path = make(txt, shape, name, args.out, t_end=t_end)
             rc, log, wall = run(args, path, np_)
             open(os.path.join(args.out, name + '.log'), 'w').write(log)

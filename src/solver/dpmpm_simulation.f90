@@ -35,7 +35,7 @@ module dpmpm_simulation
   use dpmpm_verification_log, only: two_phase_benchmark, record_two_phase_errors, write_verification, &
                                     report_mls
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_INTEGER8, &
-                     MPI_SUM, MPI_MAX, MPI_MIN, MPI_Wtime, MPI_INTEGER
+                     MPI_SUM, MPI_MAX, MPI_MIN, MPI_Wtime, MPI_INTEGER, MPI_2DOUBLE_PRECISION, MPI_MAXLOC
   implicit none
   private
   public :: simulation_t, run_scene
@@ -81,6 +81,7 @@ contains
     integer(i8), allocatable :: counts(:), fcounts(:)
     character(len=256) :: line
     call self%free()
+    self%kib_start = peak_resident_kib()
     self%cfg = cfg
     self%exit_code = 0
     self%growth_stop = .false.
@@ -734,11 +735,15 @@ contains
 
   !> What the run holds in memory: bytes per point of each phase (fields, stencil and
   !> per-point work arrays: what the scene's models need, nothing else), the grid
-  !> fields of rank 0 per stored node, and the peak resident memory of rank 0.
+  !> fields of rank 0 per stored node, and the largest peak resident memory over the
+  !> ranks with the rank that had it; and what to budget per point: the largest over
+  !> the ranks of the peak's growth since the start of the set-up (the libraries and MPI
+  !> already loaded) over the rank's points (grid fields and buffers included).
   subroutine report_memory(self)
     class(state_t), intent(in) :: self
-    character(len=256) :: line
-    integer :: ip, b(2), kib
+    character(len=320) :: line
+    integer :: ip, b(2), kib, npts, nr
+    real(wp) :: peak(2), budget
     integer(i8) :: nodes, gbytes
     b = 0
     gbytes = 0
@@ -753,13 +758,29 @@ contains
     gbytes = gbytes + field_bytes(self%nporo) + field_bytes(self%ndrag)
     nodes = product(int(self%dec%ahi - self%dec%alo + 1, i8))
     kib = peak_resident_kib()
+    npts = 0
+    do ip = 1, self%nph
+      npts = npts + self%phase(ip)%pts%n
+    end do
+    ! (the peak with its rank, by MAXLOC on pairs; the budget by MAX)
+    peak = [real(kib, wp), real(self%dec%rank, wp)]
+    call MPI_Allreduce(MPI_IN_PLACE, peak, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, self%dec%comm)
+    budget = -1.0_wp
+    if (kib > 0 .and. self%kib_start > 0 .and. npts > 0) budget = 1024.0_wp*real(kib - self%kib_start, wp)/npts
+    call MPI_Allreduce(MPI_IN_PLACE, budget, 1, MPI_DOUBLE_PRECISION, MPI_MAX, self%dec%comm)
+    nr = self%dec%nranks
     write (line, '(a,i0,a)') '  memory: ', b(1), ' bytes per solid point'
     if (self%nph == 2) write (line, '(a,a,i0,a)') trim(line), ', ', b(2), ' per fluid point'
     write (line, '(a,a,a,a,i0,a)') trim(line), '; grid fields ', ftoa(real(gbytes, wp)/2.0_wp**20, 1), &
       ' MiB on rank 0 (', gbytes/max(nodes, 1_i8), ' bytes per node)'
-    if (kib > 0) write (line, '(a,a,a,a)') trim(line), '; peak resident ', ftoa(real(kib, wp)/1024.0_wp, 1), &
-      ' MiB on rank 0'
+    if (peak(1) > 0.0_wp) write (line, '(a,a,a,a,i0,a,i0,a)') trim(line), '; peak resident ', &
+      ftoa(peak(1)/1024.0_wp, 1), ' MiB on rank ', nint(peak(2)), ' (the largest of ', nr, ' ranks)'
     call self%log%info(line)
+    if (budget > 0.0_wp) then
+      write (line, '(a,i0,a)') '  memory to budget: ', nint(budget), ' bytes per point (the largest over the '// &
+        'ranks of the peak''s growth since the set-up began, per point of the rank)'
+      call self%log%info(line)
+    end if
   contains
     integer(i8) function field_bytes(f) result(nb)
       real(wp), allocatable, intent(in) :: f(:, :, :, :)

@@ -61,6 +61,7 @@ module dpmpm_state
     type(mls_stats_t) :: mls_stats            !< fallback counts of the MLS solves on this rank
     integer(i8) :: nkept = 0                  !< point gradients left point-wise (no quadrature weight)
     integer(i8) :: nthin = 0                  !< node-steps whose internal force was cleared (thin)
+    integer :: kib_start = -1                 !< peak resident memory (KiB) before the points
     integer(i8) :: nwall = 0                  !< points put back inside a wall they had crossed
     integer(i8) :: ncavitated = 0             !< fluid point-steps cut at the cavitation pressure
     integer(i8) :: nfree_surface = 0          !< fluid point-steps at the free surface (p = 0)

@@ -144,9 +144,10 @@ contains
     if (self%plan%gauss .and. .not. self%plan%velocity_mls .and. c(5) > 0) then
       call self%log%warning('Gauss points of occupied cells found no point within field_radius '// &
                             i8toa(c(5))//' times: their cells entered the forces with no stress or '// &
-                            'pore pressure, a hole in the body; field_radius = 1.0 or the pair of '// &
-                            'doc/theory.md 3.6 reach across empty cells (doc/verification.md, "Empty '// &
-                            'Gauss points of linear + one Gauss point")')
+                            'pore pressure, which is right where pore water has drained away but a hole '// &
+                            'where the points of a body lie scattered apart; there field_radius = 1.0 or '// &
+                            'the pair of doc/theory.md 3.6 reach across empty cells (doc/verification.md, '// &
+                            '"Empty Gauss points of linear + one Gauss point")')
     end if
     if (self%plan%gauss) then
       nthin = self%nthin

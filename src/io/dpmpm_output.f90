@@ -372,7 +372,13 @@ contains
         j = merge(1, 0, frame_sound(src, k))
         call MPI_Allreduce(MPI_IN_PLACE, j, 1, MPI_INTEGER, MPI_MIN, self%comm)
         err = -1
-        if (j == 1) call h5ocopy_f(src, trim(src_name), self%file_id, trim(dst_name), err)
+        if (j == 1) then
+          call h5ocopy_f(src, trim(src_name), self%file_id, trim(dst_name), err)
+          call MPI_Allreduce(err, e2, 1, MPI_INTEGER, MPI_MAX, self%comm)
+          call MPI_Allreduce(MPI_IN_PLACE, err, 1, MPI_INTEGER, MPI_MIN, self%comm)
+          if (err < 0 .and. e2 >= 0) call fatal('the ranks copied '//trim(src_name)//' of '// &
+                                                self%h5_path//' differently', where)
+        end if
         if (err >= 0) then
           kept = kept + 1
         else
@@ -391,7 +397,9 @@ contains
     call self%flush_diag()
     call verify_written(self, where)
     call close_file(self, tmp, where)
-    ! On the disk before it replaces the file, and the new names on the disk after.
+    ! Closed by every rank and on the disk before it replaces the file, and the new names on
+    ! the disk after.
+    call MPI_Barrier(self%comm)
     if (self%rank == 0) then
       err = posix_fsync(tmp)
       if (err /= 0) call fatal('cannot flush '//tmp//' to the disk: '//posix_strerror(err), where)

@@ -102,9 +102,12 @@ def continued(name, out):
     expect(len(line) == 1, f"{name}: the stop message says how to continue")
     ckpt = work / "out" / f"{name}.ckpt.h5"
     expect(ckpt.exists(), f"{name}: the checkpoint is written")
+    expect(not (work / "out" / f"{name}.h5.writing").exists(),
+           f"{name}: the stopped run closed its file (no mark left)")
     rc, out2, _ = run(scene(name, f", restart = 'out/{name}.ckpt.h5'"))
     expect(rc == 0, f"{name}: the continued run ends with exit code 0")
-    expect("dpmpm: continuing out/" in out2, f"{name}: the continued run goes on in its file")
+    expect("dpmpm: continuing out/" in out2 and "not continued in place" not in out2,
+           f"{name}: the continued run goes on in its file, in place")
     path = work / "out" / f"{name}.h5"
     with h5py.File(path, "r") as f, h5py.File(work / "out" / "ref.h5", "r") as r:
         steps = [int(f["frames"][k].attrs["step"]) for k in sorted(f["frames"])]

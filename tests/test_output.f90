@@ -44,16 +44,20 @@ contains
   ! ------------------------------------------------------------------ tests
 
   !> Two frames of a 2D set, diagnostics flushed at both frames and at close, verification data.
+  !> The file is marked as being written (<name>.h5.writing) from open to close.
   subroutine test_two_frames_2d(comm)
     type(MPI_Comm), intent(in) :: comm
     type(config_t) :: cfg
     type(output_t) :: out
     type(particle_set_t) :: ps
+    logical :: marked
     integer :: j
     call begin_test('two_frames_2d')
     call make_config(cfg, 'test_output', 2, comm)
     call out%open(cfg, comm)
     call check(out%is_active(), 'open file is active')
+    inquire (file=output_h5_path(cfg)//'.writing', exist=marked)
+    call check(marked, 'open file is marked as being written')
     do j = 1, 2
       call out%add_diag(diag_record(j))
     end do
@@ -73,6 +77,10 @@ contains
     call out%write_verification_attr('max_error', 0.125_wp)
     call out%close()
     call check(.not. out%is_active(), 'closed file is not active')
+    if (rank == 0) then
+      inquire (file=output_h5_path(cfg)//'.writing', exist=marked)
+      call check(.not. marked, 'closed file is not marked')
+    end if
     if (rank == 0) call verify_file(output_h5_path(cfg), 2, 2, 5, .true.)
     call check_xmf_exists(output_xmf_path(cfg))
     call MPI_Barrier(comm)

@@ -23,6 +23,7 @@ module dpmpm_h5
   implicit none
   private
   public :: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, rename_file
+  public :: link_file
   public :: write_columns, write_check_t, mpio_access_list, collective_transfer_list
   public :: io_begin, io_check, file_name
 
@@ -32,6 +33,11 @@ module dpmpm_h5
       character(kind=c_char), intent(in) :: old(*), new(*)
       integer(c_int) :: r
     end function c_rename
+    function c_link(old, new) bind(C, name='link') result(r)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: old(*), new(*)
+      integer(c_int) :: r
+    end function c_link
   end interface
 
   !> One block that this rank wrote into one dataset: where (selection) and what (bytes).
@@ -241,6 +247,16 @@ contains
     if (c_rename(old//c_null_char, new//c_null_char) /= 0) &
       call fatal('cannot rename '//old//' to '//new//': '//posix_strerror(posix_errno()), where)
   end subroutine rename_file
+
+  !> Give the file old the second name new (a hard link), an earlier file new removed
+  !> first: false where the file system cannot, and nothing is named new then.
+  logical function link_file(old, new) result(linked)
+    character(len=*), intent(in) :: old, new
+    integer :: u, ios
+    open (newunit=u, file=new, status='old', iostat=ios)
+    if (ios == 0) close (u, status='delete', iostat=ios)
+    linked = c_link(old//c_null_char, new//c_null_char) == 0
+  end function link_file
 
   !> Create dataset <name> under gid for nglob points and write this rank's nloc points at
   !> offset, collectively with the transfer list dxpl. m = 0: shape (nglob); m > 0: Fortran shape (m, nglob), (nglob, m) in C order.

@@ -144,8 +144,8 @@ contains
     if (sound) call h5oclose_f(obj, e2)
   end function object_sound
 
-  !> The diagnostics records of an open file with step before step (none when they
-  !> cannot be read).
+  !> The diagnostics records of an open file up to the first with a step at or after step
+  !> (none when they cannot be read).
   subroutine read_diag_records(file, step, recs, n)
     integer(hid_t), intent(in) :: file
     integer(i8), intent(in) :: step
@@ -170,7 +170,12 @@ contains
     if (m > 0) call h5dread_f(dset, h5kind_to_type(i8, H5_INTEGER_KIND), cp, err)
     call h5dclose_f(dset, e2)
     if (err < 0 .or. m == 0) return
-    n = count(steps(1:m) < step)
+    ! The records before the first at or after step: a kill can leave records after them
+    ! that were never written (read as 0).
+    do while (n < m)
+      if (steps(n + 1) >= step) exit
+      n = n + 1
+    end do
     deallocate (recs)
     allocate (recs(n))
     do k = 1, n

@@ -28,10 +28,11 @@ module dpmpm_output
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
                       write_columns, write_check_t, mpio_access_list, &
-                      collective_transfer_list, rename_file, io_begin, io_check
+                      collective_transfer_list, rename_file, link_file, io_begin, io_check
   use dpmpm_log, only: log_t
   use dpmpm_xdmf, only: frame_rec_t, set_rec_t, write_xdmf
   use dpmpm_h5_salvage, only: file_sound, frame_sound, read_diag_records
+  use dpmpm_posix, only: posix_write_file, posix_fsync, posix_strerror
   implicit none
   private
   public :: output_t, output_h5_path, output_xmf_path
@@ -52,7 +53,7 @@ module dpmpm_output
     integer :: rank = 0
     integer :: nranks = 1
     integer :: ndim = 0
-    character(len=:), allocatable :: h5_path, xmf_path, h5_base
+    character(len=:), allocatable :: h5_path, xmf_path, h5_base, dir
     integer(hid_t) :: file_id = -1
     integer(hid_t) :: frame_id = -1
     integer(hid_t) :: dxpl = -1
@@ -112,22 +113,32 @@ contains
 
   !> Create (truncate) the run's file collectively over comm: root attributes, /input,
   !> empty /frames and extendible /diagnostics datasets. Creates output_dir if missing.
+  !> The file is marked as being written (set_mark) until close.
   subroutine out_open(self, cfg, comm)
     class(output_t), intent(inout) :: self
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
-    character(len=*), parameter :: where = 'output%open'
-    integer(hid_t) :: fapl, gid
-    integer :: err, k
     call start(self, cfg, comm)
     if (self%rank == 0) call make_dir(trim(cfg%output_dir))
     call MPI_Barrier(self%comm)
+    call set_mark(self, 'output%open')
+    call create_file(self, cfg, self%h5_path)
+  end subroutine out_open
 
+  !> Create (truncate) path collectively as a run's file (root attributes, /input, empty
+  !> /frames and /diagnostics), flushed and left open in self.
+  subroutine create_file(self, cfg, path)
+    class(output_t), intent(inout) :: self
+    type(config_t), intent(in) :: cfg
+    character(len=*), intent(in) :: path
+    character(len=*), parameter :: where = 'output%open'
+    integer(hid_t) :: fapl, gid
+    integer :: err, k
     fapl = mpio_access_list(self%comm, where)
     call io_begin()
-    call h5fcreate_f(self%h5_path, H5F_ACC_TRUNC_F, self%file_id, err, &
+    call h5fcreate_f(path, H5F_ACC_TRUNC_F, self%file_id, err, &
                      creation_prp=H5P_DEFAULT_F, access_prp=fapl)
-    call io_check(err, 'h5fcreate_f', self%h5_path, where)
+    call io_check(err, 'h5fcreate_f', path, where)
     call h5pclose_f(fapl, err)
     call h5check(err, 'h5pclose_f(file access)', where)
     self%dxpl = collective_transfer_list(where)
@@ -155,17 +166,19 @@ contains
 
     call io_begin()
     call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
-    call io_check(err, 'h5fflush_f', self%h5_path, where)
+    call io_check(err, 'h5fflush_f', path, where)
     self%is_open = .true.
     self%in_frame = .false.
-  end subroutine out_open
+  end subroutine create_file
 
   !> Continue the file of an earlier run from its checkpoint (collective): open
   !> <dir>/<name>.h5, keep its first nframes frames and the diagnostics before step, delete
   !> what the earlier run wrote after that (the continued run writes it again), and go on
-  !> numbering frames from nframes. A file that a kill left damaged is rebuilt (salvage):
-  !> nframes becomes the number of frames kept, and why names what was lost. ok is false,
-  !> with nothing written, where there is no such file; the caller then starts a new file.
+  !> numbering frames from nframes. A file that its writer did not close (its mark is there:
+  !> the run was killed or stopped on an error), or that is found damaged, is not continued
+  !> in place but rebuilt first (rebuild): nframes becomes the number of frames kept, and
+  !> why says so and names what was lost. ok is false, with nothing written, where there is
+  !> no such file; the caller then starts a new file.
   subroutine out_resume(self, cfg, comm, nframes, step, ok, why)
     class(output_t), intent(inout) :: self
     type(config_t), intent(in) :: cfg
@@ -175,17 +188,12 @@ contains
     logical, intent(out) :: ok
     character(len=:), allocatable, intent(out) :: why
     character(len=*), parameter :: where = 'output%resume'
-    character(len=32) :: gname
-    integer(hid_t) :: fapl, dset
-    integer(hsize_t) :: dims(1), maxdims(1)
-    integer(i8), allocatable, target :: steps(:)
-    type(c_ptr) :: p
     logical :: exists
-    integer :: err, e2, k, nkeep
+    integer :: k, err
     call start(self, cfg, comm)
     ok = .false.
     ! Each question about the file is answered by every rank before any rank acts on it
-    ! (salvage renames the file): one rank must not find the file gone that another
+    ! (rebuild renames the file): one rank must not find the file gone that another
     ! is about to rebuild.
     inquire (file=self%h5_path, exist=exists)
     k = merge(1, 0, exists)
@@ -195,25 +203,53 @@ contains
       call MPI_Comm_free(self%comm)
       return
     end if
-    ! A file torn by a kill (HDF5 cannot open it, or a group or frame header is damaged):
-    ! its readable frames and diagnostics go into a new file of the same name.
-    k = merge(1, 0, file_sound(self%h5_path, nframes))
-    call MPI_Allreduce(MPI_IN_PLACE, k, 1, MPI_INTEGER, MPI_MIN, self%comm)
-    if (k == 0) then
-      call salvage(self, cfg, comm, nframes, step, why)
-      ok = .true.
-      return
+    ok = .true.
+    why = ''
+    ! A writer that died can leave the file torn anywhere, also where no reading finds it
+    ! (the headers of the diagnostics that the next extension loads): never appended to.
+    inquire (file=mark_path(self), exist=exists)
+    k = merge(1, 0, exists)
+    call MPI_Allreduce(MPI_IN_PLACE, k, 1, MPI_INTEGER, MPI_MAX, self%comm)
+    if (k == 1) then
+      call rebuild(self, cfg, comm, nframes, step, .true., why)
+    else
+      ! A file closed by its writer and damaged since (HDF5 cannot open it, a group or frame
+      ! header is damaged): rebuilt too.
+      k = merge(1, 0, file_sound(self%h5_path, nframes))
+      call MPI_Allreduce(MPI_IN_PLACE, k, 1, MPI_INTEGER, MPI_MIN, self%comm)
+      if (k == 0) call rebuild(self, cfg, comm, nframes, step, .false., why)
     end if
+    call set_mark(self, where)
+    call open_in_place(self, nframes, err)
+    if (err < 0) then
+      ! A damaged group can refuse the deletion of the later frames (its name heap broken):
+      ! the file is then rebuilt from the frames before the checkpoint.
+      if (len(why) > 0) call fatal('cannot delete the frames after the checkpoint in '// &
+                                   self%h5_path//', rebuilt from what it held', where)
+      call rebuild(self, cfg, comm, nframes, step, .false., why)
+      call open_in_place(self, nframes, err)
+      if (err < 0) call fatal('cannot delete the frames after the checkpoint in '// &
+                              self%h5_path//', rebuilt from what it held', where)
+    end if
+    call continue_in_place(self, nframes, step)
+  end subroutine out_resume
+
+  !> Open the run's file for writing (collective) and delete the frames from nframes on and
+  !> the benchmark results of the end of the run. err < 0, the file closed again, where the
+  !> file refuses a deletion on some rank.
+  subroutine open_in_place(self, nframes, err)
+    class(output_t), intent(inout) :: self
+    integer, intent(in) :: nframes
+    integer, intent(out) :: err
+    character(len=*), parameter :: where = 'output%resume'
+    character(len=32) :: gname
+    integer(hid_t) :: fapl
+    logical :: exists
+    integer :: k, e2
     fapl = mpio_access_list(self%comm, where)
     call h5fopen_f(self%h5_path, H5F_ACC_RDWR_F, self%file_id, err, access_prp=fapl)
     call h5check(err, 'h5fopen_f('//self%h5_path//')', where)
     call h5pclose_f(fapl, k)
-    ok = .true.
-    why = ''
-    self%dxpl = collective_transfer_list(where)
-    ! Frames written after the checkpoint, and the benchmark results of the end of the run.
-    ! A damaged group can refuse the deletion (its name heap broken by a kill): the file is
-    ! then rebuilt from the frames before the checkpoint.
     call h5eset_auto_f(0, err)
     k = nframes
     do
@@ -232,9 +268,24 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, err, 1, MPI_INTEGER, MPI_MIN, self%comm)
     if (err < 0) then
       call h5fclose_f(self%file_id, e2)
-      call salvage(self, cfg, comm, nframes, step, why)
-      return
+      self%file_id = -1
     end if
+  end subroutine open_in_place
+
+  !> After open_in_place: the records of the first nframes frames, the diagnostics before
+  !> step (the rest cut off), this run's rank count, and the sidecar.
+  subroutine continue_in_place(self, nframes, step)
+    class(output_t), intent(inout) :: self
+    integer, intent(in) :: nframes
+    integer(i8), intent(in) :: step
+    character(len=*), parameter :: where = 'output%resume'
+    integer(hid_t) :: dset
+    integer(hsize_t) :: dims(1), maxdims(1)
+    integer(i8), allocatable, target :: steps(:)
+    type(c_ptr) :: p
+    logical :: exists
+    integer :: err, k, nkeep
+    self%dxpl = collective_transfer_list(where)
     call h5aexists_f(self%file_id, 'nranks', exists, err)
     if (exists) call h5adelete_f(self%file_id, 'nranks', err)
     call attr_i4(self%file_id, 'nranks', int(self%nranks, i4))
@@ -278,44 +329,57 @@ contains
     if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
                                         self%sets(1:self%nsets), self%state_names)
     call MPI_Barrier(self%comm)
-  end subroutine out_resume
+  end subroutine continue_in_place
 
-  !> Rebuild a damaged <name>.h5 (collective): it is renamed <name>.damaged.h5, a new
-  !> <name>.h5 is made (out_open), and the frames before nframes that can still be read
-  !> are copied into it in order (renumbered without gaps), with the diagnostics records
-  !> before step. nframes becomes the number of frames kept; why says what was lost.
-  subroutine salvage(self, cfg, comm, nframes, step, why)
+  !> Rebuild <name>.h5 (collective) from what it holds: the frames before nframes that can
+  !> still be read are copied in order (renumbered without gaps), with the diagnostics
+  !> records before step, into a new file <name>.h5.tmp; once that is closed and on the
+  !> disk, the old file is kept as <name>.damaged.h5 and the new one renamed <name>.h5. A
+  !> kill meanwhile leaves a <name>.h5 and its mark, for the next try. nframes becomes
+  !> the number of frames kept; why says why (left_open: the writer did not close the file;
+  !> otherwise it is damaged) and what was lost. self is as after start again.
+  subroutine rebuild(self, cfg, comm, nframes, step, left_open, why)
     class(output_t), intent(inout) :: self
     type(config_t), intent(in) :: cfg
     type(MPI_Comm), intent(in) :: comm
     integer, intent(inout) :: nframes
     integer(i8), intent(in) :: step
+    logical, intent(in) :: left_open
     character(len=:), allocatable, intent(out) :: why
-    character(len=*), parameter :: where = 'output%salvage'
-    character(len=:), allocatable :: damaged
+    character(len=*), parameter :: where = 'output%rebuild'
+    character(len=:), allocatable :: tmp, damaged
     character(len=32) :: src_name, dst_name
     integer(hid_t) :: src
-    integer :: err, e2, k, kept, nlost, ndiag
+    integer :: err, e2, k, j, kept, nlost, ndiag
     type(diag_record_t), allocatable :: recs(:)
+    tmp = self%h5_path//'.tmp'
     damaged = self%h5_path(1:len(self%h5_path) - 3)//'.damaged.h5'
-    call MPI_Comm_free(self%comm)
-    call MPI_Comm_rank(comm, k)
-    if (k == 0) call rename_file(self%h5_path, damaged, where)
-    call MPI_Barrier(comm)
-    call self%open(cfg, comm)
+    call create_file(self, cfg, tmp)
     kept = 0
     nlost = 0
     ndiag = 0
+    ! Every rank reads the old file on its own; each copy is made only where every rank can
+    ! make it (the new file is written collectively).
     call h5eset_auto_f(0, err)
-    call h5fopen_f(damaged, H5F_ACC_RDONLY_F, src, err)
-    if (err >= 0) then
+    call h5fopen_f(self%h5_path, H5F_ACC_RDONLY_F, src, err)
+    j = merge(1, 0, err >= 0)
+    call MPI_Allreduce(MPI_IN_PLACE, j, 1, MPI_INTEGER, MPI_MIN, self%comm)
+    if (j == 0 .and. err >= 0) call h5fclose_f(src, e2)
+    if (j == 1) then
       do k = 0, nframes - 1
         write (src_name, '(a,i6.6)') 'frames/', k
         write (dst_name, '(a,i6.6)') 'frames/', kept
+        j = merge(1, 0, frame_sound(src, k))
+        call MPI_Allreduce(MPI_IN_PLACE, j, 1, MPI_INTEGER, MPI_MIN, self%comm)
         err = -1
-        if (frame_sound(src, k)) call h5ocopy_f(src, trim(src_name), self%file_id, trim(dst_name), err)
+        if (j == 1) then
+          call h5ocopy_f(src, trim(src_name), self%file_id, trim(dst_name), err)
+          call MPI_Allreduce(err, e2, 1, MPI_INTEGER, MPI_MAX, self%comm)
+          call MPI_Allreduce(MPI_IN_PLACE, err, 1, MPI_INTEGER, MPI_MIN, self%comm)
+          if (err < 0 .and. e2 >= 0) call fatal('the ranks copied '//trim(src_name)//' of '// &
+                                                self%h5_path//' differently', where)
+        end if
         if (err >= 0) then
-          call add_frame_records(self, kept, where)
           kept = kept + 1
         else
           nlost = nlost + 1
@@ -331,18 +395,37 @@ contains
       call self%add_diag(recs(k))
     end do
     call self%flush_diag()
-    call io_begin()
-    call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
-    call io_check(err, 'h5fflush_f', self%h5_path, where)
-    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
-                                        self%sets(1:self%nsets), self%state_names)
+    call verify_written(self, where)
+    call close_file(self, tmp, where)
+    ! Closed by every rank and on the disk before it replaces the file, and the new names on
+    ! the disk after.
     call MPI_Barrier(self%comm)
-    why = self%h5_path//' is damaged (as a kill while writing can leave it); kept as '//damaged// &
-          ', its '//itoa(kept)//' readable frames of '//itoa(nframes)//' and '//itoa(ndiag)// &
-          ' diagnostics records copied into a new '//self%h5_path
+    if (self%rank == 0) then
+      err = posix_fsync(tmp)
+      if (err /= 0) call fatal('cannot flush '//tmp//' to the disk: '//posix_strerror(err), where)
+      ! (A file system without hard links leaves a moment without <name>.h5.)
+      if (.not. link_file(self%h5_path, damaged)) call rename_file(self%h5_path, damaged, where)
+      call rename_file(tmp, self%h5_path, where)
+      err = posix_fsync(self%dir)
+      if (err /= 0) call fatal('cannot flush directory '//self%dir//' to the disk: '// &
+                               posix_strerror(err), where)
+    end if
+    call MPI_Barrier(self%comm)
+    if (left_open) then
+      why = self%h5_path//' was not closed by the run that wrote it (killed, or stopped on '// &
+            'an error), so it is not continued in place: kept as '//damaged//', its '// &
+            itoa(kept)//' readable frames of '//itoa(nframes)//' and '//itoa(ndiag)// &
+            ' diagnostics records copied into a new '//self%h5_path
+    else
+      why = self%h5_path//' is damaged (as a kill while writing can leave it); kept as '// &
+            damaged//', its '//itoa(kept)//' readable frames of '//itoa(nframes)//' and '// &
+            itoa(ndiag)//' diagnostics records copied into a new '//self%h5_path
+    end if
     if (nlost > 0) why = why//'; '//itoa(nlost)//' frames could not be read and are lost'
     nframes = kept
-  end subroutine salvage
+    call MPI_Comm_free(self%comm)
+    call start(self, cfg, comm)
+  end subroutine rebuild
 
   !> The state of an output_t before a file is opened: communicator, paths, no records.
   subroutine start(self, cfg, comm)
@@ -359,6 +442,7 @@ contains
     self%h5_path = output_h5_path(cfg)
     self%xmf_path = output_xmf_path(cfg)
     self%h5_base = trim(cfg%name)//'.h5'
+    self%dir = trim(cfg%output_dir)
     self%state_names = scene_state_names([(model_from_name(cfg%materials(k)%model), &
                                            k=1, size(cfg%materials))], &
                                          [(cfg%materials(k)%umat_nstatev, k=1, size(cfg%materials))])
@@ -678,13 +762,12 @@ contains
     call h5check(err, 'h5gclose_f(/verification)', 'output%write_verification_attr')
   end subroutine out_write_verification_attr
 
-  !> End an open frame, flush the diagnostics and close the file. The HDF5 library stays
-  !> initialised, so another output_t can be opened later in the same process.
+  !> End an open frame, flush the diagnostics, close the file and remove its mark. The HDF5
+  !> library stays initialised, so another output_t can be opened later in the same process.
   subroutine out_close(self)
     class(output_t), intent(inout) :: self
     character(len=*), parameter :: where = 'output%close'
     character(len=160) :: line
-    integer :: err, k
     if (.not. self%is_open) return
     if (self%in_frame) call self%end_frame()
     call self%flush_diag()
@@ -695,6 +778,19 @@ contains
         ' ms each; ', self%nrewritten, ' blocks rewritten'
       call self%log%info(trim(line))
     end if
+    call close_file(self, self%h5_path, where)
+    call clear_mark(self)
+    call MPI_Comm_free(self%comm)
+  end subroutine out_close
+
+  ! ---------------------------------------------------------------- helpers
+
+  !> Close the diagnostics datasets, the transfer list and the file open in self (named
+  !> path in messages).
+  subroutine close_file(self, path, where)
+    type(output_t), intent(inout) :: self
+    character(len=*), intent(in) :: path, where
+    integer :: err, k
     do k = 1, ndiag_dsets
       call h5dclose_f(self%diag_dset(k), err)
       call h5check(err, 'h5dclose_f(diagnostics)', where)
@@ -705,13 +801,50 @@ contains
     self%dxpl = -1
     call io_begin()
     call h5fclose_f(self%file_id, err)
-    call io_check(err, 'h5fclose_f', self%h5_path, where)
+    call io_check(err, 'h5fclose_f', path, where)
     self%file_id = -1
-    call MPI_Comm_free(self%comm)
     self%is_open = .false.
-  end subroutine out_close
+  end subroutine close_file
 
-  ! ---------------------------------------------------------------- helpers
+  !> The mark that the run's file is open for writing: <output_dir>/<name>.h5.writing. It
+  !> is made before the file is created or opened for writing and removed once the file
+  !> is closed, so a continued run that finds it knows that the writer died with the file
+  !> open (killed, or stopped on an error) and rebuilds the file (out_resume).
+  function mark_path(self) result(path)
+    type(output_t), intent(in) :: self
+    character(len=:), allocatable :: path
+    path = self%h5_path//'.writing'
+  end function mark_path
+
+  !> Make the mark (rank 0), on the disk before any rank writes to the file.
+  subroutine set_mark(self, where)
+    type(output_t), intent(in) :: self
+    character(len=*), intent(in) :: where
+    character(len=:), allocatable :: mark
+    integer :: err
+    if (self%rank == 0) then
+      mark = mark_path(self)
+      err = posix_write_file(mark, 'dpmpm is writing '//self%h5_path//'; a run continued '// &
+                             'while this file is here rebuilds it (doc/input.md, "Restart")'// &
+                             new_line('a'))
+      if (err /= 0) call fatal('cannot write '//mark//': '//posix_strerror(err), where)
+      err = posix_fsync(mark)
+      if (err == 0) err = posix_fsync(self%dir)
+      if (err /= 0) call fatal('cannot flush '//mark//' to the disk: '//posix_strerror(err), where)
+    end if
+    call MPI_Barrier(self%comm)
+  end subroutine set_mark
+
+  !> Remove the mark (rank 0) once every rank has closed the file. A mark left behind
+  !> costs only a rebuild when the run is continued: its removal is not checked.
+  subroutine clear_mark(self)
+    type(output_t), intent(in) :: self
+    integer :: u, ios
+    call MPI_Barrier(self%comm)
+    if (self%rank /= 0) return
+    open (newunit=u, file=mark_path(self), status='old', iostat=ios)
+    if (ios == 0) close (u, status='delete', iostat=ios)
+  end subroutine clear_mark
 
   !> Read back every block written since the last call and compare it with what was
   !> written (write_check_t%verify: flush, independent read, rewrite and re-read on a

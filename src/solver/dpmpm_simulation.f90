@@ -284,24 +284,32 @@ contains
   end subroutine warn_field_reach
 
   !> A <name>.ckpt.h5.tmp left by a run killed while writing its checkpoint is a torn copy
-  !> (the checkpoint before it is whole): removed, and said.
+  !> (the checkpoint before it is whole), and so is a <name>.h5.tmp left by a run killed
+  !> while rebuilding its output (the output it rebuilt is left as it was): removed, and said.
   subroutine remove_stale_temporary(self)
     class(simulation_t), intent(in) :: self
-    character(len=:), allocatable :: tmp
+    if (.not. self%log%root) return
+    call remove_torn(self, checkpoint_path(self%cfg%output_dir, self%cfg%name)//'.tmp', &
+                     'a checkpoint')
+    call remove_torn(self, output_h5_path(self%cfg)//'.tmp', 'a rebuilt output file')
+  end subroutine remove_stale_temporary
+
+  !> Remove the file path, what an earlier run's end tore, where it exists; said in the log.
+  subroutine remove_torn(self, path, what)
+    class(simulation_t), intent(in) :: self
+    character(len=*), intent(in) :: path, what
     logical :: exists
     integer :: u, ios
-    if (.not. self%log%root) return
-    tmp = checkpoint_path(self%cfg%output_dir, self%cfg%name)//'.tmp'
-    inquire (file=tmp, exist=exists)
+    inquire (file=path, exist=exists)
     if (.not. exists) return
-    open (newunit=u, file=tmp, status='old', iostat=ios)
+    open (newunit=u, file=path, status='old', iostat=ios)
     if (ios == 0) close (u, status='delete', iostat=ios)
     if (ios == 0) then
-      call self%log%info('dpmpm: removed '//tmp//', a checkpoint torn by an earlier run''s end')
+      call self%log%info('dpmpm: removed '//path//', '//what//' torn by an earlier run''s end')
     else
-      call self%log%warning('cannot remove '//tmp//' (a torn checkpoint of an earlier run)')
+      call self%log%warning('cannot remove '//path//' ('//what//' torn by an earlier run)')
     end if
-  end subroutine remove_stale_temporary
+  end subroutine remove_torn
 
   !> Say where the output goes, and warn when that replaces the file of an earlier run.
   subroutine announce_output(self)

@@ -29,8 +29,9 @@ module dpmpm_step
                                  fluid_pressure_step, fluid_state
   use dpmpm_inflow, only: refill_inflow
   use dpmpm_cell_smoothing, only: smooth_volumetric_rate, smoothed_mean_stress, cell_mean
-  use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients, gauss_point_divergences
-  use dpmpm_gauss_fields, only: thin_node_forces, thin_fraction
+  use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients, gauss_point_divergences, &
+                              gauss_pressure_forces, gauss_mixture_divergence, gauss_gravity, gauss_gravity_work
+  use dpmpm_gauss_fields, only: thin_node_forces
   use dpmpm_time_step, only: report_governing
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points
   use dpmpm_surface_loads, only: surface_forces
@@ -279,10 +280,10 @@ contains
                               self%nthin)
       end do
       if (allocated(gmf)) then
-        call gauss_gravity(self, self%phase(fluid_phase), gmf, self%nporo)
-        call gauss_gravity(self, self%phase(solid_phase), gms, transfer=gmf)
+        call gauss_gravity(self, self%phase(fluid_phase), gravity_now(self), gmf, self%nporo)
+        call gauss_gravity(self, self%phase(solid_phase), gravity_now(self), gms, transfer=gmf)
       else if (allocated(gms)) then
-        call gauss_gravity(self, self%phase(solid_phase), gms)
+        call gauss_gravity(self, self%phase(solid_phase), gravity_now(self), gms)
       end if
     end if
 
@@ -809,124 +810,6 @@ contains
     self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) + ff
     self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) + fs
   end subroutine add_interphase_force
-  !> With Gauss quadrature and the porosity-gradient terms: the forces of the pore
-  !> pressure at the Gauss points, F_I = sum_g w_g p_g grad N_I(x_g) (node components
-  !> 2+nd:1+2nd of gpf, folded with the fluid's conditions, and of gps, the same folded
-  !> with the solid's; both summed over the ranks), shared at the owned nodes: n_I F_I
-  !> to the fluid and (1 - n_I) F_I to the solid ((3.3a) with the Gauss points in the
-  !> place of the fluid points; the owned nodal porosity is known).
-  subroutine gauss_pressure_forces(self, gpf, gps)
-    class(state_t), intent(inout) :: self
-    real(wp), intent(in) :: gpf(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    real(wp), intent(in) :: gps(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    integer :: i, j, k, nd
-    real(wp) :: nI
-    nd = self%nd
-    associate (olo => self%dec%olo, ohi => self%dec%ohi, fn => self%phase(fluid_phase)%node, &
-               sn => self%phase(solid_phase)%node)
-      do k = olo(3), ohi(3)
-        do j = olo(2), ohi(2)
-          do i = olo(1), ohi(1)
-            nI = self%nporo(1, i, j, k)
-            fn(2 + nd:1 + 2*nd, i, j, k) = fn(2 + nd:1 + 2*nd, i, j, k) + nI*gpf(2 + nd:1 + 2*nd, i, j, k)
-            sn(2 + nd:1 + 2*nd, i, j, k) = sn(2 + nd:1 + 2*nd, i, j, k) + &
-                                           (1.0_wp - nI)*gps(2 + nd:1 + 2*nd, i, j, k)
-          end do
-        end do
-      end do
-    end associate
-  end subroutine gauss_pressure_forces
-
-  !> Gravity by the Gauss quadrature of the forces: the nodal update gives each node
-  !> m_I g of its points' masses; the difference (M_I - m_I) g to the Gauss masses
-  !> M_I = sum_g w_g rho_g N_I(x_g) (gm(1, :), summed over the ranks; gauss_masses) joins
-  !> the forces of the owned nodes that take internal forces (not the thin ones, whose
-  !> points barely reach them) and is kept in gm(2:1+nd, :) for its work
-  !> (gauss_gravity_work). On points scattered in the cells m_I scatters from node to
-  !> node while the Gauss-point forces of a stress at rest do not, and the difference
-  !> drove free water at rest (doc/theory.md 3.6, item 8). With nporo (the pore fluid
-  !> with the porosity-gradient terms, rho_g its own density) the fluid takes n_I M_I g,
-  !> shared like the pressure's force n_I F_I that balances it at rest; the solid then
-  !> takes the rest of the fluid's weight (transfer: the fluid's difference, taken from
-  !> it where the solid has a node), so that the nodes carry the weight of the points.
-  subroutine gauss_gravity(self, ph, gm, nporo, transfer)
-    class(state_t), intent(inout) :: self
-    type(phase_t), intent(inout) :: ph
-    real(wp), intent(inout) :: gm(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    real(wp), intent(in), optional :: nporo(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    real(wp), intent(in), optional :: transfer(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    integer :: i, j, k, nd
-    real(wp) :: g(3), mg
-    nd = self%nd
-    g = gravity_now(self)
-    associate (olo => self%dec%olo, ohi => self%dec%ohi, node => ph%node)
-      do k = olo(3), ohi(3)
-        do j = olo(2), ohi(2)
-          do i = olo(1), ohi(1)
-            gm(2:1 + nd, i, j, k) = 0.0_wp
-            if (node(1, i, j, k) <= 0.0_wp) cycle
-            if (ph%nvol(1, i, j, k) < thin_fraction*ph%nvol(2, i, j, k)) cycle
-            mg = gm(1, i, j, k)
-            if (present(nporo)) mg = nporo(1, i, j, k)*mg
-            gm(2:1 + nd, i, j, k) = (mg - node(1, i, j, k))*g(1:nd)
-            if (present(transfer)) gm(2:1 + nd, i, j, k) = gm(2:1 + nd, i, j, k) - transfer(2:1 + nd, i, j, k)
-            node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + gm(2:1 + nd, i, j, k)
-          end do
-        end do
-      end do
-    end associate
-  end subroutine gauss_gravity
-
-  !> The work over the step of the gravity beyond the points' own (gauss_gravity; the
-  !> force in gm(2:1+nd, :) of the owned nodes) at the nodes' mean velocity.
-  subroutine gauss_gravity_work(self, nvel, gm, dt)
-    class(state_t), intent(inout) :: self
-    real(wp), intent(in) :: nvel(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    real(wp), intent(in) :: gm(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    real(wp), intent(in) :: dt
-    integer :: i, j, k, nd
-    nd = self%nd
-    associate (olo => self%dec%olo, ohi => self%dec%ohi)
-      do k = olo(3), ohi(3)
-        do j = olo(2), ohi(2)
-          do i = olo(1), ohi(1)
-            self%ext_work = self%ext_work + 0.5_wp*dt*dot_product(gm(2:1 + nd, i, j, k), &
-                                                                  nvel(1:nd, i, j, k) + nvel(nd + 1:2*nd, i, j, k))
-          end do
-        end do
-      end do
-    end associate
-  end subroutine gauss_gravity_work
-
-  !> With Gauss quadrature and the porosity-gradient terms: the divergence of the
-  !> mixture flux n_I v_f,I + (1 - n_I) v_s,I at the fluid points by the transpose of
-  !> the Gauss pressure forces (gauss_pressure_forces), into mix; the fluid points'
-  !> divf and divs are then 0, so that the pressure update takes mix alone. A point out
-  !> of the Gauss points' reach keeps its point-wise value, divf and divs of the
-  !> nodal velocities weighted by its porosity plus mix from mixture_flux on entry.
-  subroutine gauss_mixture_divergence(self, mix)
-    class(state_t), intent(inout) :: self
-    real(wp), intent(inout) :: mix(:)
-    real(wp), allocatable :: uf(:, :, :, :), us(:, :, :, :)
-    integer :: nd, nf, c
-    nd = self%nd
-    associate (f => self%phase(fluid_phase), s => self%phase(solid_phase))
-      nf = f%pts%n
-      uf = f%nvel
-      us = s%nvel
-      do c = nd + 1, 2*nd
-        uf(c, :, :, :) = self%nporo(1, :, :, :)*uf(c, :, :, :)
-        us(c, :, :, :) = (1.0_wp - self%nporo(1, :, :, :))*us(c, :, :, :)
-      end do
-      f%divf(1:nf) = f%pts%porosity(1:nf)*f%divf(1:nf) + mix(1:nf)
-      f%divs(1:nf) = (1.0_wp - f%pts%porosity(1:nf))*f%divs(1:nf)
-      call gauss_point_divergences(self, f, f%gsol, uf, us, f%divf, f%divs)
-      mix(1:nf) = f%divf(1:nf) + f%divs(1:nf)
-      f%divf(1:nf) = 0.0_wp
-      f%divs(1:nf) = 0.0_wp
-    end associate
-  end subroutine gauss_mixture_divergence
-
   !> Gravity at the start of the step: ramped linearly over the first half of the
   !> equilibrium phase (&run equilibrium_time), full afterwards.
   function gravity_now(self) result(g)

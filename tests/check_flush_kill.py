@@ -32,6 +32,7 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from frames_by_id import compare  # noqa: E402
+from kill_scene import MAX_STEPS, run_two_ranks, write_scene  # noqa: E402
 
 CHECK_OUTPUT = HERE.parent / "scripts" / "check_output.py"
 mpiexec, dpmpm, shim, work = sys.argv[1], sys.argv[2], sys.argv[3], pathlib.Path(sys.argv[4])
@@ -47,31 +48,12 @@ def expect(cond, what):
         failures.append(what)
 
 
-def scene(name):
-    """The scene of check_frame_kill.py: a saturated column on a fixed floor under gravity,
-    a frame at every step, a checkpoint every 25 steps."""
-    text = f"""&run name = '{name}', t_end = 100.0, max_steps = 300, cfl = 0.4,
-  gravity = 0.0, -9.81, drag = 'implicit' /
-&grid ndim = 2, ncells = 16, 16, length = 1.0, 1.0 /
-&shape kernel = 'quadratic' /
-&material id = 1, density = 2650.0, youngs_modulus = 1.0e6, poisson_ratio = 0.3,
-  conductivity = 1.0e-3 /
-&material id = 2, model = 'fluid', density = 1000.0, bulk_modulus = 2.0e7 /
-&region lo = 0.0, 0.0, hi = 0.375, 0.5, material = 1, phase = 'saturated',
-  fluid_material = 2, porosity = 0.4, placement = 'random' /
-&boundary face = 'x-', condition = 'roller' /
-&boundary face = 'x+', condition = 'roller' /
-&boundary face = 'y-', condition = 'fixed' /
-&output dir = 'out', frame_interval = 1.0e-9, checkpoint_every = 25 /
-"""
-    (work / f"{name}.nml").write_text(text)
-    return f"{name}.nml"
+def scene(name, max_steps=MAX_STEPS):
+    return write_scene(work, name, max_steps)
 
 
 def run(args):
-    r = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", dpmpm] + args, cwd=work,
-                       capture_output=True, text=True, timeout=600)
-    return r.returncode, r.stdout + r.stderr
+    return run_two_ranks(mpiexec, dpmpm, work, args)
 
 
 rc, log = run([scene("ref")])

@@ -56,13 +56,13 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from frames_by_id import compare  # noqa: E402
+from kill_scene import MAX_STEPS, run_two_ranks, write_scene  # noqa: E402
 
 CHECK_OUTPUT = HERE.parent / "scripts" / "check_output.py"
 mpiexec, dpmpm, work = sys.argv[1], sys.argv[2], pathlib.Path(sys.argv[3])
 trials = int(sys.argv[4]) if len(sys.argv) > 4 else 5
 shutil.rmtree(work, ignore_errors=True)
 work.mkdir(parents=True)
-MAX_STEPS = 300
 failures = []
 
 
@@ -72,31 +72,12 @@ def expect(cond, what):
         failures.append(what)
 
 
-def scene(name):
-    """A saturated column on a fixed floor under gravity (the two-phase part of the scene of
-    check_stop_signal.py) with a frame at every step."""
-    text = f"""&run name = '{name}', t_end = 100.0, max_steps = {MAX_STEPS}, cfl = 0.4,
-  gravity = 0.0, -9.81, drag = 'implicit' /
-&grid ndim = 2, ncells = 16, 16, length = 1.0, 1.0 /
-&shape kernel = 'quadratic' /
-&material id = 1, density = 2650.0, youngs_modulus = 1.0e6, poisson_ratio = 0.3,
-  conductivity = 1.0e-3 /
-&material id = 2, model = 'fluid', density = 1000.0, bulk_modulus = 2.0e7 /
-&region lo = 0.0, 0.0, hi = 0.375, 0.5, material = 1, phase = 'saturated',
-  fluid_material = 2, porosity = 0.4, placement = 'random' /
-&boundary face = 'x-', condition = 'roller' /
-&boundary face = 'x+', condition = 'roller' /
-&boundary face = 'y-', condition = 'fixed' /
-&output dir = 'out', frame_interval = 1.0e-9, checkpoint_every = 25 /
-"""
-    (work / f"{name}.nml").write_text(text)
-    return f"{name}.nml"
+def scene(name, max_steps=MAX_STEPS):
+    return write_scene(work, name, max_steps)
 
 
 def run(args):
-    r = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", dpmpm] + args, cwd=work,
-                       capture_output=True, text=True, timeout=600)
-    return r.returncode, r.stdout + r.stderr
+    return run_two_ranks(mpiexec, dpmpm, work, args)
 
 
 def check_output(path):
@@ -233,8 +214,7 @@ def damage_and_continue(name, damage):
     """A run of 60 steps to its end; damage(h5py file) on its output, then the run
     continued from its last checkpoint. The exit codes of both runs, the continued run's
     log and the output's path."""
-    nml = work / scene(name)
-    nml.write_text(nml.read_text().replace(f"max_steps = {MAX_STEPS}", "max_steps = 60"))
+    nml = work / scene(name, max_steps=60)
     rc0, _ = run([nml.name])
     path = work / "out" / f"{name}.h5"
     expect(not (work / "out" / f"{name}{MARK}").exists(), f"{name}: a run that ends leaves no mark")

@@ -29,7 +29,6 @@ import hashlib
 import json
 import os
 import re
-import subprocess
 import sys
 
 import h5py
@@ -38,9 +37,8 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 import biot_laplace  # noqa: E402
+from pareto import LINEAR_GAUSS, run  # noqa: E402  (the choice and the launch of the M1/W1 study)
 
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
 PERF = os.path.join(ROOT, "doc", "performance.md")
 VERIF = os.path.join(ROOT, "doc", "verification.md")
 CFL = 0.3
@@ -59,8 +57,6 @@ COLUMNS = {
 }
 PLACEMENTS = ["regular", "random", "uniform"]
 
-LINEAR_GAUSS = ("kernel = 'linear', quadrature = 'gauss', gauss_points = 1, "
-                "field_kernel = 'linear', field_radius = 0.75")
 CHOICES = {
     "Standard MPM": "kernel = 'linear'",
     "quadratic B-spline": "kernel = 'quadratic'",
@@ -174,16 +170,6 @@ def scene(tag, outdir, col, shape, placement, seed, extra=None):
   name = 'biot_column'
 /
 """
-
-
-def run(build, outdir, tag, text):
-    nml = os.path.join(outdir, tag + ".nml")
-    with open(nml, "w") as f:
-        f.write(text)
-    with open(os.path.join(outdir, tag + ".log"), "w") as log:
-        r = subprocess.run(["mpirun", "--oversubscribe", "-n", "1", os.path.join(build, "dpmpm"), nml],
-                           stdout=log, stderr=subprocess.STDOUT, env=ENV)
-    return r.returncode
 
 
 _REF = {}

@@ -27,20 +27,9 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from dpmpm.run import open_run  # noqa: E402
-
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
-
-SHAPES = {
-    "standard": "kernel = 'linear'",
-    "quadratic": "kernel = 'quadratic'",
-    "cubic": "kernel = 'cubic'",
-    "linear_gauss": "kernel = 'linear', quadrature = 'gauss', gauss_points = 1, "
-                    "field_kernel = 'linear', field_radius = 0.75",
-    "pair": "kernel = 'cubic', quadrature = 'gauss', gauss_points = 3, "
-            "field_kernel = 'wendland_c2', field_radius = 2.0",
-}
+from long_runs import ENV, SHAPES  # noqa: E402  (the shape choices of the long-run survey)
 
 RHO_F, G = 1000.0, 9.81
 

@@ -12,10 +12,11 @@ module dpmpm_quadrature
                                gauss_velocity_gradient, gauss_strain, thin_fraction
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
+  use dpmpm_transfer, only: volume_p2g
   implicit none
   private
   public :: gauss_force_integrals, gauss_point_gradients, gauss_point_divergences
-  public :: gauss_pressure_forces, gauss_mixture_divergence, gauss_gravity, gauss_gravity_work
+  public :: gauss_p2g, gauss_pressure_forces, gauss_mixture_divergence, gauss_gravity, gauss_gravity_work
 
 contains
 
@@ -165,10 +166,75 @@ contains
     self%nkept = self%nkept + 2*nkept
   end subroutine gauss_point_divergences
 
+  !> p2g by Gauss quadrature (doc/theory.md 3.6): the point volume of the nodes beside
+  !> their quadrature volume (thin nodes), the internal forces of the skeleton and of the
+  !> pore pressure. With ggrav (gravity) the Gauss points carry the density as well, and
+  !> gms (the solid's) and, with the porosity-gradient terms, gmf (the fluid's own density
+  !> m / (n V)) come back with the Gauss masses in their first component (gauss_gravity).
+  !> With the porosity-gradient terms the Gauss points carry p alone, and its force F_I
+  !> comes back in gpf (nd components), to be shared at the nodes once the nodal porosity
+  !> is known (gauss_pressure_forces; item 7); without them the fluid takes -n_f p and the
+  !> solid -(1 - n_f) p in one pass. Unallocated on return where not asked for.
+  subroutine gauss_p2g(self, ggrav, gpf, gms, gmf)
+    class(state_t), intent(inout) :: self
+    logical, intent(in) :: ggrav
+    real(wp), allocatable, intent(out) :: gpf(:, :, :, :), gms(:, :, :, :), gmf(:, :, :, :)
+    real(wp), allocatable :: pseudo(:, :), pseudo2(:, :), fnode(:, :, :, :)
+    integer :: ip, nd, ns, nf
+    nd = self%nd
+    do ip = 1, self%nph
+      associate (ph => self%phase(ip))
+        ph%nvol = 0.0_wp
+        call volume_p2g(ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%vol, self%dec%alo, ph%nvol)
+      end associate
+    end do
+    associate (s => self%phase(solid_phase), lo => self%dec%alo, hi => self%dec%ahi)
+      ns = s%pts%n
+      if (ggrav) then
+        allocate (pseudo(size(s%pts%stress, 1), ns))
+        pseudo = 0.0_wp
+        pseudo(1, :) = s%pts%mass(1:ns)/s%pts%vol(1:ns)
+        allocate (gms(1 + nd, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        gms = 0.0_wp
+        call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node, pseudo, s%gsol2, gmass=gms)
+        deallocate (pseudo)
+      else
+        call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node)
+      end if
+    end associate
+    if (self%nph < 2) return
+    associate (f => self%phase(fluid_phase))
+      nf = f%pts%n
+      allocate (pseudo(1, nf), pseudo2(1, nf))
+      if (self%cfg%porosity_gradient) then
+        pseudo(1, :) = -f%pts%pressure(1:nf)
+        allocate (fnode, mold=f%node)
+        fnode = 0.0_wp
+        if (ggrav) then
+          pseudo2(1, :) = f%pts%mass(1:nf)/(f%pts%porosity(1:nf)*f%pts%vol(1:nf))
+          allocate (gmf, mold=gms)
+          gmf = 0.0_wp
+          call gauss_force_integrals(self, f, pseudo, f%gsol, fnode, pseudo2, f%gsol2, gmass=gmf)
+        else
+          call gauss_force_integrals(self, f, pseudo, f%gsol, fnode)
+        end if
+        allocate (gpf(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
+                      self%dec%alo(3):self%dec%ahi(3)))
+        gpf = fnode(2 + nd:1 + 2*nd, :, :, :)
+      else
+        ! (isotropic fields: one value per point, f%giso)
+        pseudo(1, :) = -f%pts%porosity(1:nf)*f%pts%pressure(1:nf)
+        pseudo2(1, :) = -(1.0_wp - f%pts%porosity(1:nf))*f%pts%pressure(1:nf)
+        call gauss_force_integrals(self, f, pseudo, f%gsol, f%node, pseudo2, f%gsol2, &
+                                   self%phase(solid_phase)%node)
+      end if
+    end associate
+  end subroutine gauss_p2g
+
   !> With Gauss quadrature and the porosity-gradient terms: the forces of the pore
-  !> pressure at the Gauss points, F_I = sum_g w_g p_g grad N_I(x_g) (node components
-  !> 2+nd:1+2nd of gpf, folded with the fluid's conditions, and of gps, the same folded
-  !> with the solid's; both summed over the ranks), shared at the owned nodes: n_I F_I
+  !> pressure at the Gauss points, F_I = sum_g w_g p_g grad N_I(x_g) (gpf from gauss_p2g,
+  !> folded with the fluid's conditions, and gps, the same folded with the solid's; both
+  !> summed over the ranks), shared at the owned nodes: n_I F_I
   !> to the fluid and (1 - n_I) F_I to the solid ((3.3a) with the Gauss points in the
   !> place of the fluid points; the owned nodal porosity is known).
   subroutine gauss_pressure_forces(self, gpf, gps)
@@ -184,9 +250,8 @@ contains
         do j = olo(2), ohi(2)
           do i = olo(1), ohi(1)
             nI = self%nporo(1, i, j, k)
-            fn(2 + nd:1 + 2*nd, i, j, k) = fn(2 + nd:1 + 2*nd, i, j, k) + nI*gpf(2 + nd:1 + 2*nd, i, j, k)
-            sn(2 + nd:1 + 2*nd, i, j, k) = sn(2 + nd:1 + 2*nd, i, j, k) + &
-                                           (1.0_wp - nI)*gps(2 + nd:1 + 2*nd, i, j, k)
+            fn(2 + nd:1 + 2*nd, i, j, k) = fn(2 + nd:1 + 2*nd, i, j, k) + nI*gpf(1:nd, i, j, k)
+            sn(2 + nd:1 + 2*nd, i, j, k) = sn(2 + nd:1 + 2*nd, i, j, k) + (1.0_wp - nI)*gps(1:nd, i, j, k)
           end do
         end do
       end do

@@ -21,7 +21,7 @@ module dpmpm_step
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: p2g, g2p, point_divergences, interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
-                            interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux, volume_p2g
+                            interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
   use dpmpm_drag, only: nodal_drag_limit
   use dpmpm_remap, only: musl_remap, remap_locks
@@ -29,8 +29,8 @@ module dpmpm_step
                                  fluid_pressure_step, fluid_state
   use dpmpm_inflow, only: refill_inflow
   use dpmpm_cell_smoothing, only: smooth_volumetric_rate, smoothed_mean_stress, cell_mean
-  use dpmpm_quadrature, only: gauss_force_integrals, gauss_point_gradients, gauss_point_divergences, &
-                              gauss_pressure_forces, gauss_mixture_divergence, gauss_gravity, gauss_gravity_work
+  use dpmpm_quadrature, only: gauss_p2g, gauss_point_gradients, gauss_pressure_forces, &
+                              gauss_point_divergences, gauss_mixture_divergence, gauss_gravity, gauss_gravity_work
   use dpmpm_gauss_fields, only: thin_node_forces
   use dpmpm_time_step, only: report_governing
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points
@@ -54,7 +54,7 @@ contains
     logical :: coupled, surface, fluid_mom
     real(wp) :: wplastic, rforce(3)
     real(wp), allocatable :: fvol(:, :, :, :), sheld(:, :), pheld(:), pforce(:)
-    real(wp), allocatable :: volb(:), pseudo(:, :), pseudo2(:, :), nval(:), nkinv(:), gnrel(:), skinv(:)
+    real(wp), allocatable :: volb(:), nval(:), nkinv(:), gnrel(:), skinv(:)
     real(wp), allocatable :: gpf(:, :, :, :), gps(:, :, :, :), gms(:, :, :, :), gmf(:, :, :, :)
     logical :: ggrav
     coupled = self%nph == 2
@@ -148,65 +148,12 @@ contains
                        (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag, fvol)
       end associate
     end if
+    ! Gauss quadrature: the forces of the skeleton and the pore pressure, and with gravity
+    ! the Gauss masses (gms, gmf); with the porosity-gradient terms the pressure's force
+    ! gpf is shared at the nodes once the nodal porosity is known (gps: the solid's copy).
     if (self%plan%gauss) then
-      ! The point volume of the nodes beside their quadrature volume (thin nodes).
-      do ip = 1, self%nph
-        associate (ph => self%phase(ip))
-          ph%nvol = 0.0_wp
-          call volume_p2g(ph%st%nw, ph%pts%n, ph%st%i0, ph%st%sw, ph%pts%vol, self%dec%alo, ph%nvol)
-        end associate
-      end do
-      ! With gravity the Gauss points carry the density as well: the nodal masses of the
-      ! same quadrature take the gravity (gauss_gravity), so that a stress at rest on
-      ! scattered points balances it (doc/theory.md 3.6).
-      associate (s => self%phase(solid_phase))
-        if (ggrav) then
-          allocate (pseudo(size(s%pts%stress, 1), ns))
-          pseudo = 0.0_wp
-          pseudo(1, :) = s%pts%mass(1:ns)/s%pts%vol(1:ns)
-          allocate (gms(1 + nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
-                        self%dec%alo(3):self%dec%ahi(3)))
-          gms = 0.0_wp
-          call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node, pseudo, s%gsol2, gmass=gms)
-          deallocate (pseudo)
-        else
-          call gauss_force_integrals(self, s, s%pts%stress, s%gsol, s%node)
-        end if
-      end associate
-      if (coupled .and. self%cfg%porosity_gradient) then
-        ! With the porosity-gradient terms the Gauss points carry p alone; its forces
-        ! are shared between the phases at the nodes, n_I to the fluid and 1 - n_I to
-        ! the solid, once the nodal porosity is known (gauss_pressure_forces; the
-        ! transpose of the mixture-flux divergence, doc/theory.md 2.6).
-        associate (f => self%phase(fluid_phase))
-          allocate (pseudo(1, nf))
-          pseudo(1, :) = -f%pts%pressure(1:nf)
-          allocate (gpf, mold=f%node)
-          gpf = 0.0_wp
-          if (ggrav) then
-            allocate (pseudo2(1, nf))
-            ! (the fluid's own density m / (n V): its gravity is shared by n_I like p's force)
-            pseudo2(1, :) = f%pts%mass(1:nf)/(f%pts%porosity(1:nf)*f%pts%vol(1:nf))
-            allocate (gmf, mold=gms)
-            gmf = 0.0_wp
-            call gauss_force_integrals(self, f, pseudo, f%gsol, gpf, pseudo2, f%gsol2, gmass=gmf)
-          else
-            call gauss_force_integrals(self, f, pseudo, f%gsol, gpf)
-          end if
-          gps = gpf
-        end associate
-      else if (coupled) then
-        ! Pore pressure at the Gauss points from the fluid points: -n_f p on the
-        ! fluid, -(1 - n_f) p on the solid (doc/theory.md 3.6), in one pass.
-        associate (f => self%phase(fluid_phase))
-          ! (isotropic fields: one value per point, f%giso)
-          allocate (pseudo(1, nf), pseudo2(1, nf))
-          pseudo(1, :) = -f%pts%porosity(1:nf)*f%pts%pressure(1:nf)
-          pseudo2(1, :) = -(1.0_wp - f%pts%porosity(1:nf))*f%pts%pressure(1:nf)
-          call gauss_force_integrals(self, f, pseudo, f%gsol, f%node, pseudo2, f%gsol2, &
-                                     self%phase(solid_phase)%node)
-        end associate
-      end if
+      call gauss_p2g(self, ggrav, gpf, gms, gmf)
+      if (allocated(gpf)) gps = gpf
     end if
     if (allocated(sheld)) call move_alloc(sheld, self%phase(solid_phase)%pts%stress)
     if (allocated(pheld)) then
@@ -224,8 +171,8 @@ contains
     end if
     ! (each share folded with the conditions of the phase it goes to)
     if (allocated(gpf)) then
-      call self%mirror%fold(gpf, 1, self%phase(fluid_phase)%bc)
-      call self%mirror%fold(gps, 1, self%phase(solid_phase)%bc)
+      call self%mirror%fold(gpf, 0, self%phase(fluid_phase)%bc)
+      call self%mirror%fold(gps, 0, self%phase(solid_phase)%bc)
     end if
     if (allocated(gms)) call self%mirror%fold(gms, 1, self%phase(solid_phase)%bc)
     if (allocated(gmf)) call self%mirror%fold(gmf, 1, self%phase(fluid_phase)%bc)

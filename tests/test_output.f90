@@ -35,6 +35,7 @@ program test_output
   call test_1d_with_empty_set(MPI_COMM_WORLD)
   call test_two_phase_sets(MPI_COMM_WORLD)
   call test_chosen_fields_uncompressed(MPI_COMM_WORLD)
+  call test_rank_field_where_named(MPI_COMM_WORLD)
   status = finish_tests(MPI_COMM_WORLD)
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -254,6 +255,51 @@ contains
     end if
     call MPI_Barrier(comm)
   end subroutine test_chosen_fields_uncompressed
+
+  !> solid_fields = 'all rank': each point's rank dataset holds the rank that wrote it (the
+  !> ids of the scene say which: id_of), and the sidecar lists it; 'all' alone does not
+  !> write it (it differs between rank counts).
+  subroutine test_rank_field_where_named(comm)
+    type(MPI_Comm), intent(in) :: comm
+    type(config_t) :: cfg, cfg_all
+    type(output_t) :: out
+    type(particle_set_t) :: solid
+    integer(hid_t) :: fid
+    integer(i8), allocatable :: ids(:)
+    integer(i4), allocatable :: owner(:)
+    logical :: there
+    integer :: err, n, r
+    character(len=*), parameter :: g = 'frames/000000/solid/'
+    call begin_test('rank_field_where_named')
+    call make_config(cfg, 'test_output_rank', 2, comm)
+    cfg%solid_fields = 'all rank'
+    call out%open(cfg, comm)
+    call make_points(solid, 2, comm, frame=0)
+    call out%begin_frame(0_i8, 0.0_wp)
+    call out%write_set(solid, cfg)
+    call out%end_frame()
+    call out%close()
+    if (rank == 0) then
+      n = sum([(npoints_of(r, nranks), r=0, nranks - 1)])
+      call h5fopen_f(output_h5_path(cfg), H5F_ACC_RDONLY_F, fid, err)
+      call ok(err, 'h5fopen_f')
+      ids = read_i8(fid, g//'id', n)
+      owner = read_i4(fid, g//'rank', n)
+      call h5fclose_f(fid, err)
+      call check(all(int(owner, i8) == ids/1000_i8 - 1_i8), 'each point''s rank is the rank that wrote it')
+      call check_equal_int(int(count(owner == nranks - 1)), npoints_of(nranks - 1, nranks), &
+                           'the last rank''s points')
+      call check(index(read_text(output_xmf_path(cfg)), 'Name="rank"') > 0, 'sidecar lists rank')
+      ! (the file of 'all': test_two_frames_2d)
+      call make_config(cfg_all, 'test_output', 2, comm)
+      call h5fopen_f(output_h5_path(cfg_all), H5F_ACC_RDONLY_F, fid, err)
+      call ok(err, 'h5fopen_f')
+      call h5lexists_f(fid, g//'rank', there, err)
+      call h5fclose_f(fid, err)
+      call check(.not. there, '''all'' does not write rank')
+    end if
+    call MPI_Barrier(comm)
+  end subroutine test_rank_field_where_named
 
   ! ------------------------------------------------------------------ scene
 

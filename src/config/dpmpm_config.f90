@@ -94,9 +94,11 @@ module dpmpm_config
   !> set has them; a fluid set has no stress: its stress is -pore_pressure on the diagonal).
   !> state: the state values of the constitutive models, one dataset each, named by the
   !> model table (plastic_strain of mohr_coulomb and drucker_prager).
-  character(len=*), parameter :: optional_fields(6) = [character(len=14) :: 'displacement', &
+  !> ('rank', the rank that held the point, is written only where named: it differs between
+  !> rank counts, and 'all' stands for the fields of the physics)
+  character(len=*), parameter :: optional_fields(7) = [character(len=14) :: 'displacement', &
                                                        'stress', 'material', 'porosity', &
-                                                       'pore_pressure', 'state']
+                                                       'pore_pressure', 'state', 'rank']
 
 contains
 

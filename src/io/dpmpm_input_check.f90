@@ -739,7 +739,7 @@ contains
     if (len(word) > 0) then
       call add_value(pb, g_output, 1, var, "'"//trim(list)//"'", 'unknown dataset '''//word// &
                      ''': the optional datasets are displacement, stress, material, '// &
-                     'porosity, pore_pressure, plastic_strain, or all (id, x, v, mass and '// &
+                     'porosity, pore_pressure, state, rank, or all (id, x, v, mass and '// &
                      'volume are always written)')
     else if (fluid .and. field_listed(list, 'stress', explicit=.true.)) then
       call add_value(pb, g_output, 1, var, "'"//trim(list)//"'", 'a fluid set has no '// &

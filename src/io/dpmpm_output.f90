@@ -628,6 +628,7 @@ contains
     has(4) = has(4) .and. ps%has_porosity
     has(5) = has(5) .and. ps%has_pressure
     has(6) = has(6) .and. ps%nstate > 0
+    has(7) = field_listed(fields, 'rank', explicit=.true.)
     if (has(6) .and. ps%nstate /= size(self%state_names)) &
       call fatal('point set '//trim(ps%name)//' keeps another number of state values than '// &
                  'the scene''s models name', where)
@@ -659,6 +660,10 @@ contains
       call write_points_real(self, gid, trim(self%state_names(k)), 0, nloc, offset, nglob, &
                              ps%state(k, 1:n))
     end do
+    if (has(7)) then
+      matid = int(self%rank, i4)
+      call write_points_i4(self, gid, 'rank', 0, nloc, offset, nglob, matid)
+    end if
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f('//trim(ps%name)//')', where)
 

@@ -34,7 +34,7 @@ module dpmpm_xdmf
     character(len=16) :: name = ''
     integer(i8) :: n = 0
     !> Which of optional_fields (displacement, stress, material, porosity, pore_pressure,
-    !> state) the set holds in this frame.
+    !> state, rank) the set holds in this frame.
     logical :: has(size(optional_fields)) = .false.
   end type set_rec_t
 
@@ -157,6 +157,7 @@ contains
         '</DataItem></Attribute>')
     end do
     if (set%has(3)) call attribute('material', 'Scalar', nstr, 'Int', '4')
+    if (set%has(7)) call attribute('rank', 'Scalar', nstr, 'Int', '4')
     if (set%has(4)) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
     if (set%has(5)) call attribute('pore_pressure', 'Scalar', nstr, 'Float', '8')
     ! the state values of the models in name order (as the Python package's sidecar lists them)

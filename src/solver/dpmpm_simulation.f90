@@ -5,8 +5,8 @@
 !> leaves an exit status (run_scene's result) for the program to end with.
 module dpmpm_simulation
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_strings, only: i8toa, rtoa, ftoa
-  use dpmpm_timer, only: t_total, t_output, ntimers, timer_names
+  use dpmpm_strings, only: i8toa, itoa, rtoa, ftoa
+  use dpmpm_timer, only: t_total, t_output, t_checkpoint, ntimers, timer_names
   use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable, fbc_names, face_names
   use dpmpm_kernels, only: kernel_reach
   use dpmpm_mls, only: mls_stats_t, basis_size, packed_size
@@ -559,7 +559,7 @@ contains
     type(checkpoint_state_t) :: st
     character(len=:), allocatable :: path
     real(wp) :: work(2)
-    call self%timers%tic(t_output)
+    call self%timers%tic(t_checkpoint)
     call MPI_Allreduce([self%ext_work, self%drag_loss], work, 2, MPI_DOUBLE_PRECISION, MPI_SUM, &
                        self%dec%comm)
     st = checkpoint_state_t(step=self%step, time=self%time, ext_work=work(1), drag_loss=work(2), &
@@ -576,7 +576,7 @@ contains
       call write_checkpoint(path, self%cfg%output_dir, self%dec%comm, st, self%phase(1)%pts)
     end if
     self%wall_checkpoint = MPI_Wtime()
-    call self%timers%toc(t_output)
+    call self%timers%toc(t_checkpoint)
   end subroutine write_state
 
   !> Two-phase set-up: the pore-fluid condition of each face (drained at free
@@ -730,6 +730,10 @@ contains
     if (self%cfg%balance == 'points' .and. self%dec%nranks > 1) call report_balance(self)
     do k = 2, ntimers
       write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
+      ! frames and checkpoints: how many and the time of one (what a plan of the output needs)
+      if ((k == t_output .or. k == t_checkpoint) .and. self%timers%calls(k) > 0) &
+        line = trim(line)//'; '//itoa(self%timers%calls(k))//trim(merge(' frames     ', &
+          ' checkpoints', k == t_output))//', '//ftoa(self%timers%acc(k)/self%timers%calls(k), 3)//' s each'
       call self%log%info(line)
     end do
     call report_memory(self)

@@ -732,8 +732,9 @@ contains
       write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
       ! frames and checkpoints: how many and the time of one (what a plan of the output needs)
       if ((k == t_output .or. k == t_checkpoint) .and. self%timers%calls(k) > 0) &
-        line = trim(line)//'; '//itoa(self%timers%calls(k))//trim(merge(' frames     ', &
-          ' checkpoints', k == t_output))//', '//ftoa(self%timers%acc(k)/self%timers%calls(k), 3)//' s each'
+        line = trim(line)//'; '//itoa(self%timers%calls(k))//trim(merge(' frame     ', &
+          ' checkpoint', k == t_output))//trim(merge('s', ' ', self%timers%calls(k) > 1))//', '// &
+          ftoa(self%timers%acc(k)/self%timers%calls(k), 3)//' s each'
       call self%log%info(line)
     end do
     call report_memory(self)

@@ -13,6 +13,7 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 cd "$DPMPM_ROOT"
 dpmpm_require_packages
+dpmpm_require_test_clients
 release_tests=${DPMPM_TEST_RELEASE:-numerical}
 case "$release_tests" in
   numerical) release_labels=(-L 'verification|unit|mpi') ;;
@@ -28,4 +29,6 @@ if [ "$release_tests" != none ]; then
   echo "dpmpm: the release build, tests: $release_tests"
   ctest --preset release -j "$(nproc)" ${release_labels[@]+"${release_labels[@]}"} "$@" || status=1
 fi
+command -v pvpython >/dev/null 2>&1 \
+  || echo "dpmpm: WARNING: ParaView's pvpython is missing: what ParaView reads was not checked"
 exit $status

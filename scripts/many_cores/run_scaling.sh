@@ -3,7 +3,8 @@
 # 1, 2, 4, 8 and 16 ranks with the runtime that collect_runtime.sh gathered (DIR, or DIR.tgz
 # unpacked), writes $OUT/results.txt (one line a run) and $OUT/logs.tgz.
 # CASES (default "A C D M E B") chooses the cases; E needs E_CKPT, the collapse's checkpoint
-# (a .gz is unpacked), and E_STEP0, its step. RANKS and NIND (independent runs of D) as below.
+# (a .gz is unpacked), and E_STEP0, its step; E_BALANCES the splits it compares (default
+# "cells points"). RANKS and NIND (independent runs of D) as below; BIN another binary.
 set -u
 S=$(cd "$(dirname "$0")" && pwd); R=${1:-$S/.devrt}
 [ -d "$R" ] || { mkdir -p "$R" && tar xzf "$R.tgz" -C "$(dirname "$R")"; }
@@ -44,7 +45,7 @@ for c in ${CASES:-A C D M E B}; do
         for i in $(seq 0 $((NIND - 1))); do taskset -c $i timeout 200 $MPIRUN -n 1 --bind-to none $BIN scn/D${i}_${s}.nml > log_D${i}_${s}.txt 2>&1 </dev/null & done; wait
       done
       for i in $(seq 0 $((NIND - 1))); do a=$(tps log_D${i}_5.txt); b=$(tps log_D${i}_25.txt); python3 -c "print(round(($b-$a)/20,3))"; done | awk -v n=$NIND '{s+=$1; if($1>m)m=$1} END {print "D " n " independent 1-rank runs of C_1: mean ms_per_step=" s/NR " max=" m}' >> $RES ;;
-    E) [ -n "$E_CKPT" ] && for r in $RANKS; do one E_cells $r; one E_points $r; done ;;
+    E) [ -n "$E_CKPT" ] && for r in $RANKS; do for b in ${E_BALANCES:-cells points}; do one E_$b $r; done; done ;;
     *) for r in $RANKS; do one $c $r; done ;;
   esac
   tar czf $OUT/logs.tgz log_* probe.log

@@ -12,7 +12,8 @@ M: C with every point moving at (1, 1) m/s and no gravity, so that points cross 
    boundaries every step (migration at work); the block leaves 4 cells free on the + sides.
 E: a column collapse caught in full flow (the 2D scene of inputs/c1_a2.nml at h = 2 mm,
    80 000 points, restarted from its checkpoint at t = 0.254 s): the grid split by cells
-   (E_cells) and by points (E_points), where the points sit on few ranks.
+   (E_cells), by points (E_points) and by nested cuts (E_nested), where the points sit on
+   few ranks.
 Cell size 1/360 m for A, C and M, as the project's own bench block.
 SCALE=small divides the sizes by 16 for a try on a small machine."""
 import os
@@ -87,7 +88,7 @@ for steps in (5, 25):
                  ("C", block2d(*weak[r], steps, f"o_C_{r}_{steps}")),
                  ("M", block2d(*weak[r], steps, f"o_M_{r}_{steps}", moving=True))]
         if CKPT:
-            cases += [(f"E_{b}", collapse(steps, f"o_E_{b}_{r}_{steps}", b, CKPT)) for b in ("cells", "points")]
+            cases += [(f"E_{b}", collapse(steps, f"o_E_{b}_{r}_{steps}", b, CKPT)) for b in ("cells", "points", "nested")]
         for case, text in cases:
             with open(os.path.join(out, f"{case}_{r}_{steps}.nml"), "w") as f:
                 f.write(text)

@@ -31,7 +31,7 @@ def main(path):
     ranks = sorted({r for _, r in runs})
     print("| case | " + " | ".join(f"{r} rank{'s' if r > 1 else ''}" for r in ranks) + " |")
     print("|---|" + "---|" * len(ranks))
-    for case in ("A", "B", "E_cells", "E_points"):
+    for case in ("A", "B", "E_cells", "E_points", "E_nested"):
         if (case, 1) not in runs:
             continue
         t1 = runs[(case, 1)]["ms"]
@@ -52,7 +52,7 @@ def main(path):
               f"{d[1] / runs[('C', 16)]['ms']:.2f}" if ("C", 16) in runs else "")
     print("\n| case | ranks | busiest rank / mean | ms per step |")
     print("|---|---|---|---|")
-    for case in ("E_cells", "E_points"):
+    for case in ("E_cells", "E_points", "E_nested"):
         for r in ranks:
             rec = runs.get((case, r))
             if rec and "max" in rec:

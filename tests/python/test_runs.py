@@ -196,3 +196,28 @@ def test_plot_frames_script(run_np2, tmp_path):
     r = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "plot_frames.py"),
                         run_np2, "-o", png], capture_output=True, text=True)
     assert r.returncode == 0 and r.stdout.strip() == png and os.path.getsize(png) > 0
+
+
+def test_closed_run_says_so(run_np2):
+    # After its `with` block a Run must not answer as if the file had no sets (a closed
+    # h5py group looks empty): every read says the file is closed.
+    with dpmpm.open_run(run_np2) as run:
+        fr = run.frames[-1]
+        inside = fr["fluid"]["pore_pressure"].copy()
+    assert run.closed and "closed" in repr(run)
+    assert len(inside) > 0
+    reads = [lambda: fr["fluid"], lambda: fr.get("fluid"), lambda: "fluid" in fr,
+             lambda: fr.set_names, lambda: run.set_names, lambda: run.diagnostics,
+             lambda: run.verification, lambda: dpmpm.profile(run, "pore_pressure")]
+    for read in reads:
+        with pytest.raises(dpmpm.ClosedRunError, match="is closed"):
+            read()
+    # A point set taken inside the block says so too, even for a dataset it had read.
+    with dpmpm.open_run(run_np2) as run:
+        ps = run.frames[-1]["fluid"]
+        ps["pore_pressure"]
+    with pytest.raises(dpmpm.ClosedRunError, match="is closed"):
+        ps["pore_pressure"]
+    # The command line turns it into exit status 2 like any unreadable input, not a NaN.
+    assert issubclass(dpmpm.ClosedRunError, ValueError)
+

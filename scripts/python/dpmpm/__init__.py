@@ -10,7 +10,8 @@ from .compare import Comparison, compare_runs
 from .consolidation import compare_terzaghi, terzaghi_setup
 from .element import ElementTest, read_element
 from .profile import Profile, bin_edges, cell_average, profile
-from .run import STRESS_COMPONENTS, Frame, Grid, PointSet, Run, open_run, von_mises
+from .run import (STRESS_COMPONENTS, ClosedRunError, Frame, Grid, PointSet, Run, open_run,
+                  von_mises)
 from .xdmf import write_xdmf, xdmf_text
 
 
@@ -41,7 +42,8 @@ def plot_element(test, out, dpi=110):
 
 __version__ = "0.1.0"
 
-__all__ = ["open_run", "Run", "Frame", "PointSet", "Grid", "STRESS_COMPONENTS", "von_mises",
+__all__ = ["open_run", "Run", "ClosedRunError", "Frame", "PointSet", "Grid",
+           "STRESS_COMPONENTS", "von_mises",
            "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
            "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",
            "compare_terzaghi", "plot_terzaghi", "read_element", "ElementTest", "plot_element"]

@@ -221,3 +221,21 @@ def test_closed_run_says_so(run_np2):
     # The command line turns it into exit status 2 like any unreadable input, not a NaN.
     assert issubclass(dpmpm.ClosedRunError, ValueError)
 
+
+def test_cli_into_a_closed_pipe(run_np2):
+    # `python3 -m dpmpm profile ... | head -3`: the reader goes away before the output is
+    # written; no traceback, exit status 0. The pipe is closed before the program starts
+    # writing, the case that `head` makes by chance.
+    cmd = [sys.executable, "-m", "dpmpm", "profile", run_np2, "pore_pressure",
+           "--frame", "0", "--frame", "1", "--frame", "2", "--frame", "3"]
+    for _ in range(2):
+        p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=PYENV)
+        p.stdout.close()
+        err = p.stderr.read().decode()
+        p.stderr.close()
+        assert p.wait() == 0 and "Error" not in err, err
+    r = subprocess.run(["bash", "-c", 'set -o pipefail; "$@" | head -3', "sh", *cmd],
+                       capture_output=True, text=True, env=PYENV)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    assert len(r.stdout.splitlines()) == 3
+

@@ -239,3 +239,16 @@ def test_cli_into_a_closed_pipe(run_np2):
     assert r.returncode == 0 and r.stderr == "", r.stderr
     assert len(r.stdout.splitlines()) == 3
 
+
+def test_energy_plot_labels_the_net_work(run_np2):
+    # /diagnostics/external_work is the work of the loads and gravity net of drag and
+    # plastic dissipation (doc/output.md); the legend must not call it the work alone.
+    import matplotlib.pyplot as plt
+    from dpmpm.plot import plot_energies
+    fig, ax = plt.subplots()
+    with dpmpm.open_run(run_np2) as run:
+        plot_energies(ax, run)
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    plt.close(fig)
+    work = [s for s in labels if "work" in s]
+    assert len(work) == 1 and "net of drag" in work[0] and "dissipation" in work[0], labels

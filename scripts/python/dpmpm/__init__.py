@@ -10,6 +10,8 @@ from .compare import Comparison, compare_runs
 from .consolidation import compare_terzaghi, terzaghi_setup
 from .element import ElementTest, read_element
 from .profile import Profile, bin_edges, cell_average, profile
+from .launch import find_binary, find_mpirun
+from .scene import InputError, Scene, read_scene
 from .run import (STRESS_COMPONENTS, ClosedRunError, Frame, Grid, PointSet, Run, open_run,
                   von_mises)
 from .xdmf import write_xdmf, xdmf_text
@@ -42,7 +44,7 @@ def plot_element(test, out, dpi=110):
 
 __version__ = "0.1.0"
 
-__all__ = ["open_run", "Run", "ClosedRunError", "Frame", "PointSet", "Grid",
+__all__ = ["Scene", "read_scene", "InputError", "find_binary", "find_mpirun", "open_run", "Run", "ClosedRunError", "Frame", "PointSet", "Grid",
            "STRESS_COMPONENTS", "von_mises",
            "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
            "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",

@@ -271,6 +271,12 @@ class Run:
         """Every echoed namelist group called name, as dicts of lists."""
         return namelist.groups(self.input, name)
 
+    @property
+    def scene(self):
+        """The echoed input as a ``dpmpm.Scene`` (to run it again, changed)."""
+        from .scene import Scene
+        return Scene.from_text(self.input, self.path)
+
     # ---- diagnostics, verification
     @property
     def diagnostics(self):

@@ -1,6 +1,10 @@
-"""Reading, plotting and checking dpmpm output files (doc/python.md).
+"""Building and running dpmpm scenes, and reading, plotting and checking their output
+files (doc/python.md).
 
     import dpmpm
+    scene = dpmpm.Scene.read("inputs/consolidation_2d.nml")
+    scene["run"]["t_end"] = 0.1
+    result = dpmpm.simulate(scene, ranks=2)               # a progress bar; out/...h5
     with dpmpm.open_run("out/consolidation_2d.h5") as run:
         fr = run.frames[-1]
         p = fr["fluid"]["pore_pressure"]          # sorted by point id
@@ -10,8 +14,10 @@ from .compare import Comparison, compare_runs
 from .consolidation import compare_terzaghi, terzaghi_setup
 from .element import ElementTest, read_element
 from .profile import Profile, bin_edges, cell_average, profile
+from .errors import InputError, MonitorStop, RunError, StoppedEarly
 from .launch import find_binary, find_mpirun
-from .scene import InputError, Scene, read_scene
+from .scene import Scene, read_scene
+from .simulate import Result, simulate, study
 from .run import (STRESS_COMPONENTS, ClosedRunError, Frame, Grid, PointSet, Run, open_run,
                   von_mises)
 from .xdmf import write_xdmf, xdmf_text
@@ -44,7 +50,8 @@ def plot_element(test, out, dpi=110):
 
 __version__ = "0.1.0"
 
-__all__ = ["Scene", "read_scene", "InputError", "find_binary", "find_mpirun", "open_run", "Run", "ClosedRunError", "Frame", "PointSet", "Grid",
+__all__ = ["Scene", "read_scene", "simulate", "study", "Result", "RunError", "InputError",
+           "StoppedEarly", "MonitorStop", "find_binary", "find_mpirun", "open_run", "Run", "ClosedRunError", "Frame", "PointSet", "Grid",
            "STRESS_COMPONENTS", "von_mises",
            "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
            "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",

@@ -22,19 +22,11 @@ import tempfile
 
 import f90nml
 
+from .errors import InputError
 from .launch import MPI_ENV, find_binary
 
 #: Groups a scene may hold several of; the others occur at most once.
 REPEATED = ("material", "region", "boundary", "load")
-
-
-class InputError(Exception):
-    """dpmpm refused a scene (exit status 2): ``problems`` lists its messages."""
-
-    def __init__(self, problems, where=""):
-        self.problems = list(problems)
-        head = f"{where}: " if where else ""
-        super().__init__(head + ("; ".join(self.problems) or "bad input"))
 
 
 def _group(values):
@@ -205,7 +197,7 @@ class Scene:
         output); InputError when dpmpm refuses it."""
         problems, out = self._check(binary, cwd)
         if problems:
-            raise InputError(problems, self.path or self.name)
+            raise InputError(problems, where=self.path or self.name)
         return Scene.from_text(out)
 
     def __repr__(self):

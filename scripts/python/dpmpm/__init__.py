@@ -42,6 +42,25 @@ def plot_terzaghi(run, out, times=None, setup=None, dpi=120):
     return consolidation.plot_terzaghi(run, out, times=times, setup=setup, dpi=dpi)
 
 
+# The labelled arrays import xarray (and pandas) when first called, not with the package.
+def points_dataset(run, name, frames=None):
+    """A point set over the frames as an xarray.Dataset (dpmpm.labelled.points_dataset)."""
+    from . import labelled
+    return labelled.points_dataset(run, name, frames=frames)
+
+
+def diagnostics_dataset(run):
+    """/diagnostics as an xarray.Dataset along time (dpmpm.labelled.diagnostics_dataset)."""
+    from . import labelled
+    return labelled.diagnostics_dataset(run)
+
+
+def profile_dataarray(prof):
+    """A Profile as an xarray.DataArray (dpmpm.labelled.profile_dataarray)."""
+    from . import labelled
+    return labelled.profile_dataarray(prof)
+
+
 def plot_element(test, out, dpi=110):
     """The calibration plots of an element test in a PNG (dpmpm.element.plot_element)."""
     from . import element
@@ -55,4 +74,5 @@ __all__ = ["Scene", "read_scene", "simulate", "study", "Result", "RunError", "In
            "STRESS_COMPONENTS", "von_mises",
            "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
            "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",
-           "compare_terzaghi", "plot_terzaghi", "read_element", "ElementTest", "plot_element"]
+           "compare_terzaghi", "plot_terzaghi", "read_element", "ElementTest", "plot_element",
+           "points_dataset", "diagnostics_dataset", "profile_dataarray"]

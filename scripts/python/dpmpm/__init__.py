@@ -70,8 +70,8 @@ def plot_element(test, out, dpi=110):
 __version__ = "0.1.0"
 
 __all__ = ["Scene", "read_scene", "simulate", "study", "Result", "RunError", "InputError",
-           "StoppedEarly", "MonitorStop", "find_binary", "find_mpirun", "open_run", "Run", "ClosedRunError", "Frame", "PointSet", "Grid",
-           "STRESS_COMPONENTS", "von_mises",
+           "StoppedEarly", "MonitorStop", "find_binary", "find_mpirun", "open_run", "Run",
+           "ClosedRunError", "Frame", "PointSet", "Grid", "STRESS_COMPONENTS", "von_mises",
            "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
            "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",
            "compare_terzaghi", "plot_terzaghi", "read_element", "ElementTest", "plot_element",

@@ -3,7 +3,7 @@
 
 DPMPM_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 DPMPM_DEB_PACKAGES="gfortran libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools libfftw3-dev cmake ninja-build python3 python3-pip"
-DPMPM_PY_MODULES="h5py numpy matplotlib pytest"
+DPMPM_PY_MODULES="h5py numpy matplotlib pytest f90nml tqdm xarray"
 # The source formatters (scripts/format.sh), pinned: another version may lay out differently.
 DPMPM_PY_TOOLS="fprettify==0.3.7 findent==4.3.6"
 

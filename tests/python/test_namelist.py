@@ -1,4 +1,4 @@
-"""The small namelist reader on the forms dpmpm inputs use."""
+"""dpmpm.namelist (on f90nml) on the forms dpmpm inputs use."""
 import os
 
 from dpmpm import namelist
@@ -20,7 +20,7 @@ def test_forms():
     assert [g for g, _ in groups] == ["region", "grid", "run", "boundary", "boundary"]
     region = groups[0][1]
     assert region["lo"] == [0.0, 1.5, 1.5]
-    assert region["stress_gradient(1:6,2)"] == [3884.8, 9712.0]
+    assert region["stress_gradient"] == [[3884.8, 9712.0]]
     assert region["name"] == ["a/b!c"]
     assert groups[1][1] == {"ncells": [None, 4]}
     assert groups[2][1] == {"name": ["it's"], "flag": [True], "dt": [1.0e-3]}
@@ -52,4 +52,6 @@ def test_edit_replaces_adds_and_drops():
     assert namelist.group(out, "output") == {"dir": ["x"], "frame_interval": [0.1]}
     assert namelist.group(out, "shape") == {"kernel": ["cubic"]}
     assert namelist.groups(out, "benchmark") == []
-    assert "! end" in out
+    # Without drop, the layout and the comments are kept.
+    kept = namelist.edit(text, {"t_end": "0.5"})
+    assert "t_end = 0.5 ! end" in kept and "&benchmark" in kept

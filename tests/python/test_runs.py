@@ -196,3 +196,59 @@ def test_plot_frames_script(run_np2, tmp_path):
     r = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "plot_frames.py"),
                         run_np2, "-o", png], capture_output=True, text=True)
     assert r.returncode == 0 and r.stdout.strip() == png and os.path.getsize(png) > 0
+
+
+def test_closed_run_says_so(run_np2):
+    # After its `with` block a Run must not answer as if the file had no sets (a closed
+    # h5py group looks empty): every read says the file is closed.
+    with dpmpm.open_run(run_np2) as run:
+        fr = run.frames[-1]
+        inside = fr["fluid"]["pore_pressure"].copy()
+    assert run.closed and "closed" in repr(run)
+    assert len(inside) > 0
+    reads = [lambda: fr["fluid"], lambda: fr.get("fluid"), lambda: "fluid" in fr,
+             lambda: fr.set_names, lambda: run.set_names, lambda: run.diagnostics,
+             lambda: run.verification, lambda: dpmpm.profile(run, "pore_pressure")]
+    for read in reads:
+        with pytest.raises(dpmpm.ClosedRunError, match="is closed"):
+            read()
+    # A point set taken inside the block says so too, even for a dataset it had read.
+    with dpmpm.open_run(run_np2) as run:
+        ps = run.frames[-1]["fluid"]
+        ps["pore_pressure"]
+    with pytest.raises(dpmpm.ClosedRunError, match="is closed"):
+        ps["pore_pressure"]
+    # The command line turns it into exit status 2 like any unreadable input, not a NaN.
+    assert issubclass(dpmpm.ClosedRunError, ValueError)
+
+
+def test_cli_into_a_closed_pipe(run_np2):
+    # `python3 -m dpmpm profile ... | head -3`: the reader goes away before the output is
+    # written; no traceback, exit status 0. The pipe is closed before the program starts
+    # writing, the case that `head` makes by chance.
+    cmd = [sys.executable, "-m", "dpmpm", "profile", run_np2, "pore_pressure",
+           "--frame", "0", "--frame", "1", "--frame", "2", "--frame", "3"]
+    for _ in range(2):
+        p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=PYENV)
+        p.stdout.close()
+        err = p.stderr.read().decode()
+        p.stderr.close()
+        assert p.wait() == 0 and "Error" not in err, err
+    r = subprocess.run(["bash", "-c", 'set -o pipefail; "$@" | head -3', "sh", *cmd],
+                       capture_output=True, text=True, env=PYENV)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    assert len(r.stdout.splitlines()) == 3
+
+
+def test_energy_plot_labels_the_net_work(run_np2):
+    # /diagnostics/external_work is the work of the loads and gravity net of drag and
+    # plastic dissipation (doc/output.md); the legend must not call it the work alone.
+    import matplotlib.pyplot as plt
+    from dpmpm.plot import plot_energies
+    fig, ax = plt.subplots()
+    with dpmpm.open_run(run_np2) as run:
+        plot_energies(ax, run)
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    plt.close(fig)
+    work = [s for s in labels if "work" in s]
+    assert len(work) == 1 and "net of drag" in work[0] and "dissipation" in work[0], labels

@@ -1,7 +1,8 @@
 """Command line: python -m dpmpm {info,plot,profile,compare,xdmf,terzaghi,element} FILE...
 
-Exit status: 0 success (compare: the runs agree within --rtol), 1 the runs differ
-(compare), 2 bad arguments or a file that cannot be read.
+Exit status: 0 success (compare: the runs agree within --rtol; also when the reader of
+the output stops early, as `| head` does), 1 the runs differ (compare), 2 bad arguments
+or a file that cannot be read.
 """
 import argparse
 import os
@@ -213,7 +214,14 @@ def main(argv=None):
             print(f"dpmpm: {path}: no such file", file=sys.stderr)
             return 2
     try:
-        return args.func(args)
+        status = args.func(args)
+        sys.stdout.flush()
+        return status
+    except BrokenPipeError:
+        # The reader of our output stopped early (`... | head -3`): not an error. Point
+        # stdout at /dev/null so that the interpreter's last flush does not fail again.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except (OSError, KeyError, ValueError, IndexError) as e:
         print(f"dpmpm: {type(e).__name__}: {e}", file=sys.stderr)
         return 2

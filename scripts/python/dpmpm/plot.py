@@ -10,6 +10,10 @@ import numpy as np  # noqa: E402
 from .run import SOLID_COLORS  # noqa: E402,F401
 
 
+#: The legend of /diagnostics/external_work, which is net of dissipation (doc/output.md).
+EXTERNAL_WORK_LABEL = "work of loads and gravity\nnet of drag and plastic dissipation"
+
+
 def pick_frames(run, count=3):
     """Indices of first, middle and last frame (fewer when the run has fewer)."""
     n = len(run.frames)
@@ -63,7 +67,11 @@ def _draw_set_1d(ax, ps, color):
 
 
 def plot_energies(ax, run):
-    """Kinetic, strain energy and external work from /diagnostics over time."""
+    """Kinetic and strain energy and the net work from /diagnostics over time.
+
+    ``external_work`` is the work of the loads and gravity minus what the drag and plastic
+    flow dissipated (doc/output.md), so on a consolidating layer it lies on kinetic +
+    strain: the label says so."""
     d = run.diagnostics
     ax.set_title("energies")
     if d and d["time"].shape[0] > 0:
@@ -71,7 +79,7 @@ def plot_energies(ax, run):
         ke, se, w = d["kinetic_energy"], d["strain_energy"], d["external_work"]
         ax.plot(t, ke, label="kinetic")
         ax.plot(t, se, label="strain")
-        ax.plot(t, w, label="external work")
+        ax.plot(t, w, label=EXTERNAL_WORK_LABEL)
         ax.plot(t, ke + se, "k--", label="kinetic + strain")
         ax.legend(fontsize="small")
     else:

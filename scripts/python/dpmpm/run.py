@@ -4,7 +4,7 @@
 the frames with their time and step, per frame and point set the datasets as numpy
 arrays sorted by point id, the diagnostics and the verification data. Datasets are read
 when first asked for; the file stays open until ``Run.close()`` (or the end of a
-``with`` block).
+``with`` block), after which frames, point sets and datasets raise ``ClosedRunError``.
 """
 import os
 
@@ -77,16 +77,25 @@ class Grid:
                 f"origin={self.origin.tolist()}, length={self.length.tolist()})")
 
 
+class ClosedRunError(ValueError):
+    """A frame, point set or dataset of a Run asked for after the file was closed."""
+
+
 class PointSet:
     """One point set of one frame. ``ps["x"]`` is a dataset as a numpy array, its rows
     in increasing id order (``ps.id`` is sorted), whatever order the ranks wrote."""
 
     def __init__(self, group, name, frame):
-        self._g = group
+        self._group = group
         self.name = name
         self.frame = frame
         self._order = None
         self._cache = {}
+
+    @property
+    def _g(self):
+        self.frame._check_open()
+        return self._group
 
     @property
     def order(self):
@@ -106,6 +115,7 @@ class PointSet:
         return name in self._g
 
     def __getitem__(self, name):
+        self.frame._check_open()
         if name not in self._cache:
             if name not in self._g:
                 raise KeyError(f"/frames/{self.frame.name}/{self.name} has no dataset "
@@ -136,13 +146,23 @@ class PointSet:
 class Frame:
     """One output frame: ``time``, ``step`` and its point sets by name."""
 
-    def __init__(self, group, index, name):
-        self._g = group
+    def __init__(self, group, index, name, run=None):
+        self._group = group
+        self._run = run
         self.index = index
         self.name = name
         self.time = float(group.attrs["time"])
         self.step = int(group.attrs["step"])
         self._sets = {}
+
+    def _check_open(self):
+        if self._run is not None:
+            self._run._check_open()
+
+    @property
+    def _g(self):
+        self._check_open()
+        return self._group
 
     @property
     def set_names(self):
@@ -152,6 +172,7 @@ class Frame:
         return name in self._g
 
     def __getitem__(self, name):
+        self._check_open()
         if name not in self._sets:
             if name not in self._g:
                 raise KeyError(f"frame {self.name} has no point set {name!r}")
@@ -179,10 +200,22 @@ class Run:
         self.version = self.attrs.get("dpmpm_version")
         self.input = _text(f["input"][()]) if "input" in f else ""
         names = sorted(f["frames"]) if "frames" in f else []
-        self.frames = [Frame(f["frames"][n], k, n) for k, n in enumerate(names)]
+        self.frames = [Frame(f["frames"][n], k, n, self) for k, n in enumerate(names)]
         self._grid = None
 
     # ---- context manager
+    def _check_open(self):
+        """Raise ClosedRunError once the file is closed: a closed file's groups look
+        empty to h5py, which would read as missing sets and empty profiles."""
+        if self.file is None:
+            raise ClosedRunError(f"{self.path} is closed: read its frames, points and "
+                                 "diagnostics inside the `with open_run(...)` block "
+                                 "(or before run.close())")
+
+    @property
+    def closed(self):
+        return self.file is None
+
     def close(self):
         if self.file:
             self.file.close()
@@ -238,27 +271,38 @@ class Run:
         """Every echoed namelist group called name, as dicts of lists."""
         return namelist.groups(self.input, name)
 
+    @property
+    def scene(self):
+        """The echoed input as a ``dpmpm.Scene`` (to run it again, changed)."""
+        from .scene import Scene
+        return Scene.from_text(self.input, self.path)
+
     # ---- diagnostics, verification
     @property
     def diagnostics(self):
         """``/diagnostics`` as a dict of 1D numpy arrays (empty when absent)."""
+        self._check_open()
         d = self.file.get("diagnostics")
         return {k: d[k][...] for k in d} if d is not None else {}
 
     @property
     def verification(self):
         """``/verification`` datasets as a dict of numpy arrays (empty when absent)."""
+        self._check_open()
         v = self.file.get("verification")
         return {k: v[k][...] for k in v} if v is not None else {}
 
     @property
     def verification_attrs(self):
         """``/verification`` scalar attributes as a dict of floats (empty when absent)."""
+        self._check_open()
         v = self.file.get("verification")
         return {k: _text(a) if isinstance(a, bytes) else float(np.asarray(a).ravel()[0])
                 for k, a in v.attrs.items()} if v is not None else {}
 
     def __repr__(self):
+        if self.closed:
+            return f"Run({self.path!r}, closed)"
         return (f"Run({self.path!r}, ndim={self.ndim}, nranks={self.nranks}, "
                 f"frames={len(self.frames)}, sets={self.set_names})")
 

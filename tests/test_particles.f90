@@ -190,10 +190,12 @@ contains
     type(particle_set_t), intent(inout) :: ps
     logical, intent(in) :: gone(:)
     integer(i8), allocatable :: before(:), want(:)
+    logical, allocatable :: stays(:)
     integer :: k
     logical :: ok
     before = ps%id(1:ps%n)
-    want = pack(before, .not. gone)
+    stays = .not. gone
+    want = pack(before, stays)
     call ps%remove(gone)
     call check_equal_int(ps%n, size(want), 'again: the count of the survivors')
     ok = .true.

@@ -18,8 +18,9 @@ per rank:
   slab bytes / beta, the slab gw nodes thick over the stored extent of the other axes
   (dpmpm_decomp);
 - migration(P): per point set and split axis, the measured extra cost of migrate_axis
-  when points cross (it scans and compacts the whole set) plus a cost per crossing
-  point; a fraction s of the points of the cell layer next to each face crosses it per step;
+  when points cross (it bins every point; the removal moves the last points of the set
+  into the places of those that left) plus a cost per crossing point; a fraction s of
+  the points of the cell layer next to each face crosses it per step;
 - allreduce(P): the reductions of a step, each ceil(log2 P) levels of the measured
   2-rank latency (a tree).
 
@@ -313,7 +314,8 @@ class Model:
         per rank along each axis; dims: ranks per axis; faces: neighbour faces per axis;
         net: None (on-node costs) or (alpha, bytes per second per rank, off-node levels);
         removal: "cross" (departed points spread over the set, as the code meets them) or
-        "tail" (the cost measured when they are the last points: no compaction)."""
+        "tail" (the cost measured when they are the last points of the set, so that no
+        point moves into their places)."""
         cfg = CASES[case]
         gw = cfg["gw"]
         n_alpha, n_inv_beta, levels_off = (0.0, 0.0, 0) if net is None else \
@@ -493,12 +495,12 @@ def main():
     for case, cfg in CASES.items():
         md.append(f"#### Predicted weak scaling: {cfg['title']}\n")
         md.append(f"The time a step adds on this machine's costs (s = {a.crossing}), and the efficiency "
-                  f"T(1)/T(P): on this machine's costs (s = {a.crossing}; no point crossing; points "
-                  "crossing but removed without compaction, the cost measured with the last points of "
-                  f"the set), and with the HDR network, 1 rank and {q} ranks per node (s = {a.crossing}).\n")
+                  f"T(1)/T(P): on this machine's costs (s = {a.crossing}; no point crossing; the "
+                  "last points of the set crossing, so that no point moves into their places), and "
+                  f"with the HDR network, 1 rank and {q} ranks per node (s = {a.crossing}).\n")
         md.append(f"| dim | {'points' if cfg['sets'] == 1 else 'points of each phase'} / rank | cells / rank | "
                   "P | dims | T(1) (ms) | halo (ms) | migration (ms) | "
-                  "reductions (ms) | efficiency, on node | no crossing | no compaction | HDR, 1 rank / node | "
+                  "reductions (ms) | efficiency, on node | no crossing | last points crossing | HDR, 1 rank / node | "
                   f"HDR, {q} ranks / node |")
         md.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         for nd in (2, 3):
@@ -530,7 +532,7 @@ def main():
                               f"{fmt_ms(ar)} | {eff:.2f} | {eff0:.2f} | {efft:.2f} | {eff1:.2f} | {effq} |")
                     res["predictions"].append({"case": case, "nd": nd, "points": npts, "P": p, "dims": dims,
                                                "t1": t1, "halo": h, "migration": mg, "allreduce": ar,
-                                               "eff": eff, "eff_no_crossing": eff0, "eff_no_compaction": efft,
+                                               "eff": eff, "eff_no_crossing": eff0, "eff_last_points": efft,
                                                "eff_net": eff1})
         md.append("")
         md.append(f"T(1): {costs[case, 2]['from']} ({costs[case, 2]['ms']} ms for {costs[case, 2]['points']} "

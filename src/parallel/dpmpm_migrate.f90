@@ -47,18 +47,17 @@ contains
     integer, intent(out) :: nlost
     integer, allocatable, intent(out), optional :: lost(:)
     logical, intent(in), optional :: in_grid
-    integer :: d, nkept
+    integer :: d, nkept, nlocal
     logical, allocatable :: gone(:)
     logical :: inside
-    ! The points that leave are flagged on each sweep and removed once after the last:
-    ! the order of the others is the same as with a removal per sweep (the survivors
-    ! keep their order, the arrivals follow in the order they came), and the set is
-    ! compacted once instead of once per split axis.
+    ! The points that leave are flagged on each sweep and removed once after the last
+    ! (particle_set_t%remove: the last points of the set fill the holes, so that the
+    ! removal moves as many points as left). The order of the set changes, and with it
+    ! the round-off of the sums over its points, but not what a point carries.
     ! An axis held by one rank has no neighbour on it (the same on every rank); with
     ! none split, no point leaves and there is nothing to flag.
     inside = .false.
     if (present(in_grid)) inside = in_grid
-    nkept = 0
     if (any(dec%dims(1:dec%ndim) > 1)) then
       allocate (gone(ps%n))
       gone = .false.
@@ -66,19 +65,21 @@ contains
       do d = 1, dec%ndim
         if (dec%dims(d) > 1) call migrate_axis(dec, origin, h, ps, d, gone)
       end do
-      ! (the points of the set before the sweeps that none of them sent away)
-      nkept = count(.not. gone(1:nkept))
+      ! A point that stayed through the sweeps lies in this rank's cells along every
+      ! split axis; inside the grid (in_grid), it lies in them along the others as well,
+      ! so that only the arrivals that stayed (behind the points of the set before the
+      ! sweeps) can be unowned. They are counted before the removal mixes them in.
+      if (.not. inside) nkept = 0
+      nlocal = count_unowned(dec, origin, h, ps, nkept, gone)
       if (any(gone(1:ps%n))) call ps%remove(gone)
     else if (inside) then
       nlost = 0
       if (present(lost)) allocate (lost(0))
       return
+    else
+      nlocal = count_cells_outside(origin, h, ps%x, ps%n, dec%ndim, dec%clo, dec%chi)
     end if
-    ! A point that stayed through the sweeps lies in this rank's cells along every split
-    ! axis; inside the grid (in_grid), it lies in them along the others as well, so that
-    ! only the arrivals, which follow the kept points, can be unowned.
-    if (.not. inside) nkept = 0
-    call find_unowned(dec, origin, h, ps, nlost, lost, nkept)
+    call find_unowned(dec, origin, h, ps, nlost, lost, nlocal)
   end subroutine migrate
 
   !> Split the grid again so that each rank holds about as many points: along each split
@@ -153,36 +154,57 @@ contains
     type(particle_set_t), intent(in) :: ps
     integer, intent(out) :: nbad
     integer, allocatable, intent(out), optional :: bad(:)
-    call find_unowned(dec, origin, h, ps, nbad, bad, 0)
+    call find_unowned(dec, origin, h, ps, nbad, bad, &
+                      count_cells_outside(origin, h, ps%x, ps%n, dec%ndim, dec%clo, dec%chi))
   end subroutine check_owned
 
-  !> Local indices and global count of the points not in an owned cell, among the
-  !> points after the first nskip of the set (which the caller knows to be owned).
-  subroutine find_unowned(dec, origin, h, ps, nglobal, idx, nskip)
+  !> The points of ps after the first nskip (which the caller knows to be owned) that
+  !> are not flagged in gone and lie outside the cells of this rank.
+  integer function count_unowned(dec, origin, h, ps, nskip, gone) result(nout)
+    type(decomp_t), intent(in) :: dec
+    real(wp), intent(in) :: origin(3), h(3)
+    type(particle_set_t), intent(in) :: ps
+    integer, intent(in) :: nskip
+    logical, intent(in) :: gone(:)
+    integer, allocatable :: idx(:)
+    logical, allocatable :: stays(:)
+    integer :: k
+    if (.not. any(gone(nskip + 1:ps%n))) then
+      nout = count_cells_outside(origin, h, ps%x(:, nskip + 1:ps%n), ps%n - nskip, dec%ndim, &
+                                 dec%clo, dec%chi)
+    else
+      stays = .not. gone(nskip + 1:ps%n)
+      idx = pack([(k, k=nskip + 1, ps%n)], stays)
+      nout = count_cells_outside(origin, h, ps%x(:, idx), size(idx), dec%ndim, dec%clo, dec%chi)
+    end if
+  end function count_unowned
+
+  !> The global count of the points not in an owned cell, from nlocal, this rank's count;
+  !> idx, when present, their local indices on this rank (a scan of the set when
+  !> nlocal > 0).
+  subroutine find_unowned(dec, origin, h, ps, nglobal, idx, nlocal)
     type(decomp_t), intent(in) :: dec
     real(wp), intent(in) :: origin(3), h(3)
     type(particle_set_t), intent(in) :: ps
     integer, intent(out) :: nglobal
     integer, allocatable, intent(out), optional :: idx(:)
-    integer, intent(in) :: nskip
+    integer, intent(in) :: nlocal
     logical, allocatable :: bad(:)
     integer, allocatable :: cells(:, :)
     integer :: k
-    ! The count first, in one pass; the list only when asked for and not empty.
-    nglobal = count_cells_outside(origin, h, ps%x(:, nskip + 1:ps%n), ps%n - nskip, dec%ndim, &
-                                  dec%clo, dec%chi)
     if (present(idx)) then
-      if (nglobal > 0) then
+      if (nlocal > 0) then
         allocate (bad(ps%n), cells(3, ps%n))
         call cells_of(origin, h, ps%x, ps%n, dec%ndim, cells)
         do k = 1, ps%n
-          bad(k) = k > nskip .and. .not. owns_cell(dec, cells(:, k))
+          bad(k) = .not. owns_cell(dec, cells(:, k))
         end do
         idx = pack([(k, k=1, ps%n)], bad)
       else
         allocate (idx(0))
       end if
     end if
+    nglobal = nlocal
     call MPI_Allreduce(MPI_IN_PLACE, nglobal, 1, MPI_INTEGER, MPI_SUM, dec%comm)
   end subroutine find_unowned
 

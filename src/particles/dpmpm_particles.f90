@@ -276,35 +276,50 @@ contains
     call self%unpack_points(buf)
   end subroutine ps_permute
 
-  !> Remove the points flagged in gone(1:n), keeping the order of the others.
+  !> Remove the points flagged in gone(1:n). Every hole among the first m = n - count(gone)
+  !> points takes a surviving point from behind m, the last of the set first, so that only
+  !> as many points move as left and the cost follows the departed points, not the set.
+  !> The order of the others changes (the moved points come forward); sort_by_cell
+  !> (dpmpm_cell_order, &run sort_every) puts a set back in cell order.
   subroutine ps_remove(self, gone)
     class(particle_set_t), intent(inout) :: self
     logical, intent(in) :: gone(:)
-    integer :: k, m
-    m = 0
-    do k = 1, self%n
-      if (gone(k)) cycle
-      m = m + 1
-      if (m == k) cycle
-      self%id(m) = self%id(k)
-      self%mat(m) = self%mat(k)
-      self%x(:, m) = self%x(:, k)
-      self%x0(:, m) = self%x0(:, k)
-      self%v(:, m) = self%v(:, k)
-      self%mass(m) = self%mass(k)
-      self%vol(m) = self%vol(k)
-      self%vol0(m) = self%vol0(k)
-      self%stress(:, m) = self%stress(:, k)
-      if (self%has_defgrad) self%defgrad(:, m) = self%defgrad(:, k)
-      if (self%has_porosity) self%porosity(m) = self%porosity(k)
-      if (self%has_pressure) then
-        self%pressure(m) = self%pressure(k)
-        self%kinv(m) = self%kinv(k)
-      end if
-      if (self%nstate > 0) self%state(:, m) = self%state(:, k)
+    integer :: i, j, m
+    m = self%n - count(gone(1:self%n))
+    ! (as many survivors lie behind m as there are holes up to m)
+    j = self%n
+    do i = 1, m
+      if (.not. gone(i)) cycle
+      do while (gone(j))
+        j = j - 1
+      end do
+      call copy_point(self, j, i)
+      j = j - 1
     end do
     self%n = m
   end subroutine ps_remove
+
+  !> Point k of the set becomes a copy of point j (every field the set stores).
+  subroutine copy_point(self, j, k)
+    type(particle_set_t), intent(inout) :: self
+    integer, intent(in) :: j, k
+    self%id(k) = self%id(j)
+    self%mat(k) = self%mat(j)
+    self%x(:, k) = self%x(:, j)
+    self%x0(:, k) = self%x0(:, j)
+    self%v(:, k) = self%v(:, j)
+    self%mass(k) = self%mass(j)
+    self%vol(k) = self%vol(j)
+    self%vol0(k) = self%vol0(j)
+    self%stress(:, k) = self%stress(:, j)
+    if (self%has_defgrad) self%defgrad(:, k) = self%defgrad(:, j)
+    if (self%has_porosity) self%porosity(k) = self%porosity(j)
+    if (self%has_pressure) then
+      self%pressure(k) = self%pressure(j)
+      self%kinv(k) = self%kinv(j)
+    end if
+    if (self%nstate > 0) self%state(:, k) = self%state(:, j)
+  end subroutine copy_point
 
   subroutine grow_i8(a, newcap, n)
     integer(i8), allocatable, intent(inout) :: a(:)

@@ -51,7 +51,9 @@ module dpmpm_decomp
     integer :: clo(3) = 0, chi(3) = 0       !< owned cells (global, 0-based)
     integer :: olo(3) = 0, ohi(3) = 0       !< owned nodes, exterior nodes included
     integer :: alo(3) = 0, ahi(3) = 0       !< stored nodes (owned + ghosts)
-    integer :: nbr_lo(3), nbr_hi(3)         !< neighbour ranks, MPI_PROC_NULL at the grid faces
+    !> neighbour ranks, MPI_PROC_NULL at the grid faces (nested cuts: one of those along the
+    !> axis, MPI_Cart_shift's; nbrs lists them all)
+    integer :: nbr_lo(3), nbr_hi(3)
     !> cut(c, d): first cell of part c along axis d (c = 0 .. dims(d); cut(dims(d), d) = ncells(d))
     !> (nested cuts: the cuts of this rank's group along each axis)
     integer, allocatable :: cut(:, :)

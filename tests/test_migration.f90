@@ -2,7 +2,8 @@
 !> cells per axis, migrate must keep every point exactly once (count, mass,
 !> momentum, the set of ids, the data of each point) and leave each point on the
 !> rank owning its cell. Points pushed out of the grid, or further than one
-!> neighbouring rank, must be kept and counted in nlost.
+!> neighbouring rank, must be kept and counted in nlost. The same on nested cuts
+!> (decomp_recut_nested), and balance_nested: every point on its owner, none lost or doubled.
 program test_migration
   use dpmpm_mpi_start, only: start_mpi
   use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Comm_rank, &
@@ -11,13 +12,13 @@ program test_migration
   use dpmpm_kinds, only: wp, i8
   use dpmpm_decomp, only: decomp_t, split_extent, balanced_cuts
   use dpmpm_particles, only: particle_set_t
-  use dpmpm_migrate, only: migrate, check_owned, balance_by_points
+  use dpmpm_migrate, only: migrate, check_owned, balance_by_points, balance_nested
   use dpmpm_cell_order, only: cell_order, sort_by_cell
   use dpmpm_grid, only: grid_t, cell_of, axis_cells_of
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use, intrinsic :: ieee_exceptions, only: ieee_get_halting_mode, ieee_set_halting_mode, ieee_invalid, &
                                            ieee_set_flag
-  use dpmpm_test_layouts, only: layouts_for
+  use dpmpm_test_layouts, only: layouts_for, nested_test_cuts
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
   implicit none
 
@@ -43,6 +44,10 @@ program test_migration
   call test_random_moves_1d()
   call test_random_moves_2d()
   call test_random_moves_3d()
+  call test_random_moves_nested_2d()
+  call test_random_moves_nested_3d()
+  call test_point_jumping_past_nested_neighbours_is_counted()
+  call test_balance_nested_spreads_a_wedge()
   call test_point_below_grid_is_kept()
   call test_point_above_grid_is_kept()
   call test_point_jumping_past_neighbour_is_counted()
@@ -311,6 +316,108 @@ contains
     call random_moves_all_layouts(3)
   end subroutine test_random_moves_3d
 
+  subroutine test_random_moves_nested_2d()
+    call begin_test('random_moves_nested_2d')
+    call random_moves_all_layouts(2, nested=.true.)
+  end subroutine test_random_moves_nested_2d
+
+  subroutine test_random_moves_nested_3d()
+    call begin_test('random_moves_nested_3d')
+    call random_moves_all_layouts(3, nested=.true.)
+  end subroutine test_random_moves_nested_3d
+
+  !> On nested cuts with two axes split, a point of the rank at the lower corner moved
+  !> into the upper slab and, along axis 2, into the cells of that slab's last part that
+  !> lie beyond this rank's ghost cells (no neighbour owns them): it must be kept and
+  !> counted as lost.
+  subroutine test_point_jumping_past_nested_neighbours_is_counted()
+    type(decomp_t) :: dec
+    type(particle_set_t) :: ps
+    integer, allocatable :: gcuts(:, :, :, :)
+    integer :: c(3), owner
+    call begin_test('point_jumping_past_nested_neighbours_is_counted')
+    if (nranks /= 4) return
+    call dec%init(MPI_COMM_WORLD, 2, ncells, 1, [2, 2, 1])
+    ! slab 0: axis 2 cut at 2; slab 1: at 5 (ncells(2) = 7)
+    allocate (gcuts(0:2, 3, 0:1, 0:1))
+    gcuts = 0
+    gcuts(0:2, 1, :, :) = reshape([0, 6, 13, 0, 6, 13, 0, 6, 13, 0, 6, 13], [3, 2, 2])
+    gcuts(0:2, 2, 0, :) = reshape([0, 2, 7, 0, 2, 7], [3, 2])
+    gcuts(0:2, 2, 1, :) = reshape([0, 5, 7, 0, 5, 7], [3, 2])
+    gcuts(0:1, 3, :, :) = reshape([0, 1, 0, 1, 0, 1, 0, 1], [2, 2, 2])
+    call dec%recut_nested(gcuts)
+    call make_points(dec, ps, 20)
+    ! (rank_at(0, 0, 0) holds cells 0..5 x 0..1; cell (6, 6) is owned by the rank at
+    ! (1, 1), which is not a neighbour: its cells along axis 2 start at 5 > 1 + 1)
+    c = [6, 6, 0]
+    owner = dec%owner_rank(c)
+    call check(owner == dec%rank_at(1, 1, 0), 'cell (6, 6) owned by the rank at (1, 1)')
+    call check(all(dec%nbrs(2, 1)%rank /= owner) .or. dec%rank /= dec%rank_at(0, 0, 0), &
+               'which is no neighbour of the rank at (0, 0)')
+    if (dec%rank == dec%rank_at(0, 0, 0)) ps%x(1:2, 1) = origin(1:2) + ([6, 6] + 0.5_wp)*h(1:2)
+    call expect_one_lost(dec, ps, int(dec%rank_at(0, 0, 0), i8)*100000_i8 + 1_i8, 'beyond the nested neighbours')
+    call ps%free()
+    call dec%free()
+  end subroutine test_point_jumping_past_nested_neighbours_is_counted
+
+  !> A wedge of points (a triangle in 2D, a prism of it in 3D; the points per row fall along
+  !> axis 1), each on the rank owning it under the even split: after balance_nested every
+  !> point is on the rank owning its cell, none is lost or doubled, and the busiest rank
+  !> holds no more than under balance_by_points (tensor-product cuts).
+  subroutine test_balance_nested_spreads_a_wedge()
+    type(decomp_t) :: dec
+    type(particle_set_t) :: ps
+    integer :: il, nd, nlost, nbad, nmax(2), mode, i, j, k, c(3), nx(3)
+    integer(i8) :: n0, id
+    integer, allocatable :: layouts(:, :)
+    real(wp) :: x(3)
+    real(wp), parameter :: zero(6) = 0.0_wp
+    character(len=80) :: tag
+    logical :: changed
+    call begin_test('balance_nested_spreads_a_wedge')
+    do nd = 2, 3
+      call layouts_for(nd, nranks, layouts)
+      do il = 1, size(layouts, 2)
+        do mode = 1, 2
+          call dec%init(MPI_COMM_WORLD, nd, ncells, 1, layouts(:, il))
+          write (tag, '(a,i0,a,3(1x,i0))') 'ndim=', nd, ' dims=', dec%dims
+          call ps%init('solid', nd, .true.)
+          ! 26 x 14 (x 9) points, 2 per cell; row j of axis 2 holds the first 26 - j*26/14
+          nx = 1
+          nx(1:nd) = [26, 14, 9]
+          id = 0
+          do k = 1, nx(3)
+            do j = 1, nx(2)
+              do i = 1, nx(1)
+                id = id + 1
+                if (i > 26 - (j - 1)*26/14) cycle
+                x = origin + ([i, j, k] - 0.5_wp)/real(nx, wp)*real(ncells, wp)*h
+                c = cell_of(origin, h, x, nd)
+                if (any(c(1:nd) < dec%clo(1:nd) .or. c(1:nd) > dec%chi(1:nd))) cycle
+                call ps%append(id, 1, x, zero(1:3), 1.0_wp, 0.01_wp, zero)
+              end do
+            end do
+          end do
+          n0 = global_count(dec, ps)
+          if (mode == 1) then
+            call balance_by_points(dec, origin, h, 1, ps, nlost=nlost, changed=changed)
+          else
+            call balance_nested(dec, origin, h, 1, ps, nlost=nlost, changed=changed)
+            call check_equal_int(nlost, 0, trim(tag)//': no point lost')
+            call check(global_count(dec, ps) == n0, trim(tag)//': every point kept once')
+            call check_owned(dec, origin, h, ps, nbad)
+            call check_equal_int(nbad, 0, trim(tag)//': every point on its owner')
+          end if
+          call MPI_Allreduce(ps%n, nmax(mode), 1, MPI_INTEGER, MPI_MAX, dec%comm)
+          call ps%free()
+          call dec%free()
+        end do
+        if (am_root) print '(a,a,2i6)', trim(tag), ': busiest rank, points and nested:', nmax
+        call check(nmax(2) <= nmax(1), trim(tag)//': the busiest rank holds no more than by points')
+      end do
+    end do
+  end subroutine test_balance_nested_spreads_a_wedge
+
   !> One point of rank 0 (which owns cell 0 on every axis) is moved below the
   !> lower face of axis 1: it must stay on some rank and count as lost.
   !> Its id is 1 (rank 0, first point).
@@ -403,20 +510,23 @@ contains
   end subroutine expect_one_lost
 
   !> Random moves in every rank layout, several rounds each.
-  subroutine random_moves_all_layouts(ndim)
+  subroutine random_moves_all_layouts(ndim, nested)
     integer, intent(in) :: ndim
+    logical, intent(in), optional :: nested
     integer, allocatable :: layouts(:, :)
     integer :: il
     call layouts_for(ndim, nranks, layouts)
     do il = 1, size(layouts, 2)
-      call random_moves(ndim, layouts(:, il), 6)
+      call random_moves(ndim, layouts(:, il), 6, nested)
     end do
   end subroutine random_moves_all_layouts
 
   !> Create points in each rank's cells, then nround times move all of them by up
   !> to 0.9 cells per axis and migrate, checking conservation and ownership.
-  subroutine random_moves(ndim, dims_in, nround)
+  subroutine random_moves(ndim, dims_in, nround, nested)
     integer, intent(in) :: ndim, dims_in(3), nround
+    logical, intent(in), optional :: nested
+    integer, allocatable :: gcuts(:, :, :, :)
     type(decomp_t) :: dec
     type(particle_set_t) :: ps
     integer :: round, k, d, nlost, nbad
@@ -426,6 +536,13 @@ contains
     character(len=80) :: tag
     call dec%init(MPI_COMM_WORLD, ndim, ncells, 1, dims_in)
     write (tag, '(a,i0,a,3(1x,i0))') 'ndim=', ndim, ' dims=', dec%dims
+    if (present(nested)) then
+      if (nested) then
+        call nested_test_cuts(dec, 1, gcuts)
+        call dec%recut_nested(gcuts)
+        tag = trim(tag)//' nested'
+      end if
+    end if
     call make_points(dec, ps, 40 + 13*dec%rank)
     call check_owned(dec, origin, h, ps, nbad)
     call check_equal_int(nbad, 0, trim(tag)//': points start in owned cells')

@@ -134,10 +134,12 @@ contains
     if (.not. real_ok(cfg%balance_tolerance, ge=0.0_wp)) call add_value(pb, g_grid, 1, 'balance_tolerance', &
       rtoa(cfg%balance_tolerance), 'must be >= 0 (the busiest rank''s points above the mean, as a '// &
       'fraction, beyond which the grid is split again)')
-    if (.not. any(cfg%balance == [character(len=6) :: 'cells', 'points'])) &
+    if (.not. any(cfg%balance == [character(len=6) :: 'cells', 'points', 'nested'])) &
       call add_value(pb, g_grid, 1, 'balance', quote(cfg%balance), 'the choices are cells (equal '// &
-                     'numbers of cells per rank along each axis) and points (the split along each '// &
-                     'axis chosen for equal numbers of points, at the start and as they move)')
+                     'numbers of cells per rank along each axis), points (the split along each '// &
+                     'axis chosen for equal numbers of points, at the start and as they move) and '// &
+                     'nested (the same, with the cuts of each axis chosen inside each part of the '// &
+                     'axes before it)')
 
     ! &shape
     if (.not. is_grid_kernel(kernel_from_name(cfg%kernel))) call add_value(pb, g_shape, 1, &

@@ -23,7 +23,7 @@ module dpmpm_simulation
   use dpmpm_benchmarks, only: benchmark_setup, nbench_err
   use dpmpm_mirror, only: fluid_mirror_bc
   use dpmpm_gather, only: gather_points
-  use dpmpm_migrate, only: balance_by_points
+  use dpmpm_migrate, only: balance_by_points, balance_nested
   use dpmpm_error, only: fatal
   use dpmpm_phase, only: solid_phase, fluid_phase
   use dpmpm_state, only: state_t, exit_bad_input, exit_stopped
@@ -164,7 +164,7 @@ contains
     ! The grid split for equal numbers of points per rank (the cuts are those of the points
     ! made or read now; the rank layout stays).
     self%nrebalance = 0
-    if (cfg%balance == 'points' .and. self%dec%nranks > 1) call split_by_points(self, changed)
+    if (cfg%balance /= 'cells' .and. self%dec%nranks > 1) call split_by_points(self, changed)
     self%fbc = 0
     if (self%two_phase) call init_two_phase(self)
     call self%faces%init(cfg, self%grid, self%kernel, self%fbc)
@@ -216,7 +216,7 @@ contains
       if (real(nloc(1), wp) > 1.5_wp*real(ntot, wp)/real(self%dec%nranks, wp)) then
         write (line, '(a,i0,a,i0)') 'dpmpm: the busiest rank holds ', nloc(1), ' points, the mean is ', &
           ntot/self%dec%nranks
-        if (cfg%balance == 'points') then
+        if (cfg%balance /= 'cells') then
           line = trim(line)//' (the grid is split by the points at the start)'
         else
           line = trim(line)//'; &grid balance = ''points'' splits the grid for equal numbers'
@@ -420,12 +420,21 @@ contains
   end subroutine grid_fields
 
   !> The cuts of the grid chosen by the points of every set, which then move to their new
-  !> ranks (balance_by_points); changed: the cuts moved. Collective.
+  !> ranks (balance_by_points; &grid balance = 'nested': balance_nested); changed: the
+  !> cuts moved. Collective.
   subroutine split_by_points(self, changed)
     class(simulation_t), intent(inout) :: self
     logical, intent(out) :: changed
     integer :: nlost
-    if (self%two_phase) then
+    if (self%cfg%balance == 'nested') then
+      if (self%two_phase) then
+        call balance_nested(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
+                            self%phase(1)%pts, self%phase(2)%pts, nlost, changed)
+      else
+        call balance_nested(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
+                            self%phase(1)%pts, nlost=nlost, changed=changed)
+      end if
+    else if (self%two_phase) then
       call balance_by_points(self%dec, self%grid%origin, self%grid%h, self%plan%ghost_width(), &
                              self%phase(1)%pts, self%phase(2)%pts, nlost, changed)
     else
@@ -459,7 +468,7 @@ contains
     call self%log%info(trim(line))
   end subroutine report_balance
 
-  !> Split the grid again by the points (&grid balance = 'points') when the busiest rank
+  !> Split the grid again by the points (&grid balance = 'points' or 'nested') when the busiest rank
   !> holds more than &grid balance_tolerance above the mean; the points move to their new ranks
   !> and the node fields are allocated for the new ranges. Collective.
   subroutine rebalance(self)
@@ -632,7 +641,7 @@ contains
       self%step = self%step + 1
       call check_state(self)
       if (self%exit_code /= 0) exit
-      if (self%cfg%balance == 'points' .and. self%cfg%balance_every > 0 .and. self%dec%nranks > 1) then
+      if (self%cfg%balance /= 'cells' .and. self%cfg%balance_every > 0 .and. self%dec%nranks > 1) then
         if (mod(self%step, int(self%cfg%balance_every, i8)) == 0) call rebalance(self)
       end if
       if (self%time - self%dt < self%cfg%equilibrium_time .and. &
@@ -727,7 +736,7 @@ contains
     if (nwall > 0) call self%log%info('  pore pressure 0 at the free surface of the pore fluid: '// &
                                       i8toa(nwall)//' point-steps (free_surface_fraction '// &
                                       trim(rtoa(self%cfg%free_surface_fraction))//')')
-    if (self%cfg%balance == 'points' .and. self%dec%nranks > 1) call report_balance(self)
+    if (self%cfg%balance /= 'cells' .and. self%dec%nranks > 1) call report_balance(self)
     do k = 2, ntimers
       write (line, '(a,a12,f10.3,a)') '  time in ', timer_names(k), self%timers%acc(k), ' s (rank 0)'
       ! frames and checkpoints: how many and the time of one (what a plan of the output needs)

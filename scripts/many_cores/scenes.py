@@ -20,10 +20,8 @@ import os
 import re
 import sys
 
-out = sys.argv[1]
 small = os.environ.get("SCALE") == "small"
 HERE = os.path.dirname(os.path.abspath(__file__))
-os.makedirs(out, exist_ok=True)
 H = 1.0 / 360
 
 
@@ -48,8 +46,9 @@ def block2d(nx, ny, steps, d, moving=False):
 """
 
 
-def sat3d(n, steps, d):
-    return f"""&run name = 'sat' t_end = 1.0 max_steps = {steps} cfl = 0.3 drag = 'implicit' /
+def sat3d(n, steps, d, name="sat", restart="", checkpoint_every=0):
+    """The saturated cube of B (also scripts/large_run.sh's scene)."""
+    return f"""&run name = '{name}' t_end = 1.0 max_steps = {steps} cfl = 0.3 drag = 'implicit' restart = '{restart}' /
 &grid ndim = 3 ncells = {n}, {n}, {n} origin = 0.0, 0.0, 0.0 length = 1.0, 1.0, 1.0 /
 &shape kernel = 'linear' /
 &material id = 1 model = 'linear_elastic' density = 2650.0 youngs_modulus = 1.0e7 poisson_ratio = 0.2 conductivity = 1.0e-5 /
@@ -61,7 +60,7 @@ def sat3d(n, steps, d):
 &boundary face = 'z-' condition = 'roller' /
 &boundary face = 'z+' condition = 'roller' /
 &load face = 'y+' traction = 0.0, -1000.0, 0.0 /
-&output dir = '{d}' frame_interval = 0.0 diag_every = 100 /
+&output dir = '{d}' frame_interval = 0.0 diag_every = 100 checkpoint_every = {checkpoint_every} /
 """
 
 
@@ -77,21 +76,29 @@ def collapse(steps, d, balance, ckpt):
 
 STEP0 = int(os.environ.get("E_STEP0", "21150"))   # the step of the collapse's checkpoint
 CKPT = os.environ.get("E_CKPT", "")
-weak = {1: (360, 180), 2: (360, 360), 4: (720, 360), 8: (720, 720), 16: (1440, 720)}
-A, B = (180, 16) if small else (720, 40)
-if small:
-    weak = {r: (a // 4, b // 4) for r, (a, b) in weak.items()}
-for steps in (5, 25):
-    for r in (1, 2, 4, 8, 16):
-        cases = [("A", block2d(A, A, steps, f"o_A_{r}_{steps}")),
-                 ("B", sat3d(B, steps, f"o_B_{r}_{steps}")),
-                 ("C", block2d(*weak[r], steps, f"o_C_{r}_{steps}")),
-                 ("M", block2d(*weak[r], steps, f"o_M_{r}_{steps}", moving=True))]
-        if CKPT:
-            cases += [(f"E_{b}", collapse(steps, f"o_E_{b}_{r}_{steps}", b, CKPT)) for b in ("cells", "points", "nested")]
-        for case, text in cases:
-            with open(os.path.join(out, f"{case}_{r}_{steps}.nml"), "w") as f:
-                f.write(text)
-    for i in range(16):
-        with open(os.path.join(out, f"D{i}_{steps}.nml"), "w") as f:
-            f.write(block2d(*weak[1], steps, f"o_D{i}_{steps}"))
+
+
+def main(out):
+    os.makedirs(out, exist_ok=True)
+    weak = {1: (360, 180), 2: (360, 360), 4: (720, 360), 8: (720, 720), 16: (1440, 720)}
+    A, B = (180, 16) if small else (720, 40)
+    if small:
+        weak = {r: (a // 4, b // 4) for r, (a, b) in weak.items()}
+    for steps in (5, 25):
+        for r in (1, 2, 4, 8, 16):
+            cases = [("A", block2d(A, A, steps, f"o_A_{r}_{steps}")),
+                     ("B", sat3d(B, steps, f"o_B_{r}_{steps}")),
+                     ("C", block2d(*weak[r], steps, f"o_C_{r}_{steps}")),
+                     ("M", block2d(*weak[r], steps, f"o_M_{r}_{steps}", moving=True))]
+            if CKPT:
+                cases += [(f"E_{b}", collapse(steps, f"o_E_{b}_{r}_{steps}", b, CKPT)) for b in ("cells", "points", "nested")]
+            for case, text in cases:
+                with open(os.path.join(out, f"{case}_{r}_{steps}.nml"), "w") as f:
+                    f.write(text)
+        for i in range(16):
+            with open(os.path.join(out, f"D{i}_{steps}.nml"), "w") as f:
+                f.write(block2d(*weak[1], steps, f"o_D{i}_{steps}"))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

@@ -11,7 +11,9 @@ frame (no point lost or doubled), the total mass is the first frame's (to
 (/input) drains a face for the pore fluid, fluid points may leave there and
 enter there: the fluid ids are then unique, an id that left never comes back,
 new ids lie above every earlier one, each point keeps its mass, and the mass
-balances with the points that left and entered (drained_faces, check_exchange).
+balances with the points that left and entered (drained_faces, check_exchange);
+and at every diagnostics record the total mass is the first record's plus the mass that
+entered less the mass that left through the drained faces (check_mass_records).
 The XDMF sidecar next to each file must be valid XML listing the file's frames
 with their times, and every referenced dataset must exist with the declared
 dimensions. With --contract, also runs that external layout checker on each file
@@ -134,6 +136,9 @@ def check_h5(path, bad):
         text = f["input"][()] if "input" in f and f["input"].shape == () else b""
         text = text.decode(errors="replace") if isinstance(text, bytes) else str(text)
         open_sets = ("fluid",) if drained_faces(text, ndim) else ()
+        # (pore fluid only: a scene without fluid points drains nothing)
+        if d is not None and open_sets and any("fluid" in fr[k] for k in names):
+            check_mass_records(d, bad)
         first = {}
         for fname in names:
             where = f"/frames/{fname}"
@@ -220,10 +225,30 @@ def check_content(g, where, first, bad, exchange=False):
             bad.append(f"{where}/{name} has non-finite values")
 
 
+def check_mass_records(d, bad):
+    """The diagnostics' mass balance: at every record the total mass is the first
+    record's plus the mass that entered through drained faces less the mass that left
+    since then (inflow_mass and outflow_mass count from the run's start; files written
+    before they were recorded have neither, and are not checked)."""
+    if "inflow_mass" not in d or "outflow_mass" not in d or "total_mass" not in d:
+        return
+    total, inflow, outflow = (d[n][...] for n in ("total_mass", "inflow_mass", "outflow_mass"))
+    if not (total.shape == inflow.shape == outflow.shape) or total.size == 0:
+        return
+    want = total[0] + (inflow - inflow[0]) - (outflow - outflow[0])
+    scale = np.maximum.reduce([np.abs(total), np.abs(inflow), np.abs(outflow)])
+    off = np.abs(total - want) > BALANCE_RTOL * np.maximum(scale, np.abs(total[0]))
+    if np.any(off):
+        k = int(np.argmax(off))
+        bad.append(f"/diagnostics: {int(np.count_nonzero(off))} records where the total mass is "
+                   f"not the first record's + inflow - outflow (record {k}: total {total[k]!r}, "
+                   f"expected {want[k]!r})")
+
+
 def check_exchange(ids, pmass, mass, where, st, bad):
     """A point set whose points leave (outflow) and enter (inflow) between frames. The
-    file records neither the outflow nor the inflow (the log gives the outflow at the
-    end), so the balance is taken over the points themselves: a point's mass never
+    frames record neither the outflow nor the inflow (the diagnostics do:
+    check_mass_records), so the balance is taken over the points themselves: a point's mass never
     changes (it is set where the point is made), so the total must equal the first
     frame's plus the mass of the ids that entered (as first seen) less that of the ids
     that left (as last seen). Also: no id twice, an id that left never comes back, and

@@ -111,6 +111,29 @@ def test_drained_run_passes(src, workdir):
     return rc == 0 and len(left) > 0 and len(entered) > 0, out + f"left {left}, entered {entered}"
 
 
+def test_drained_mass_records(src, workdir):
+    """The diagnostics record the mass through the drained faces: the mass that left by
+    the end is that of the ids gone between the first and the last frame (a point's mass
+    is fixed), and the outflow record made larger by a thousandth of the first frame's
+    fluid mass breaks the balance of the records."""
+    path = copy(src, workdir, "drained_records")
+    with h5py.File(path, "r") as f:
+        frames = fluid_frames(f)
+        first, last = frames[0], frames[-1]
+        gone = ~np.isin(first["id"][...], last["id"][...])
+        left_first = float(np.sum(first["mass"][...][gone]))
+        out = f["diagnostics"]["outflow_mass"][...]
+        inflow = f["diagnostics"]["inflow_mass"][...]
+        fluid0 = float(np.sum(first["mass"][...]))
+    ok_good = out[-1] > 0 and inflow[-1] > 0 and abs(out[-1] - left_first) <= 1e-12 * fluid0
+    with h5py.File(path, "r+") as f:
+        d = f["diagnostics"]["outflow_mass"]
+        d[-1] = d[-1] + 1e-3 * fluid0
+    rc, text = check(path)
+    return ok_good and rc != 0 and "not the first record's + inflow - outflow" in text, \
+        text + f" outflow {out[-1]!r}, left since the first frame {left_first!r}, inflow {inflow[-1]!r}"
+
+
 def test_drained_id_repeated(src, workdir):
     path = copy(src, workdir, "drained_twice")
     with h5py.File(path, "r+") as f:
@@ -185,7 +208,8 @@ def main():
         os.makedirs(workdir, exist_ok=True)
         src = run_drained(os.path.abspath(dpmpm), mpiexec, os.path.abspath(scene),
                           os.path.abspath(workdir))
-        tests = [test_drained_run_passes, test_drained_id_repeated, test_drained_mass_changed,
+        tests = [test_drained_run_passes, test_drained_mass_records, test_drained_id_repeated,
+                 test_drained_mass_changed,
                  test_drained_departed_id_back, test_drained_new_id_below,
                  test_drained_solid_stays_strict]
     else:

@@ -46,12 +46,14 @@ module dpmpm_checkpoint
   integer, parameter :: checkpoint_format = 2
 
   !> Numbers of the run monitor's state; checkpoints of earlier versions hold
-  !> nstate_monitor numbers (no inflow count) or nstate_grid (no drag dissipation, no
-  !> monitor), older ones fewer (no grid: refused).
+  !> nstate_inflow numbers (no mass through drained faces), nstate_monitor (no inflow count
+  !> either) or nstate_grid (no drag dissipation, no monitor), older ones fewer (no grid:
+  !> refused).
   integer, parameter :: nmonitor = 14
   integer, parameter :: nstate_grid = 18
   integer, parameter :: nstate_monitor = nstate_grid + 1 + nmonitor
-  integer, parameter :: nstate = nstate_monitor + 2
+  integer, parameter :: nstate_inflow = nstate_monitor + 2
+  integer, parameter :: nstate = nstate_inflow + 2
 
   !> Scalars of a run's state that the points do not carry.
   type :: checkpoint_state_t
@@ -73,6 +75,8 @@ module dpmpm_checkpoint
     logical :: has_inflow = .false.       !< the inflow ids below are recorded
     integer(i8) :: inflow_id0 = 0         !< largest fluid point id of the run's start
     integer(i8) :: ninflow = 0            !< fluid points added at inflow faces so far
+    real(wp) :: inflow_mass = 0.0_wp      !< their mass, and that of the fluid points that
+    real(wp) :: outflow_mass = 0.0_wp     !< left through drained faces (0 in older files)
     logical :: has_checksum = .false.     !< the datasets were checked against their checksums
   end type checkpoint_state_t
 
@@ -250,7 +254,8 @@ contains
       problem = path//': /state cannot be read; the file is damaged'
       return
     end if
-    if (dims(1) /= nstate .and. dims(1) /= nstate_monitor .and. dims(1) /= nstate_grid) then
+    if (dims(1) /= nstate .and. dims(1) /= nstate_inflow .and. dims(1) /= nstate_monitor .and. &
+        dims(1) /= nstate_grid) then
       problem = path//' was written by an earlier dpmpm that did not record the grid''s '// &
                 'origin and length, so it cannot be checked against this input; run the '// &
                 'scene again from its start'
@@ -268,7 +273,7 @@ contains
     st = array_to_state(state)
     st%has_checksum = version >= 2
     st%has_monitor = dims(1) >= nstate_monitor
-    st%has_inflow = dims(1) == nstate
+    st%has_inflow = dims(1) >= nstate_inflow
     if (st%ndim /= nd .or. any(st%ncells(1:nd) /= ncells(1:nd)) .or. &
         any(abs(st%origin(1:nd) - origin(1:nd)) > 1.0e-12_wp*length(1:nd)) .or. &
         any(abs(st%length(1:nd) - length(1:nd)) > 1.0e-12_wp*length(1:nd))) then
@@ -438,7 +443,8 @@ contains
     real(wp) :: a(nstate)
     a = [real(st%step, wp), st%time, st%ext_work, st%energy0, st%energy_scale, st%energy_error, &
          st%next_frame, real(st%nframes, wp), real(st%ndim, wp), real(st%ncells, wp), st%origin, &
-         st%length, st%drag_loss, st%monitor, real(st%inflow_id0, wp), real(st%ninflow, wp)]
+         st%length, st%drag_loss, st%monitor, real(st%inflow_id0, wp), real(st%ninflow, wp), &
+         st%inflow_mass, st%outflow_mass]
   end function state_to_array
 
   pure function array_to_state(a) result(st)
@@ -460,6 +466,8 @@ contains
     st%monitor = a(20:nstate_monitor)
     st%inflow_id0 = nint(a(nstate_monitor + 1), i8)
     st%ninflow = nint(a(nstate_monitor + 2), i8)
+    st%inflow_mass = a(nstate_inflow + 1)
+    st%outflow_mass = a(nstate_inflow + 2)
   end function array_to_state
 
   !> The packed points of a set: this rank's at its offset in the global order.

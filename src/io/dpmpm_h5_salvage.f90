@@ -9,7 +9,7 @@ module dpmpm_h5_salvage
                   H5_INTEGER_KIND, H5_REAL_KIND, h5gopen_f, h5gclose_f, h5gget_info_f, &
                   h5lget_name_by_idx_f, H5_INDEX_NAME_F, H5_ITER_INC_F
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
+  use dpmpm_diagnostics, only: diag_record_t, ndiag_real, nfirst_diag_real, diag_real_names
   implicit none
   private
   public :: file_sound, frame_sound, object_sound, read_diag_records, read_column, last_record
@@ -64,6 +64,7 @@ contains
     integer(hsize_t) :: dims(1), maxdims(1), nstep
     integer :: err, e2, k
     character(len=64) :: name
+    logical :: exists
     sound = object_sound(file, 'diagnostics/step')
     nstep = 0
     do k = 0, ndiag_real + 1
@@ -76,6 +77,11 @@ contains
       case default
         name = 'diagnostics/'//trim(diag_real_names(k - 1))
       end select
+      ! (a file written before the later columns has none of them)
+      if (k - 1 > nfirst_diag_real) then
+        call h5lexists_f(file, trim(name), exists, err)
+        if (err >= 0 .and. .not. exists) cycle
+      end if
       sound = object_sound(file, trim(name))
       if (.not. sound) exit
       call h5dopen_f(file, trim(name), dset, err)
@@ -157,6 +163,7 @@ contains
     real(wp), allocatable, target :: vals(:)
     type(c_ptr) :: cp
     integer :: err, e2, k, m
+    logical :: exists
     n = 0
     allocate (recs(0))
     call h5dopen_f(file, 'diagnostics/step', dset, err)
@@ -188,6 +195,14 @@ contains
     end if
     recs(1:n)%npoints = npts(1:n)
     do k = 1, ndiag_real
+      if (k > nfirst_diag_real) then
+        ! (0 where a file written before the later columns has not got them)
+        call h5lexists_f(file, 'diagnostics/'//trim(diag_real_names(k)), exists, err)
+        if (err >= 0 .and. .not. exists) then
+          recs(1:n)%values(k) = 0.0_wp
+          cycle
+        end if
+      end if
       call read_column(file, 'diagnostics/'//trim(diag_real_names(k)), &
                        h5kind_to_type(wp, H5_REAL_KIND), c_loc(vals), err)
       if (err < 0) then

@@ -24,7 +24,7 @@ module dpmpm_output
   use dpmpm_config, only: config_t, optional_fields, field_listed
   use dpmpm_particles, only: particle_set_t
   use dpmpm_model_table, only: model_from_name, scene_state_names
-  use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
+  use dpmpm_diagnostics, only: diag_record_t, ndiag_real, nfirst_diag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
                       write_columns, write_check_t, mpio_access_list, &
@@ -279,7 +279,7 @@ contains
     integer, intent(in) :: nframes
     integer(i8), intent(in) :: step
     character(len=*), parameter :: where = 'output%resume'
-    integer(hid_t) :: dset
+    integer(hid_t) :: dset, gid
     integer(hsize_t) :: dims(1), maxdims(1)
     integer(i8), allocatable, target :: steps(:)
     type(c_ptr) :: p
@@ -299,6 +299,15 @@ contains
     call h5dopen_f(self%file_id, 'diagnostics/npoints', self%diag_dset(2), err)
     call h5check(err, 'h5dopen_f(/diagnostics/npoints)', where)
     do k = 1, ndiag_real
+      call h5lexists_f(self%file_id, 'diagnostics/'//trim(diag_real_names(k)), exists, err)
+      if (.not. exists .and. k > nfirst_diag_real) then
+        ! a file written before this record had the column: zeros up to the checkpoint
+        call h5gopen_f(self%file_id, 'diagnostics', gid, err)
+        call h5check(err, 'h5gopen_f(/diagnostics)', where)
+        call create_diag_dset(gid, trim(diag_real_names(k)), H5T_IEEE_F64LE, self%diag_dset(2 + k))
+        call h5gclose_f(gid, err)
+        cycle
+      end if
       call h5dopen_f(self%file_id, 'diagnostics/'//trim(diag_real_names(k)), &
                      self%diag_dset(2 + k), err)
       call h5check(err, 'h5dopen_f(/diagnostics/'//trim(diag_real_names(k))//')', where)

@@ -25,7 +25,7 @@ contains
   subroutine diagnostics(self)
     class(state_t), intent(inout) :: self
     type(diag_record_t) :: rec
-    real(wp) :: s(9), vmax, fm(4)
+    real(wp) :: s(11), vmax, fm(4)
     integer :: p, m
     s = 0.0_wp
     do p = 1, self%phase(1)%pts%n
@@ -53,7 +53,9 @@ contains
     s(3) = self%ext_work
     s(8) = s(8) + real(self%phase(1)%pts%n, wp)
     s(9) = self%drag_loss
-    call MPI_Allreduce(MPI_IN_PLACE, s, 9, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+    s(10) = self%inflow_mass
+    s(11) = self%outflow_mass
+    call MPI_Allreduce(MPI_IN_PLACE, s, 11, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
     do m = 1, 4
       fm(m) = field_max(self, m)
     end do
@@ -63,7 +65,7 @@ contains
     rec%step = self%step
     rec%npoints = nint(s(8), i8)
     rec%values = [self%time, self%dt, s(1), s(2), s(3), vmax, MPI_Wtime() - self%wall_start, &
-                  s(4), s(5), s(6), s(7)]
+                  s(4), s(5), s(6), s(7), s(10), s(11)]
     if (self%write_output) call self%out%add_diag(rec)
     ! Energy balance: kinetic + strain - external work stays at its initial value;
     ! its largest change is measured relative to the largest kinetic + stored

@@ -112,6 +112,7 @@ contains
         call ps%append(0_i8, m, x, acc(7:6 + self%nd, ic)/acc(3, ic), poro*rho*vt, vt, &
                        [-pface, -pface, -pface, 0.0_wp, 0.0_wp, 0.0_wp], porosity=poro, &
                        pressure=pface, kinv=acc(6, ic)/acc(3, ic))
+        self%inflow_mass = self%inflow_mass + poro*rho*vt
       end do
       deallocate (acc, sacc, first)
     end do

@@ -122,6 +122,7 @@ contains
     self%nfree_surface = 0
     self%noutflow = 0
     self%outflow_mass = 0.0_wp
+    self%inflow_mass = 0.0_wp
     call self%grid%init(cfg)
     call self%dec%init(comm, cfg%ndim, cfg%ncells, self%plan%ghost_width(), cfg%dims)
     call materials_from_config(cfg%materials, self%mats)
@@ -521,6 +522,9 @@ contains
     ! checkpoint of an earlier version has neither: the monitor then starts over).
     self%drag_loss = 0.0_wp
     if (self%dec%rank == 0) self%drag_loss = st%drag_loss
+    ! (the mass through drained faces since the run's start: summed over the ranks)
+    self%inflow_mass = merge(st%inflow_mass, 0.0_wp, self%dec%rank == 0)
+    self%outflow_mass = merge(st%outflow_mass, 0.0_wp, self%dec%rank == 0)
     if (st%has_monitor) then
       call set_monitor_state(self, st%monitor)
     else
@@ -567,17 +571,18 @@ contains
     class(simulation_t), intent(inout) :: self
     type(checkpoint_state_t) :: st
     character(len=:), allocatable :: path
-    real(wp) :: work(2)
+    real(wp) :: work(4)
     call self%timers%tic(t_checkpoint)
-    call MPI_Allreduce([self%ext_work, self%drag_loss], work, 2, MPI_DOUBLE_PRECISION, MPI_SUM, &
-                       self%dec%comm)
+    call MPI_Allreduce([self%ext_work, self%drag_loss, self%inflow_mass, self%outflow_mass], work, 4, &
+                       MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
     st = checkpoint_state_t(step=self%step, time=self%time, ext_work=work(1), drag_loss=work(2), &
                             has_monitor=.true., monitor=monitor_state(self), &
                             energy0=self%energy0, energy_scale=self%energy_scale, &
                             energy_error=self%energy_error, next_frame=self%next_frame, &
                             nframes=self%nframes, ndim=self%nd, ncells=self%cfg%ncells, &
                             origin=self%cfg%origin, length=self%cfg%length, &
-                            inflow_id0=self%inflow_id0, ninflow=self%ninflow)
+                            inflow_id0=self%inflow_id0, ninflow=self%ninflow, &
+                            inflow_mass=work(3), outflow_mass=work(4))
     path = checkpoint_path(self%cfg%output_dir, self%cfg%name)
     if (self%two_phase) then
       call write_checkpoint(path, self%cfg%output_dir, self%dec%comm, st, self%phase(1)%pts, self%phase(2)%pts)
@@ -725,7 +730,8 @@ contains
     mout = self%outflow_mass
     call MPI_Allreduce(MPI_IN_PLACE, mout, 1, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
     if (nwall > 0) call self%log%info('  fluid points that left through drained faces: '// &
-                                      i8toa(nwall)//', mass '//trim(rtoa(mout)))
+                                      i8toa(nwall)//'; mass out since the run''s start '// &
+                                      trim(rtoa(mout))//' (/diagnostics/outflow_mass)')
     nwall = self%ncavitated
     call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
     if (nwall > 0) call self%log%info('  pore pressure cut at the cavitation pressure '// &

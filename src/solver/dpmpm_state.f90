@@ -67,6 +67,7 @@ module dpmpm_state
     integer(i8) :: nfree_surface = 0          !< fluid point-steps at the free surface (p = 0)
     integer(i8) :: noutflow = 0               !< fluid points that left through drained faces
     real(wp) :: outflow_mass = 0.0_wp         !< and their mass (kg, or kg/m^(3-ndim))
+    real(wp) :: inflow_mass = 0.0_wp          !< mass of the fluid points added at drained faces
     integer(i8) :: inflow_id0 = 0             !< largest fluid point id of the run's start
     integer(i8) :: ninflow = 0                !< fluid points this rank added at inflow faces
     integer :: nd = 1

@@ -18,15 +18,14 @@ the laws, and the deposits.
 import argparse
 import math
 import os
-import re
-import subprocess
 import sys
-import time
 
-import h5py
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
+
 TEMPLATE = os.path.join(ROOT, "inputs", "c1_a2.nml")
 L0 = 0.2          #: column length (m)
 H_CELL = 0.01     #: grid spacing of the template (m)
@@ -42,19 +41,15 @@ def lajeunesse(a):
 
 
 #: the MLS pair of doc/theory.md 3.6 (doc/input.md, &shape)
-PAIR = """&shape
-  kernel = 'cubic'
-  quadrature = 'gauss'
-  field_kernel = 'wendland_c2'
-  field_radius = 2.0
-/"""
+PAIR = {"kernel": "cubic", "quadrature": "gauss", "field_kernel": "wendland_c2",
+        "field_radius": 2.0}
 
 
-def scene_text(a, base, workdir, shape="standard", max_dilation=0.0, smoothing=False):
+def build_scene(a, base, workdir, shape="standard", max_dilation=0.0, smoothing=False):
     """The template with column height a L0, a grid that holds the deposit and a geostatic start
     (and, with max_dilation > 0, that bound on the points' volume, doc/theory.md 5.4; with
-    smoothing, the volumetric smoothing of doc/theory.md 4.5)."""
-    text = open(TEMPLATE).read()
+    smoothing, the volumetric smoothing of doc/theory.md 4.5), as a dpmpm.Scene."""
+    s = dpmpm.Scene.read(TEMPLATE)
     h0 = a * L0
     # room for 1.5 times the larger scaling law's runout, and 5 cells above the column
     length = L0 * (1.0 + 1.5 * max(lube(a), lajeunesse(a))) + 0.1
@@ -65,51 +60,34 @@ def scene_text(a, base, workdir, shape="standard", max_dilation=0.0, smoothing=F
             + ("_pair" if shape == "pair" else "")
             + (f"_j{max_dilation:g}".replace(".", "p") if max_dilation > 0 else "")
             + ("_vs" if smoothing else ""))
-    subs = [
-        (r"name = '[^']*'", f"name = '{name}'"),
-        (r"t_end = [0-9.]+", f"t_end = {t_end}"),
-        (r"ncells = [0-9]+, [0-9]+", f"ncells = {nx}, {ny}"),
-        (r"length = [0-9.]+, [0-9.]+", f"length = {nx * H_CELL:.2f}, {ny * H_CELL:.2f}"),
-        (r"hi = 0\.2, 0\.4", f"hi = {L0}, {h0:.4f}"),
-        (r"  stress = [^\n]*\n", ""),
-        (r"  stress_gradient[^\n]*\n", "  geostatic = .true.\n  k0 = 0.5\n"),
-        (r"dir = '[^']*'", f"dir = '{workdir}'"),
-        (r"frame_interval = [0-9.]+", "frame_interval = 0.1"),
-    ]
-    for pat, rep in subs:
-        text, n = re.subn(pat, rep, text)
-        if n != 1:
-            raise SystemExit(f"c1_study: the template {TEMPLATE} does not match {pat!r}")
+    s.set(run={"name": name, "t_end": t_end},
+          grid={"ncells": [nx, ny], "length": [round(nx * H_CELL, 2), round(ny * H_CELL, 2)]},
+          output={"dir": workdir, "frame_interval": 0.1})
+    [region] = s.groups("region")
+    region["hi"] = [L0, round(h0, 4)]
+    for initial in ("stress", "stress_gradient"):
+        del region[initial]
+    region["geostatic"], region["k0"] = True, 0.5
     if shape == "pair":
-        text, n = re.subn(r"&shape\n  kernel = 'linear'\n/", PAIR, text)
-        if n != 1:
-            raise SystemExit("c1_study: the template's &shape is not the linear kernel")
+        s["shape"].clear()
+        s.set(shape=PAIR)
     if max_dilation > 0:
-        text, n = re.subn(r"  tensile_strength = 0.0\n",
-                          f"  tensile_strength = 0.0\n  max_dilation = {max_dilation:g}\n", text)
-        if n != 1:
-            raise SystemExit("c1_study: the template's &material has no tensile_strength line")
+        s["material"]["max_dilation"] = max_dilation
     if smoothing:
-        text, n = re.subn(r"&run\n", "&run\n  volumetric_smoothing = 'cell'\n", text)
-        if n != 1:
-            raise SystemExit("c1_study: the template has no &run group on a line of its own")
+        s["run"]["volumetric_smoothing"] = "cell"
     if base == "rough":
-        text, n = re.subn(r"face = 'y-', condition = 'fixed'",
-                          "face = 'y-', condition = 'roller', friction = 0.577, lift_off = .false.",
-                          text)
-        if n != 1:
-            raise SystemExit("c1_study: the template has no fixed base to make rough")
-    return name, text
+        [floor] = s.find("boundary", face="y-", condition="fixed")
+        floor.update(condition="roller", friction=0.577, lift_off=False)
+    return s
 
 
 def measure(path, a):
-    with h5py.File(path, "r") as f:
-        names = sorted(f["frames"])
-        fr = f["frames"][names[-1]]
-        t = float(fr.attrs["time"])
-        x = fr["solid"]["x"][:]
-        x0 = f["frames"][names[0]]["solid"]["x"][:]
-        ke = f["diagnostics"]["kinetic_energy"][:]
+    with dpmpm.open_run(path) as run:
+        first, last = run.frames[0], run.frames[-1]
+        t = last.time
+        x = last["solid"]["x"].copy()
+        x0 = first["solid"]["x"].copy()
+        ke = np.asarray(run.diagnostics["kinetic_energy"])
     half = 0.5 * SPACING
     runout = (x[:, 0].max() + half - L0) / L0
     height = (x[:, 1].max() + half) / L0
@@ -133,20 +111,21 @@ def main():
     ap.add_argument("--plot", help="figure of runout and height against a, and the deposits")
     args = ap.parse_args()
     os.makedirs(args.workdir, exist_ok=True)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     rows = []
     for a in args.ratios:
-        name, text = scene_text(a, args.base, args.workdir, args.shape, args.max_dilation,
-                                args.volumetric_smoothing)
-        nml = os.path.join(args.workdir, name + ".nml")
-        h5 = os.path.join(args.workdir, name + ".h5")
-        open(nml, "w").write(text)
+        scene = build_scene(a, args.base, args.workdir, args.shape, args.max_dilation,
+                            args.volumetric_smoothing)
+        h5 = scene.output_file()
         if args.rerun or not os.path.exists(h5):
-            t0 = time.time()
-            log = open(os.path.join(args.workdir, name + ".log"), "w")
-            rc = subprocess.run(["mpirun", "--oversubscribe", "-n", str(args.ranks), args.bin, nml],
-                                env=env, stdout=log, stderr=subprocess.STDOUT).returncode
-            print(f"{name}: exit code {rc}, {time.time() - t0:.0f} s", flush=True)
+            try:
+                r = dpmpm.simulate(scene, ranks=args.ranks, binary=args.bin,
+                                   progress=sys.stderr.isatty())
+                print(f"{scene.name}: exit code 0, {r.wall:.0f} s", flush=True)
+            except dpmpm.RunError as e:
+                print(f"{scene.name}: exit code {e.status}: {e}", flush=True)
+                continue
+        else:
+            scene.write(os.path.join(args.workdir, scene.name + ".nml"))
         rows.append(measure(h5, a))
     print("| a | t end (s) | (L−L0)/L0 | Lube 2005 | Lajeunesse 2005 | H/L0 | a^0.4 (or a) | "
           "kinetic energy left |")

@@ -24,94 +24,79 @@ import argparse
 import glob
 import os
 import re
-import subprocess
+import sys
 import time
 
+import f90nml
+
 from stability_map import SHAPES as MAP_SHAPES  # the four shape choices of the stability map
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, 'scripts', 'python'))
+import dpmpm  # noqa: E402
 
 # and linear grid functions with one Gauss point per cell (doc/input.md, "Which to pick")
 SHAPES = dict(MAP_SHAPES, linear_gauss="kernel = 'linear', quadrature = 'gauss', gauss_points = 1, "
                                        "field_kernel = 'linear', field_radius = 0.75")
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # the columns of the stability map (scripts/stability_map.py) are left to it
 MAPPED = ('w1', 'w2', 'w3', 'w1_2d', 'w1_3d')
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1',
-           OMPI_MCA_rmaps_base_oversubscribe='1')
 
 
-def set_run(txt, key, val):
-    """Set key = val inside &run (replacing it where it is given)."""
-    m = re.search(r'(?s)&run\b(.*?)\n\s*/', txt)
-    body = m.group(1)
-    if re.search(r'(?m)^\s*%s\s*=' % key, body):
-        body = re.sub(r'(?m)^(\s*)%s\s*=.*$' % key, r'\g<1>%s = %s' % (key, val), body, count=1)
-    else:
-        body = body + '\n  %s = %s' % (key, val)
-    return txt[:m.start(1)] + body + txt[m.end(1):]
+def shape_group(shape):
+    """The &shape variables of a shape choice, as a dict."""
+    return dict(f90nml.reads('&shape %s /' % SHAPES[shape])['shape'])
 
 
-def grid(txt):
-    """ndim, ncells and length of &grid (one-line or multi-line form)."""
-    g = re.search(r'(?s)&grid\b(.*?)/', txt).group(1)
-    ndim = int(re.search(r'ndim\s*=\s*(\d)', g).group(1))
-
-    def vec(key, default):
-        m = re.search(r'(?<!\w)%s\s*=\s*([-+\d.eE ,]+?)(?:\n|,\s*[a-z]|$)' % key, g)
-        if not m:
-            return [default] * ndim
-        return [float(x) for x in m.group(1).replace(',', ' ').split()][:ndim]
-    return ndim, vec('ncells', 1.0), vec('length', 1.0)
+def _list(v, default, n):
+    v = v if isinstance(v, list) else [v] if v is not None else []
+    return [float(x) if x is not None else default for x in v][:n] + [default] * (n - len(v))
 
 
-def set_placement(txt, placement):
+def grid(scene):
+    """ndim, ncells and length of &grid."""
+    g = scene['grid']
+    ndim = int(g['ndim'])
+    return ndim, _list(g.get('ncells'), 1.0, ndim), _list(g.get('length'), 1.0, ndim)
+
+
+def set_placement(scene, placement):
     """Every &region group with its points placed as placement (one seed per region)."""
-    k = [0]
-
-    def one(m):
-        body = m.group(0)
-        k[0] += 1
-        body = re.sub(r"(?m),?\s*\bplacement\s*=\s*'[^']*'", '', body)
-        body = re.sub(r"(?m),?\s*\bseed\s*=\s*\d+", '', body)
-        return body.replace('&region', "&region placement = '%s', seed = %d," % (placement, k[0]), 1)
-    return re.sub(r'(?s)&region\b.*?\n?\s*/', one, txt)
+    for k, region in enumerate(scene.groups('region'), start=1):
+        region.update(placement=placement, seed=k)
 
 
-def make(txt, shape, name, outdir, t_end=None, max_steps=None):
+def make(base, shape, name, outdir, t_end=None, max_steps=None):
+    s = base.copy()
     # the reference solutions of the wave and consolidation benchmarks go; the
     # benchmarks that set the body's start and load (axial_bar, mms) stay
-    for m in re.finditer(r'(?s)&benchmark\b.*?\n\s*/|&benchmark\b[^\n]*?/', txt):
-        if re.search(r"name\s*=\s*'(biot_column|terzaghi)'", m.group(0)):
-            txt = txt.replace(m.group(0), '')
+    for bench in ('biot_column', 'terzaghi'):
+        s.remove('benchmark', name=bench)
     if shape is not None:
-        if re.search(r'(?m)^\s*&shape\b', txt):
-            txt = re.sub(r'(?s)&shape\b.*?/', '&shape ' + SHAPES[shape] + ' /', txt)
-        else:
-            txt = txt.rstrip() + '\n&shape ' + SHAPES[shape] + ' /\n'
-    txt = set_run(txt, 'name', "'%s'" % name)
+        s.group('shape', create=True).clear()
+        s.set(shape=shape_group(shape))
+    s.set(run={'name': name}, output={'dir': outdir})
     if t_end is not None:
-        txt = set_run(txt, 't_end', '%.6g' % t_end)
+        s['run']['t_end'] = float('%.6g' % t_end)
     if max_steps is not None:
-        txt = set_run(txt, 'max_steps', str(max_steps))
-    txt = re.sub(r"(?m)^(\s*)dir\s*=\s*'[^']*'", r"\1dir = '%s'" % outdir, txt)
-    if not re.search(r'(?m)^\s*dir\s*=', txt):
-        txt = txt.rstrip() + "\n&output dir = '%s' /\n" % outdir
-    path = os.path.join(outdir, name + '.nml')
-    open(path, 'w').write(txt)
-    return path
+        s['run']['max_steps'] = max_steps
+    return s
 
 
-def run(args, path, np_):
+def run(args, scene, np_):
+    """Exit code, log text and wall time of a run (dpmpm.simulate; the log beside the output)."""
     t0 = time.time()
-    r = subprocess.run(['mpirun', '-n', str(np_), args.bin, path], env=ENV, capture_output=True,
-                       text=True)
-    return r.returncode, r.stdout + r.stderr, time.time() - t0
+    try:
+        r = dpmpm.simulate(scene, ranks=np_, binary=args.bin, progress=False)
+        rc, log = 0, r.log
+    except dpmpm.RunError as e:
+        rc, log = e.status, e.log
+    return rc, open(log).read(), time.time() - t0
 
 
-def first_step(args, txt, scene):
+def first_step(args, base, scene):
     """Wave-CFL step of the scene's first step and its Courant number."""
-    path = make(txt, None, scene + '_probe', args.out, max_steps=1)
-    rc, log, _ = run(args, path, 1)
+    rc, log, _ = run(args, make(base, None, scene + '_probe', args.out, max_steps=1), 1)
     m = re.search(r'wave CFL\s+([-+\d.E]+) s', log)
     if m:
         return float(m.group(1)), rc, log
@@ -164,14 +149,13 @@ def main():
           '| (KE + stored) / (work + initial) | balance error | cut warned | wall [s] |')
     print('|---|---|---|---|---|---|---|---|---|---|---|---|')
     for scene in scenes:
-        txt = open(os.path.join(ROOT, 'inputs', scene + '.nml')).read()
+        base = dpmpm.Scene.read(os.path.join(ROOT, 'inputs', scene + '.nml'))
         if args.placement != 'as_shipped':
-            txt = set_placement(txt, args.placement)
-        cfl_m = re.search(r'(?m)^\s*cfl\s*=\s*([\d.eE+-]+)', txt)
-        cfl = float(cfl_m.group(1)) if cfl_m else 0.5
-        ndim, ncells, length = grid(txt)
+            set_placement(base, args.placement)
+        cfl = float(base['run'].get('cfl', 0.5)) if 'run' in base else 0.5
+        ndim, ncells, length = grid(base)
         h = min(l / n for l, n in zip(length, ncells))
-        dt, rc, log = first_step(args, txt, scene)
+        dt, rc, log = first_step(args, base, scene)
         if rc != 0:
             print('| %s | (as shipped) | 1 | | | | probe failed: %s | | | | | |' % (scene, refusal(log)))
             continue
@@ -182,9 +166,7 @@ def main():
             name = '%s_%s_np%d' % (scene, shape, np_)
             if args.placement != 'as_shipped':
                 name += '_' + args.placement
-            path = make(txt, shape, name, args.out, t_end=t_end)
-            rc, log, wall = run(args, path, np_)
-            open(os.path.join(args.out, name + '.log'), 'w').write(log)
+            rc, log, wall = run(args, make(base, shape, name, args.out, t_end=t_end), np_)
             if rc == 2 and 'input error' in log:
                 print('| %s | %s | %d | %.3g | %.3g | | refused by the input: %s | | | | | |' % (
                     scene, shape, np_, transit, t_end, refusal(log).replace('|', '/')), flush=True)

@@ -45,6 +45,12 @@ def test_repeated_groups():
     mats = [k for k, n in enumerate(s.names()) if n == "material"]
     assert mats == [mats[0], mats[0] + 1, mats[0] + 2]      # kept together, in order
     assert s.remove("boundary", face="x-") == 1 and len(s.groups("boundary")) == 3
+    # A variable called name (&benchmark name, &run name) matches and is set like any other.
+    t1 = dpmpm.Scene.read(os.path.join(ROOT, "inputs", "t1.nml"))
+    assert len(t1.find("benchmark", name="terzaghi")) == 1
+    assert t1.remove("benchmark", name="terzaghi") == 1 and "benchmark" not in t1
+    t1.add("benchmark", name="terzaghi")
+    assert t1.find("benchmark", name="Terzaghi") == [{"name": "terzaghi"}]
     s.set({"run.t_end": 0.05}, output={"dir": "elsewhere"}, shape={"kernel": "cubic"})
     assert s["run"]["t_end"] == 0.05 and s.output_dir == "elsewhere"
     assert s.output_file("/w") == "/w/elsewhere/consolidation_2d.h5"

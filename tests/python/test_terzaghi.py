@@ -36,3 +36,24 @@ def test_coefficients():
     assert terzaghi.initial_pressure(1e3, 1e7, 0.3) == 1e3
     np.testing.assert_allclose(terzaghi.initial_pressure(1e3, 1e7, 0.3, 1e8),
                                1e3 * (1e8 / 0.3) / (1e7 + 1e8 / 0.3))
+
+
+def test_settlement():
+    h, c_v, p0, q, e_c = 2.0, 0.5, 90.0, 100.0, 1e4
+    z = np.linspace(0, h, 9)
+    # At once the skeleton carries q - p0 (the series' tail at t = 0 falls as 1 / nterms);
+    # in the end q; the base never moves.
+    np.testing.assert_allclose(terzaghi.settlement(z, 0.0, h, c_v, p0, q, e_c, nterms=20000),
+                               (q - p0) * (h - z) / e_c, atol=2e-5 * q * h / e_c)
+    np.testing.assert_allclose(terzaghi.settlement(z, 1e3, h, c_v, p0, q, e_c),
+                               q * (h - z) / e_c, rtol=1e-12, atol=1e-15)
+    assert abs(terzaghi.settlement(h, 0.3, h, c_v, p0, q, e_c)) < 1e-15
+    # At the top: H (q - p0 (1 - U)) / E_c; below it, the strain (q - p) / E_c integrated.
+    for t in (0.05, 0.4):
+        tv = c_v * t / h ** 2
+        np.testing.assert_allclose(terzaghi.settlement(0.0, t, h, c_v, p0, q, e_c),
+                                   h * (q - p0 * (1 - terzaghi.degree(tv))) / e_c, rtol=1e-12)
+        zz = (np.arange(4000) + 0.5) / 4000 * (h - 0.5) + 0.5
+        strain = (q - terzaghi.pore_pressure(zz, t, h, c_v, p0)) / e_c
+        np.testing.assert_allclose(terzaghi.settlement(0.5, t, h, c_v, p0, q, e_c),
+                                   strain.mean() * (h - 0.5), rtol=1e-6)

@@ -55,6 +55,12 @@ def diagnostics_dataset(run):
     return labelled.diagnostics_dataset(run)
 
 
+def verification_dataset(run):
+    """/verification as an xarray.Dataset (dpmpm.labelled.verification_dataset)."""
+    from . import labelled
+    return labelled.verification_dataset(run)
+
+
 def profile_dataarray(prof):
     """A Profile as an xarray.DataArray (dpmpm.labelled.profile_dataarray)."""
     from . import labelled
@@ -75,4 +81,4 @@ __all__ = ["Scene", "read_scene", "simulate", "study", "Result", "RunError", "In
            "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
            "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",
            "compare_terzaghi", "plot_terzaghi", "read_element", "ElementTest", "plot_element",
-           "points_dataset", "diagnostics_dataset", "profile_dataarray"]
+           "points_dataset", "diagnostics_dataset", "verification_dataset", "profile_dataarray"]

@@ -1,5 +1,5 @@
 """Results as labelled arrays (xarray): the points of a set over the frames, the
-diagnostics and a profile.
+diagnostics, the verification records and a profile.
 
     with dpmpm.open_run("out/consolidation_2d.h5") as run:
         ds = dpmpm.points_dataset(run, "fluid")      # dims time, id (and component)
@@ -70,6 +70,35 @@ def diagnostics_dataset(run):
     return xr.Dataset({k: ("time", v) for k, v in d.items() if k not in ("time", "step")},
                       coords={"time": t, "step": ("time", d["step"])},
                       attrs={"file": run.path})
+
+
+#: The records of /verification (doc/output.md) and the datasets along each: a one-phase
+#: benchmark's errors along ``time`` (its diagnostics records), a two-phase benchmark's
+#: along ``frame_time`` (its frames) with the reference profiles along ``profile_z``, and
+#: a rigid drive's mean force along ``drive_time``.
+VERIFICATION_AXES = (("profile_z", "profile_"), ("drive_time", "drive_force_"),
+                     ("frame_time", ""), ("time", ""))
+
+
+def verification_dataset(run):
+    """``/verification`` as an ``xarray.Dataset``: each series along the record it
+    belongs to (dims ``time``, ``frame_time``, ``profile_z``, ``drive_time``, those the
+    file has; see VERIFICATION_AXES), the scalar attributes (``max_...``, ``final_...``,
+    ``steps``, ...) as the dataset's attrs. Empty without /verification."""
+    v = run.verification
+    attrs = dict(run.verification_attrs, file=run.path)
+    if not v:
+        return xr.Dataset(attrs=attrs)
+    coords = {name: np.asarray(v[name]) for name, _ in VERIFICATION_AXES if name in v}
+    data = {}
+    for key, arr in v.items():
+        if key in coords:
+            continue
+        arr = np.asarray(arr)
+        dim = next((name for name, prefix in VERIFICATION_AXES if name in coords
+                    and key.startswith(prefix) and len(coords[name]) == len(arr)), None)
+        data[key] = ((dim,) if dim else (f"{key}_record",), arr)
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def profile_dataarray(prof):

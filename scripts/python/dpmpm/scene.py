@@ -107,9 +107,10 @@ class Scene:
     def __contains__(self, name):
         return bool(self.groups(name))
 
-    def find(self, name, **match):
+    def find(self, name, /, **match):
         """The groups called name whose variables equal every given value, e.g.
-        ``find("material", id=2)``, ``find("boundary", face="y+")``."""
+        ``find("material", id=2)``, ``find("boundary", face="y+")``,
+        ``find("benchmark", name="terzaghi")`` (a variable may be called name)."""
         def same(a, b):
             if isinstance(a, str) and isinstance(b, str):
                 return a.strip().lower() == b.strip().lower()
@@ -117,7 +118,7 @@ class Scene:
         return [g for g in self.groups(name)
                 if all(k.lower() in g and same(g[k.lower()], v) for k, v in match.items())]
 
-    def add(self, name, values=None, **kw):
+    def add(self, name, values=None, /, **kw):
         """Append a group (after the last of its name, else at the end) and return it."""
         name = name.lower()
         grp = _group(dict(values or {}, **kw))
@@ -126,7 +127,7 @@ class Scene:
         self.groups_list.insert(at, (name, grp))
         return grp
 
-    def remove(self, name, **match):
+    def remove(self, name, /, **match):
         """Remove the groups called name that match (all of them without match); returns
         how many were removed."""
         gone = {id(g) for g in self.find(name, **match)}

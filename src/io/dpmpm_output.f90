@@ -8,23 +8,20 @@ module dpmpm_output
   use mpi_f08, only: MPI_Comm, MPI_Comm_dup, MPI_Comm_free, MPI_Comm_rank, MPI_Comm_size, &
                      MPI_Barrier, MPI_Bcast, MPI_Exscan, MPI_Allreduce, MPI_INTEGER, &
                      MPI_SUM, MPI_MIN, MPI_MAX, MPI_CHARACTER, MPI_Wtime, MPI_IN_PLACE
-  use hdf5, only: hid_t, hsize_t, h5fcreate_f, h5fclose_f, h5fflush_f, h5pcreate_f, h5pclose_f, &
-                  h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5screate_f, h5screate_simple_f, &
-                  h5gopen_f, h5sclose_f, h5sselect_hyperslab_f, h5sselect_none_f, h5dcreate_f, &
-                  h5dwrite_f, h5dclose_f, h5dset_extent_f, h5dget_space_f, h5tclose_f, &
-                  h5lexists_f, h5kind_to_type, H5_REAL_KIND, H5_INTEGER_KIND, H5F_ACC_TRUNC_F, &
-                  H5F_SCOPE_GLOBAL_F, H5P_DATASET_CREATE_F, H5P_DEFAULT_F, H5S_SCALAR_F, &
-                  H5S_SELECT_SET_F, H5S_UNLIMITED_F, H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE, &
-                  h5fopen_f, h5ldelete_f, h5dopen_f, h5dread_f, h5aopen_f, h5aread_f, h5aclose_f, &
-                  h5adelete_f, h5aexists_f, h5sget_simple_extent_dims_f, h5eset_auto_f, &
-                  H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, h5oopen_f, h5oclose_f, h5ocopy_f
+  use hdf5, only: hid_t, hsize_t, h5fcreate_f, h5fclose_f, h5fflush_f, h5pclose_f, h5gcreate_f, &
+                  h5gclose_f, h5screate_f, h5screate_simple_f, h5gopen_f, h5sclose_f, &
+                  h5sselect_hyperslab_f, h5sselect_none_f, h5dcreate_f, h5dwrite_f, h5dclose_f, &
+                  h5dset_extent_f, h5dget_space_f, h5tclose_f, h5lexists_f, h5kind_to_type, &
+                  H5_REAL_KIND, H5_INTEGER_KIND, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F, H5P_DEFAULT_F, &
+                  H5S_SCALAR_F, H5S_SELECT_SET_F, H5T_IEEE_F64LE, H5T_STD_I64LE, H5T_STD_I32LE, &
+                  h5fopen_f, h5adelete_f, h5aexists_f, h5eset_auto_f, H5F_ACC_RDONLY_F, h5ocopy_f
   use dpmpm_kinds, only: wp, i8, i4, mpi_i8
   use dpmpm_error, only: fatal
   use dpmpm_strings, only: itoa, ftoa
   use dpmpm_config, only: config_t, optional_fields, field_listed
   use dpmpm_particles, only: particle_set_t
   use dpmpm_model_table, only: model_from_name, scene_state_names
-  use dpmpm_diagnostics, only: diag_record_t, ndiag_real, nfirst_diag_real, diag_real_names
+  use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version, git_commit
   use dpmpm_h5, only: h5check, make_dir, string_type, attr_string, attr_i4, attr_i8, attr_real, &
                       write_columns, write_check_t, mpio_access_list, &
@@ -32,15 +29,12 @@ module dpmpm_output
   use dpmpm_log, only: log_t
   use dpmpm_xdmf, only: frame_rec_t, set_rec_t, write_xdmf
   use dpmpm_h5_salvage, only: file_sound, frame_sound, read_diag_records
+  use dpmpm_output_resume, only: ndiag_dsets, create_diag_dset, open_in_place, read_frame_records, &
+                                 reopen_diagnostics
   use dpmpm_posix, only: posix_write_file, posix_fsync, posix_strerror
   implicit none
   private
   public :: output_t, output_h5_path, output_xmf_path
-
-  !> Number of datasets under /diagnostics: step, npoints and the real entries.
-  integer, parameter :: ndiag_dsets = 2 + ndiag_real
-  !> Chunk length of the extendible diagnostics datasets.
-  integer(hsize_t), parameter :: diag_chunk = 256
 
   !> The output file of one run. open ... (begin_frame, write_set..., end_frame)... close;
   !> add_diag at any time, flushed at each end_frame and at close. May be opened again
@@ -220,57 +214,19 @@ contains
       if (k == 0) call rebuild(self, cfg, comm, nframes, step, .false., why)
     end if
     call set_mark(self, where)
-    call open_in_place(self, nframes, err)
+    call open_in_place(self%h5_path, self%comm, nframes, self%file_id, err)
     if (err < 0) then
       ! A damaged group can refuse the deletion of the later frames (its name heap broken):
       ! the file is then rebuilt from the frames before the checkpoint.
       if (len(why) > 0) call fatal('cannot delete the frames after the checkpoint in '// &
                                    self%h5_path//', rebuilt from what it held', where)
       call rebuild(self, cfg, comm, nframes, step, .false., why)
-      call open_in_place(self, nframes, err)
+      call open_in_place(self%h5_path, self%comm, nframes, self%file_id, err)
       if (err < 0) call fatal('cannot delete the frames after the checkpoint in '// &
                               self%h5_path//', rebuilt from what it held', where)
     end if
     call continue_in_place(self, nframes, step)
   end subroutine out_resume
-
-  !> Open the run's file for writing (collective) and delete the frames from nframes on and
-  !> the benchmark results of the end of the run. err < 0, the file closed again, where the
-  !> file refuses a deletion on some rank.
-  subroutine open_in_place(self, nframes, err)
-    class(output_t), intent(inout) :: self
-    integer, intent(in) :: nframes
-    integer, intent(out) :: err
-    character(len=*), parameter :: where = 'output%resume'
-    character(len=32) :: gname
-    integer(hid_t) :: fapl
-    logical :: exists
-    integer :: k, e2
-    fapl = mpio_access_list(self%comm, where)
-    call h5fopen_f(self%h5_path, H5F_ACC_RDWR_F, self%file_id, err, access_prp=fapl)
-    call h5check(err, 'h5fopen_f('//self%h5_path//')', where)
-    call h5pclose_f(fapl, k)
-    call h5eset_auto_f(0, err)
-    k = nframes
-    do
-      write (gname, '(a,i6.6)') 'frames/', k
-      call h5lexists_f(self%file_id, trim(gname), exists, err)
-      if (err < 0 .or. .not. exists) exit
-      call h5ldelete_f(self%file_id, trim(gname), err)
-      if (err < 0) exit
-      k = k + 1
-    end do
-    if (err >= 0) then
-      call h5lexists_f(self%file_id, 'verification', exists, err)
-      if (err >= 0 .and. exists) call h5ldelete_f(self%file_id, 'verification', err)
-    end if
-    call h5eset_auto_f(1, e2)
-    call MPI_Allreduce(MPI_IN_PLACE, err, 1, MPI_INTEGER, MPI_MIN, self%comm)
-    if (err < 0) then
-      call h5fclose_f(self%file_id, e2)
-      self%file_id = -1
-    end if
-  end subroutine open_in_place
 
   !> After open_in_place: the records of the first nframes frames, the diagnostics before
   !> step (the rest cut off), this run's rank count, and the sidecar.
@@ -279,10 +235,6 @@ contains
     integer, intent(in) :: nframes
     integer(i8), intent(in) :: step
     character(len=*), parameter :: where = 'output%resume'
-    integer(hid_t) :: dset, gid
-    integer(hsize_t) :: dims(1), maxdims(1)
-    integer(i8), allocatable, target :: steps(:)
-    type(c_ptr) :: p
     logical :: exists
     integer :: err, k, nkeep
     self%dxpl = collective_transfer_list(where)
@@ -292,43 +244,7 @@ contains
     do k = 0, nframes - 1
       call add_frame_records(self, k, where)
     end do
-    ! Diagnostics before the checkpoint's step (records are in step order); the continued run
-    ! writes the record of that step itself.
-    call h5dopen_f(self%file_id, 'diagnostics/step', self%diag_dset(1), err)
-    call h5check(err, 'h5dopen_f(/diagnostics/step)', where)
-    call h5dopen_f(self%file_id, 'diagnostics/npoints', self%diag_dset(2), err)
-    call h5check(err, 'h5dopen_f(/diagnostics/npoints)', where)
-    do k = 1, ndiag_real
-      call h5lexists_f(self%file_id, 'diagnostics/'//trim(diag_real_names(k)), exists, err)
-      if (.not. exists .and. k > nfirst_diag_real) then
-        ! a file written before this record had the column: zeros up to the checkpoint
-        call h5gopen_f(self%file_id, 'diagnostics', gid, err)
-        call h5check(err, 'h5gopen_f(/diagnostics)', where)
-        call create_diag_dset(gid, trim(diag_real_names(k)), H5T_IEEE_F64LE, self%diag_dset(2 + k))
-        call h5gclose_f(gid, err)
-        cycle
-      end if
-      call h5dopen_f(self%file_id, 'diagnostics/'//trim(diag_real_names(k)), &
-                     self%diag_dset(2 + k), err)
-      call h5check(err, 'h5dopen_f(/diagnostics/'//trim(diag_real_names(k))//')', where)
-    end do
-    dset = self%diag_dset(1)
-    call dataset_dims(dset, dims, maxdims, where)
-    allocate (steps(max(dims(1), 1_hsize_t)))
-    p = c_loc(steps)
-    if (dims(1) > 0) then
-      call h5dread_f(dset, h5kind_to_type(i8, H5_INTEGER_KIND), p, err)
-      call h5check(err, 'h5dread_f(/diagnostics/step)', where)
-    end if
-    nkeep = 0
-    do while (nkeep < int(dims(1)))
-      if (steps(nkeep + 1) >= step) exit
-      nkeep = nkeep + 1
-    end do
-    do k = 1, ndiag_dsets
-      call h5dset_extent_f(self%diag_dset(k), [int(nkeep, hsize_t)], err)
-      call h5check(err, 'h5dset_extent_f(diagnostics)', where)
-    end do
+    call reopen_diagnostics(self%file_id, step, self%diag_dset, nkeep, where)
     self%ndiag_written = nkeep
     call io_begin()
     call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, err)
@@ -473,43 +389,14 @@ contains
     class(output_t), intent(inout) :: self
     integer, intent(in) :: k
     character(len=*), intent(in) :: where
-    character(len=*), parameter :: names(2) = ['solid', 'fluid']
-    character(len=32) :: gname
-    integer(hid_t) :: gid, dset
-    integer(hsize_t) :: dims(1), maxdims(1)
-    type(set_rec_t) :: rec
-    real(wp), target :: time
-    integer(i8), target :: step
-    logical :: exists
-    integer :: err, j, f
-    write (gname, '(a,i6.6)') 'frames/', k
-    call h5gopen_f(self%file_id, trim(gname), gid, err)
-    call h5check(err, 'h5gopen_f('//trim(gname)//')', where)
-    call read_attr(gid, 'time', h5kind_to_type(wp, H5_REAL_KIND), c_loc(time), where)
-    call read_attr(gid, 'step', h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(step), where)
-    call add_frame_rec(self, frame_rec_t(step=step, time=time))
-    do j = 1, size(names)
-      call h5lexists_f(gid, trim(names(j)), exists, err)
-      if (.not. exists) cycle
-      call h5dopen_f(gid, trim(names(j))//'/id', dset, err)
-      call h5check(err, 'h5dopen_f('//trim(gname)//'/'//trim(names(j))//'/id)', where)
-      call dataset_dims(dset, dims, maxdims, where)
-      call h5dclose_f(dset, err)
-      rec = set_rec_t(frame=k, name=trim(names(j)), n=int(dims(1), i8))
-      do f = 1, size(optional_fields)
-        if (optional_fields(f) == 'state') then
-          ! the state values are written together: the first stands for them all
-          rec%has(f) = size(self%state_names) > 0
-          if (rec%has(f)) call h5lexists_f(gid, trim(names(j))//'/'//trim(self%state_names(1)), &
-                                           rec%has(f), err)
-        else
-          call h5lexists_f(gid, trim(names(j))//'/'//trim(optional_fields(f)), rec%has(f), err)
-        end if
-      end do
-      call add_set_rec(self, rec)
+    type(frame_rec_t) :: frame
+    type(set_rec_t) :: sets(2)
+    integer :: j, nsets
+    call read_frame_records(self%file_id, k, self%state_names, frame, sets, nsets, where)
+    call add_frame_rec(self, frame)
+    do j = 1, nsets
+      call add_set_rec(self, sets(j))
     end do
-    call h5gclose_f(gid, err)
-    call h5check(err, 'h5gclose_f('//trim(gname)//')', where)
   end subroutine add_frame_records
 
   !> Append a frame to the records of the sidecar.
@@ -539,38 +426,6 @@ contains
     self%nsets = self%nsets + 1
     self%sets(self%nsets) = rec
   end subroutine add_set_rec
-
-  !> Read a scalar attribute of loc into the memory at ptr (memory type mtype).
-  subroutine read_attr(loc, name, mtype, ptr, where)
-    integer(hid_t), intent(in) :: loc, mtype
-    character(len=*), intent(in) :: name, where
-    type(c_ptr), intent(in) :: ptr
-    integer(hid_t) :: attr
-    type(c_ptr) :: p
-    integer :: err
-    p = ptr
-    call h5aopen_f(loc, name, attr, err)
-    call h5check(err, 'h5aopen_f('//name//')', where)
-    call h5aread_f(attr, mtype, p, err)
-    call h5check(err, 'h5aread_f('//name//')', where)
-    call h5aclose_f(attr, err)
-    call h5check(err, 'h5aclose_f('//name//')', where)
-  end subroutine read_attr
-
-  !> Current and largest dimensions of a 1D dataset.
-  subroutine dataset_dims(dset, dims, maxdims, where)
-    integer(hid_t), intent(in) :: dset
-    integer(hsize_t), intent(out) :: dims(1), maxdims(1)
-    character(len=*), intent(in) :: where
-    integer(hid_t) :: space
-    integer :: err
-    call h5dget_space_f(dset, space, err)
-    call h5check(err, 'h5dget_space_f', where)
-    call h5sget_simple_extent_dims_f(space, dims, maxdims, err)
-    if (err < 0) call fatal('h5sget_simple_extent_dims_f failed', where)
-    call h5sclose_f(space, err)
-    call h5check(err, 'h5sclose_f', where)
-  end subroutine dataset_dims
 
   !> Start frame /frames/NNNNNN (NNNNNN counts frames from 0) at a step and time (s).
   subroutine out_begin_frame(self, step, time)
@@ -914,27 +769,6 @@ contains
     call h5tclose_f(stype, err)
     call h5check(err, 'h5tclose_f', where)
   end subroutine write_input
-
-  !> Create one empty extendible 1D dataset under /diagnostics.
-  subroutine create_diag_dset(gid, name, ftype, dset)
-    integer(hid_t), intent(in) :: gid, ftype
-    character(len=*), intent(in) :: name
-    integer(hid_t), intent(out) :: dset
-    integer(hid_t) :: space, dcpl
-    integer :: err
-    call h5screate_simple_f(1, [0_hsize_t], space, err, maxdims=[H5S_UNLIMITED_F])
-    call h5check(err, 'h5screate_simple_f', 'diagnostics '//name)
-    call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, err)
-    call h5check(err, 'h5pcreate_f(dataset create)', 'diagnostics '//name)
-    call h5pset_chunk_f(dcpl, 1, [diag_chunk], err)
-    call h5check(err, 'h5pset_chunk_f', 'diagnostics '//name)
-    call h5dcreate_f(gid, name, ftype, space, dset, err, dcpl_id=dcpl)
-    call h5check(err, 'h5dcreate_f', 'diagnostics '//name)
-    call h5pclose_f(dcpl, err)
-    call h5check(err, 'h5pclose_f', 'diagnostics '//name)
-    call h5sclose_f(space, err)
-    call h5check(err, 'h5sclose_f', 'diagnostics '//name)
-  end subroutine create_diag_dset
 
   !> Extend one diagnostics dataset by m entries and write them from rank 0.
   subroutine append_diag(self, dset, mtype, m, ptr)

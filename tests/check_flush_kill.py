@@ -20,7 +20,6 @@ scripts/check_output.py passes on it. Exit code 77 (a skip) where the stop is no
 """
 import os
 import pathlib
-import shutil
 import signal
 import subprocess
 import sys
@@ -32,28 +31,12 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from frames_by_id import compare  # noqa: E402
-from kill_scene import MAX_STEPS, run_two_ranks, write_scene  # noqa: E402
+from kill_scene import KillCheck  # noqa: E402
 
-CHECK_OUTPUT = HERE.parent / "scripts" / "check_output.py"
-mpiexec, dpmpm, shim, work = sys.argv[1], sys.argv[2], sys.argv[3], pathlib.Path(sys.argv[4])
+mpiexec, dpmpm, shim = sys.argv[1], sys.argv[2], sys.argv[3]
+K = KillCheck(mpiexec, dpmpm, sys.argv[4])
+work, expect, scene, run, check_output = K.work, K.expect, K.scene, K.run, K.check_output
 flush = int(sys.argv[5]) if len(sys.argv) > 5 else 253
-shutil.rmtree(work, ignore_errors=True)
-work.mkdir(parents=True)
-failures = []
-
-
-def expect(cond, what):
-    print(("ok:   " if cond else "FAIL: ") + what, flush=True)
-    if not cond:
-        failures.append(what)
-
-
-def scene(name, max_steps=MAX_STEPS):
-    return write_scene(work, name, max_steps)
-
-
-def run(args):
-    return run_two_ranks(mpiexec, dpmpm, work, args)
 
 
 rc, log = run([scene("ref")])
@@ -123,9 +106,8 @@ with h5py.File(ref, "r") as f, h5py.File(h5, "r") as g:
 extra = sorted(set(got) - set(want))
 expect(all(np.diff(got) > 0) and set(want) <= set(got) and len(extra) <= 1,
        f"diagnostics at the reference's steps, each once (and {extra})")
-r = subprocess.run([sys.executable, str(CHECK_OUTPUT), str(h5)], capture_output=True, text=True)
-expect(r.returncode == 0, "check_output.py passes on the continued file")
-if r.returncode != 0:
-    print(r.stdout + r.stderr)
-print("PASS" if not failures else f"{len(failures)} check(s) failed")
-sys.exit(1 if failures else 0)
+rc, out = check_output(h5)
+expect(rc == 0, "check_output.py passes on the continued file")
+if rc != 0:
+    print(out)
+K.finish()

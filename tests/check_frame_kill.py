@@ -44,7 +44,6 @@ original, every frame equal.
 import os
 import pathlib
 import random
-import shutil
 import signal
 import subprocess
 import sys
@@ -56,34 +55,12 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from frames_by_id import compare  # noqa: E402
-from kill_scene import MAX_STEPS, run_two_ranks, write_scene  # noqa: E402
+from kill_scene import MAX_STEPS, KillCheck  # noqa: E402
 
-CHECK_OUTPUT = HERE.parent / "scripts" / "check_output.py"
-mpiexec, dpmpm, work = sys.argv[1], sys.argv[2], pathlib.Path(sys.argv[3])
+mpiexec, dpmpm = sys.argv[1], sys.argv[2]
+K = KillCheck(mpiexec, dpmpm, sys.argv[3])
+work, expect, scene, run, check_output = K.work, K.expect, K.scene, K.run, K.check_output
 trials = int(sys.argv[4]) if len(sys.argv) > 4 else 5
-shutil.rmtree(work, ignore_errors=True)
-work.mkdir(parents=True)
-failures = []
-
-
-def expect(cond, what):
-    print(("ok:   " if cond else "FAIL: ") + what, flush=True)
-    if not cond:
-        failures.append(what)
-
-
-def scene(name, max_steps=MAX_STEPS):
-    return write_scene(work, name, max_steps)
-
-
-def run(args):
-    return run_two_ranks(mpiexec, dpmpm, work, args)
-
-
-def check_output(path):
-    r = subprocess.run([sys.executable, str(CHECK_OUTPUT), str(path)], capture_output=True,
-                       text=True)
-    return r.returncode, r.stdout + r.stderr
 
 
 def frames_by_step(path):
@@ -301,5 +278,4 @@ expect(not leftover, f"left open: no mark or temporary file left ({leftover})")
 
 print(f"{damaged} of {t} kills damaged the file; {nlost} of the rebuilt files lost frames")
 expect(torn > 0, f"{torn} of {t} kills left a file that check_output.py rejects (a torn frame or the sidecar behind)")
-print("PASS" if not failures else f"{len(failures)} check(s) failed")
-sys.exit(1 if failures else 0)
+K.finish()

@@ -2,7 +2,10 @@
 a saturated column on a fixed floor under gravity (the two-phase part of the scene of
 check_stop_signal.py) with a frame at every step and a checkpoint every 25 steps, run on
 2 ranks."""
+import pathlib
+import shutil
 import subprocess
+import sys
 
 #: Steps of a run to its end.
 MAX_STEPS = 300
@@ -33,3 +36,37 @@ def run_two_ranks(mpiexec, dpmpm, work, args):
     r = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", dpmpm] + args, cwd=work,
                        capture_output=True, text=True, timeout=600)
     return r.returncode, r.stdout + r.stderr
+
+
+class KillCheck:
+    """What both kill tests share: a fresh work directory, the scene and the 2-rank run in
+    it, scripts/check_output.py, and the checks made so far (expect, finish)."""
+
+    CHECK_OUTPUT = pathlib.Path(__file__).resolve().parent.parent / "scripts" / "check_output.py"
+
+    def __init__(self, mpiexec, dpmpm, work):
+        self.mpiexec, self.dpmpm, self.work = mpiexec, dpmpm, pathlib.Path(work)
+        shutil.rmtree(self.work, ignore_errors=True)
+        self.work.mkdir(parents=True)
+        self.failures = []
+
+    def expect(self, cond, what):
+        print(("ok:   " if cond else "FAIL: ") + what, flush=True)
+        if not cond:
+            self.failures.append(what)
+
+    def scene(self, name, max_steps=MAX_STEPS):
+        return write_scene(self.work, name, max_steps)
+
+    def run(self, args):
+        return run_two_ranks(self.mpiexec, self.dpmpm, self.work, args)
+
+    def check_output(self, path):
+        """scripts/check_output.py on path: exit code and output."""
+        r = subprocess.run([sys.executable, str(self.CHECK_OUTPUT), str(path)], capture_output=True,
+                           text=True)
+        return r.returncode, r.stdout + r.stderr
+
+    def finish(self):
+        print("PASS" if not self.failures else f"{len(self.failures)} check(s) failed")
+        sys.exit(1 if self.failures else 0)

@@ -1,14 +1,15 @@
-"""Checks of dpmpm.motion against closed forms, and of its readers on small files
-written here (doc/verification.md, "Ground motions: spectra, intensity, records").
+"""Checks of dpmpm.motion against closed forms, and of its readers and command on small
+files written here (doc/verification.md, "Ground motions: spectra, intensity, records").
 
     python3 tests/check_motion.py [GROUP ...] [--workdir DIR]
 
-GROUP: spectra, intensity, files (default: all). Each check prints its measured
+GROUP: spectra, intensity, files, command (default: all). Each check prints its measured
 error beside the bound it must stay under; a failed check raises AssertionError (exit 1).
 """
 import argparse
 import math
 import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -379,10 +380,51 @@ def check_run_readers(work):
                 raise AssertionError("a missing point or series was read")
 
 
+# ----------------------------------------------------------------------- command
+def check_command(work):
+    """python3 -m dpmpm motion on the pulse as a two-column file in g: exit 0, a PNG,
+    PGA, PGV, PGD, I_a, D5-95 printed as the functions give them, and the spectrum as
+    text; a malformed file: exit 2 and its line on stderr."""
+    dt = 0.005
+    t, acc, disp = pulse(dt)
+    p = os.path.join(work, "pulse.txt")
+    motion.write_record(p, t, acc / G, header="sin^4 pulse, acceleration in g")
+    png = os.path.join(work, "pulse.png")
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "scripts", "python"))
+    spec = os.path.join(work, "pulse_spectrum.txt")
+    r = subprocess.run([sys.executable, "-m", "dpmpm", "motion", p, "--units", "g", "-o", png,
+                        "--spectrum", spec], env=env, capture_output=True, text=True)
+    print("  " + r.stdout.replace("\n", "\n  ").rstrip())
+    assert r.returncode == 0, r.stderr
+    assert os.path.getsize(png) > 10000, "no figure"
+    s = motion.summarize(dt, motion.read_record(p, units="g").values)
+    vals = {}
+    for line in r.stdout.splitlines():
+        if "=" in line and not line.startswith("#"):
+            key, val = line.split("=", 1)
+            vals[key.strip()] = float(val.split()[0])
+    for key, ref in [("PGA", s.pga / G), ("PGV", s.pgv), ("PGD", s.pgd), ("Arias intensity",
+                     s.arias), ("D5-95", s.d5_95)]:
+        assert key in vals, f"{key} not printed"
+        assert abs(vals[key] - ref) <= 1e-5 * abs(ref), f"{key}: {vals[key]} != {ref}"
+    report("printed PGD against the closed form 0.3 m", abs(vals["PGD"] - 0.3) / 0.3, 1e-4)
+    table = np.loadtxt(spec)
+    assert table.shape == (100, 5), table.shape
+    report("written spectrum at T = 0.01 s: |PSA - PGA| / PGA (PGA = 4 d (pi/tp)^2)",
+           abs(table[0, 3] - 0.3 * math.pi ** 2) / (0.3 * math.pi ** 2), 5e-5)
+    bad = os.path.join(work, "bad_number.AT2")
+    write_at2(bad, f"NPTS= {len(AT2_VALUES)}, DT= .0050 SEC", tail="  0.1  0.2x  0.3\n")
+    r = subprocess.run([sys.executable, "-m", "dpmpm", "motion", bad], env=env,
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and f"{bad}:8" in r.stderr, (r.returncode, r.stderr)
+    print(f"  malformed: exit {r.returncode}, {r.stderr.strip()}")
+
+
 GROUPS = {"spectra": [check_recurrence_exact, check_resonance, check_spectrum_limits,
                       check_integration_baseline, check_fourier],
           "intensity": [check_arias, check_pore_pressure_ratio],
-          "files": [check_files, check_run_readers]}
+          "files": [check_files, check_run_readers],
+          "command": [check_command]}
 
 
 def main():

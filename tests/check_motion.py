@@ -290,7 +290,8 @@ def check_files(work):
 
     p = os.path.join(work, "two_columns.txt")
     with open(p, "w") as fh:
-        fh.write("# time (s), acceleration (g)\n\n0 0.0\n0.01 0.5\n0.02 -0.25\n0.03 1e-2\n")
+        fh.write("# from a PEER record, NPTS = 4\n# time (s), acceleration (g)\n\n0 0.0\n"
+                 "0.01 0.5\n0.02 -0.25\n0.03 1e-2\n")
     rec = motion.read_record(p, units="g")
     assert np.allclose(rec.values, np.array([0, 0.5, -0.25, 0.01]) * G, rtol=0, atol=1e-15)
     assert abs(rec.dt - 0.01) < 1e-15

@@ -86,11 +86,13 @@ def read_record(path, units=None, quantity=None, scale=1.0):
 
 
 def _looks_like_nga(lines):
-    """An NGA file: its fourth line gives NPTS and DT, or its header names NPTS or PEER
-    (then a fourth line that cannot be read is an error of that line)."""
+    """An NGA file: its fourth line gives NPTS and DT, or a header line (not a comment
+    of a two-column file) names NPTS or PEER (then a fourth line that cannot be read is
+    an error of that line)."""
     if len(lines) >= 4 and _nga_step_line(lines[3]) is not None:
         return True
-    return any(re.search(r"NPTS|PEER", line, re.I) for line in lines[:4])
+    return any(re.search(r"NPTS|PEER", line, re.I) for line in lines[:4]
+               if not line.lstrip().startswith(("#", "%", "!")))
 
 
 _NUMBER = r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?)"

@@ -10,6 +10,7 @@ files (doc/python.md).
         p = fr["fluid"]["pore_pressure"]          # sorted by point id
         prof = dpmpm.profile(run, "pore_pressure", frame=-1)
 """
+from . import motion
 from .compare import Comparison, compare_runs
 from .consolidation import compare_terzaghi, terzaghi_setup
 from .element import ElementTest, read_element
@@ -81,4 +82,5 @@ __all__ = ["Scene", "read_scene", "simulate", "study", "Result", "RunError", "In
            "profile", "Profile", "bin_edges", "cell_average", "plot_run", "plot_profiles",
            "compare_runs", "Comparison", "write_xdmf", "xdmf_text", "terzaghi_setup",
            "compare_terzaghi", "plot_terzaghi", "read_element", "ElementTest", "plot_element",
-           "points_dataset", "diagnostics_dataset", "verification_dataset", "profile_dataarray"]
+           "points_dataset", "diagnostics_dataset", "verification_dataset", "profile_dataarray",
+           "motion"]

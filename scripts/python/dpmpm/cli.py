@@ -1,4 +1,4 @@
-"""Command line: python -m dpmpm {info,plot,profile,compare,xdmf,terzaghi,element} FILE...
+"""Command line: python -m dpmpm {info,plot,profile,compare,xdmf,terzaghi,element,motion} FILE...
 
 Exit status: 0 success (compare: the runs agree within --rtol; also when the reader of
 the output stops early, as `| head` does), 1 the runs differ (compare), 2 bad arguments
@@ -144,6 +144,38 @@ def cmd_element(args):
     return 0
 
 
+def cmd_motion(args):
+    from . import motion
+    rec = motion.read_record(args.file, units=args.units, scale=args.scale)
+    if rec.quantity != "acceleration":
+        raise ValueError(f"{args.file}: holds {rec.quantity}; give an acceleration record")
+    dt = rec.dt
+    s = motion.summarize(dt, rec.values, baseline=not args.no_baseline)
+    periods = motion.default_periods(args.periods, args.t_min, args.t_max)
+    sp = motion.response_spectrum(dt, s.acceleration, periods, args.damping)
+    out = args.output or os.path.splitext(args.file)[0] + ".png"
+    motion.plot_motion(s, sp, out, title=rec.name)
+    k = int(np.argmax(sp.psa))
+    print(f"# {args.file}: {len(s.time)} samples, dt = {dt:.6g} s, duration "
+          f"{s.time[-1]:.6g} s, baseline {'not corrected' if args.no_baseline else 'corrected'}")
+    print(f"PGA = {s.pga / motion.G:.6g} g ({s.pga:.6g} m/s^2)")
+    print(f"PGV = {s.pgv:.6g} m/s")
+    print(f"PGD = {s.pgd:.6g} m")
+    print(f"Arias intensity = {s.arias:.6g} m/s")
+    print(f"D5-95 = {s.d5_95:.6g} s")
+    print(f"peak PSA = {sp.psa[k] / motion.G:.6g} g at T = {sp.periods[k]:.4g} s "
+          f"({100 * args.damping:g} % damping)")
+    if args.spectrum:
+        with open(args.spectrum, "w") as fh:
+            fh.write(f"# {args.file}, damping {args.damping:g}: period (s), S_d (m), "
+                     "PSV (m/s), PSA (m/s^2), SA (m/s^2)\n")
+            for row in zip(sp.periods, sp.sd, sp.psv, sp.psa, sp.sa):
+                fh.write(" ".join(f"{x:.9g}" for x in row) + "\n")
+        print(args.spectrum)
+    print(out)
+    return 0
+
+
 def parser():
     ap = argparse.ArgumentParser(prog="dpmpm-py", description="Read, plot and check dpmpm "
                                  "output files (HDF5, doc/output.md).")
@@ -203,6 +235,25 @@ def parser():
     p.add_argument("file", metavar="FILE")
     p.add_argument("-o", "--output", help="PNG to write (default: FILE with .png)")
     p.set_defaults(func=cmd_element)
+
+    p = sub.add_parser("motion", help="a ground-motion record (two columns or PEER .AT2): "
+                       "histories, Fourier and response spectra in a PNG; PGA, PGV, PGD, "
+                       "Arias intensity, D5-95")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("-o", "--output", help="PNG to write (default: FILE with .png)")
+    p.add_argument("--units", help="units of a two-column file: m/s2 (default), g, cm/s2, "
+                   "gal (a PEER file states its own)")
+    p.add_argument("--scale", type=float, default=1.0, help="factor on the values")
+    p.add_argument("--damping", type=float, default=0.05, help="damping ratio of the "
+                   "response spectrum (default 0.05)")
+    p.add_argument("--periods", type=int, default=100, help="number of periods, evenly "
+                   "spaced in log (default 100)")
+    p.add_argument("--t-min", type=float, default=0.01, help="shortest period, s (0.01)")
+    p.add_argument("--t-max", type=float, default=10.0, help="longest period, s (10)")
+    p.add_argument("--no-baseline", action="store_true", help="no baseline correction")
+    p.add_argument("--spectrum", metavar="TXT", help="also write the response spectrum "
+                   "as text")
+    p.set_defaults(func=cmd_motion)
     return ap
 
 

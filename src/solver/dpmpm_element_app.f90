@@ -15,7 +15,7 @@ module dpmpm_element_app
                                 element_inadmissible
   use dpmpm_input_problems, only: input_problems_t, add_raw
   use dpmpm_materials, only: material_t, materials_from_config
-  use dpmpm_model_table, only: model_table
+  use dpmpm_model_table, only: model_table, scene_state_names
   implicit none
   private
   public :: run_element_app
@@ -79,7 +79,7 @@ contains
     type(element_history_t) :: hist
     character(len=24), allocatable :: names(:)
     real(wp), allocatable :: cols(:, :)
-    integer :: ns, path, nc
+    integer :: path, nc
 
     call pb%init(file)
     call read_element_input(file, cfg, pb)
@@ -115,12 +115,12 @@ contains
                     hist%residual(1:nc)], [nc, size(names)])
     if (is_undrained(path)) call add_column('excess_pore_pressure', hist%excess_pore_pressure)
     if (cfg%void_ratio > 0.0_wp) call add_column('void_ratio', hist%void_ratio)
-    ns = size(hist%state, 1)
     associate (model => model_table(mats(1)%model))
       call write_element_file(cfg, model%name, merge('complete', 'stopped ', &
                               hist%status == element_ok), message_of(hist), hist%nplanned, &
                               hist%strain(:, 1:hist%nrec), hist%stress(:, 1:hist%nrec), &
-                              hist%state(:, 1:hist%nrec), model%state_names(1:ns), &
+                              hist%state(:, 1:hist%nrec), &
+                              scene_state_names([mats(1)%model], [mats(1)%umat_nstatev]), &
                               hist%iterations(1:hist%nrec), names, cols)
     end associate
     write (output_unit, '(a,i0,a,i0,a)') 'dpmpm_element: '//trim(cfg%path)//' ('// &

@@ -28,7 +28,7 @@ module dpmpm_element_path
                                   path_simple_shear_drained, path_simple_shear_undrained, &
                                   path_from_name, target_of, initial_effective_stress
   use dpmpm_materials, only: material_t, stress_update, init_state, point_moduli
-  use dpmpm_model_table, only: model_nstate, model_table
+  use dpmpm_model_table, only: model_table
   use dpmpm_strings, only: itoa
   implicit none
   private
@@ -107,7 +107,7 @@ contains
     steps = cfg%steps
     nsteps = steps
     if (cyclic) nsteps = steps*cfg%cycles
-    ns = model_nstate(mat%model)
+    ns = mat%nstate
     allocate (st(ns), st1(ns))
     sig0 = initial_effective_stress(cfg)
     sig = sig0

@@ -4,5 +4,5 @@
 #undef TEXT
 #undef LOCAL
 #define VAR(G, T, N, C, S, V) T :: C S = V
-#define TEXT(G, N, C, L, V) character(len=L) :: C = V
+#define TEXT(G, N, C, L, V, GS, NS) character(len=L) :: C = V
 #define LOCAL(G, T, N, S, V)

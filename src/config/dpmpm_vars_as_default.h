@@ -4,5 +4,5 @@
 #undef TEXT
 #undef LOCAL
 #define VAR(G, T, N, C, S, V) N = V
-#define TEXT(G, N, C, L, V) N = V
+#define TEXT(G, N, C, L, V, GS, NS) N = V
 #define LOCAL(G, T, N, S, V) N = V

@@ -5,5 +5,5 @@
 #undef TEXT
 #undef LOCAL
 #define VAR(G, T, N, C, S, V) dest%C = N
-#define TEXT(G, N, C, L, V) call check_length(pb, 'G', 'N', N, len(dest%C)); dest%C = N(1:len(dest%C))
+#define TEXT(G, N, C, L, V, GS, NS) call check_length(pb, GS, NS, N, len(dest%C)); dest%C = N(1:len(dest%C))
 #define LOCAL(G, T, N, S, V)

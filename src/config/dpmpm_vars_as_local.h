@@ -5,5 +5,5 @@
 #undef TEXT
 #undef LOCAL
 #define VAR(G, T, N, C, S, V) T :: N S
-#define TEXT(G, N, C, L, V) character(len=long_len) :: N
+#define TEXT(G, N, C, L, V, GS, NS) character(len=long_len) :: N
 #define LOCAL(G, T, N, S, V) T :: N S

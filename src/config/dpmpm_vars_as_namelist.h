@@ -4,5 +4,5 @@
 #undef TEXT
 #undef LOCAL
 #define VAR(G, T, N, C, S, V) namelist /G/ N
-#define TEXT(G, N, C, L, V) namelist /G/ N
+#define TEXT(G, N, C, L, V, GS, NS) namelist /G/ N
 #define LOCAL(G, T, N, S, V) namelist /G/ N

@@ -71,7 +71,7 @@ def check_reader(pv, reader, f):
     times = [float(f["frames"][fr].attrs["time"]) for fr in frames]
     got_times = pv[reader + "/times"]
     if len(got_times) != len(times) or not np.allclose(got_times, times, rtol=1e-12, atol=0):
-        bad.append(f"times {list(got_times)} against {times}")
+        bad.append(f"times {[float(t) for t in got_times]} against {times}")
         return bad
     for k, fr in enumerate(frames):
         sets = [s for s in ("solid", "fluid") if s in f["frames"][fr]

@@ -308,38 +308,47 @@ def check_xmf(h5path, bad):
         return
     if root.tag != "Xdmf":
         bad.append(f"{xmf}: root element is {root.tag}, expected Xdmf")
+    # One temporal collection of frames; each frame a spatial collection with its time,
+    # holding one spatial collection per set with points, named after it, around its grid.
     series = root.findall("Domain/Grid")
-    if not series or any(g.get("CollectionType") != "Temporal" for g in series):
-        bad.append(f"{xmf}: the Domain does not hold temporal collections (one per set)")
+    if len(series) != 1 or series[0].get("CollectionType") != "Temporal":
+        bad.append(f"{xmf}: the Domain does not hold one temporal collection of frames")
         return
+    listed = series[0].findall("Grid")
     with h5py.File(h5path, "r") as f:
         frames = f["frames"] if "frames" in f else {}
-        for coll in series:
-            sname = coll.get("Name")
-            # Every frame in which the set has points, in order, and nothing else.
-            want = [fr for fr in sorted(frames)
-                    if sname in frames[fr] and frames[fr][sname]["id"].shape[0] > 0]
-            grids = coll.findall("Grid")
-            if len(grids) != len(want):
-                bad.append(f"{xmf}: {sname}: {len(grids)} frames listed, the file has "
-                           f"{len(want)} with points of the set")
-            for k, (grid, fr) in enumerate(zip(grids, want)):
-                if grid.get("Name") != sname:
-                    bad.append(f"{xmf}: {sname} frame {k} is named {grid.get('Name')}")
-                tel = grid.find("Time")
-                t = float(tel.get("Value")) if tel is not None else None
-                t5 = float(frames[fr].attrs.get("time", np.nan))
-                if t is None or abs(t - t5) > 1e-9 * max(1.0, abs(t5)):
-                    bad.append(f"{xmf}: {sname} frame {k} at time {t}, the file's frame {fr} "
-                               f"at {t5}")
+        ndim = int(f.attrs.get("ndim", 0))
+        names = sorted(frames)
+        if len(listed) != len(names):
+            bad.append(f"{xmf}: {len(listed)} frames listed, the file has {len(names)}")
+        for k, (frame, fr) in enumerate(zip(listed, names)):
+            tel = frame.find("Time")
+            t = float(tel.get("Value")) if tel is not None else None
+            t5 = float(frames[fr].attrs.get("time", np.nan))
+            if t is None or abs(t - t5) > 1e-9 * max(1.0, abs(t5)):
+                bad.append(f"{xmf}: frame {k} at time {t}, the file's frame {fr} at {t5}")
+            # Every set with points in the frame, and nothing else.
+            want = sorted(s for s in frames[fr] if frames[fr][s]["id"].shape[0] > 0)
+            colls = frame.findall("Grid")
+            if sorted(c.get("Name") for c in colls) != want:
+                bad.append(f"{xmf}: frame {k} lists the sets "
+                           f"{[c.get('Name') for c in colls]}, the file has {want} with points")
+            for coll in colls:
+                sname = coll.get("Name")
+                grids = coll.findall("Grid")
+                if len(grids) != 1 or grids[0].get("Name") != sname:
+                    bad.append(f"{xmf}: frame {k}: {sname} does not hold one grid named so")
+                    continue
+                grid = grids[0]
                 refs = {(item.text or "").strip().partition(":")[2]
                         for item in grid.iter("DataItem") if item.get("Format") == "HDF"}
                 if not all(r.startswith(f"/frames/{fr}/{sname}/") for r in refs):
                     bad.append(f"{xmf}: {sname} frame {k} refers to {sorted(refs)[:2]}..., "
                                f"not to /frames/{fr}/{sname}")
                 topo = grid.find("Topology")
-                if topo is None or topo.get("TopologyType") != "Polyvertex":
-                    bad.append(f"{xmf}: {sname} frame {k} is not a Polyvertex cloud")
+                kind = "3DRectMesh" if ndim == 1 else "Polyvertex"
+                if topo is None or topo.get("TopologyType") != kind:
+                    bad.append(f"{xmf}: {sname} frame {k} is not a {kind} grid")
         for item in root.iter("DataItem"):
             if item.get("Format") != "HDF":
                 continue
@@ -353,7 +362,8 @@ def check_xmf(h5path, bad):
                 continue
             dims = tuple(int(t) for t in item.get("Dimensions", "").split())
             shape = f[dset].shape
-            if dims != shape:
+            # In 1D the attributes of the 1 x 1 x n grid are declared (1, 1) + shape.
+            if dims != shape and not (ndim == 1 and dims == (1, 1) + shape):
                 bad.append(f"{xmf}: {dset} declared {dims}, stored {shape}")
 
 

@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
-"""ParaView reads dpmpm's XDMF sidecar right: the same block names (the point sets) at
-every time, the frame times, and the values of every array, stress components by name,
-equal to the HDF5 datasets matched by id.
+"""ParaView reads dpmpm's XDMF sidecar whole with each of its three XDMF readers (XDMF
+Reader, Xdmf3ReaderS, Xdmf3ReaderT): every frame time, at every time one dataset per set
+with points in that frame, named after the set where the reader names blocks, and every
+dataset of the set (stress included) as a point array equal to the HDF5 file, matched by
+id. Fails on a reader that misses a time, a set or an array.
 
 Usage: test_paraview.py WORKDIR FILE.h5 [FILE.h5 ...]
 Runs tests/paraview_dump.py with pvpython; exits 77 (skipped) where ParaView's pvpython
 is not installed (Debian: apt-get install paraview).
 """
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -16,27 +19,18 @@ import h5py
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-STRESS = ("xx", "yy", "zz", "yz", "xz", "xy")
+READERS = ("XDMFReader", "Xdmf3ReaderS", "Xdmf3ReaderT")
 
 
-def expected_arrays(g, ndim):
-    """Arrays as ParaView should show them, from the HDF5 point set g."""
-    want = {}
-    n = len(g["id"])
-    for name in ("v", "displacement", "mass", "volume", "material", "porosity",
-                 "pore_pressure"):
-        if name in g:
-            want[name] = g[name][...]
-    # ParaView pads 2D vectors with a zero z component.
-    if ndim == 2:
-        for name in ("v", "displacement"):
-            want[name] = np.hstack([want[name].reshape(n, 2), np.zeros((n, 1))])
-    for j, c in enumerate(STRESS):
-        if "stress" in g:
-            want["stress_" + c] = g["stress"][:, j]
-    x = g["x"][...].reshape(len(g["id"]), -1)
-    want["points"] = np.hstack([x, np.zeros((x.shape[0], 3 - ndim))])
-    return want
+def set_name(reader, names):
+    """The set a dataset stands for, as the reader names it: the XDMF Reader names the
+    block of the set's collection; Xdmf3ReaderT names the dataset itself, numbered from its
+    second time on (solid[1]); Xdmf3ReaderS names nothing (None: matched by order)."""
+    if reader == "XDMFReader":
+        return names[0] if names else ""
+    if reader == "Xdmf3ReaderT":
+        return re.sub(r"\[\d+\]$", "", names[-2] if len(names) > 1 else "")
+    return None
 
 
 def main():
@@ -58,49 +52,69 @@ def check_file(pvpython, h5path, workdir):
         print(r.stdout + r.stderr)
         return 1
     pv = np.load(dump)
-    bad = []
+    status = 0
     with h5py.File(h5path, "r") as f:
-        ndim = int(f.attrs["ndim"])
-        frames = sorted(f["frames"])
-        all_sets = {s for fr in frames for s in f["frames"][fr]}
-        times = [float(f["frames"][fr].attrs["time"]) for fr in frames]
-        if not np.allclose(pv["times"], times, rtol=1e-12, atol=0.0):
-            bad.append(f"times {pv['times']} against {times}")
-        for k, fr in enumerate(frames):
-            sets = [s for s in f["frames"][fr] if f["frames"][fr][s]["id"].shape[0] > 0]
-            names = []
-            b = 0
-            while f"t{k}/b{b}/name" in pv:
-                names.append(str(pv[f"t{k}/b{b}/name"]))
-                b += 1
-            # A file of one set shows its cloud without a block name.
-            if names == [""] and len(all_sets) == 1:
-                names = list(all_sets)
-            # Block names come from the sidecar, one per set, the same at every time.
-            if names != [s for s in ("solid", "fluid") if s in sets]:
-                bad.append(f"frame {fr}: blocks {names}, sets {sets}")
-                continue
-            for b, s in enumerate(names):
-                g = f["frames"][fr][s]
-                key = f"t{k}/b{b}/"
-                ids = pv[key + "id"].astype(np.int64)
-                if not np.array_equal(np.sort(ids), np.sort(g["id"][...])):
-                    bad.append(f"frame {fr}/{s}: ids differ")
-                    continue
-                order = np.argsort(g["id"][...])[np.argsort(np.argsort(ids))]
-                for name, val in expected_arrays(g, ndim).items():
-                    if key + name not in pv:
-                        bad.append(f"frame {fr}/{s}: ParaView shows no array {name}")
-                        continue
-                    got = pv[key + name].reshape(len(ids), -1)
-                    exp = val[order].reshape(len(ids), -1)
-                    if got.shape != exp.shape or not np.array_equal(got, exp.astype(got.dtype)):
-                        bad.append(f"frame {fr}/{s}: {name} differs from the HDF5 file")
-    for b in bad[:20]:
-        print("  " + b)
-    print(f"ParaView read {len(frames)} frames of {h5path}: "
-          f"{'all arrays equal the file' if not bad else str(len(bad)) + ' differences'}")
-    return 1 if bad else 0
+        for reader in READERS:
+            bad = check_reader(pv, reader, f)
+            for b in bad[:20]:
+                print(f"  {reader}: {b}")
+            print(f"{reader} read {len(f['frames'])} frames of {h5path}: "
+                  f"{'all arrays equal the file' if not bad else str(len(bad)) + ' differences'}")
+            status = max(status, 1 if bad else 0)
+    return status
+
+
+def check_reader(pv, reader, f):
+    bad = []
+    ndim = int(f.attrs["ndim"])
+    frames = sorted(f["frames"])
+    times = [float(f["frames"][fr].attrs["time"]) for fr in frames]
+    got_times = pv[reader + "/times"]
+    if len(got_times) != len(times) or not np.allclose(got_times, times, rtol=1e-12, atol=0):
+        bad.append(f"times {[float(t) for t in got_times]} against {times}")
+        return bad
+    for k, fr in enumerate(frames):
+        sets = [s for s in ("solid", "fluid") if s in f["frames"][fr]
+                and f["frames"][fr][s]["id"].shape[0] > 0]
+        blocks = []
+        while f"{reader}/t{k}/b{len(blocks)}/names" in pv:
+            blocks.append(f"{reader}/t{k}/b{len(blocks)}/")
+        names = [set_name(reader, list(pv[key + "names"])) for key in blocks]
+        if reader == "Xdmf3ReaderS":
+            names = sets[:len(names)] if len(names) <= len(sets) else names
+        if names != sets:
+            bad.append(f"frame {fr}: datasets {names}, sets with points {sets}")
+            continue
+        for key, s in zip(blocks, sets):
+            bad += compare_set(pv, key, f["frames"][fr][s], ndim, f"frame {fr}/{s}")
+    return bad
+
+
+def compare_set(pv, key, g, ndim, where):
+    """Every dataset of the HDF5 point set g against the arrays ParaView shows."""
+    bad = []
+    ids = pv[key + "id"].astype(np.int64) if key + "id" in pv else None
+    if ids is None or not np.array_equal(np.sort(ids), np.sort(g["id"][...])):
+        return [f"{where}: ids differ"]
+    n = len(ids)
+    order = np.argsort(g["id"][...])[np.argsort(np.argsort(ids))]
+    want = {name: g[name][...].reshape(n, -1) for name in g if name != "x"}
+    want["points"] = g["x"][...].reshape(n, -1)
+    for name, val in want.items():
+        if key + name not in pv:
+            bad.append(f"{where}: no array {name}")
+            continue
+        got = pv[key + name].reshape(n, -1)
+        exp = val[order]
+        # Positions have three components, 2D vectors too in the XDMF Reader: the ones
+        # beyond the file's are zero.
+        if got.shape[1] > exp.shape[1] and name in ("points", "v", "displacement"):
+            if np.any(got[:, exp.shape[1]:] != 0):
+                bad.append(f"{where}: {name} has non-zero components beyond {ndim}")
+            got = got[:, :exp.shape[1]]
+        if got.shape != exp.shape or not np.array_equal(got, exp.astype(got.dtype)):
+            bad.append(f"{where}: {name} differs from the HDF5 file")
+    return bad
 
 
 if __name__ == "__main__":

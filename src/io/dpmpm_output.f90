@@ -251,8 +251,9 @@ contains
     call io_check(err, 'h5fflush_f', self%h5_path, where)
     self%is_open = .true.
     self%in_frame = .false.
-    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
-                                        self%sets(1:self%nsets), self%state_names)
+    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, &
+                                        self%frames(1:self%nframes), self%sets(1:self%nsets), &
+                                        self%state_names)
     call MPI_Barrier(self%comm)
   end subroutine continue_in_place
 
@@ -548,8 +549,9 @@ contains
     self%in_frame = .false.
     call self%flush_diag()
     call verify_written(self, where)
-    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, self%frames, &
-                                        self%sets(1:self%nsets), self%state_names)
+    if (self%rank == 0) call write_xdmf(self%xmf_path, self%h5_base, self%ndim, &
+                                        self%frames(1:self%nframes), self%sets(1:self%nsets), &
+                                        self%state_names)
     call MPI_Barrier(self%comm)
   end subroutine out_end_frame
 

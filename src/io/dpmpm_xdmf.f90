@@ -1,5 +1,8 @@
 !> The XDMF 2 sidecar <name>.xmf of a run's HDF5 output, for ParaView: the frames and
 !> point sets written so far, each dataset referred to in the HDF5 file (doc/output.md).
+!> The layout is one that ParaView's three XDMF readers (the Xdmf2 "XDMF Reader",
+!> Xdmf3ReaderS and Xdmf3ReaderT) all read whole: no hyperslab and no function item (the
+!> Xdmf3 readers skip both), the stress as one six-component Matrix attribute.
 !> Written by rank 0 alone; no HDF5 call here. The text is made in memory and written
 !> with one checked write(2) (posix_write_file): Fortran's formatted output dropped the
 !> error of a full disk and left a cut sidecar behind.
@@ -40,9 +43,11 @@ module dpmpm_xdmf
 
 contains
 
-  !> The XDMF 2 sidecar: one temporal collection per point set (named after the set, so
-  !> that ParaView shows the same block name at every time), holding one point cloud per
-  !> frame in which the set has points. Written to a temporary file and renamed.
+  !> The XDMF 2 sidecar: one temporal collection of frames, each frame a spatial collection
+  !> holding, per set with points in it, a spatial collection named after the set around the
+  !> set's cloud. The XDMF Reader names its blocks after these inner collections, the same
+  !> at every time (solid, fluid); the Xdmf3 readers see every set at every time.
+  !> Written to a temporary file and renamed.
   subroutine write_xdmf(xmf_path, h5_base, ndim, frames, sets, state_names)
     character(len=*), intent(in) :: xmf_path, h5_base
     integer, intent(in) :: ndim
@@ -53,11 +58,12 @@ contains
     character(len=:), allocatable :: tmp_path
     character(len=16) :: names(8)
     character(len=32) :: tstr
+    character(len=8) :: fstr
     type(text_t) :: doc
-    integer :: err, s, k, nnames
+    integer :: err, s, k, f, nnames
     tmp_path = xmf_path//'.tmp'
     allocate (character(len=65536) :: doc%buf)
-    ! The set names in the order they first appear.
+    ! The set names in the order they first appear: the order of the blocks in a frame.
     nnames = 0
     do s = 1, size(sets)
       if (any(names(1:nnames) == sets(s)%name)) cycle
@@ -68,16 +74,25 @@ contains
     call doc%add('<?xml version="1.0" ?>')
     call doc%add('<Xdmf Version="2.0">')
     call doc%add(' <Domain>')
-    do k = 1, nnames
-      call doc%add('  <Grid Name="'//xml_escape(trim(names(k)))// &
-        '" GridType="Collection" CollectionType="Temporal">')
-      do s = 1, size(sets)
-        if (sets(s)%name /= names(k) .or. sets(s)%n == 0) cycle
-        write (tstr, '(es24.16e3)') frames(sets(s)%frame + 1)%time
-        call write_xdmf_set(h5_base, ndim, doc, sets(s), trim(adjustl(tstr)), state_names)
+    call doc%add('  <Grid Name="frames" GridType="Collection" CollectionType="Temporal">')
+    do f = 1, size(frames)
+      write (tstr, '(es24.16e3)') frames(f)%time
+      write (fstr, '(i6.6)') f - 1
+      call doc%add('   <Grid Name="frame '//trim(fstr)// &
+        '" GridType="Collection" CollectionType="Spatial">')
+      call doc%add('    <Time Value="'//trim(adjustl(tstr))//'"/>')
+      do k = 1, nnames
+        do s = 1, size(sets)
+          if (sets(s)%frame /= f - 1 .or. sets(s)%name /= names(k) .or. sets(s)%n == 0) cycle
+          call doc%add('    <Grid Name="'//xml_escape(trim(names(k)))// &
+            '" GridType="Collection" CollectionType="Spatial">')
+          call write_xdmf_set(h5_base, ndim, doc, sets(s), state_names)
+          call doc%add('    </Grid>')
+        end do
       end do
-      call doc%add('  </Grid>')
+      call doc%add('   </Grid>')
     end do
+    call doc%add('  </Grid>')
     call doc%add(' </Domain>')
     call doc%add('</Xdmf>')
     ! On a failure the previous sidecar stays as it was (one frame behind, whole).
@@ -87,17 +102,16 @@ contains
     call rename_file(tmp_path, xmf_path, where)
   end subroutine write_xdmf
 
-  !> One Polyvertex grid of a set at one frame: geometry from x, the other datasets as
-  !> node attributes; the stress as six scalars named by their components.
-  subroutine write_xdmf_set(h5_base, ndim, doc, set, time, state_names)
+  !> One grid of a set at one frame: a Polyvertex cloud at x in 2D and 3D; in 1D a
+  !> rectilinear grid of 1 x 1 x n nodes with x as its first axis and y = z = 0 (the Xdmf3
+  !> readers read no X_Y_Z geometry, nor the function items that made y and z before). The
+  !> other datasets are node attributes, the (n, 6) stress one Matrix attribute.
+  subroutine write_xdmf_set(h5_base, ndim, doc, set, state_names)
     character(len=*), intent(in) :: h5_base
     integer, intent(in) :: ndim
     type(text_t), intent(inout) :: doc
     type(set_rec_t), intent(in) :: set
-    character(len=*), intent(in) :: time
     character(len=*), intent(in) :: state_names(:)
-    !> Component names of the stress columns in file order (doc/output.md).
-    character(len=2), parameter :: comp(6) = ['xx', 'yy', 'zz', 'yz', 'xz', 'xy']
     character(len=:), allocatable :: base, nstr, vec
     character(len=24) :: buf
     character(len=16) :: fstr
@@ -117,27 +131,28 @@ contains
     base = xml_escape(h5_base)//':/frames/'//trim(fstr)//'/'//xml_escape(trim(set%name))//'/'
     write (buf, '(i0)') ndim
     vec = nstr//' '//trim(buf)
-    call doc%add('   <Grid Name="'//xml_escape(trim(set%name))//'" GridType="Uniform">')
-    call doc%add('    <Time Value="'//time//'"/>')
-    call doc%add('    <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
-      '" NodesPerElement="1"/>')
+    call doc%add('     <Grid Name="'//xml_escape(trim(set%name))//'" GridType="Uniform">')
     select case (ndim)
     case (1)
-      ! ParaView needs 3D coordinates: x from the file, y = z = x - x = 0.
-      call doc%add('    <Geometry GeometryType="X_Y_Z">')
-      call doc%add('     '//item(vec, 'Float', '8', base//'x'))
-      call doc%add('     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
-        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>')
-      call doc%add('     <DataItem ItemType="Function" Function="$0 - $0" Dimensions="'// &
-        vec//'">'//item(vec, 'Float', '8', base//'x')//'</DataItem>')
+      call doc%add('      <Topology TopologyType="3DRectMesh" Dimensions="1 1 '//nstr//'"/>')
+      call doc%add('      <Geometry GeometryType="VXVYVZ">')
+      call doc%add('       '//item(vec, 'Float', '8', base//'x'))
+      call doc%add('       <DataItem Dimensions="1" NumberType="Float" Precision="8" '// &
+        'Format="XML">0</DataItem>')
+      call doc%add('       <DataItem Dimensions="1" NumberType="Float" Precision="8" '// &
+        'Format="XML">0</DataItem>')
     case (2)
-      call doc%add('    <Geometry GeometryType="XY">')
-      call doc%add('     '//item(vec, 'Float', '8', base//'x'))
+      call doc%add('      <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
+        '" NodesPerElement="1"/>')
+      call doc%add('      <Geometry GeometryType="XY">')
+      call doc%add('       '//item(vec, 'Float', '8', base//'x'))
     case default
-      call doc%add('    <Geometry GeometryType="XYZ">')
-      call doc%add('     '//item(vec, 'Float', '8', base//'x'))
+      call doc%add('      <Topology TopologyType="Polyvertex" NumberOfElements="'//nstr// &
+        '" NodesPerElement="1"/>')
+      call doc%add('      <Geometry GeometryType="XYZ">')
+      call doc%add('       '//item(vec, 'Float', '8', base//'x'))
     end select
-    call doc%add('    </Geometry>')
+    call doc%add('      </Geometry>')
     if (ndim == 1) then
       call attribute('v', 'Scalar', vec, 'Float', '8')
       if (set%has(1)) call attribute('displacement', 'Scalar', vec, 'Float', '8')
@@ -147,15 +162,9 @@ contains
     end if
     call attribute('mass', 'Scalar', nstr, 'Float', '8')
     call attribute('volume', 'Scalar', nstr, 'Float', '8')
-    do j = 1, merge(6, 0, set%has(2))
-      ! Column j of the (n, 6) stress dataset: start (0, j-1), stride (1, 1), count (n, 1).
-      write (buf, '(i0)') j - 1
-      call doc%add('    <Attribute Name="stress_'//comp(j)// &
-        '" AttributeType="Scalar" Center="Node"><DataItem ItemType="HyperSlab" Dimensions="'// &
-        nstr//' 1" Type="HyperSlab"><DataItem Dimensions="3 2" Format="XML">0 '//trim(buf)// &
-        ' 1 1 '//nstr//' 1</DataItem>'//item(nstr//' 6', 'Float', '8', base//'stress')// &
-        '</DataItem></Attribute>')
-    end do
+    ! The columns in file order xx yy zz yz xz xy; ParaView labels any six components
+    ! XX YY ZZ XY YZ XZ (doc/output.md, "Viewing in ParaView").
+    if (set%has(2)) call attribute('stress', 'Matrix', nstr//' 6', 'Float', '8')
     if (set%has(3)) call attribute('material', 'Scalar', nstr, 'Int', '4')
     if (set%has(7)) call attribute('rank', 'Scalar', nstr, 'Int', '4')
     if (set%has(4)) call attribute('porosity', 'Scalar', nstr, 'Float', '8')
@@ -165,14 +174,19 @@ contains
       call attribute(trim(state_names(order(j))), 'Scalar', nstr, 'Float', '8')
     end do
     call attribute('id', 'Scalar', nstr, 'Int', '8')
-    call doc%add('   </Grid>')
+    call doc%add('     </Grid>')
 
   contains
 
+    !> In 1D the XDMF Reader reads a node attribute of the 1 x 1 x n grid whole only when
+    !> its dimensions start with those of the grid (1 1 n); the Xdmf3 readers take either.
     subroutine attribute(name, atype, dims, ntype, prec)
       character(len=*), intent(in) :: name, atype, dims, ntype, prec
-      call doc%add('    <Attribute Name="'//name//'" AttributeType="'//atype// &
-        '" Center="Node">'//item(dims, ntype, prec, base//name)//'</Attribute>')
+      character(len=:), allocatable :: full
+      full = dims
+      if (ndim == 1) full = '1 1 '//dims
+      call doc%add('      <Attribute Name="'//name//'" AttributeType="'//atype// &
+        '" Center="Node">'//item(full, ntype, prec, base//name)//'</Attribute>')
     end subroutine attribute
 
   end subroutine write_xdmf_set

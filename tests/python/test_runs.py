@@ -134,15 +134,17 @@ def test_xdmf_rewrite_passes_check_output(run_np2, tmp_path):
 def test_xdmf_without_fluid_stress(tmp_path):
     h5 = write_synthetic(str(tmp_path / "nofs.h5"))
     tree = ET.fromstring(dpmpm.xdmf_text(h5))
-    colls = tree.findall("Domain/Grid")
-    assert [c.get("Name") for c in colls] == ["solid", "fluid"]
-    for c in colls:
-        assert len(c.findall("Grid")) == 2
-        names = [a.get("Name") for a in c.iter("Attribute")]
-        stress = [n for n in names if n.startswith("stress_")]
-        assert stress == ([f"stress_{k}" for k in dpmpm.STRESS_COMPONENTS] * 2
-                          if c.get("Name") == "solid" else [])
-        assert ("pore_pressure" in names) == (c.get("Name") == "fluid")
+    frames = tree.findall("Domain/Grid/Grid")
+    assert len(frames) == 2
+    for frame in frames:
+        colls = frame.findall("Grid")
+        assert [c.get("Name") for c in colls] == ["solid", "fluid"]
+        for c in colls:
+            names = [a.get("Name") for a in c.iter("Attribute")]
+            types = {a.get("Name"): a.get("AttributeType") for a in c.iter("Attribute")}
+            assert ("stress" in names) == (c.get("Name") == "solid")
+            assert types.get("stress", "Matrix") == "Matrix"
+            assert ("pore_pressure" in names) == (c.get("Name") == "fluid")
     with h5py.File(h5, "r") as f:
         for item in tree.iter("DataItem"):
             if item.get("Format") == "HDF":

@@ -1,17 +1,18 @@
 """The XDMF sidecar of an output file, made from the file's content.
 
-The same layout as the Fortran writer (src/io/dpmpm_output.f90, write_xdmf): XDMF 2,
-one temporal collection per point set named after the set (solid, fluid, then others),
-a Polyvertex cloud per frame in which the set has points, the datasets as node
-attributes, and the stress columns as stress_xx ... stress_xy through hyperslabs of the
-(n, 6) stress dataset when the set has one. 1D coordinates get y = z = 0 through
-function items (ParaView needs three coordinates).
+The same layout as the Fortran writer (src/io/dpmpm_xdmf.f90, write_xdmf): XDMF 2, one
+temporal collection of frames, each frame a spatial collection holding, per set with
+points in it (solid, fluid, then others), a spatial collection named after the set around
+the set's grid. A grid is a Polyvertex cloud in 2D and 3D and a 1 x 1 x n rectilinear
+grid on the x axis in 1D, with the datasets as node attributes and the (n, 6) stress as
+one Matrix attribute. No hyperslab and no function item: ParaView's Xdmf3 readers skip
+both, and this layout reads whole with each of its three XDMF readers.
 """
 import os
 
 import h5py
 
-from .run import STRESS_COMPONENTS, set_names
+from .run import set_names
 
 
 def _esc(text):
@@ -31,27 +32,28 @@ def _item(dims, ntype, prec, ref):
             f'Format="HDF">{ref}</DataItem>')
 
 
-def _set_grid(lines, base, sname, g, ndim, time):
+def _set_grid(lines, base, sname, g, ndim):
     n = g["id"].shape[0]
     vec = f"{n} {ndim}"
-    lines.append(f'   <Grid Name="{_esc(sname)}" GridType="Uniform">')
-    lines.append(f'    <Time Value="{time}"/>')
-    lines.append(f'    <Topology TopologyType="Polyvertex" NumberOfElements="{n}" '
-                 f'NodesPerElement="1"/>')
+    lines.append(f'     <Grid Name="{_esc(sname)}" GridType="Uniform">')
     x = _item(vec, "Float", "8", base + "x")
     if ndim == 1:
-        lines.append('    <Geometry GeometryType="X_Y_Z">')
-        lines.append("     " + x)
-        for _ in range(2):
-            lines.append(f'     <DataItem ItemType="Function" Function="$0 - $0" '
-                         f'Dimensions="{vec}">{x}</DataItem>')
+        zero = '<DataItem Dimensions="1" NumberType="Float" Precision="8" Format="XML">0</DataItem>'
+        lines.append(f'      <Topology TopologyType="3DRectMesh" Dimensions="1 1 {n}"/>')
+        lines.append('      <Geometry GeometryType="VXVYVZ">')
+        lines += ["       " + x, "       " + zero, "       " + zero]
     else:
-        lines.append(f'    <Geometry GeometryType="{"XY" if ndim == 2 else "XYZ"}">')
-        lines.append("     " + x)
-    lines.append("    </Geometry>")
+        lines.append(f'      <Topology TopologyType="Polyvertex" NumberOfElements="{n}" '
+                     f'NodesPerElement="1"/>')
+        lines.append(f'      <Geometry GeometryType="{"XY" if ndim == 2 else "XYZ"}">')
+        lines.append("       " + x)
+    lines.append("      </Geometry>")
 
     def attribute(name, atype, dims, ntype, prec):
-        lines.append(f'    <Attribute Name="{name}" AttributeType="{atype}" Center="Node">'
+        # In 1D the XDMF Reader reads a node attribute of the 1 x 1 x n grid whole only
+        # when its dimensions start with those of the grid (1 1 n).
+        dims = f"1 1 {dims}" if ndim == 1 else dims
+        lines.append(f'      <Attribute Name="{name}" AttributeType="{atype}" Center="Node">'
                      f'{_item(dims, ntype, prec, base + name)}</Attribute>')
 
     kind = "Scalar" if ndim == 1 else "Vector"
@@ -62,12 +64,8 @@ def _set_grid(lines, base, sname, g, ndim, time):
         if name in g:
             attribute(name, "Scalar", str(n), "Float", "8")
     if "stress" in g:
-        for j, comp in enumerate(STRESS_COMPONENTS):
-            lines.append(f'    <Attribute Name="stress_{comp}" AttributeType="Scalar" '
-                         f'Center="Node"><DataItem ItemType="HyperSlab" Dimensions="{n} 1" '
-                         f'Type="HyperSlab"><DataItem Dimensions="3 2" Format="XML">0 {j} 1 1 '
-                         f'{n} 1</DataItem>{_item(f"{n} 6", "Float", "8", base + "stress")}'
-                         f'</DataItem></Attribute>')
+        # The columns in file order xx yy zz yz xz xy (doc/output.md, "Viewing in ParaView").
+        attribute("stress", "Matrix", f"{n} 6", "Float", "8")
     if "material" in g:
         attribute("material", "Scalar", str(n), "Int", "4")
     for name in ("porosity", "pore_pressure"):
@@ -78,7 +76,7 @@ def _set_grid(lines, base, sname, g, ndim, time):
     for name in state_datasets(g):
         attribute(name, "Scalar", str(n), "Float", "8")
     attribute("id", "Scalar", str(n), "Int", "8")
-    lines.append("   </Grid>")
+    lines.append("     </Grid>")
 
 
 #: The datasets of a point set that are not state values of the constitutive models.
@@ -103,16 +101,21 @@ def xdmf_text(h5path):
         sets = set()
         for fr in names:
             sets.update(frames[fr].keys())
-        for sname in set_names(sets):
-            lines.append(f'  <Grid Name="{_esc(sname)}" GridType="Collection" '
-                         f'CollectionType="Temporal">')
-            for fr in names:
+        lines.append('  <Grid Name="frames" GridType="Collection" CollectionType="Temporal">')
+        for fr in names:
+            lines.append(f'   <Grid Name="frame {fr}" GridType="Collection" '
+                         f'CollectionType="Spatial">')
+            lines.append(f'    <Time Value="{_time(float(frames[fr].attrs["time"]))}"/>')
+            for sname in set_names(sets):
                 g = frames[fr].get(sname)
                 if g is None or g["id"].shape[0] == 0:
                     continue
-                base = f"{h5base}:/frames/{fr}/{_esc(sname)}/"
-                _set_grid(lines, base, sname, g, ndim, _time(float(frames[fr].attrs["time"])))
-            lines.append("  </Grid>")
+                lines.append(f'    <Grid Name="{_esc(sname)}" GridType="Collection" '
+                             f'CollectionType="Spatial">')
+                _set_grid(lines, f"{h5base}:/frames/{fr}/{_esc(sname)}/", sname, g, ndim)
+                lines.append("    </Grid>")
+            lines.append("   </Grid>")
+        lines.append("  </Grid>")
     lines += [" </Domain>", "</Xdmf>"]
     return "\n".join(lines) + "\n"
 

@@ -130,6 +130,7 @@ contains
     real(dp) :: p0, dev(6), ev, edev(6), a, b, bulk, shear, ptr, qtr, mm, pm, big, x, g
     real(dp) :: pp, pcx, div, q, r1, r2, j11, j12, j21, j22, jd, dx, dg
     integer :: it
+    logical :: polish
     fail = 0
     mm = par(3)**2
     pm = par(6)
@@ -165,6 +166,7 @@ contains
     ! r1 = x - g (2p - p_c) = 0 (the flow rule's volume part), r2 = f(p, q, p_c) = 0
     x = 0.0_dp
     g = 0.0_dp
+    polish = .false.
     do it = 1, max_iter
       pp = (ptr + pm)*exp(-a*x) - pm
       pcx = pc*exp(b*x)
@@ -172,7 +174,11 @@ contains
       q = qtr/div
       r1 = x - g*(2.0_dp*pp - pcx)
       r2 = q**2/mm + pp*(pp - pcx)
-      if (abs(r1) <= tol*max(abs(x), tol) .and. abs(r2) <= tol*big) exit
+      ! r1 relative to its terms (at the critical state 2p - p_c vanishes and x with it);
+      ! once both residuals pass, one more step takes them to round-off
+      if (polish) exit
+      polish = abs(r1) <= tol*max(abs(x), g*(2.0_dp*abs(pp) + pcx), tol) .and. &
+               abs(r2) <= tol*big
       j11 = 1.0_dp + g*(2.0_dp*a*(pp + pm) + b*pcx)
       j12 = -(2.0_dp*pp - pcx)
       j21 = -(2.0_dp*pp - pcx)*a*(pp + pm) - pp*b*pcx

@@ -33,6 +33,7 @@ contains
       if (any(m%velocity /= 0.0_wp) .and. m%model /= 'rigid') call add_value(pb, g_material, &
       k, 'velocity', rtoa_list(m%velocity), "only a rigid body (model = 'rigid') has a "// &
       'prescribed velocity; give a moving body its initial velocity in &region velocity')
+      call check_vibration(pb, k, m)
       ! (a rigid body: only density and velocity matter; the scene checks it, check_rigid)
       if (m%model == 'fluid') then
         ! A linear compressible fluid: only density and bulk_modulus matter.
@@ -289,5 +290,26 @@ contains
         'constants and angles: a steeper softening has no unique return')
     end if
   end subroutine check_plastic
+
+  !> The vibration of a rigid body: a finite amplitude and a frequency >= 0, both or
+  !> neither, and only on a rigid material.
+  subroutine check_vibration(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    logical :: shaken
+    call check_finite(pb, g_material, k, 'vibration_amplitude', m%vibration_amplitude)
+    if (.not. real_ok(m%vibration_frequency, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'vibration_frequency', rtoa(m%vibration_frequency), 'must be >= 0 (Hz)')
+    shaken = any(m%vibration_amplitude /= 0.0_wp)
+    if (shaken .and. m%model /= 'rigid') call add_value(pb, g_material, k, &
+      'vibration_amplitude', rtoa_list(m%vibration_amplitude), "only a rigid body "// &
+      "(model = 'rigid') vibrates")
+    if (shaken .and. m%vibration_frequency == 0.0_wp) call add_value(pb, g_material, k, &
+      'vibration_frequency', '0.0', 'a vibration_amplitude needs a frequency > 0 (Hz)')
+    if (.not. shaken .and. m%vibration_frequency /= 0.0_wp) call add_value(pb, g_material, k, &
+      'vibration_frequency', rtoa(m%vibration_frequency), 'does nothing without a '// &
+      'vibration_amplitude (m)')
+  end subroutine check_vibration
 
 end module dpmpm_input_check_material

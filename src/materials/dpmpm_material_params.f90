@@ -23,6 +23,9 @@ module dpmpm_material_params
     type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
     real(wp) :: max_dilation = 0.0_wp   !< mohr_coulomb, drucker_prager: bound of V/V0, 0 = none
     real(wp) :: velocity(3) = 0.0_wp    !< rigid: the prescribed velocity of the body (m/s)
+    !> rigid: the displacement amplitude A (m) and angular frequency omega (1/s) of a
+    !> vibration added to velocity, v(t) = velocity + A omega cos(omega t)
+    real(wp) :: vibration_amplitude(3) = 0.0_wp, vibration_omega = 0.0_wp
     !> cam_clay (dpmpm_model_cam_clay): compression and swelling indices lambda, kappa, the
     !> critical state ratio M, the initial void ratio e0, the preconsolidation pressure p_c0
     !> (0: from ocr), the overconsolidation ratio, a constant shear modulus (0: from K and

@@ -117,6 +117,8 @@ contains
         ! no stress (stress_update and strain_energy leave it out) and no wave to resolve
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
         mats(k)%velocity = cfgs(k)%velocity
+        mats(k)%vibration_amplitude = cfgs(k)%vibration_amplitude
+        mats(k)%vibration_omega = 2.0_wp*acos(-1.0_wp)*cfgs(k)%vibration_frequency
       end if
     end do
   end subroutine materials_from_config

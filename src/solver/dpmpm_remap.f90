@@ -14,7 +14,7 @@ module dpmpm_remap
     momentum_project_p2g
   use dpmpm_nodal_update, only: remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
-  use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points
+  use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points, body_velocities
   implicit none
   private
   public :: musl_remap, remap_locks
@@ -131,7 +131,8 @@ contains
       if (self%has_rigid .and. solid) then
         call g2p(nd, st%nw, ps%n, st%i0, st%sw, st%sdw, lo, ph%nvel, self%cfg%flip, dt, ps%v, ps%x, &
                  gradient=.false., gf=lockv, gv=ph%lockp)
-        call hold_rigid_points(nd, ps%n, ps%mat, self%mats, ps%v)
+        call hold_rigid_points(nd, ps%n, ps%mat, self%mats, &
+                               body_velocities(self%mats, self%time + 0.5_wp*dt), ps%v)
         if (present(lockv)) then
           call momentum_project_p2g(nd, st%nw, ps%n, st%i0, st%sw, ps%mass, ps%v, lo, ph%lockp, ph%node)
         else

@@ -1,5 +1,6 @@
 !> Rigid bodies driven at a prescribed velocity (&material model = 'rigid', doc/theory.md
-!> 6.8): a footing pushed into the soil, a wall moved against it. The points of a rigid
+!> 6.8): a footing pushed into the soil, a wall moved against it, a plate vibrated on it
+!> (a vibration added to the constant velocity, body_velocities). The points of a rigid
 !> material carry mass but no stress; every node their grid functions reach moves with
 !> the body (the soil there sticks to it), and the force that takes is the drive's
 !> reaction, summed over the owned nodes.
@@ -9,19 +10,37 @@ module dpmpm_rigid
   use dpmpm_materials, only: material_t, model_rigid
   implicit none
   private
-  public :: rigid_p2g, drive_rigid_nodes, hold_rigid_points
+  public :: rigid_p2g, drive_rigid_nodes, hold_rigid_points, body_velocities
 
 contains
 
+  !> The velocity of each material's body at time t (columns of vb, one per material):
+  !> velocity + A omega cos(omega t) with the vibration's amplitude A and angular frequency
+  !> omega (0 for the materials that are not rigid). A step from t to t + dt moves a body by
+  !> dt vb(t + dt/2), the midpoint rule of its displacement velocity t + A sin(omega t).
+  pure function body_velocities(mats, t) result(vb)
+    type(material_t), intent(in) :: mats(:)
+    real(wp), intent(in) :: t
+    real(wp) :: vb(3, size(mats))
+    integer :: m
+    do m = 1, size(mats)
+      vb(:, m) = 0.0_wp
+      if (mats(m)%model /= model_rigid) cycle
+      vb(:, m) = mats(m)%velocity + mats(m)%vibration_amplitude*mats(m)%vibration_omega* &
+                 cos(mats(m)%vibration_omega*t)
+    end do
+  end function body_velocities
+
   !> The rigid points' share of the node fields: rnode(1) = sum N m and
-  !> rnode(2:1+nd) = sum N m v_r over the points of rigid materials (v_r the
-  !> material's velocity); rnode is added to (the caller clears it).
-  subroutine rigid_p2g(nd, nw, n, i0, sw, mass, pmat, mats, lo, rnode)
+  !> rnode(2:1+nd) = sum N m v_r over the points of rigid materials (v_r = vb(:, material),
+  !> the body's velocity in this step); rnode is added to (the caller clears it).
+  subroutine rigid_p2g(nd, nw, n, i0, sw, mass, pmat, mats, vb, lo, rnode)
     integer, intent(in) :: nd, nw(3), n
     integer, contiguous, intent(in) :: i0(:, :)
     real(wp), contiguous, intent(in) :: sw(:, :, :), mass(:)
     integer, contiguous, intent(in) :: pmat(:)
     type(material_t), intent(in) :: mats(:)
+    real(wp), intent(in) :: vb(:, :)
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: rnode(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
@@ -31,7 +50,7 @@ contains
 #include "dpmpm_stencil_do_3d.inc"
       if (nn <= 0.0_wp) cycle
       rnode(1, i, j, k) = rnode(1, i, j, k) + nn*mass(p)
-      rnode(2:1 + nd, i, j, k) = rnode(2:1 + nd, i, j, k) + nn*mass(p)*mats(pmat(p))%velocity(1:nd)
+      rnode(2:1 + nd, i, j, k) = rnode(2:1 + nd, i, j, k) + nn*mass(p)*vb(1:nd, pmat(p))
 #include "dpmpm_stencil_end_3d.inc"
     end do
   end subroutine rigid_p2g
@@ -71,16 +90,17 @@ contains
     end do
   end subroutine drive_rigid_nodes
 
-  !> The points of rigid materials keep their material's velocity (g2p blends the
-  !> nodal change into every point's velocity).
-  subroutine hold_rigid_points(nd, n, pmat, mats, v)
+  !> The points of rigid materials keep their body's velocity vb(:, material) (g2p blends
+  !> the nodal change into every point's velocity).
+  subroutine hold_rigid_points(nd, n, pmat, mats, vb, v)
     integer, intent(in) :: nd, n
     integer, contiguous, intent(in) :: pmat(:)
     type(material_t), intent(in) :: mats(:)
+    real(wp), intent(in) :: vb(:, :)
     real(wp), contiguous, intent(inout) :: v(:, :)
     integer :: p
     do p = 1, n
-      if (mats(pmat(p))%model == model_rigid) v(1:nd, p) = mats(pmat(p))%velocity(1:nd)
+      if (mats(pmat(p))%model == model_rigid) v(1:nd, p) = vb(1:nd, pmat(p))
     end do
   end subroutine hold_rigid_points
 

@@ -16,7 +16,7 @@ module dpmpm_simulation
   use dpmpm_generate, only: generate_points
   use dpmpm_materials, only: materials_from_config, model_fluid, model_rigid, init_state
   use dpmpm_model_table, only: model_needs_defgrad, is_pressure_dependent
-  use dpmpm_rigid, only: hold_rigid_points
+  use dpmpm_rigid, only: hold_rigid_points, body_velocities
   use dpmpm_output, only: output_h5_path
   use dpmpm_checkpoint, only: checkpoint_state_t, checkpoint_path, write_checkpoint, read_checkpoint
   use dpmpm_scene_check, only: check_scene_points
@@ -185,6 +185,7 @@ contains
       ! Rigid bodies move at their velocity from the start (a restart keeps the stored one).
       if (len_trim(cfg%restart) == 0) call hold_rigid_points(self%nd, self%phase(1)%pts%n, &
                                                              self%phase(1)%pts%mat, self%mats, &
+                                                             body_velocities(self%mats, 0.0_wp), &
                                                              self%phase(1)%pts%v)
     end if
 

@@ -33,7 +33,7 @@ module dpmpm_step
                               gauss_point_divergences, gauss_mixture_divergence, gauss_gravity, gauss_gravity_work
   use dpmpm_gauss_fields, only: thin_node_forces
   use dpmpm_time_step, only: report_governing
-  use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points
+  use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points, body_velocities
   use dpmpm_surface_loads, only: surface_forces
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_PROC_NULL, operator(/=)
   implicit none
@@ -300,7 +300,7 @@ contains
         ! Rigid bodies drive the skeleton at their nodes and the fluid there is solved
         ! against it; rnode is allocated only with rigid bodies, fvol only with the
         ! free-surface test (unallocated, each is an absent argument).
-        if (self%has_rigid) call rigid_node_sums(self)
+        if (self%has_rigid) call rigid_node_sums(self, dt)
         rforce = 0.0_wp
         call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
                                   self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
@@ -352,6 +352,7 @@ contains
         end associate
       end do
       if (self%has_rigid) call hold_rigid_points(nd, ns, self%phase(solid_phase)%pts%mat, self%mats, &
+                                                 body_velocities(self%mats, self%time + 0.5_wp*dt), &
                                                  self%phase(solid_phase)%pts%v)
       if (coupled) then
         associate (f => self%phase(fluid_phase))
@@ -512,7 +513,7 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     real(wp) :: force(3)
-    call rigid_node_sums(self)
+    call rigid_node_sums(self, dt)
     associate (s => self%phase(solid_phase))
       force = 0.0_wp
       call drive_rigid_nodes(self%nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, self%rnode, &
@@ -544,13 +545,15 @@ contains
   end subroutine free_surface_points
 
   !> The rigid bodies' share of the node fields (rigid_p2g) in self%rnode, folded at
-  !> mirror walls and summed over the ranks.
-  subroutine rigid_node_sums(self)
+  !> mirror walls and summed over the ranks; the bodies move at their velocity in the middle
+  !> of the step (of length dt).
+  subroutine rigid_node_sums(self, dt)
     class(state_t), intent(inout) :: self
+    real(wp), intent(in) :: dt
     associate (s => self%phase(solid_phase))
       self%rnode = 0.0_wp
       call rigid_p2g(self%nd, s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%pts%mass, s%pts%mat, self%mats, &
-                     self%dec%alo, self%rnode)
+                     body_velocities(self%mats, self%time + 0.5_wp*dt), self%dec%alo, self%rnode)
       call self%mirror%fold(self%rnode, 1, self%grid%bc)
       call self%dec%halo_sum(self%rnode)
     end associate

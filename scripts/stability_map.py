@@ -47,8 +47,7 @@ def make_scene(scene, dim, shape, cfl, outdir, transits=20):
         group, mat = WHERE[key]
         [g] = s.find(group, id=mat) if mat else [s[group]]
         g[key] = val
-    s['shape'].clear()
-    s.set(shape=dict(dpmpm.Scene.from_text('&shape %s /' % SHAPES[shape])['shape']))
+    s.replace('shape', SHAPES[shape])
     [soil] = s.find('material', id=1)
     [water] = s.find('material', id=2)
     rs, E = float(soil['density']), float(soil['youngs_modulus'])

@@ -28,13 +28,11 @@ Usage: scripts/figure6.py [--dims 1|2|3] [--build build/release] [--out out/figu
        [--ranks 1] [--jobs 2] [--skip-runs]
 """
 import argparse
-import concurrent.futures as cf
 import json
 import os
 import re
 import subprocess
 import sys
-import time
 
 import h5py
 import matplotlib
@@ -44,8 +42,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-           "OMPI_MCA_rmaps_base_oversubscribe": "1"}
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
+
 CFL = 0.3
 
 # Variant label -> &shape settings (namelist text).
@@ -90,37 +89,13 @@ def tag_of(label, dims):
 
 
 def make_scene(dims, label, outdir, shape=None, tag=None):
-    """Scene text of one variant: W1 with its &shape (VARIANTS[label] unless given), the
-    common CFL, own name (tag_of unless given) and dir."""
-    text = open(scene_file(dims)).read()
+    """One variant as a dpmpm.Scene: W1 with its &shape (VARIANTS[label] unless given), the
+    common CFL, own name (tag_of unless given) and dir; returns (tag, scene)."""
+    s = dpmpm.Scene.read(scene_file(dims))
     tag = tag or tag_of(label, dims)
-    shape = shape or VARIANTS[label]
-    # Anchored at the start of a line, so that the comments of the scene stay as they are;
-    # the first name is the one of &run (the scene lists &run first).
-    text = re.sub(r"^(\s*)name = '[^']*'", rf"\g<1>name = '{tag}'", text, count=1, flags=re.M)
-    text = re.sub(r"^(\s*)cfl = [0-9.eE+-]+", rf"\g<1>cfl = {CFL}", text, count=1, flags=re.M)
-    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {shape}\n/", text, flags=re.S | re.M)
-    text = re.sub(r"^(\s*)dir = '[^']*'", rf"\g<1>dir = '{outdir}'", text, count=1, flags=re.M)
-    for key, value in (("name", f"'{tag}'"), ("cfl", str(CFL)), ("dir", f"'{outdir}'")):
-        if not re.search(rf"^\s*{key} = {re.escape(value)}\s*$", text, flags=re.M):
-            raise SystemExit(f"figure6: could not set {key} in {scene_file(dims)}")
-    return tag, text
-
-
-def run_case(build, outdir, dims, label, ranks):
-    tag, text = make_scene(dims, label, outdir)
-    nml = os.path.join(outdir, tag + ".nml")
-    with open(nml, "w") as f:
-        f.write(text)
-    start = time.time()
-    with open(os.path.join(outdir, tag + ".log"), "w") as log:
-        subprocess.run(["mpirun", "--oversubscribe", "-n", str(ranks),
-                        os.path.join(build, "dpmpm"), nml],
-                       stdout=log, stderr=subprocess.STDOUT,
-                       env=dict(os.environ, **MPI_ENV), check=True)
-    with open(os.path.join(outdir, tag + ".json"), "w") as f:
-        json.dump({"wall_seconds": time.time() - start, "ranks": ranks}, f)
-    return tag
+    s.set(run={"name": tag, "cfl": CFL}, output={"dir": outdir})
+    s.replace("shape", shape or VARIANTS[label])
+    return tag, s
 
 
 def strip_comment(line):
@@ -306,12 +281,13 @@ def main():
 
     if not args.skip_runs:
         ensure_build(args.build)
-        with cf.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            futs = {pool.submit(run_case, args.build, outdir, args.dims, label, args.ranks): label
-                    for label in VARIANTS}
-            for fut in cf.as_completed(futs):
-                fut.result()
-                print("done", futs[fut], flush=True)
+        scenes = [make_scene(args.dims, label, outdir)[1] for label in VARIANTS]
+        results = dpmpm.study(scenes, ranks=args.ranks, jobs=args.jobs, progress=False,
+                              errors="raise", binary=os.path.join(args.build, "dpmpm"))
+        for label, r in zip(VARIANTS, results):
+            with open(os.path.join(outdir, r.name + ".json"), "w") as f:
+                json.dump({"wall_seconds": r.wall, "ranks": args.ranks}, f)
+            print("done", label, flush=True)
 
     res = {label: load(outdir, tag_of(label, args.dims)) for label in VARIANTS}
     figname = "figure6.png" if args.dims == 1 else f"figure6_{args.dims}d.png"

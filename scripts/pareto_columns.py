@@ -318,7 +318,7 @@ def main():
             continue
         r = measure(outdir, tag, col) if a.skip_runs or a.missing else None
         if not a.skip_runs and r is None:
-            rc = run(a.build, outdir, tag, make(outdir).text())
+            rc = run(a.build, make(outdir))
             r = measure(outdir, tag, col)
             print(f"pareto_columns: {tag} rc {rc} "
                   + (" ".join(f"{k} {v:.4g}" for k, v in r.items()) if r else "failed"),

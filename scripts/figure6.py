@@ -34,7 +34,6 @@ import re
 import subprocess
 import sys
 
-import h5py
 import matplotlib
 import numpy as np
 
@@ -98,81 +97,35 @@ def make_scene(dims, label, outdir, shape=None, tag=None):
     return tag, s
 
 
-def strip_comment(line):
-    """The line without its '!' comment (a '!' inside quotes is kept)."""
-    quote = None
-    for i, c in enumerate(line):
-        if quote:
-            quote = None if c == quote else quote
-        elif c in "'\"":
-            quote = c
-        elif c == "!":
-            return line[:i]
-    return line
-
-
-def namelist_groups(text, group):
-    """Bodies of the &group namelist groups of an input text, comments removed: from the
-    group name to the first '/' outside quotes."""
-    clean = "\n".join(strip_comment(line) for line in text.splitlines())
-    bodies = []
-    for m in re.finditer(rf"&{group}\b", clean, flags=re.I):
-        i, quote = m.end(), None
-        while i < len(clean):
-            c = clean[i]
-            if quote:
-                quote = None if c == quote else quote
-            elif c in "'\"":
-                quote = c
-            elif c == "/":
-                break
-            i += 1
-        bodies.append(clean[m.end():i])
-    return bodies
-
-
-def namelist_value(text, group, name, pick=None):
-    """Numbers given to variable name in the first &group (the first one for which
-    pick(body) is true), or None."""
-    for body in namelist_groups(text, group):
-        if pick is not None and not pick(body):
-            continue
-        v = re.search(rf"\b{name}\s*=\s*([-+0-9.eEdD, ]+)", body)
-        if v:
-            return [float(x.replace("d", "e").replace("D", "e"))
-                    for x in v.group(1).replace(",", " ").split()]
-    return None
+def first(value):
+    """The first element of a namelist value (a scalar in 1D scenes, a list otherwise)."""
+    return value[0] if isinstance(value, list) else value
 
 
 def load(outdir, tag):
-    with h5py.File(os.path.join(outdir, tag + ".h5"), "r") as f:
-        text = f["input"][()].decode()
-        last = f["frames"][sorted(f["frames"])[-1]]
+    with dpmpm.open_run(os.path.join(outdir, tag + ".h5")) as run:
+        last = run.frames[-1]
+        solid, fluid = last["solid"], last["fluid"]
         d = {
-            "time": float(last.attrs["time"]),
-            "step": int(last.attrs["step"]),
-            "xs": last["solid"]["x"][:, 0], "sig": last["solid"]["stress"][:, 0],
-            "vs": last["solid"]["volume"][...],
-            "xf": last["fluid"]["x"][:, 0], "p": last["fluid"]["pore_pressure"][...],
-            "vf": last["fluid"]["volume"][...],
+            "time": last.time,
+            "step": last.step,
+            "xs": solid["x"][:, 0], "sig": solid["stress"][:, 0], "vs": solid["volume"],
+            "xf": fluid["x"][:, 0], "p": fluid["pore_pressure"], "vf": fluid["volume"],
         }
-        ver = f["verification"]
+        ver, a = run.verification, run.verification_attrs
         for name in MEASURES:
-            d[name] = float(ver.attrs.get("final_" + name, np.nan))
+            d[name] = a.get("final_" + name, np.nan)
         for name in ("z", "p", "sigma_eff"):
-            d["ref_" + name] = ver["profile_" + name][...]
-        a = ver.attrs
+            d["ref_" + name] = ver["profile_" + name]
         if "wall_time_step_loop" in a and "steps" in a:
-            d["cost"] = float(a["wall_time_step_loop"]) / float(a["steps"])
+            d["cost"] = a["wall_time_step_loop"] / a["steps"]
         else:
-            wall = f["diagnostics"]["wall_time"][...]
+            wall = run.diagnostics["wall_time"]
             d["cost"] = float(wall[-1]) / max(d["step"], 1) if wall.size else np.nan
-    origin = namelist_value(text, "grid", "origin") or [0.0]
-    length = namelist_value(text, "grid", "length")
-    ncells = namelist_value(text, "grid", "ncells")
-    lo = namelist_value(text, "region", "lo", pick=lambda b: "saturated" in b)
-    d["x_top"] = lo[0]
-    d["edges"] = origin[0] + np.linspace(0.0, length[0], int(ncells[0]) + 1)
+        grid = run.grid
+        region = run.scene.find("region", phase="saturated")[0]
+    d["x_top"] = float(first(region["lo"]))
+    d["edges"] = grid.origin[0] + np.linspace(0.0, grid.length[0], int(grid.ncells[0]) + 1)
     d["interior"] = interior_error(d)
     return d
 

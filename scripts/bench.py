@@ -43,6 +43,8 @@ import tempfile
 import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
 # (DPMPM_BIN measures another build, e.g. the one before a change, with the same driver)
 BIN = os.environ.get("DPMPM_BIN", os.path.join(ROOT, "build", "release", "dpmpm"))
 DOC = os.path.join(ROOT, "doc", "performance.md")
@@ -95,6 +97,39 @@ def two_phase_scene(nd, cells, phase, steps, workdir):
 {sides}&load face = 'y+' traction = {vec([0.0, -1000.0] + [0.0] * (nd - 2))} /
 &output dir = '{workdir}' frame_interval = 0.0 diag_every = 100 /
 """
+
+
+def mls_variants(scene, shapes, workdir):
+    """The scene of inputs/ (a W1 column) without its benchmark, ending at t = 10 s (cut by
+    max_steps) and writing into workdir, as dpmpm.Scenes: as it is ("Standard MPM") and with
+    each shape choice of shapes (label -> &shape text)."""
+    w1 = dpmpm.Scene.read(os.path.join(ROOT, "inputs", scene + ".nml"))
+    w1.remove("benchmark")
+    w1.set(run={"t_end": 10.0}, output={"dir": workdir})
+    variants = {"Standard MPM": w1}
+    for name, shape in shapes.items():
+        variants[name] = w1.copy()
+        variants[name].replace("shape", shape)
+    return variants
+
+
+def cut(scene, steps):
+    """The text of a scene cut at `steps` steps."""
+    scene = scene.copy()
+    scene["run"]["max_steps"] = steps
+    return scene.text()
+
+
+def scaling_block(cy, steps, workdir):
+    """The block of the scaling table: 2D, quadratic, MUSL, filling the grid of 360 x cy
+    cells (unit cells across), rollers at the sides; its text."""
+    s = dpmpm.Scene.from_text(block_scene(
+        2, 360, "quadratic", "musl", steps, workdir, lo=0.0, base=0.0, size=1.0,
+        walls="&boundary face = 'x-' condition = 'roller' /\n"
+              "&boundary face = 'x+' condition = 'roller' /\n"))
+    s["grid"].update(ncells=[360, cy], length=[1.0, cy / 360])
+    s["region"]["hi"] = [1.0, cy / 360]
+    return s.text()
 
 
 def write_scene(text, workdir, ranks=1):
@@ -187,9 +222,7 @@ def block_dt(cells):
 
 def peer(nd, cells, size, steps):
     """Point-updates per second of one run of the peer on the block, None without taichi."""
-    try:
-        import taichi  # noqa: F401
-    except ImportError:
+    if importlib.util.find_spec("taichi") is None:
         return None
     out = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "peer_taichi.py"),
                           "--ndim", str(nd), "--cells", str(cells), "--size", str(size),
@@ -314,28 +347,21 @@ def main():
         for nd, scene, gauss, steps in ((2, "w1_2d", pareto.LINEAR_GAUSS, (200, 2200)),
                                         (3, "w1_3d", box, (50, 550))):
             md.append(f"### The MLS pair against Standard MPM (inputs/{scene}.nml)\n")
-            with open(os.path.join(ROOT, "inputs", scene + ".nml")) as f:
-                w1 = f.read()
             # (the cubic B-spline with point quadrature: the pair's grid functions without
             # its Gauss-point work)
-            shapes = {"MLS pair": pareto.M1_COMBOS["pair (theory.md 3.6)"],
-                      "linear + one Gauss point": gauss,
-                      "cubic B-spline": "kernel = 'cubic', quadrature = 'points'"}
-            variants = {"Standard MPM": w1}
-            for name, shape in shapes.items():
-                variants[name] = re.sub(r"&shape\s+kernel = 'linear'\s*/", f"&shape {shape} /", w1)
+            variants = mls_variants(scene, {"MLS pair": pareto.M1_COMBOS["pair (theory.md 3.6)"],
+                                            "linear + one Gauss point": gauss,
+                                            "cubic B-spline": "kernel = 'cubic', quadrature = 'points'"},
+                                    work)
             md.append("| shape | ms / step | steps per simulated second | wall s per simulated second | against Standard MPM |")
             md.append("|---|---|---|---|---|")
             fns = {}
-            for name, text in variants.items():
-                text = re.sub(r"&benchmark[^/]*/", "", text)
-                text = text.replace("dir = 'out'", f"dir = '{work}'")
+            for name, sc in variants.items():
                 # (A step of these 800- and 3200-point columns takes a fraction of a millisecond
                 # to a few; the 3D pair 10-50 times more, hence fewer steps.)
                 s1, s2 = (5, 25) if (nd == 3 and name == "MLS pair") else steps
-                fns[name] = lambda text=text, s1=s1, s2=s2: step_time(
-                    lambda st: re.sub(r"t_end = [0-9.e-]+", f"t_end = 10.0\n  max_steps = {st}", text),
-                    n(s1), n(s2), work)
+                fns[name] = lambda sc=sc, s1=s1, s2=s2: step_time(lambda st: cut(sc, st), n(s1), n(s2),
+                                                                   work)
             vals, last = interleaved(fns, k)
             for name in fns:
                 v = vals[name]
@@ -355,16 +381,8 @@ def main():
         md.append("| scene | points | ranks | ms / step | M point-updates / s / core | speed-up or efficiency |")
         md.append("|---|---|---|---|---|---|")
 
-        def block(cy, steps, wd):
-            t = block_scene(2, 360, "quadratic", "musl", steps, wd, lo=0.0, base=0.0, size=1.0,
-                            walls="&boundary face = 'x-' condition = 'roller' /\n"
-                                  "&boundary face = 'x+' condition = 'roller' /\n")
-            return (t.replace("ncells = 360, 360", f"ncells = 360, {cy}")
-                    .replace("length = 1.0, 1.0", f"length = 1.0, {cy / 360}")
-                    .replace("hi = 1.0, 1.0", f"hi = 1.0, {cy / 360}"))
-
         def full(cy):
-            return lambda steps: block(cy, steps, work)
+            return lambda steps: scaling_block(cy, steps, work)
         # The host's own limit: two independent 1-rank runs of the half block at once (no
         # communication) against one alone; the 2-rank speed-up cannot beat it.
         pair_dirs = [os.path.join(work, f"pair{i}") for i in (1, 2)]
@@ -374,7 +392,8 @@ def main():
             "one": lambda: step_time(full(360), n(5), n(45), work, 1),
             "two": lambda: step_time(full(360), n(5), n(45), work, 2),
             "half": lambda: step_time(full(180), n(5), n(45), work, 1),
-            "pair": lambda: pair_step_time(lambda steps, wd: block(180, steps, wd), n(5), n(45), pair_dirs)}, k)
+            "pair": lambda: pair_step_time(lambda steps, wd: scaling_block(180, steps, wd), n(5), n(45),
+                                           pair_dirs)}, k)
         one, two, half, pair = vals["one"], vals["two"], vals["half"], vals["pair"]
         big, small = 720 * 720, 720 * 360
         sp = [a_ / b_ for a_, b_ in zip(one, two)]

@@ -15,6 +15,7 @@ Usage as a module: fields(col, t, z) -> dict of p, sigma_eff, v_s, v_f at depths
 Run as a script: compares itself with a run's /verification profiles
 (scripts/biot_laplace.py out/x.h5).
 """
+import os
 import sys
 
 import numpy as np
@@ -109,28 +110,25 @@ def fields(col, t, z, nfreq=2**14, period_factor=4.0, alpha_period=18.0, chunk=2
 
 
 def from_run(path):
-    """The column of a dpmpm run's input (its first saturated &region and materials 1, 2
-    as in the inputs w1*.nml) and its last frame time."""
-    import h5py
-    sys.path.insert(0, __file__.rsplit("/", 1)[0])
-    import figure6
-    with h5py.File(path, "r") as f:
-        text = f["input"][()].decode()
-        last = f["frames"][sorted(f["frames"])[-1]]
-        t = float(last.attrs["time"])
+    """The column of a dpmpm run's input (its first saturated &region, its linear elastic
+    and its fluid material, as in the inputs w1*.nml) and its last frame time."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "python"))
+    import dpmpm
+    with dpmpm.open_run(path) as run:
+        scene = run.scene
+        t = run.frames[-1].time
 
-    def val(group, name, pick=None):
-        return figure6.namelist_value(text, group, name, pick)[0]
-    soil = lambda b: "linear_elastic" in b  # noqa: E731
-    water = lambda b: "'fluid'" in b  # noqa: E731
-    e, nu = val("material", "youngs_modulus", soil), val("material", "poisson_ratio", soil)
+    def first(value):
+        return float(value[0] if isinstance(value, list) else value)
+    soil = scene.find("material", model="linear_elastic")[0]
+    water = scene.find("material", model="fluid")[0]
+    region = scene.find("region", phase="saturated")[0]
+    e, nu = float(soil["youngs_modulus"]), float(soil["poisson_ratio"])
     e_c = e * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
-    lo = figure6.namelist_value(text, "region", "lo", lambda b: "saturated" in b)[0]
-    hi = figure6.namelist_value(text, "region", "hi", lambda b: "saturated" in b)[0]
-    col = column(hi - lo, val("region", "porosity", lambda b: "saturated" in b),
-                 val("material", "density", soil), val("material", "density", water), e_c,
-                 val("material", "bulk_modulus", water), val("material", "conductivity", soil),
-                 figure6.namelist_value(text, "load", "traction")[0])
+    col = column(first(region["hi"]) - first(region["lo"]), float(region["porosity"]),
+                 float(soil["density"]), float(water["density"]), e_c,
+                 float(water["bulk_modulus"]), float(soil["conductivity"]),
+                 first(scene.groups("load")[0]["traction"]))
     return col, t
 
 

@@ -21,16 +21,14 @@ build before the change against the build after it.
 """
 import argparse
 import os
-import subprocess
 import sys
 import tempfile
-import time
 
-import h5py
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
 from dpmpm import namelist  # noqa: E402
 from dpmpm.compare import compare_runs  # noqa: E402
 from dpmpm.run import open_run  # noqa: E402
@@ -100,41 +98,26 @@ VARIANTS = {
 }
 
 
-def scene_text(scene, outdir, name, extra):
-    """The scene file cut for the comparison: short end time, four frames, output in outdir."""
+def scene_of(scene, outdir, name, extra):
+    """The scene cut for the comparison, as a dpmpm.Scene: short end time, four frames,
+    output in outdir. The variants' and --set's values are namelist text."""
     base, sets = (VARIANTS[scene][0], dict(VARIANTS[scene][1])) if scene in VARIANTS \
         else (scene, {})
-    text = open(os.path.join(ROOT, "inputs", base + ".nml")).read()
-    t_end = float(sets.pop("run.t_end", SCENES[base]))
-    values = {"run.name": f"'{name}'", "run.t_end": repr(t_end),
-              "output.dir": f"'{outdir}'", "output.frame_interval": repr(t_end / 4)}
+    s = dpmpm.Scene.read(os.path.join(ROOT, "inputs", base + ".nml"))
+    t_end = float(namelist.value(sets.pop("run.t_end", repr(SCENES[base]))))
+    s.set(run={"name": name, "t_end": t_end}, output={"dir": outdir, "frame_interval": t_end / 4})
     # an equilibrium phase longer than the cut run is refused by the input: cut it with the run
-    eq = namelist.group(text, "run").get("equilibrium_time")
-    if eq and float(eq[0]) > t_end:
-        values["run.equilibrium_time"] = repr(t_end)
-    values.update(sets)
-    values.update(extra)
-    return namelist.edit(text, values)
+    if float(s["run"].get("equilibrium_time", 0.0)) > t_end:
+        s["run"]["equilibrium_time"] = t_end
+    s.set({key: namelist.value(val) for key, val in dict(sets, **extra).items()})
+    return s
 
 
 def run(binary, scene, ranks, workdir, tag, extra):
     """Run one scene; the output path and the wall time (s)."""
-    outdir = os.path.join(workdir, tag)
-    os.makedirs(outdir, exist_ok=True)
-    name = f"{scene}_np{ranks}"
-    nml = os.path.join(outdir, name + ".nml")
-    with open(nml, "w") as f:
-        f.write(scene_text(scene, outdir, name, extra))
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1")
-    cmd = ["mpirun", "--oversubscribe", "-n", str(ranks), binary, nml]
-    t0 = time.time()
-    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    wall = time.time() - t0
-    if r.returncode != 0:
-        sys.stderr.write(r.stdout[-3000:] + r.stderr[-3000:])
-        raise RuntimeError(f"{' '.join(cmd)} ended with {r.returncode}")
-    return os.path.join(outdir, name + ".h5"), wall
+    r = dpmpm.simulate(scene_of(scene, os.path.join(workdir, tag), f"{scene}_np{ranks}", extra),
+                       ranks=ranks, binary=binary, progress=False)
+    return r.output, r.wall
 
 
 def _rel(a, b):
@@ -210,7 +193,7 @@ def main():
                 pa, ta = run(args.before, scene, n, workdir, "before", extra)
                 pb, tb = run(args.after, scene, n, workdir, "after", extra)
                 problems, worst, identical, where = compare(pa, pb)
-            except (RuntimeError, OSError, KeyError) as e:
+            except (dpmpm.RunError, OSError, KeyError) as e:
                 problems, worst, identical, where, ta, tb = [str(e)], np.inf, False, "", 0, 0
             ok = not problems and worst <= args.rtol
             failed += not ok

@@ -28,15 +28,12 @@ Usage: scripts/figure6.py [--dims 1|2|3] [--build build/release] [--out out/figu
        [--ranks 1] [--jobs 2] [--skip-runs]
 """
 import argparse
-import concurrent.futures as cf
 import json
 import os
 import re
 import subprocess
 import sys
-import time
 
-import h5py
 import matplotlib
 import numpy as np
 
@@ -44,8 +41,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-           "OMPI_MCA_rmaps_base_oversubscribe": "1"}
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
+
 CFL = 0.3
 
 # Variant label -> &shape settings (namelist text).
@@ -90,114 +88,44 @@ def tag_of(label, dims):
 
 
 def make_scene(dims, label, outdir, shape=None, tag=None):
-    """Scene text of one variant: W1 with its &shape (VARIANTS[label] unless given), the
-    common CFL, own name (tag_of unless given) and dir."""
-    text = open(scene_file(dims)).read()
+    """One variant as a dpmpm.Scene: W1 with its &shape (VARIANTS[label] unless given), the
+    common CFL, own name (tag_of unless given) and dir; returns (tag, scene)."""
+    s = dpmpm.Scene.read(scene_file(dims))
     tag = tag or tag_of(label, dims)
-    shape = shape or VARIANTS[label]
-    # Anchored at the start of a line, so that the comments of the scene stay as they are;
-    # the first name is the one of &run (the scene lists &run first).
-    text = re.sub(r"^(\s*)name = '[^']*'", rf"\g<1>name = '{tag}'", text, count=1, flags=re.M)
-    text = re.sub(r"^(\s*)cfl = [0-9.eE+-]+", rf"\g<1>cfl = {CFL}", text, count=1, flags=re.M)
-    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {shape}\n/", text, flags=re.S | re.M)
-    text = re.sub(r"^(\s*)dir = '[^']*'", rf"\g<1>dir = '{outdir}'", text, count=1, flags=re.M)
-    for key, value in (("name", f"'{tag}'"), ("cfl", str(CFL)), ("dir", f"'{outdir}'")):
-        if not re.search(rf"^\s*{key} = {re.escape(value)}\s*$", text, flags=re.M):
-            raise SystemExit(f"figure6: could not set {key} in {scene_file(dims)}")
-    return tag, text
+    s.set(run={"name": tag, "cfl": CFL}, output={"dir": outdir})
+    s.replace("shape", shape or VARIANTS[label])
+    return tag, s
 
 
-def run_case(build, outdir, dims, label, ranks):
-    tag, text = make_scene(dims, label, outdir)
-    nml = os.path.join(outdir, tag + ".nml")
-    with open(nml, "w") as f:
-        f.write(text)
-    start = time.time()
-    with open(os.path.join(outdir, tag + ".log"), "w") as log:
-        subprocess.run(["mpirun", "--oversubscribe", "-n", str(ranks),
-                        os.path.join(build, "dpmpm"), nml],
-                       stdout=log, stderr=subprocess.STDOUT,
-                       env=dict(os.environ, **MPI_ENV), check=True)
-    with open(os.path.join(outdir, tag + ".json"), "w") as f:
-        json.dump({"wall_seconds": time.time() - start, "ranks": ranks}, f)
-    return tag
-
-
-def strip_comment(line):
-    """The line without its '!' comment (a '!' inside quotes is kept)."""
-    quote = None
-    for i, c in enumerate(line):
-        if quote:
-            quote = None if c == quote else quote
-        elif c in "'\"":
-            quote = c
-        elif c == "!":
-            return line[:i]
-    return line
-
-
-def namelist_groups(text, group):
-    """Bodies of the &group namelist groups of an input text, comments removed: from the
-    group name to the first '/' outside quotes."""
-    clean = "\n".join(strip_comment(line) for line in text.splitlines())
-    bodies = []
-    for m in re.finditer(rf"&{group}\b", clean, flags=re.I):
-        i, quote = m.end(), None
-        while i < len(clean):
-            c = clean[i]
-            if quote:
-                quote = None if c == quote else quote
-            elif c in "'\"":
-                quote = c
-            elif c == "/":
-                break
-            i += 1
-        bodies.append(clean[m.end():i])
-    return bodies
-
-
-def namelist_value(text, group, name, pick=None):
-    """Numbers given to variable name in the first &group (the first one for which
-    pick(body) is true), or None."""
-    for body in namelist_groups(text, group):
-        if pick is not None and not pick(body):
-            continue
-        v = re.search(rf"\b{name}\s*=\s*([-+0-9.eEdD, ]+)", body)
-        if v:
-            return [float(x.replace("d", "e").replace("D", "e"))
-                    for x in v.group(1).replace(",", " ").split()]
-    return None
+def first(value):
+    """The first element of a namelist value (a scalar in 1D scenes, a list otherwise)."""
+    return value[0] if isinstance(value, list) else value
 
 
 def load(outdir, tag):
-    with h5py.File(os.path.join(outdir, tag + ".h5"), "r") as f:
-        text = f["input"][()].decode()
-        last = f["frames"][sorted(f["frames"])[-1]]
+    with dpmpm.open_run(os.path.join(outdir, tag + ".h5")) as run:
+        last = run.frames[-1]
+        solid, fluid = last["solid"], last["fluid"]
         d = {
-            "time": float(last.attrs["time"]),
-            "step": int(last.attrs["step"]),
-            "xs": last["solid"]["x"][:, 0], "sig": last["solid"]["stress"][:, 0],
-            "vs": last["solid"]["volume"][...],
-            "xf": last["fluid"]["x"][:, 0], "p": last["fluid"]["pore_pressure"][...],
-            "vf": last["fluid"]["volume"][...],
+            "time": last.time,
+            "step": last.step,
+            "xs": solid["x"][:, 0], "sig": solid["stress"][:, 0], "vs": solid["volume"],
+            "xf": fluid["x"][:, 0], "p": fluid["pore_pressure"], "vf": fluid["volume"],
         }
-        ver = f["verification"]
+        ver, a = run.verification, run.verification_attrs
         for name in MEASURES:
-            d[name] = float(ver.attrs.get("final_" + name, np.nan))
+            d[name] = a.get("final_" + name, np.nan)
         for name in ("z", "p", "sigma_eff"):
-            d["ref_" + name] = ver["profile_" + name][...]
-        a = ver.attrs
+            d["ref_" + name] = ver["profile_" + name]
         if "wall_time_step_loop" in a and "steps" in a:
-            d["cost"] = float(a["wall_time_step_loop"]) / float(a["steps"])
+            d["cost"] = a["wall_time_step_loop"] / a["steps"]
         else:
-            wall = f["diagnostics"]["wall_time"][...]
+            wall = run.diagnostics["wall_time"]
             d["cost"] = float(wall[-1]) / max(d["step"], 1) if wall.size else np.nan
-    origin = namelist_value(text, "grid", "origin") or [0.0]
-    length = namelist_value(text, "grid", "length")
-    ncells = namelist_value(text, "grid", "ncells")
-    lo = namelist_value(text, "region", "lo", pick=lambda b: "saturated" in b)
-    d["x_top"] = lo[0]
-    d["edges"] = origin[0] + np.linspace(0.0, length[0], int(ncells[0]) + 1)
+        grid = run.grid
+        region = run.scene.find("region", phase="saturated")[0]
+    d["x_top"] = float(first(region["lo"]))
+    d["edges"] = grid.origin[0] + np.linspace(0.0, grid.length[0], int(grid.ncells[0]) + 1)
     d["interior"] = interior_error(d)
     return d
 
@@ -306,12 +234,13 @@ def main():
 
     if not args.skip_runs:
         ensure_build(args.build)
-        with cf.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            futs = {pool.submit(run_case, args.build, outdir, args.dims, label, args.ranks): label
-                    for label in VARIANTS}
-            for fut in cf.as_completed(futs):
-                fut.result()
-                print("done", futs[fut], flush=True)
+        scenes = [make_scene(args.dims, label, outdir)[1] for label in VARIANTS]
+        results = dpmpm.study(scenes, ranks=args.ranks, jobs=args.jobs, progress=False,
+                              errors="raise", binary=os.path.join(args.build, "dpmpm"))
+        for label, r in zip(VARIANTS, results):
+            with open(os.path.join(outdir, r.name + ".json"), "w") as f:
+                json.dump({"wall_seconds": r.wall, "ranks": args.ranks}, f)
+            print("done", label, flush=True)
 
     res = {label: load(outdir, tag_of(label, args.dims)) for label in VARIANTS}
     figname = "figure6.png" if args.dims == 1 else f"figure6_{args.dims}d.png"

@@ -22,14 +22,14 @@ the curves with --plot.
 import argparse
 import math
 import os
-import re
-import subprocess
-import time
+import sys
 
-import h5py
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
+
 SCENE = os.path.join(ROOT, "inputs", "footing_prandtl_2d.nml")
 B = 1.0          #: footing width (m); the scene holds half of it
 C = 1.0e4        #: cohesion (Pa)
@@ -46,31 +46,28 @@ def prandtl_nc(phi_deg):
 
 
 def scene(path, cpm, workdir, phi, psi, tensile):
-    text = open(path).read()
-    tag = "prandtl_saturated" if "phase = 'saturated'" in text else "prandtl"
+    """The footing scene at cpm cells per metre (5 m by 3.6 m, the cells rounded) with the
+    soil's friction and dilatancy angles (and tensile strength) as asked, as a dpmpm.Scene."""
+    s = dpmpm.Scene.read(path)
+    tag = "prandtl_saturated" if s.find("region", phase="saturated") else "prandtl"
     name = f"{tag}_{cpm}" + (f"_phi{phi:g}_psi{psi:g}" if phi > 0 else "")
+    soil = [m for m in s.groups("material") if "cohesion" in m]
+    if len(soil) != 1:
+        raise SystemExit(f"footing_prandtl: {path} has {len(soil)} materials with a cohesion, not 1")
     if tensile is not None:
         name += f"_t{tensile:g}"
-        text = re.sub(r"\n  tensile_strength = [^\n]*", "", text)
-        text, n = re.subn(r"(\n  cohesion = [^\n]*)", rf"\1\n  tensile_strength = {tensile}", text)
-        if n != 1:
-            raise SystemExit(f"footing_prandtl: no cohesion line in {path}")
-    for pat, rep in [(r"name = '[^']*'", f"name = '{name}'"),
-                     (r"friction_angle = 0\.0", f"friction_angle = {phi}"),
-                     (r"dilatancy_angle = 0\.0", f"dilatancy_angle = {psi}"),
-                     (r"ncells = 50, 36", f"ncells = {5 * cpm}, {round(3.6 * cpm)}"),
-                     (r"length = 5\.0, 3\.6", f"length = 5.0, {round(3.6 * cpm) / cpm:.4f}"),
-                     (r"dir = '[^']*'", f"dir = '{workdir}'")]:
-        text, n = re.subn(pat, rep, text)
-        if n != 1:
-            raise SystemExit(f"footing_prandtl: {path} does not match {pat!r}")
-    return name, text
+        soil[0]["tensile_strength"] = tensile
+    soil[0].update(friction_angle=phi, dilatancy_angle=psi)
+    ny = round(3.6 * cpm)
+    s.set(run={"name": name}, grid={"ncells": [5 * cpm, ny], "length": [5.0, round(ny / cpm, 4)]},
+          output={"dir": workdir})
+    return s
 
 
 def curve(h5):
-    with h5py.File(h5, "r") as f:
-        t = f["verification/drive_time"][:]
-        fy = f["verification/drive_force_y"][:]
+    with dpmpm.open_run(h5) as run:
+        t = run.verification["drive_time"][:]
+        fy = run.verification["drive_force_y"][:]
     return V * t / B, -fy / (0.5 * B) / C
 
 
@@ -80,12 +77,11 @@ def plot_fields(h5, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    with h5py.File(h5, "r") as f:
-        key = sorted(f["frames"].keys())[-1]
-        fr = f["frames"][key]
-        t = fr.attrs["time"] if "time" in fr.attrs else float("nan")
-        xs, mat, ep = fr["solid/x"][:], fr["solid/material"][:], fr["solid/plastic_strain"][:]
-        xf, pf = fr["fluid/x"][:], fr["fluid/pore_pressure"][:]
+    with dpmpm.open_run(h5) as run:
+        fr = run.frames[-1]
+        t = fr.time
+        xs, mat, ep = fr["solid"]["x"], fr["solid"]["material"], fr["solid"]["plastic_strain"]
+        xf, pf = fr["fluid"]["x"], fr["fluid"]["pore_pressure"]
     soil = mat == 1
     fig, axs = plt.subplots(1, 2, figsize=(10, 3.8), sharey=True)
     a = axs[0].scatter(xs[soil, 0], xs[soil, 1], c=ep[soil], s=2, cmap="viridis",
@@ -128,22 +124,19 @@ def main():
                     "pore pressure (saturated scenes)")
     args = ap.parse_args()
     os.makedirs(args.workdir, exist_ok=True)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     psi = args.phi if args.psi is None else args.psi
     nc = prandtl_nc(args.phi)
     rows = []
     for cpm in args.cells_per_metre:
-        name, text = scene(args.scene, cpm, args.workdir, args.phi, psi, args.tensile)
-        nml = os.path.join(args.workdir, name + ".nml")
-        h5 = os.path.join(args.workdir, name + ".h5")
-        open(nml, "w").write(text)
-        if args.rerun or not os.path.exists(h5):
-            t0 = time.time()
-            with open(os.path.join(args.workdir, name + ".log"), "w") as log:
-                rc = subprocess.run(["mpirun", "--oversubscribe", "-n", str(args.ranks), args.bin, nml],
-                                    env=env, stdout=log, stderr=subprocess.STDOUT).returncode
-            print(f"{name}: exit code {rc}, {time.time() - t0:.0f} s", flush=True)
-        s, q = curve(h5)
+        sc = scene(args.scene, cpm, args.workdir, args.phi, psi, args.tensile)
+        try:
+            r = dpmpm.simulate(sc, ranks=args.ranks, binary=args.bin, reuse=not args.rerun,
+                               progress=sys.stderr.isatty())
+            if not r.reused:
+                print(f"{sc.name}: exit code 0, {r.wall:.0f} s", flush=True)
+        except dpmpm.RunError as e:
+            print(f"{sc.name}: exit code {e.status}: {e}", flush=True)
+        s, q = curve(sc.output_file())
         band = (s >= args.band[0]) & (s <= args.band[1])
         rows.append((cpm, s, q, q[band].mean(), q[band].min(), q[band].max()))
     print(f"phi = {args.phi} deg, psi = {psi} deg: Prandtl N_c = {nc:.3f}")
@@ -169,8 +162,8 @@ def main():
         print(f"figure: {args.plot}")
     if args.fields:
         cpm = max(args.cells_per_metre)
-        name, _ = scene(args.scene, cpm, args.workdir, args.phi, psi, args.tensile)
-        plot_fields(os.path.join(args.workdir, name + ".h5"), args.fields)
+        plot_fields(scene(args.scene, cpm, args.workdir, args.phi, psi, args.tensile).output_file(),
+                    args.fields)
 
 
 if __name__ == "__main__":

@@ -21,15 +21,13 @@ implies over Coulomb's (doc/verification.md, "Larger friction: frictional flutte
 """
 import argparse
 import os
-import re
-import subprocess
 import sys
 
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
-from dpmpm.launch import run_scene  # noqa: E402
+import dpmpm  # noqa: E402
 from dpmpm.run import open_run  # noqa: E402
 
 SCENE = os.path.join(ROOT, "inputs", "incline_slide_2d.nml")
@@ -65,7 +63,7 @@ FLUTTER = [("d30_mu03", 30, 0.3, 0.5, 1, 1.6, False, 0.0),
 
 
 def long_block(tag, angle, mu, flip, refine, length, saturated, kf, workdir, lift_off=True):
-    """Scene text of a block of the given length, 0.1 m thick, at rest in its geostatic state
+    """The scene (a dpmpm.Scene) of a block of the given length, 0.1 m thick, at rest in its geostatic state
     on the rough face y- of a grid tilted by gravity (as tests/test_wall_friction.f90 builds
     it): dry (1000 kg/m^3, K0 = 3/7) or saturated (grains 2650 kg/m^3, n = 0.4, k = 1e-8 m/s,
     water of bulk modulus kf; sigma'_xx = p so that no total stress acts across its ends)."""
@@ -97,7 +95,7 @@ def long_block(tag, angle, mu, flip, refine, length, saturated, kf, workdir, lif
     hold = "" if lift_off else ", lift_off = .false."
     lines += [f"&boundary face = 'y-', condition = 'roller', friction = {mu}{hold} /",
               f"&output dir = '{workdir}', frame_interval = 0.01 /", ""]
-    return "\n".join(lines)
+    return dpmpm.Scene.from_text("\n".join(lines))
 
 
 def normal_share(saturated):
@@ -132,9 +130,9 @@ def flutter(binary, workdir):
     def slide(tag, case, lift_off):
         angle, mu, flip, refine, length, sat, kf = case
         name = tag if lift_off else tag + "_held"
-        h5 = run_scene(binary, long_block(name, angle, mu, flip, refine, length, sat, kf, workdir,
-                                          lift_off), workdir, name)
-        t, ux, ex = middle_slide(h5, length, sat, mu)
+        scene = long_block(name, angle, mu, flip, refine, length, sat, kf, workdir, lift_off)
+        r = dpmpm.simulate(scene, binary=binary, reuse=True, progress=False)
+        t, ux, ex = middle_slide(r.output, length, sat, mu)
         # the mean friction (per unit mass) that the distance slid implies, against mu g_n
         # (times the buoyant share with pore water): a = g_t - f
         th = np.radians(angle)
@@ -197,22 +195,25 @@ def report(path):
     return t, ux, ex, mu
 
 
+def variant(tag, flip, mu, kernel, workdir):
+    """The scene of one --study variant, as a dpmpm.Scene."""
+    s = dpmpm.Scene.read(SCENE)
+    s.set(run={"name": f"slide_{tag}", "flip": flip}, shape={"kernel": kernel},
+          output={"dir": workdir})
+    [floor] = s.find("boundary", face="y-")
+    floor["friction"] = mu
+    return s
+
+
 def study(binary, workdir):
-    os.makedirs(workdir, exist_ok=True)
-    text = open(SCENE).read()
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     files = []
     for tag, flip, mu, kernel in VARIANTS:
-        s = re.sub(r"name = '[^']*'", f"name = 'slide_{tag}'", text)
-        s = re.sub(r"flip = [0-9.]+", f"flip = {flip}", s)
-        s = re.sub(r"friction = [0-9.]+", f"friction = {mu}", s)
-        s = re.sub(r"kernel = '[^']*'", f"kernel = '{kernel}'", s)
-        s = s.replace("dir = 'out'", f"dir = '{workdir}'")
-        nml = os.path.join(workdir, f"slide_{tag}.nml")
-        open(nml, "w").write(s)
-        subprocess.run(["mpirun", "--oversubscribe", "-n", "1", binary, nml], env=env,
-                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
-        files.append((tag, flip, mu, kernel, os.path.join(workdir, f"slide_{tag}.h5")))
+        scene = variant(tag, flip, mu, kernel, workdir)
+        try:
+            dpmpm.simulate(scene, binary=binary, progress=False)
+        except dpmpm.RunError as e:     # reported by the table below as what it wrote
+            print(f"{scene.name}: {e}", file=sys.stderr)
+        files.append((tag, flip, mu, kernel, scene.output_file()))
     print("| run | flip | μ | x at t_end (m) | Coulomb x (m) | rel. error |")
     print("|---|---|---|---|---|---|")
     for tag, flip, mu, kernel, h5 in files:

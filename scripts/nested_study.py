@@ -18,31 +18,26 @@ may outnumber cores: the counts do not depend on the timing.
 import argparse
 import os
 import re
-import subprocess
+import sys
+
+import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
 
 
-def with_split(text, balance, outdir):
-    """The input text with the split chosen and its output in outdir."""
-    text = re.sub(r"(?m)^\s*dir\s*=.*$", f"  dir = '{outdir}'", text)
-    text = re.sub(r"(?m)^\s*balance\s*=.*$", "", text)
-    return re.sub(r"(?m)^&grid\b", f"&grid\n  balance = '{balance}'", text, count=1)
+def with_split(scene, balance, outdir):
+    """A copy of the scene with the split chosen and its output in outdir."""
+    s = scene.copy()
+    s.set(grid={"balance": balance}, output={"dir": outdir})
+    return s
 
 
-def run(build, outdir, tag, text, ranks):
-    """Run dpmpm on the text; the log's text."""
-    os.makedirs(outdir, exist_ok=True)
-    nml = os.path.join(outdir, tag + ".nml")
-    with open(nml, "w") as f:
-        f.write(text)
-    logpath = os.path.join(outdir, tag + ".log")
-    with open(logpath, "w") as log:
-        subprocess.run(["mpirun", "--oversubscribe", "-n", str(ranks), os.path.join(build, "dpmpm"), nml],
-                       stdout=log, stderr=subprocess.STDOUT, env=ENV, check=True)
-    with open(logpath) as f:
+def run(build, scene, ranks):
+    """Run the scene (dpmpm.simulate, the log beside the output); the log's text."""
+    r = dpmpm.simulate(scene, ranks=ranks, binary=os.path.join(build, "dpmpm"), progress=False)
+    with open(r.log) as f:
         return f.read()
 
 
@@ -55,16 +50,13 @@ def start_ratio(log, ranks):
 
 def frame_ratios(path, ranks):
     """Busiest rank over the mean in every frame of an output file."""
-    import h5py
-    import numpy as np
     out = []
-    with h5py.File(path, "r") as f:
-        for key in sorted(f["frames"].keys()):
-            fr = f["frames"][key]
+    with dpmpm.open_run(path) as run:
+        for fr in run.frames:
             counts = np.zeros(ranks)
             for s in ("solid", "fluid"):
                 if s in fr and "rank" in fr[s]:
-                    counts += np.bincount(np.asarray(fr[s]["rank"][()], dtype=int), minlength=ranks)
+                    counts += np.bincount(np.asarray(fr[s]["rank"], dtype=int), minlength=ranks)
             if counts.sum() > 0:
                 out.append(counts.max() / counts.mean())
     return out
@@ -87,33 +79,29 @@ def main():
     if a.mode == "restart":
         ranks = [int(r) for r in (a.ranks or "4,8,16").split(",")]
         balances = (a.balance or "points,nested").split(",")
-        with open(a.input) as f:
-            base = f.read()
-        base = re.sub(r"(?m)^&run\b", f"&run\n  restart = '{os.path.abspath(a.checkpoint)}'\n"
-                      f"  max_steps = {a.step + a.steps}", base, count=1)
+        base = dpmpm.Scene.read(a.input)
+        base.set(run={"restart": os.path.abspath(a.checkpoint), "max_steps": a.step + a.steps})
         print("ranks " + " ".join(f"{b:>8}" for b in balances))
         for n in ranks:
             row = []
             for b in balances:
                 tag = f"restart_{b}_np{n}"
-                log = run(a.build, os.path.join(out, tag), tag, with_split(base, b, os.path.join(out, tag)), n)
+                log = run(a.build, with_split(base, b, os.path.join(out, tag)), n)
                 row.append(start_ratio(log, n))
             print(f"{n:5d} " + " ".join(f"{r:8.2f}" for r in row), flush=True)
     else:
         ranks = [int(r) for r in (a.ranks or "4,8").split(",")]
         balances = (a.balance or "cells,points,nested").split(",")
-        with open(os.path.join(ROOT, "inputs", a.scene + ".nml")) as f:
-            base = f.read()
-        base = re.sub(r"(?m)^&output\b", "&output\n  solid_fields = 'all rank'\n  fluid_fields = 'all rank'",
-                      base, count=1)
-        name = re.search(r"(?m)^\s*name\s*=\s*'([^']+)'", base).group(1)
+        base = dpmpm.Scene.read(os.path.join(ROOT, "inputs", a.scene + ".nml"))
+        base.set(output={"solid_fields": "all rank", "fluid_fields": "all rank"})
         print(f"{a.scene}: busiest rank / mean: start, mean over the frames, largest")
         for n in ranks:
             for b in balances:
                 tag = f"{a.scene}_{b}_np{n}"
                 d = os.path.join(out, tag)
-                run(a.build, d, tag, with_split(base, b, d), n)
-                r = frame_ratios(os.path.join(d, name + ".h5"), n)
+                scene = with_split(base, b, d)
+                run(a.build, scene, n)
+                r = frame_ratios(scene.output_file(), n)
                 print(f"  {n:3d} ranks {b:>7}: {r[0]:5.2f} {sum(r) / len(r):5.2f} {max(r):5.2f}"
                       f"  ({len(r)} frames)", flush=True)
 

@@ -19,10 +19,8 @@ import argparse
 import json
 import os
 import re
-import subprocess
 import sys
 
-import h5py
 import matplotlib
 import numpy as np
 
@@ -31,11 +29,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
 import figure6  # noqa: E402
 import verify_mls  # noqa: E402
 
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
 DOC = os.path.join(ROOT, "doc", "performance.md")
 FIG = os.path.join(ROOT, "doc", "figures", "speed_error.png")
 BEGIN, END = "<!-- pareto:begin -->", "<!-- pareto:end -->"
@@ -62,44 +60,38 @@ def slug(s):
     return re.sub(r"[^a-z0-9]+", "_", s.lower()).strip("_")
 
 
-def run(build, outdir, tag, text):
-    nml = os.path.join(outdir, tag + ".nml")
-    with open(nml, "w") as f:
-        f.write(text)
-    with open(os.path.join(outdir, tag + ".log"), "w") as log:
-        r = subprocess.run(["mpirun", "--oversubscribe", "-n", "1", os.path.join(build, "dpmpm"), nml],
-                           stdout=log, stderr=subprocess.STDOUT, env=ENV)
-    return r.returncode
+def run(build, scene):
+    """Run a scene on one rank (dpmpm.simulate, the log beside the output); its exit code."""
+    try:
+        dpmpm.simulate(scene, binary=os.path.join(build, "dpmpm"), progress=False)
+        return 0
+    except dpmpm.RunError as e:
+        return e.status
 
 
-def m1_text(label, cells, amp, outdir, tag):
+def m1_scene(label, cells, amp, outdir, tag):
     """The M1 scene of scripts/verify_mls.py, with diagnostics at the automatic interval."""
-    text = verify_mls.scene_text(label, cells, amp, outdir, tag, shape=M1_COMBOS[label])
-    return re.sub(r"diag_every = \d+", "diag_every = 0", text)
+    s = verify_mls.scene(label, cells, amp, outdir, tag, shape=M1_COMBOS[label])
+    s["output"]["diag_every"] = 0
+    return s
 
 
-def w1_text(dims, label, cells, outdir, tag):
+def w1_scene(dims, label, cells, outdir, tag):
     """The W1 scene of scripts/figure6.py with `cells` along the column."""
-    _, text = figure6.make_scene(dims, label, outdir, shape=W1_VARIANTS[label], tag=tag)
-    if dims == 1:
-        text = re.sub(r"ncells = 100\b", f"ncells = {cells}", text, count=1)
-    else:
-        # The cross-section keeps its 0.2 m; its cells follow the column's size.
-        ny = max(2, round(2 * cells / 100))
-        text = re.sub(r"ncells = 100, 2\b", f"ncells = {cells}, {ny}", text, count=1)
-    if f"ncells = {cells}" not in text:
-        raise SystemExit(f"pareto: could not set the cells of {figure6.scene_file(dims)}")
-    return text
+    _, s = figure6.make_scene(dims, label, outdir, shape=W1_VARIANTS[label], tag=tag)
+    if s["grid"]["ncells"] != (100 if dims == 1 else [100, 2]):
+        raise SystemExit(f"pareto: {figure6.scene_file(dims)} is not the column of 100 cells")
+    # The cross-section keeps its 0.2 m; its cells follow the column's size.
+    s["grid"]["ncells"] = cells if dims == 1 else [cells, max(2, round(2 * cells / 100))]
+    return s
 
 
 def attrs(outdir, tag):
     path = os.path.join(outdir, tag + ".h5")
     if not os.path.exists(path):
         return None
-    with h5py.File(path, "r") as f:
-        if "verification" not in f:
-            return None
-        return {k: (v.item() if hasattr(v, "item") else v) for k, v in f["verification"].attrs.items()}
+    with dpmpm.open_run(path) as r:
+        return r.verification_attrs or None
 
 
 def cases(quick):
@@ -111,13 +103,13 @@ def cases(quick):
         for label in M1_COMBOS:
             for c in m1_cells:
                 out.append((bench, label, c, f"pm1_{slug(label)}_{c}_{'small' if amp < 1e-2 else 'large'}",
-                            lambda outdir, tag, label=label, c=c, amp=amp: m1_text(label, c, amp, outdir, tag)))
+                            lambda outdir, tag, label=label, c=c, amp=amp: m1_scene(label, c, amp, outdir, tag)))
     for dims in (1, 2):
         bench = f"W1 {dims}D"
         for label in W1_VARIANTS:
             for c in w1_cells:
                 out.append((bench, label, c, f"pw1_{dims}d_{slug(label)}_{c}",
-                            lambda outdir, tag, label=label, c=c, dims=dims: w1_text(dims, label, c, outdir, tag)))
+                            lambda outdir, tag, label=label, c=c, dims=dims: w1_scene(dims, label, c, outdir, tag)))
     return out
 
 
@@ -140,7 +132,7 @@ def main():
     for bench, label, cells, tag, make in cases(a.quick):
         at = attrs(a.out, tag) if a.skip_runs or a.missing else None
         if not a.skip_runs and (at is None or "wall_time_step_loop" not in at):
-            rc = run(a.build, a.out, tag, make(a.out, tag))
+            rc = run(a.build, make(a.out, tag))
             print(f"pareto: {bench:14s} {label:32s} {cells:4d} rc {rc}", file=sys.stderr)
             at = attrs(a.out, tag)
         if at is None or "wall_time_step_loop" not in at:

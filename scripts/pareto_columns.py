@@ -31,12 +31,13 @@ import os
 import re
 import sys
 
-import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
 import biot_laplace  # noqa: E402
+import dpmpm  # noqa: E402
 from pareto import LINEAR_GAUSS, run  # noqa: E402  (the choice and the launch of the M1/W1 study)
 
 PERF = os.path.join(ROOT, "doc", "performance.md")
@@ -102,74 +103,31 @@ def place_label(placement, seed):
 def scene(tag, outdir, col, shape, placement, seed, extra=None):
     """2D column along x (as inputs/w1_2d.nml): 100 x 2 cells, rollers on y- and y+, the
     drained loaded top x-, the fixed impermeable bottom x+, a 1 Pa step load, benchmark
-    biot_column. extra may set cfl, flip, scheme, ppc, fluid_seed, ncells (along x) and the
-    column's parameters, for runs beside the study's."""
+    biot_column, as a dpmpm.Scene. extra may set cfl, flip, scheme, ppc, fluid_seed, ncells
+    (along x) and the column's parameters, for runs beside the study's."""
     extra = extra or {}
     c = dict(col, **{k: v for k, v in extra.items() if k in col})
     nx = extra.get("ncells", NCELLS)
     ny = max(2, round(WIDTH / (LENGTH / nx)))
-    grid = f"ncells = {nx}, {ny}\n  origin = 0.0, 0.0\n  length = {LENGTH}, {WIDTH}"
-    box = f"hi = {LENGTH}, {WIDTH}"
-    faces = ("&boundary face = 'x-' condition = 'free' fluid = 'drained' /\n"
-             "&boundary face = 'x+' condition = 'fixed' fluid = 'impermeable' /\n"
-             "&boundary face = 'y-' condition = 'roller' /\n"
-             "&boundary face = 'y+' condition = 'roller' /")
-    load = "face = 'x-'\n  traction = 1.0, 0.0"
-    return f"""&run
-  name = '{tag}'
-  t_end = {c['t_end']}
-  cfl = {extra.get('cfl', CFL)}
-  drag = '{c['drag']}'
-  flip = {extra.get('flip', 1.0)}
-  scheme = '{extra.get('scheme', 'musl')}'
-/
-&grid
-  ndim = 2
-  {grid}
-/
-&shape
-  {shape}
-/
-&material
-  id = 1
-  model = 'linear_elastic'
-  density = {c['rho_s']}
-  youngs_modulus = {c['youngs']}
-  poisson_ratio = 0.0
-  conductivity = {c['k']}
-/
-&material
-  id = 2
-  model = 'fluid'
-  density = {c['rho_f']}
-  bulk_modulus = {c['k_f']}
-/
-&region
-  shape = 'box'
-  lo = 0.0, 0.0
-  {box}
-  material = 1
-  phase = 'saturated'
-  fluid_material = 2
-  porosity = {c['porosity']}
-  ppc = {extra.get('ppc', 2)}
-  placement = '{placement}'
-  seed = {seed}
-  fluid_seed = {extra.get('fluid_seed', -1)}
-/
-{faces}
-&load
-  {load}
-  ramp_time = 0.0
-/
-&output
-  dir = '{outdir}'
-  frame_interval = 0.0
-/
-&benchmark
-  name = 'biot_column'
-/
-"""
+    s = dpmpm.Scene()
+    s.add("run", name=tag, t_end=c["t_end"], cfl=extra.get("cfl", CFL), drag=c["drag"],
+          flip=extra.get("flip", 1.0), scheme=extra.get("scheme", "musl"))
+    s.add("grid", ndim=2, ncells=[nx, ny], origin=[0.0, 0.0], length=[LENGTH, WIDTH])
+    s.replace("shape", shape)
+    s.add("material", id=1, model="linear_elastic", density=c["rho_s"],
+          youngs_modulus=c["youngs"], poisson_ratio=0.0, conductivity=c["k"])
+    s.add("material", id=2, model="fluid", density=c["rho_f"], bulk_modulus=c["k_f"])
+    s.add("region", shape="box", lo=[0.0, 0.0], hi=[LENGTH, WIDTH], material=1,
+          phase="saturated", fluid_material=2, porosity=c["porosity"], ppc=extra.get("ppc", 2),
+          placement=placement, seed=seed, fluid_seed=extra.get("fluid_seed", -1))
+    s.add("boundary", face="x-", condition="free", fluid="drained")
+    s.add("boundary", face="x+", condition="fixed", fluid="impermeable")
+    s.add("boundary", face="y-", condition="roller")
+    s.add("boundary", face="y+", condition="roller")
+    s.add("load", face="x-", traction=[1.0, 0.0], ramp_time=0.0)
+    s.add("output", dir=outdir, frame_interval=0.0)
+    s.add("benchmark", name="biot_column")
+    return s
 
 
 _REF = {}
@@ -204,21 +162,21 @@ def measure(outdir, tag, col, ncells=NCELLS):
     path = os.path.join(outdir, tag + ".h5")
     if not os.path.exists(path):
         return None
-    with h5py.File(path, "r") as f:
-        if "verification" not in f or "frames" not in f or not len(f["frames"]):
+    with dpmpm.open_run(path) as run:
+        if "verification" not in run.file or not run.frames:
             return None
-        v = f["verification"]
-        last = f["frames"][sorted(f["frames"])[-1]]
-        t = float(last.attrs["time"])
-        xs, sig, vs = last["solid"]["x"][:, 0], last["solid"]["stress"][:, 0], last["solid"]["volume"][...]
-        xf, p, vf = last["fluid"]["x"][:, 0], last["fluid"]["pore_pressure"][...], last["fluid"]["volume"][...]
-        if "wall_time_step_loop" in v.attrs:
-            ms = 1e3 * float(v.attrs["wall_time_step_loop"]) / float(v.attrs["steps"])
+        v, va = run.verification, run.verification_attrs
+        last = run.frames[-1]
+        t = last.time
+        solid, fluid = last["solid"], last["fluid"]
+        xs, sig, vs = solid["x"][:, 0], solid["stress"][:, 0], solid["volume"]
+        xf, p, vf = fluid["x"][:, 0], fluid["pore_pressure"], fluid["volume"]
+        if "wall_time_step_loop" in va:
+            ms = 1e3 * va["wall_time_step_loop"] / va["steps"]
         else:
             ms = log_step_time(outdir, tag)
-        prof = (v["profile_z"][...], v["profile_p"][...], v["profile_sigma_eff"][...]) \
-            if "profile_z" in v else None
-        run_err = float(v.attrs.get("final_error_sigma_eff", np.nan))
+        prof = (v["profile_z"], v["profile_p"], v["profile_sigma_eff"]) if "profile_z" in v else None
+        run_err = va.get("final_error_sigma_eff", np.nan)
     bc, z, ref = reference(col, t)
     c_u = biot_laplace.wave_speed(bc)
     h = LENGTH / ncells
@@ -360,7 +318,7 @@ def main():
             continue
         r = measure(outdir, tag, col) if a.skip_runs or a.missing else None
         if not a.skip_runs and r is None:
-            rc = run(a.build, outdir, tag, make(outdir))
+            rc = run(a.build, make(outdir))
             r = measure(outdir, tag, col)
             print(f"pareto_columns: {tag} rc {rc} "
                   + (" ".join(f"{k} {v:.4g}" for k, v in r.items()) if r else "failed"),

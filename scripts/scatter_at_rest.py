@@ -19,51 +19,49 @@ of either phase.
 """
 import argparse
 import os
-import subprocess
 import sys
-import time
 
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import dpmpm  # noqa: E402
 from dpmpm.run import open_run  # noqa: E402
-from long_runs import ENV, SHAPES  # noqa: E402  (the shape choices of the long-run survey)
+from long_runs import SHAPES  # noqa: E402  (the shape choices of the long-run survey)
 
 RHO_F, G = 1000.0, 9.81
 
 
 def scene(water, placement, shape, smoothing, t_end, out, name, pgrad=None):
-    """The namelist text of one case (pgrad: porosity_gradient, by default on with the
-    free water only)."""
+    """One case as a dpmpm.Scene, and its water level (pgrad: porosity_gradient, by default
+    on with the free water only)."""
     free = water == "free"
     if pgrad is None:
         pgrad = free
     level = 2.0 if free else 1.5
-    place = "" if placement == "regular" else f", placement = '{placement}', seed = 5"
-    txt = f"""&run name = '{name}', t_end = {t_end}, cfl = 0.5, drag = 'implicit',
-  gravity = 0.0, -9.81, porosity_gradient = {'.true.' if pgrad else '.false.'},
-  pressure_smoothing = '{smoothing}' /
-&grid ndim = 2, ncells = 20, {30 if free else 15}, origin = 0.0, 0.0,
-  length = 2.0, {3.0 if free else 1.5} /
-&shape {SHAPES[shape]} /
-&material id = 1, model = 'linear_elastic', density = 2650.0, youngs_modulus = 5.0e7,
-  poisson_ratio = 0.3, conductivity = 1.0e-4 /
-&material id = 2, model = 'fluid', density = 1000.0, bulk_modulus = 2.2e9 /
-&region lo = 0.0, 0.0, hi = 2.0, 1.5, material = 1, phase = 'saturated', fluid_material = 2,
-  porosity = 0.4, geostatic = .true., water_level = {level}{place} /
-"""
+    place = {} if placement == "regular" else {"placement": placement, "seed": 5}
+    s = dpmpm.Scene()
+    s.add("run", name=name, t_end=t_end, cfl=0.5, drag="implicit", gravity=[0.0, -9.81],
+          porosity_gradient=pgrad, pressure_smoothing=smoothing)
+    s.add("grid", ndim=2, ncells=[20, 30 if free else 15], origin=[0.0, 0.0],
+          length=[2.0, 3.0 if free else 1.5])
+    s.replace("shape", SHAPES[shape])
+    s.add("material", id=1, model="linear_elastic", density=2650.0, youngs_modulus=5.0e7,
+          poisson_ratio=0.3, conductivity=1.0e-4)
+    s.add("material", id=2, model="fluid", density=1000.0, bulk_modulus=2.2e9)
+    s.add("region", dict(lo=[0.0, 0.0], hi=[2.0, 1.5], material=1, phase="saturated",
+                         fluid_material=2, porosity=0.4, geostatic=True, water_level=level,
+                         **place))
     if free:
-        txt += f"&region lo = 0.0, 1.5, hi = 2.0, 2.0, material = 2, phase = 'fluid', " \
-               f"geostatic = .true.{place} /\n"
-    txt += """&boundary face = 'y-' condition = 'fixed' fluid = 'impermeable' /
-&boundary face = 'x-' condition = 'roller' /
-&boundary face = 'x+' condition = 'roller' /
-&boundary face = 'y+' condition = 'free' fluid = 'drained' /
-"""
-    txt += f"&output dir = '{out}', frame_interval = {t_end / 2} /\n"
-    return txt, level
+        s.add("region", dict(lo=[0.0, 1.5], hi=[2.0, 2.0], material=2, phase="fluid",
+                             geostatic=True, **place))
+    s.add("boundary", face="y-", condition="fixed", fluid="impermeable")
+    s.add("boundary", face="x-", condition="roller")
+    s.add("boundary", face="x+", condition="roller")
+    s.add("boundary", face="y+", condition="free", fluid="drained")
+    s.add("output", dir=out, frame_interval=t_end / 2)
+    return s, level
 
 
 def measure(path, level, h):
@@ -95,7 +93,7 @@ def main():
                     help="porosity_gradient: by default on with the free water only")
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "scatter_at_rest"))
     args = ap.parse_args()
-    os.makedirs(args.out, exist_ok=True)
+    out = os.path.abspath(args.out)
     print("| water | placement | shape | smoothing | t (s) | RMS | largest | band mean | "
           "largest speed (m/s) | wall (s) |")
     print("|---|---|---|---|---|---|---|---|---|---|")
@@ -107,25 +105,17 @@ def main():
                     name = f"{water}_{placement}_{shape}_{smoothing}"
                     if pg is not None:
                         name += "_pg" if pg else "_nopg"
-                    txt, level = scene(water, placement, shape, smoothing, args.t_end,
-                                       args.out, name, pg)
-                    nml = os.path.join(args.out, name + ".nml")
-                    with open(nml, "w") as fh:
-                        fh.write(txt)
-                    cmd = ["mpirun", "-np", str(args.np), args.bin, nml]
-                    t0 = time.time()
-                    r = subprocess.run(cmd, env=ENV, cwd=args.out, capture_output=True,
-                                       text=True)
-                    wall = time.time() - t0
+                    sc, level = scene(water, placement, shape, smoothing, args.t_end, out,
+                                      name, pg)
                     row = f"| {water} | {placement} | {shape} | {smoothing} |"
-                    if r.returncode != 0:
-                        last = (r.stdout + r.stderr).strip().splitlines()
-                        why = last[-1][:100] if last else ""
-                        print(f"{row} exit {r.returncode}: {why} | | | | | {wall:.0f} |",
-                              flush=True)
+                    try:
+                        r = dpmpm.simulate(sc, ranks=args.np, binary=args.bin, progress=False)
+                    except dpmpm.RunError as e:
+                        why = e.lines[-1][:100] if e.lines else ""
+                        print(f"{row} exit {e.status}: {why} | | | | | |", flush=True)
                         continue
-                    t, rms, big, band, vmax = measure(os.path.join(args.out, name + ".h5"),
-                                                      level, 0.1)
+                    wall = r.wall
+                    t, rms, big, band, vmax = measure(r.output, level, 0.1)
                     print(f"{row} {t:.3f} | {rms:.3g} | {big:.3g} | {band:.3g} | {vmax:.2g} | "
                           f"{wall:.0f} |", flush=True)
 

@@ -11,44 +11,46 @@ pressure of the water (doc/verification.md, "Saturated slope").
 
 import argparse
 import os
-import re
 import sys
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "python"))
-from dpmpm.launch import run_scene, scene_arguments  # noqa: E402
+import dpmpm  # noqa: E402
+from dpmpm.launch import scene_arguments  # noqa: E402
 
 B = 2.0      # footing width (m)
 V = 0.1      # footing speed (m/s)
 SCENE = "inputs/slope_saturated_2d.nml"
 
 
-def run(args):
-    """Writes the scene into the work directory (output there, kernel and end time as
-    asked) and runs it unless its output exists."""
-    os.makedirs(args.workdir, exist_ok=True)
-    text = open(SCENE).read()
-    name = f"slope_saturated_2d_{args.kernel}_np{args.ranks}"
-    text = re.sub(r"name = '[^']*'", f"name = '{name}'", text, count=1)
-    text = re.sub(r"dir = '[^']*'", f"dir = '{os.path.abspath(args.workdir)}'", text, count=1)
-    text = re.sub(r"kernel = '[^']*'", f"kernel = '{args.kernel}'", text, count=1)
+def scene(args):
+    """The scene with its output in the work directory and the kernel and end time asked."""
+    s = dpmpm.Scene.read(SCENE)
+    s.set(run={"name": f"slope_saturated_2d_{args.kernel}_np{args.ranks}"},
+          output={"dir": os.path.abspath(args.workdir)}, shape={"kernel": args.kernel})
     if args.t_end:
-        text = re.sub(r"t_end = [0-9.eE+-]+", f"t_end = {args.t_end}", text, count=1)
-    return run_scene(args.bin, text, args.workdir, name, args.ranks, args.rerun)
+        s["run"]["t_end"] = args.t_end
+    return s
+
+
+def run(args):
+    """Runs the scene unless its output is in the work directory; returns the output file."""
+    r = dpmpm.simulate(scene(args), ranks=args.ranks, binary=args.bin, reuse=not args.rerun,
+                       progress=sys.stderr.isatty())
+    return r.output
 
 
 def measure(h5):
-    with h5py.File(h5, "r") as f:
-        t = f["verification/drive_time"][:]
-        q = -f["verification/drive_force_y"][:] / B
-        keys = sorted(f["frames"].keys())
-        first, last = f["frames"][keys[0]], f["frames"][keys[-1]]
-        p0 = dict(zip(first["fluid/id"][:], first["fluid/pore_pressure"][:]))
-        fr = {k: last[k][:] for k in ("solid/x", "solid/material", "solid/plastic_strain",
-                                      "solid/v", "fluid/x", "fluid/id", "fluid/pore_pressure")}
-        fr["time"] = last.attrs["time"] if "time" in last.attrs else float("nan")
+    with dpmpm.open_run(h5) as run:
+        v = run.verification
+        t, q = v["drive_time"], -v["drive_force_y"] / B
+        first, last = run.frames[0], run.frames[-1]
+        p0 = dict(zip(first["fluid"]["id"], first["fluid"]["pore_pressure"]))
+        fr = {f"{k}/{d}": last[k][d] for k, d in (
+            ("solid", "x"), ("solid", "material"), ("solid", "plastic_strain"), ("solid", "v"),
+            ("fluid", "x"), ("fluid", "id"), ("fluid", "pore_pressure"))}
+        fr["time"] = last.time
     fr["dp"] = fr["fluid/pore_pressure"] - np.array([p0[i] for i in fr["fluid/id"]])
     return t, q, fr
 

@@ -14,14 +14,13 @@ the water levels against time (doc/verification.md, "Saturated slope sliding int
 
 import argparse
 import os
-import re
 import sys
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "python"))
-from dpmpm.launch import run_scene, scene_arguments  # noqa: E402
+import dpmpm  # noqa: E402
+from dpmpm.launch import scene_arguments  # noqa: E402
 
 SCENE = "inputs/slope_into_water_2d.nml"
 RHO_G = 1000.0 * 9.81  # unit weight of the water (N/m^3)
@@ -31,42 +30,41 @@ PROBES = (7.0, 9.0, 11.0)      # where the water surface is measured (m)
 DEPOSIT = np.arange(0.0, 12.01, 1.0)  # where the soil surface is measured (m)
 
 
-def run(args):
-    """Writes the scene into the work directory (output there, kernel, end time and
-    porosity_gradient as asked) and runs it unless its output exists."""
-    os.makedirs(args.workdir, exist_ok=True)
-    text = open(SCENE).read()
+def scene(args):
+    """The scene with its output in the work directory and the kernel, end time and
+    porosity_gradient asked (each but the kernel named in the run's name)."""
+    s = dpmpm.Scene.read(SCENE)
     name = f"slope_into_water_2d_{args.kernel}_np{args.ranks}"
     if args.porosity_gradient:
         name += f"_pg{args.porosity_gradient}"
-        text = re.sub(r"porosity_gradient = \.\w+\.",
-                      f"porosity_gradient = .{'true' if args.porosity_gradient == 'on' else 'false'}.",
-                      text, count=1)
-    text = re.sub(r"name = '[^']*'", f"name = '{name}'", text, count=1)
-    text = re.sub(r"dir = '[^']*'", f"dir = '{os.path.abspath(args.workdir)}'", text, count=1)
-    text = re.sub(r"kernel = '[^']*'", f"kernel = '{args.kernel}'", text, count=1)
+        s["run"]["porosity_gradient"] = args.porosity_gradient == "on"
     if args.t_end:
-        name_t = f"_t{args.t_end:g}"
-        text = re.sub(r"t_end = [0-9.eE+-]+", f"t_end = {args.t_end}", text, count=1)
-        text = text.replace(f"name = '{name}'", f"name = '{name}{name_t}'")
-        name += name_t
-    return run_scene(args.bin, text, args.workdir, name, args.ranks, args.rerun)
+        name += f"_t{args.t_end:g}"
+        s["run"]["t_end"] = args.t_end
+    s.set(run={"name": name}, output={"dir": os.path.abspath(args.workdir)},
+          shape={"kernel": args.kernel})
+    return s
+
+
+def run(args):
+    """Runs the scene unless its output is in the work directory; returns the output file."""
+    r = dpmpm.simulate(scene(args), ranks=args.ranks, binary=args.bin, reuse=not args.rerun,
+                       progress=sys.stderr.isatty())
+    return r.output
 
 
 def frames(h5):
-    """The frames of a run as dicts of arrays, sorted by point id."""
+    """The frames of a run as dicts of arrays, sorted by point id, and the diagnostics."""
     out = []
-    with h5py.File(h5, "r") as f:
-        for key in sorted(f["frames"].keys()):
-            g = f["frames"][key]
-            fr = {"time": float(g.attrs["time"]), "step": int(g.attrs["step"])}
+    with dpmpm.open_run(h5) as run:
+        for g in run.frames:
+            fr = {"time": g.time, "step": g.step}
             for s, names in (("solid", ("id", "x", "v", "plastic_strain")),
                              ("fluid", ("id", "x", "v", "porosity", "pore_pressure"))):
-                order = np.argsort(g[s + "/id"][:])
                 for n in names:
-                    fr[s + "/" + n] = g[s + "/" + n][:][order]
+                    fr[s + "/" + n] = g[s][n]
             out.append(fr)
-        diag = {k: f["diagnostics"][k][:] for k in f["diagnostics"].keys()}
+        diag = run.diagnostics
     return out, diag
 
 

@@ -14,13 +14,15 @@ usage: scripts/stability_map.py [--bin build/release/dpmpm] [--np 2] [--out DIR]
 import argparse
 import os
 import re
-import subprocess
+import sys
 import time
 
-import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, 'scripts', 'python'))
+import dpmpm  # noqa: E402
+
 SHAPES = {
     'standard': "kernel = 'linear'",
     'quadratic': "kernel = 'quadratic'",
@@ -28,67 +30,59 @@ SHAPES = {
     'pair': "kernel = 'cubic', quadrature = 'gauss', gauss_points = 3, field_kernel = 'wendland_c2', "
             "field_radius = 2.0",
 }
-# W2 and W3 differ from W1 only in these (doc/theory.md, section 9.1).
-SCENE_CHANGES = {'w1': {}, 'w2': {'conductivity': '1.0', 'drag': "'explicit'"},
-                 'w3': {'conductivity': '1.0e-4', 'bulk_modulus': '2.2e9'}}
-
-
-def set_var(txt, key, val):
-    """Set key = val in the first place it is assigned, or add it to &run."""
-    if re.search(r'(?m)^\s*%s\s*=' % key, txt):
-        return re.sub(r'(?m)^(\s*)%s\s*=.*$' % key, r'\g<1>%s = %s' % (key, val), txt, count=1)
-    return txt.replace('&run', '&run\n  %s = %s' % (key, val), 1)
-
-
-def number(txt, key):
-    return float(re.search(r'(?m)^\s*%s\s*=\s*([-+\d.eE]+)' % key, txt).group(1))
+# W2 and W3 differ from W1 only in these (doc/theory.md, section 9.1): conductivity in the
+# soil (material 1), bulk_modulus in the fluid (material 2), drag in &run.
+SCENE_CHANGES = {'w1': {}, 'w2': {'conductivity': 1.0, 'drag': 'explicit'},
+                 'w3': {'conductivity': 1.0e-4, 'bulk_modulus': 2.2e9}}
+WHERE = {'conductivity': ('material', 1), 'bulk_modulus': ('material', 2), 'drag': ('run', None)}
 
 
 def make_scene(scene, dim, shape, cfl, outdir, transits=20):
-    base = 'w1.nml' if dim == 1 else 'w1_2d.nml'
-    txt = open(os.path.join(ROOT, 'inputs', base)).read()
-    txt = re.sub(r'(?s)&benchmark.*?/', '', txt)
-    # the material blocks: conductivity in the soil, bulk_modulus in the fluid
+    """W1 of inputs/ (w1.nml, w1_2d.nml) turned into the scene, the shape choice and the
+    Courant number asked, without its benchmark group and run for `transits` transits, as a
+    dpmpm.Scene; with v_u per unit load and the end time."""
+    s = dpmpm.Scene.read(os.path.join(ROOT, 'inputs', 'w1.nml' if dim == 1 else 'w1_2d.nml'))
+    s.remove('benchmark')
     for key, val in SCENE_CHANGES[scene].items():
-        txt = set_var(txt, key, val)
-    txt = re.sub(r'(?s)&shape.*?/', '&shape ' + SHAPES[shape] + ' /', txt)
-    mats = re.findall(r'(?s)&material(.*?)/', txt)
-    rs, E = number(mats[0], 'density'), number(mats[0], 'youngs_modulus')
-    rf, kf = number(mats[1], 'density'), number(mats[1], 'bulk_modulus')
-    n = number(txt, 'porosity')
+        group, mat = WHERE[key]
+        [g] = s.find(group, id=mat) if mat else [s[group]]
+        g[key] = val
+    s.replace('shape', SHAPES[shape])
+    [soil] = s.find('material', id=1)
+    [water] = s.find('material', id=2)
+    rs, E = float(soil['density']), float(soil['youngs_modulus'])
+    rf, kf = float(water['density']), float(water['bulk_modulus'])
+    [region] = s.groups('region')
+    n = float(region['porosity'])
     rsat = (1 - n) * rs + n * rf
     cu = np.sqrt((E + kf / n) / rsat)
     length = 10.0
     t_end = float('%.6g' % (transits * length / cu))
     name = '%s_%dd_%s_%g' % (scene, dim, shape, cfl)
-    txt = set_var(txt, 'name', "'%s'" % name)
-    txt = set_var(txt, 't_end', '%.6g' % t_end)
-    txt = set_var(txt, 'cfl', cfl)
-    txt = re.sub(r"dir = '\w+'", "dir = '%s'" % outdir, txt)
-    path = os.path.join(outdir, name + '.nml')
-    open(path, 'w').write(txt)
-    return name, path, 1.0 / (rsat * cu), t_end
+    s.set(run={'name': name, 't_end': t_end, 'cfl': cfl}, output={'dir': outdir})
+    return s, 1.0 / (rsat * cu), t_end
 
 
 def run(args, scene, dim, shape, cfl):
-    name, path, vu, t_end = make_scene(scene, dim, shape, cfl, args.out, args.transits)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1',
-               OMPI_MCA_rmaps_base_oversubscribe='1')
+    s, vu, t_end = make_scene(scene, dim, shape, cfl, args.out, args.transits)
     t0 = time.time()
-    r = subprocess.run(['mpirun', '-n', str(args.np), args.bin, path], env=env, capture_output=True,
-                       text=True)
-    log = r.stdout + r.stderr
-    open(os.path.join(args.out, name + '.log'), 'w').write(log)
+    try:
+        r = dpmpm.simulate(s, ranks=args.np, binary=args.bin, progress=False)
+        rc, log = 0, r.log
+    except dpmpm.RunError as e:
+        rc, log = e.status, e.log
+    log = open(log).read()
     m = re.search(r'largest \(kinetic \+ stored\) / \(work \+ initial\)\s+([-+\d.E]+)', log)
     ratio = float(m.group(1)) if m else float('nan')
     stop = re.search(r'monitor: at t = \s*([-+\d.E]+) s .*?growing field: ([\w ]+ of the \w+ points)', log)
-    d = h5py.File(os.path.join(args.out, name + '.h5'), 'r')['diagnostics']
-    t, ke, vmax = d['time'][:], d['kinetic_energy'][:], d['max_speed'][:]
-    ep = 0.5 * d['total_mass'][0] * vu ** 2
-    steps = d['step'][-1]
+    with dpmpm.open_run(s.output_file()) as out:
+        d = out.diagnostics
+        t, ke, vmax = d['time'][:], d['kinetic_energy'][:], d['max_speed'][:]
+        ep = 0.5 * d['total_mass'][0] * vu ** 2
+        steps = d['step'][-1]
     dt = t[-1] / steps if t[-1] < t_end * (1 - 1e-9) else t_end / steps
     half = ke[np.searchsorted(t, 0.5 * t[-1])]
-    return dict(name=name, rc=r.returncode, t=t[-1], t_end=t_end, ke=ke.max() / ep,
+    return dict(name=s.name, rc=rc, t=t[-1], t_end=t_end, ke=ke.max() / ep,
                 late=ke[-1] / max(half, 1e-300),
                 ke_end=ke[-1] / ep, v=vmax.max() / vu, ratio=ratio, dt=dt,
                 stop=(float(stop.group(1)), stop.group(2)) if stop else None, wall=time.time() - t0)

@@ -22,32 +22,29 @@ given), and reports:
 """
 import argparse
 import os
-import re
-import subprocess
 import sys
-import time
 
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
-from dpmpm import namelist  # noqa: E402
+import dpmpm  # noqa: E402
 from dpmpm.run import open_run  # noqa: E402
 
 SCENE = os.path.join(ROOT, "inputs", "footing_consolidation_2d.nml")
 
 
 def scenes(workdir):
-    """(name, text) of the saturated scene and of its dry twin."""
-    text = open(SCENE).read()
-    t_end = re.search(r"(?m)^\s*t_end\s*=\s*([0-9.eE+-]+)", text).group(1)
-    sat = namelist.edit(text, {"run.name": "'saturated'", "output.dir": repr(workdir)})
+    """The saturated scene and its dry twin, as dpmpm.Scenes."""
+    sat = dpmpm.Scene.read(SCENE)
+    sat.set(run={"name": "saturated"}, output={"dir": workdir})
     # the dry twin: local damping over the whole run (there is no gravity to ramp)
-    dry = namelist.edit(text, {"run.name": "'dry'", "output.dir": repr(workdir),
-                               "region.phase": "'solid'", "region.fluid_material": "0",
-                               "region.porosity": "0.0", "run.equilibrium_time": t_end,
-                               "run.equilibrium_damping": "0.3"})
-    return [("saturated", sat), ("dry", dry)]
+    dry = sat.copy()
+    dry.set(run={"name": "dry", "equilibrium_time": sat["run"]["t_end"],
+                 "equilibrium_damping": 0.3})
+    [region] = dry.groups("region")
+    region.update(phase="solid", fluid_material=0, porosity=0.0)
+    return [sat, dry]
 
 
 def settlement(fr, b, top, h):
@@ -68,21 +65,15 @@ def main():
     args = ap.parse_args()
     workdir = os.path.abspath(args.workdir)
     os.makedirs(workdir, exist_ok=True)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    for name, text in scenes(workdir):
-        h5 = os.path.join(workdir, name + ".h5")
-        if os.path.exists(h5) and not args.rerun:
-            continue
-        nml = os.path.join(workdir, name + ".nml")
-        with open(nml, "w") as f:
-            f.write(text)
-        t0 = time.time()
-        with open(os.path.join(workdir, name + ".log"), "w") as log:
-            rc = subprocess.run(["mpirun", "--oversubscribe", "-n", str(args.ranks), args.bin, nml],
-                                env=env, stdout=log, stderr=subprocess.STDOUT).returncode
-        print(f"{name}: exit code {rc}, {time.time() - t0:.0f} s", flush=True)
-        if rc != 0:
-            sys.exit(f"{name} failed: see {workdir}/{name}.log")
+    for scene in scenes(workdir):
+        try:
+            r = dpmpm.simulate(scene, ranks=args.ranks, binary=args.bin, reuse=not args.rerun,
+                               progress=sys.stderr.isatty())
+        except dpmpm.RunError as e:
+            print(f"{scene.name}: exit code {e.status}", flush=True)
+            sys.exit(f"{scene.name} failed: {e}")
+        if not r.reused:
+            print(f"{scene.name}: exit code 0, {r.wall:.0f} s", flush=True)
 
     with open_run(os.path.join(workdir, "dry.h5")) as run:
         g = run.grid

@@ -12,7 +12,6 @@ Usage: scripts/verify_mls.py [--build build/release] [--out out/verify_mls]
        [--max-cells 64] [--jobs 2] [--skip-runs]
 """
 import argparse
-import concurrent.futures as cf
 import math
 import os
 import re
@@ -26,6 +25,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
+import dpmpm  # noqa: E402
+from dpmpm.launch import MPI_ENV  # noqa: E402
 
 # Shape-function combinations: label -> &shape settings (namelist text).
 COMBOS = {
@@ -43,7 +45,6 @@ COMBOS = {
         "field_radius = 2.0"),
 }
 AMPLITUDES = [1.0e-4, 0.05]
-MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 
 
 def tag_of(label, ncells, amp):
@@ -51,30 +52,15 @@ def tag_of(label, ncells, amp):
     return f"m1_{slug}_{ncells}_{'small' if amp < 1e-2 else 'large'}"
 
 
-def scene_text(label, ncells, amp, outdir, tag, shape=None):
+def scene(label, ncells, amp, outdir, tag, shape=None):
     """inputs/mms.nml with the shape choice (COMBOS[label] unless shape is given), cells,
-    amplitude, name and output folder."""
-    text = open(os.path.join(ROOT, "inputs", "mms.nml")).read()
-    text = text.replace("name = 'mms'", f"name = '{tag}'", 1)
-    text = re.sub(r"ncells = \d+, \d+", f"ncells = {ncells}, {ncells}", text)
-    shape = COMBOS[label] if shape is None else shape
-    text = re.sub(r"^&shape\n.*?\n/", f"&shape\n  {shape}\n/", text, flags=re.S | re.M)
-    text = re.sub(r"amplitude = [0-9.eE+-]+", f"amplitude = {amp}", text)
-    return text.replace("dir = 'out'", f"dir = '{outdir}'")
-
-
-def run_case(build, outdir, label, ncells, amp):
-    tag = tag_of(label, ncells, amp)
-    text = scene_text(label, ncells, amp, outdir, tag)
-    nml = os.path.join(outdir, tag + ".nml")
-    with open(nml, "w") as f:
-        f.write(text)
-    env = dict(os.environ, **MPI_ENV)
-    with open(os.path.join(outdir, tag + ".log"), "w") as log:
-        subprocess.run(["mpirun", "--oversubscribe", "-n", "1",
-                        os.path.join(build, "dpmpm"), nml],
-                       stdout=log, stderr=subprocess.STDOUT, env=env, check=True)
-    return tag
+    amplitude, name and output folder, as a dpmpm.Scene."""
+    s = dpmpm.Scene.read(os.path.join(ROOT, "inputs", "mms.nml"))
+    s.set(run={"name": tag}, grid={"ncells": [ncells, ncells]}, output={"dir": outdir})
+    s.replace("shape", COMBOS[label] if shape is None else shape)
+    [bench] = s.find("benchmark", name="mms")
+    bench["amplitude"] = amp
+    return s
 
 
 def load(outdir, tag):
@@ -190,11 +176,11 @@ def main():
                        check=True)
         cases = [(label, c, amp) for amp in AMPLITUDES for c in reversed(cells)
                  for label in COMBOS]
-        with cf.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            futs = {pool.submit(run_case, args.build, args.out, *case): case for case in cases}
-            for fut in cf.as_completed(futs):
-                print("done", futs[fut], flush=True)
-                fut.result()
+        scenes = [scene(label, c, amp, args.out, tag_of(label, c, amp)) for label, c, amp in cases]
+        dpmpm.study(scenes, jobs=args.jobs, progress=False, errors="raise",
+                    binary=os.path.join(args.build, "dpmpm"))
+        for case in cases:
+            print("done", case, flush=True)
 
     res = {(label, c, amp): load(args.out, tag_of(label, c, amp))
            for label in COMBOS for c in cells for amp in AMPLITUDES}

@@ -63,6 +63,26 @@ def test_repeated_groups():
     assert back["run"]["t_end"] == 0.05
 
 
+def test_replace_a_group():
+    # A group anew in its place, from namelist text (with an element assignment) or a
+    # dict; appended when missing; refused for a repeated group.
+    s = dpmpm.Scene.read(os.path.join(ROOT, "inputs", "w1.nml"))
+    before = s.names()
+    g = s.replace("shape", "kernel = 'cubic', quadrature = 'gauss', field_radius = 2.0")
+    assert s.names() == before and s["shape"] is g
+    assert dict(g) == {"kernel": "cubic", "quadrature": "gauss", "field_radius": 2.0}
+    s.replace("grid", "ndim = 2, ncells(2) = 4", origin=[0.0, 0.0])
+    back = dpmpm.Scene.from_text(s.text())
+    assert "ncells(2) = 4" in s.text() and back["grid"].start_index == {"ncells": [2]}
+    assert back["grid"]["origin"] == [0.0, 0.0]
+    assert "length" not in back["grid"] and back["shape"]["field_radius"] == 2.0
+    s.remove("benchmark")
+    s.replace("benchmark", {"name": "biot_column"})
+    assert s.names()[-1] == "benchmark" and s["benchmark"]["name"] == "biot_column"
+    with pytest.raises(ValueError, match="occurs 2 times"):
+        s.replace("material", id=1)
+
+
 def test_check_returns_the_problems():
     exe = binary()
     s = dpmpm.Scene.read(os.path.join(ROOT, "inputs", "consolidation_2d.nml"))

@@ -83,6 +83,22 @@ def test_study_side_by_side(tmp_path):
         dpmpm.study(scenes[2:], workdir=tmp_path, progress=False, errors="raise")
 
 
+def test_reuse_runs_only_what_is_missing(tmp_path):
+    # With reuse a scene whose output exists is not run again: not even the binary is
+    # looked for. A scene without output runs.
+    first = dpmpm.simulate(column("again"), workdir=tmp_path, progress=False, reuse=True)
+    assert not first.reused and first.command and first.wall > 0
+    stamp = os.path.getmtime(first.output)
+    again = dpmpm.simulate(column("again"), workdir=tmp_path, progress=False, reuse=True,
+                           binary="/no/such/dpmpm")
+    assert again.reused and again.command is None and again.output == first.output
+    assert os.path.getmtime(again.output) == stamp
+    assert again.read(lambda run: len(run.frames)) == 3
+    with pytest.raises(FileNotFoundError, match="/no/such/dpmpm"):
+        dpmpm.simulate(column("other"), workdir=tmp_path, progress=False, reuse=True,
+                       binary="/no/such/dpmpm")
+
+
 def test_no_launcher():
     with pytest.raises(FileNotFoundError, match="no-such-mpirun"):
         dpmpm.simulate(column("x"), mpirun="no-such-mpirun", progress=False)

@@ -7,6 +7,7 @@ with f90nml, and checked by ``dpmpm --check``.
     s.set(run={"name": "short"}, output={"dir": "out/study"})
     s.find("material", id=1)[0]["youngs_modulus"] *= 2
     s.add("boundary", face="x-", condition="slip")   # one more of a repeated group
+    s.replace("shape", "kernel = 'cubic', quadrature = 'gauss'")   # a group anew
     s.check()                                   # [] or the problems dpmpm reports
     s.write("out/study/short.nml")
 
@@ -125,6 +126,26 @@ class Scene:
         last = max((k for k, (n, _) in enumerate(self.groups_list) if n == name), default=None)
         at = len(self.groups_list) if last is None else last + 1
         self.groups_list.insert(at, (name, grp))
+        return grp
+
+    def replace(self, name, values=None, /, **kw):
+        """Put a group called name holding exactly these variables in place of the only
+        one of that name (appended when the scene has none) and return it. values: a dict,
+        or the group's body as namelist text (``"kernel = 'cubic', field_radius = 2.0"``,
+        as study scripts list their choices). ValueError when the group repeats."""
+        name = name.lower()
+        if isinstance(values, str):
+            grp = f90nml.reads(f"&{name} {values} /\n").get(name, f90nml.Namelist())
+        else:
+            grp = _group(values)
+        for k, v in kw.items():
+            grp[k.lower()] = v
+        at = [k for k, (n, _) in enumerate(self.groups_list) if n == name]
+        if len(at) > 1:
+            raise ValueError(f"&{name} occurs {len(at)} times: remove() and add() instead")
+        if not at:
+            return self.add(name, grp)
+        self.groups_list[at[0]] = (name, grp)
         return grp
 
     def remove(self, name, /, **match):

@@ -45,13 +45,15 @@ def _is_open_mpi(mpirun):
 class Result:
     """A finished run: ``output`` (its .h5), ``log``, ``scene``, ``status`` (0),
     ``wall`` (seconds), ``command``, ``progress`` (the fractions done, in %, of the log's
-    progress lines). ``open()`` gives the ``Run``; ``read(f)`` opens it, returns f(run)
-    and closes it."""
+    progress lines), ``reused`` (True when the output was there already and nothing ran:
+    ``simulate(..., reuse=True)``; command None, wall 0). ``open()`` gives the ``Run``;
+    ``read(f)`` opens it, returns f(run) and closes it."""
 
-    def __init__(self, scene, output, log, command, wall, status=0, progress=()):
+    def __init__(self, scene, output, log, command, wall, status=0, progress=(), reused=False):
         self.scene, self.output, self.log = scene, output, log
         self.command, self.wall, self.status = command, wall, status
         self.progress = list(progress)
+        self.reused = reused
 
     @property
     def name(self):
@@ -97,7 +99,7 @@ def _error(status, lines, nml, checkpoint=None, **kw):
 
 
 def simulate(scene, ranks=1, workdir=None, restart=False, binary=None, mpirun=None,
-             progress=True, position=None, mpi_args=(), timeout=None):
+             progress=True, position=None, mpi_args=(), timeout=None, reuse=False):
     """Run a scene on ``ranks`` ranks and return its ``Result``.
 
     scene: a ``Scene`` or the path of a scene file. A Scene is written to
@@ -108,8 +110,10 @@ def simulate(scene, ranks=1, workdir=None, restart=False, binary=None, mpirun=No
     ``<dir>/<name>.ckpt.h5`` when it exists, else from t = 0). binary, mpirun: the
     executables (``find_binary``, ``find_mpirun``). progress: a tqdm bar fed by the log's
     progress lines (``&run progress_seconds`` sets how often they come); ``position`` is
-    the bar's line when several run at once. Raises InputError (exit code 2),
-    StoppedEarly (3), MonitorStop (4) or RunError (other), with the log's message.
+    the bar's line when several run at once. reuse: when the output file exists already,
+    run nothing (the scene file is still written) and return its Result with ``reused``
+    set, so that a study run again runs only what it lacks. Raises InputError (exit code
+    2), StoppedEarly (3), MonitorStop (4) or RunError (other), with the log's message.
     """
     workdir = os.path.abspath(workdir or os.getcwd())
     if isinstance(scene, Scene):
@@ -122,6 +126,8 @@ def simulate(scene, ranks=1, workdir=None, restart=False, binary=None, mpirun=No
     os.makedirs(out_dir, exist_ok=True)
     output = os.path.join(out_dir, scene.name + ".h5")
     log = os.path.join(out_dir, scene.name + ".log")
+    if reuse and os.path.exists(output):
+        return Result(scene, output, log, None, 0.0, reused=True)
     exe, launcher = find_binary(binary), find_mpirun(mpirun)
     cmd = [launcher] + (["--oversubscribe"] if _is_open_mpi(launcher) else []) + \
         list(mpi_args) + ["-n", str(int(ranks)), exe] + (["--restart"] if restart else []) + \

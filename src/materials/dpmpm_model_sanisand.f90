@@ -151,6 +151,11 @@ contains
     ! compression positive, tensor shears
     dec(1:3) = -deps(1:3)
     dec(4:6) = -0.5_wp*deps(4:6)
+    ! a point outside its yield surface at the start (the turn of stress and alpha with the
+    ! spin is exact to first order only) is put back on it as after a plastic substep
+    fy = sanisand_yield(mat, y)
+    if (fy > yield_tol*pmean(y) .and. pmean(y) >= mat%sd_pmin) &
+      y(7:12) = y(7:12) + (fy/pmean(y))*normal(mat, y)
     t = 0.0_wp
     do pass = 1, max_passes
       ! the elastic trial of what is left of the increment

@@ -4,7 +4,8 @@
 !> (q/p' = M, e = e_c(p')), with the loose undrained sand softening and the dense one
 !> dilating; cyclic undrained triaxial tests at three cyclic stress ratios that must
 !> liquefy (r_u >= 0.95) in fewer cycles at a higher ratio, with the butterfly path after;
-!> and the integration itself: one large step against many small ones, a pure spin that
+!> and the integration itself: one large step against many small ones (also across a load
+!> reversal), a pure spin that
 !> keeps the point on its yield surface, a failure that is reported. Measured values and
 !> the margins of the bounds: doc/verification.md, "SANISAND".
 program test_sanisand
@@ -29,6 +30,7 @@ program test_sanisand
   call test_drained_dense_peaks_and_dilates_towards_the_critical_state()
   call test_cyclic_undrained_liquefies_sooner_at_higher_stress_ratio()
   call test_one_large_step_matches_many_small_ones()
+  call test_reversal_in_one_step_matches_many_small_ones()
   call test_spin_keeps_the_point_on_its_yield_surface()
   call test_failed_integration_is_reported()
   status = finish_tests()
@@ -262,6 +264,44 @@ contains
     ! measured 1.5e-3, 2.6e-7, 2.6e-9: a margin of 4 on the last
     call check(d(3) <= 1.0e-8_wp, 'the large step at tolerance 1e-8 matches')
   end subroutine test_one_large_step_matches_many_small_ones
+
+  !> A load reversal inside one step: after isochoric compression to eps_a = 0.5 %, one
+  !> call of eps_a = -1 % unloads through the yield cone (elastic), crosses it on the other
+  !> side and loads in extension (alpha_in set at the crossing); 200 calls of the same
+  !> strain path at a tight tolerance give the same end.
+  subroutine test_reversal_in_one_step_matches_many_small_ones()
+    type(element_cfg_t) :: cfg
+    type(material_t) :: mat
+    real(wp) :: s(6), st(19), sref(6), stref(19), s1(6), st1(19), dload(6), w, d, da
+    integer :: code, nsub, k
+    call begin_test('reversal_in_one_step_matches_many_small_ones')
+    cfg = sand_test('triaxial_undrained', 'strain', 0.85_wp, 1.0e5_wp)
+    cfg%material%integration_tolerance = 1.0e-10_wp
+    mat = sand(cfg)
+    dload = [0.5_wp, 0.5_wp, -1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]*0.005_wp
+    call start(mat, s1, st1)
+    call sanisand_integrate(mat, dload, s1, st1, code, w, nsub)
+    call check_equal_int(code, 0, 'the loading integrates')
+    sref = s1
+    stref = st1
+    do k = 1, 200
+      call sanisand_integrate(mat, -2.0_wp*dload/200.0_wp, sref, stref, code, w, nsub)
+      call check_equal_int(code, 0, 'a small step integrates')
+    end do
+    mat%sd_tol = 1.0e-8_wp
+    s = s1
+    st = st1
+    call sanisand_integrate(mat, -2.0_wp*dload, s, st, code, w, nsub)
+    call check_equal_int(code, 0, 'the reversing step integrates')
+    d = maxval(abs(s - sref))/1.0e5_wp
+    da = maxval(abs(st(1:18) - stref(1:18)))
+    print '(a,i0,a,es10.3,a,es10.3,a,f8.3)', '  ', nsub, ' substeps; stress difference over p''0 ', &
+      d, ', state ', da, '; q at the end (kPa) ', 1.0e-3_wp*(0.5_wp*(s(1) + s(2)) - s(3))
+    call check(0.5_wp*(s(1) + s(2)) - s(3) < 0.0_wp, 'the end is in extension')
+    ! measured 1.3e-9 and 1.0e-9 (17741 substeps): margins of about 8 and 10
+    call check(d <= 1.0e-8_wp, 'the stress of one step matches')
+    call check(da <= 1.0e-8_wp, 'alpha, z and alpha_in of one step match')
+  end subroutine test_reversal_in_one_step_matches_many_small_ones
 
   !> A point on its yield surface (after some undrained shear) turned by a pure spin:
   !> stress and alpha turn together, so the point stays on the surface and keeps p' and q.

@@ -136,7 +136,7 @@ contains
     real(wp) :: y(18), ytr(18), ain(6), dec(6), t, ta, tb, fa, fb, fy, e0, ymid(18), fm, tx
     real(wp) :: wdum
     integer :: pass, k
-    logical :: left
+    logical :: left, onload
     code = 0
     nsub = 0
     work = 0.0_wp
@@ -158,60 +158,66 @@ contains
       y(7:12) = y(7:12) + (fy/pmean(y))*normal(mat, y)
     t = 0.0_wp
     do pass = 1, max_passes
-      ! the elastic trial of what is left of the increment
-      ytr = y
-      call march(mat, ytr, ain, e0, dec, t, 1.0_wp, .false., code, nsub, wdum, left, tx)
-      if (code /= 0) exit
-      if (sanisand_yield(mat, ytr) <= yield_tol*pmean(ytr)) then
-        y = ytr
-        t = 1.0_wp
-        exit
-      end if
+      ! on the surface and loading: plastic from here (no elastic trial needed)
       fy = sanisand_yield(mat, y)
-      if (fy < -yield_tol*pmean(y)) then
-        ! inside: the elastic path crosses the surface at ta in (t, 1)
-        ta = t
-        fa = fy
-        tb = 1.0_wp
-        fb = sanisand_yield(mat, ytr)
-      else
-        ! on the surface: loading from here, or an elastic unloading that crosses the
-        ! surface again later (the first elastic sample inside brackets that crossing)
-        ta = -1.0_wp
-        if (.not. loads(mat, y, e_at(e0, dec, t), ain, dec)) then
-          do k = 1, 32
-            ymid = y
-            call march(mat, ymid, ain, e0, dec, t, t + (1.0_wp - t)*k/32.0_wp, .false., code, &
-                       nsub, wdum, left, tx)
+      onload = abs(fy) <= yield_tol*pmean(y)
+      if (onload) onload = loads(mat, y, e_at(e0, dec, t), ain, dec)
+      if (.not. onload) then
+        ! the elastic trial of what is left of the increment
+        ytr = y
+        call march(mat, ytr, ain, e0, dec, t, 1.0_wp, .false., code, nsub, wdum, left, tx)
+        if (code /= 0) exit
+        if (sanisand_yield(mat, ytr) <= yield_tol*pmean(ytr)) then
+          y = ytr
+          t = 1.0_wp
+          exit
+        end if
+        fy = sanisand_yield(mat, y)
+        if (fy < -yield_tol*pmean(y)) then
+          ! inside: the elastic path crosses the surface at ta in (t, 1)
+          ta = t
+          fa = fy
+          tb = 1.0_wp
+          fb = sanisand_yield(mat, ytr)
+        else
+          ! on the surface and unloading: the elastic path may cross the surface again
+          ! later (the last of 32 samples inside before the first outside bracket it)
+          ta = -1.0_wp
+          if (.not. loads(mat, y, e_at(e0, dec, t), ain, dec)) then
+            do k = 1, 32
+              ymid = y
+              call march(mat, ymid, ain, e0, dec, t, t + (1.0_wp - t)*k/32.0_wp, .false., code, &
+                         nsub, wdum, left, tx)
+              if (code /= 0) exit
+              fm = sanisand_yield(mat, ymid)
+              if (fm < -yield_tol*pmean(ymid)) then
+                ta = t + (1.0_wp - t)*k/32.0_wp
+                fa = fm
+              else if (ta >= 0.0_wp) then
+                tb = t + (1.0_wp - t)*k/32.0_wp
+                fb = fm
+                exit
+              end if
+            end do
             if (code /= 0) exit
-            fm = sanisand_yield(mat, ymid)
-            if (fm < -yield_tol*pmean(ymid)) then
-              ta = t + (1.0_wp - t)*k/32.0_wp
-              fa = fm
-            else if (ta >= 0.0_wp) then
-              tb = t + (1.0_wp - t)*k/32.0_wp
-              fb = fm
-              exit
+            if (ta >= 0.0_wp .and. k > 32) then
+              tb = 1.0_wp
+              fb = sanisand_yield(mat, ytr)
             end if
-          end do
-          if (code /= 0) exit
-          if (ta >= 0.0_wp .and. k > 32) then
-            tb = 1.0_wp
-            fb = sanisand_yield(mat, ytr)
-          end if
-          if (ta >= 0.0_wp) then
-            ! restart the crossing from the last point inside
-            call march(mat, y, ain, e0, dec, t, ta, .false., code, nsub, wdum, left, tx)
-            if (code /= 0) exit
-            t = ta
-            fa = sanisand_yield(mat, y)
+            if (ta >= 0.0_wp) then
+              ! restart the crossing from the last point inside
+              call march(mat, y, ain, e0, dec, t, ta, .false., code, nsub, wdum, left, tx)
+              if (code /= 0) exit
+              t = ta
+              fa = sanisand_yield(mat, y)
+            end if
           end if
         end if
-      end if
-      if (ta >= 0.0_wp) then
-        call crossing(mat, y, ain, e0, dec, t, tb, fa, fb, ta, code, nsub)
-        if (code /= 0) exit
-        t = ta
+        if (ta >= 0.0_wp) then
+          call crossing(mat, y, ain, e0, dec, t, tb, fa, fb, ta, code, nsub)
+          if (code /= 0) exit
+          t = ta
+        end if
       end if
       ! a new plastic loading: alpha_in is the alpha of the last load reversal
       if (dot(y(7:12) - ain, normal(mat, y)) < 0.0_wp) ain = y(7:12)

@@ -25,8 +25,10 @@
 !>
 !> Integration (Sloan 1987; Sloan, Abbo & Sheng 2001): explicit, the elastic part and the
 !> plastic part each by modified Euler with substeps whose size follows the estimated
-!> relative error (tolerance integration_tolerance); the crossing of the yield surface by
-!> the Pegasus method on the elastic path; after each plastic substep the point is put
+!> relative error (tolerance integration_tolerance); a point on its yield surface that loads
+!> goes straight to the plastic part, one inside (or unloading) takes the elastic trial and
+!> the crossing of the yield surface by the Pegasus method on the elastic path; after each
+!> plastic substep the point is put
 !> back on the yield surface by moving alpha along n by f/p (the stress is kept; this
 !> closes the drift exactly). An integration that needs more than max_substeps substeps,
 !> or whose substep shrinks below min_fraction, fails: the caller stops the run naming the

@@ -38,6 +38,7 @@ program test_element
   call test_elastic_isotropic_stress_control_hits_targets()
   call test_elastic_triaxial_stress_control_hits_targets()
   call test_elastic_simple_shear_gives_shear_modulus()
+  call test_elastic_plane_strain_undrained_gives_4g()
   call test_mc_drained_triaxial_compression_fails_at_closed_form()
   call test_mc_drained_triaxial_extension_fails_at_closed_form()
   call test_mc_undrained_triaxial_fails_at_constant_p()
@@ -88,6 +89,39 @@ contains
     call materials_from_config([cfg%material], mats)
     call run_element(cfg, mats(1), h)
   end function run
+
+  !> Undrained plane strain (no strain along y, eps_x = -eps_a) of the elastic soil under
+  !> strain and stress control: the deviator sigma'_a - sigma'_x = 4 G eps_a, p' and
+  !> sigma'_y kept, and the pore pressure the fall of sigma'_x, 2 G eps_a.
+  subroutine test_elastic_plane_strain_undrained_gives_4g()
+    type(element_cfg_t) :: cfg
+    type(element_history_t) :: h
+    real(wp) :: eq, ep, eu
+    integer :: k, ic
+    call begin_test('elastic_plane_strain_undrained_gives_4g')
+    do ic = 1, 2
+      cfg = elastic_test('plane_strain_undrained', merge('strain', 'stress', ic == 1))
+      if (ic == 1) cfg%axial_strain = 0.01_wp
+      if (ic == 2) cfg%deviator = 4.0_wp*shear*0.01_wp
+      h = run(cfg)
+      call check_equal_int(h%status, element_ok, 'the path is complete')
+      eq = 0.0_wp
+      ep = 0.0_wp
+      eu = 0.0_wp
+      do k = 2, h%nrec
+        eq = max(eq, abs(h%q(k)/h%axial_strain(k) - 4.0_wp*shear)/(4.0_wp*shear))
+        ep = max(ep, abs(h%p(k) - p0)/p0, abs(h%stress(2, k) + p0)/p0)
+        eu = max(eu, abs(h%excess_pore_pressure(k)/h%axial_strain(k) - 2.0_wp*shear)/shear)
+      end do
+      print '(a,3es10.2)', '  measured: deviator, p'' and sigma''_y, pore pressure errors ', &
+        eq, ep, eu
+      ! measured at most 1.9e-15 (strain) and 3.4e-15 (stress control): margin about 30
+      call check(eq <= 1.0e-13_wp, 'sigma''_a - sigma''_x = 4 G eps_a')
+      call check(ep <= 1.0e-13_wp, 'p'' and sigma''_y kept')
+      call check(eu <= 1.0e-13_wp, 'pore pressure 2 G eps_a')
+      call check(abs(h%strain(2, h%nrec)) == 0.0_wp, 'no strain along y')
+    end do
+  end subroutine test_elastic_plane_strain_undrained_gives_4g
 
   !> Drained triaxial compression and extension (sigma_r constant) of the elastic soil:
   !> q / eps_a = E and -eps_r / eps_a = nu at every step.

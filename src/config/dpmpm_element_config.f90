@@ -9,15 +9,16 @@ module dpmpm_element_config
   public :: element_cfg_t, element_paths, element_controls, element_senses
   public :: path_isotropic, path_oedometer, path_triaxial_drained, path_triaxial_undrained
   public :: path_simple_shear_drained, path_simple_shear_undrained, path_from_name
+  public :: path_plane_strain_undrained
   public :: target_names, ntargets, target_of, initial_effective_stress
 
   !> The paths, in the order of their codes.
   integer, parameter :: path_isotropic = 1, path_oedometer = 2, path_triaxial_drained = 3, &
                         path_triaxial_undrained = 4, path_simple_shear_drained = 5, &
-                        path_simple_shear_undrained = 6
-  character(len=22), parameter :: element_paths(6) = [character(len=22) :: 'isotropic', &
+                        path_simple_shear_undrained = 6, path_plane_strain_undrained = 7
+  character(len=22), parameter :: element_paths(7) = [character(len=22) :: 'isotropic', &
     'oedometer', 'triaxial_drained', 'triaxial_undrained', 'simple_shear_drained', &
-    'simple_shear_undrained']
+    'simple_shear_undrained', 'plane_strain_undrained']
   character(len=6), parameter :: element_controls(2) = ['strain', 'stress']
   character(len=11), parameter :: element_senses(2) = ['compression', 'extension  ']
 
@@ -71,7 +72,7 @@ contains
       k = merge(2, 5, strain)
     case (path_oedometer)
       k = merge(1, 6, strain)
-    case (path_triaxial_drained, path_triaxial_undrained)
+    case (path_triaxial_drained, path_triaxial_undrained, path_plane_strain_undrained)
       k = merge(1, 4, strain)
     case default
       k = merge(3, 7, strain)

@@ -13,7 +13,8 @@ module dpmpm_element_input
                                   element_senses, path_from_name, target_names, ntargets, &
                                   target_of, initial_effective_stress, path_isotropic, &
                                   path_oedometer, path_triaxial_drained, path_triaxial_undrained, &
-                                  path_simple_shear_drained, path_simple_shear_undrained
+                                  path_simple_shear_drained, path_simple_shear_undrained, &
+                                  path_plane_strain_undrained
   use dpmpm_model_table, only: model_from_name, model_table
   use dpmpm_input_problems, only: input_problems_t, g_material, add_raw, add_file_problem, real_ok, &
                                   prop_unset, count_given
@@ -347,6 +348,9 @@ contains
     case (path_triaxial_drained, path_triaxial_undrained)
       y0 = 0.5_wp*(s0(1) + s0(2)) - s0(3)
       call check_end('deviator', cfg%deviator, y0, 'q', .false.)
+    case (path_plane_strain_undrained)
+      y0 = s0(1) - s0(3)
+      call check_end('deviator', cfg%deviator, y0, 'sigma''_a - sigma''_x', .false.)
     case default
       if (.not. (real_ok(cfg%shear_stress) .and. cfg%shear_stress /= 0.0_wp)) &
         call bad('shear_stress', rtoa(cfg%shear_stress), 'must be a finite tau /= 0 (Pa; its '// &

@@ -41,6 +41,8 @@ contains
         'bulk_modulus', rtoa(m%bulk_modulus), 'must be > 0 (Pa) for a fluid')
       else if (m%model == 'cam_clay') then
         call check_cam_clay(pb, k, m)
+      else if (m%model == 'sanisand') then
+        call check_sanisand(pb, k, m)
       else if (m%model /= 'rigid') then
         if (m%model == 'umat') call check_umat(pb, k, m)
         if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
@@ -88,9 +90,16 @@ contains
       if (m%youngs_modulus /= d%youngs_modulus) call add_warning(pb, g_material, k, &
         'youngs_modulus', rtoa(m%youngs_modulus), why//' (its stiffness follows the pressure: '// &
         'swelling_index, with poisson_ratio or shear_modulus)')
+    else if (m%model == 'sanisand') then
+      if (m%youngs_modulus /= d%youngs_modulus) call add_warning(pb, g_material, k, &
+        'youngs_modulus', rtoa(m%youngs_modulus), why//' (its stiffness follows the pressure: '// &
+        'shear_constant, with poisson_ratio)')
+      call warn_cam_clay_only(pb, k, m, d, why//" (only 'cam_clay' takes it)")
     else
       call warn_cam_clay_variables(pb, k, m, d, why//" (only 'cam_clay' takes it)")
     end if
+    if (m%model /= 'sanisand') call warn_sanisand_variables(pb, k, m, d, &
+                                                          why//" (only 'sanisand' takes it)")
     if (m%model /= 'umat') call warn_umat_variables(pb, k, m, d, why//" (only 'umat' takes it)")
     plastic = m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager'
     skeleton = m%model /= 'fluid' .and. m%model /= 'rigid'
@@ -130,14 +139,24 @@ contains
     integer, intent(in) :: k
     type(material_cfg_t), intent(in) :: m, d
     character(len=*), intent(in) :: why
-    if (m%compression_index /= d%compression_index) call add_warning(pb, g_material, k, &
-      'compression_index', rtoa(m%compression_index), why)
-    if (m%swelling_index /= d%swelling_index) call add_warning(pb, g_material, k, &
-      'swelling_index', rtoa(m%swelling_index), why)
     if (m%critical_state_ratio /= d%critical_state_ratio) call add_warning(pb, g_material, k, &
       'critical_state_ratio', rtoa(m%critical_state_ratio), why)
     if (m%void_ratio /= d%void_ratio) call add_warning(pb, g_material, k, 'void_ratio', &
       rtoa(m%void_ratio), why)
+    call warn_cam_clay_only(pb, k, m, d, why)
+  end subroutine warn_cam_clay_variables
+
+  !> The variables that Modified Cam-Clay alone reads (not M and e0, which sanisand reads
+  !> too), given to material k of another model.
+  subroutine warn_cam_clay_only(pb, k, m, d, why)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m, d
+    character(len=*), intent(in) :: why
+    if (m%compression_index /= d%compression_index) call add_warning(pb, g_material, k, &
+      'compression_index', rtoa(m%compression_index), why)
+    if (m%swelling_index /= d%swelling_index) call add_warning(pb, g_material, k, &
+      'swelling_index', rtoa(m%swelling_index), why)
     if (m%preconsolidation_pressure /= d%preconsolidation_pressure) call add_warning(pb, &
       g_material, k, 'preconsolidation_pressure', rtoa(m%preconsolidation_pressure), why)
     if (m%ocr /= d%ocr) call add_warning(pb, g_material, k, 'ocr', rtoa(m%ocr), why)
@@ -145,7 +164,103 @@ contains
       rtoa(m%shear_modulus), why)
     if (m%min_pressure /= d%min_pressure) call add_warning(pb, g_material, k, 'min_pressure', &
       rtoa(m%min_pressure), why)
-  end subroutine warn_cam_clay_variables
+  end subroutine warn_cam_clay_only
+
+  !> The variables of SANISAND given to material k of another model.
+  subroutine warn_sanisand_variables(pb, k, m, d, why)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m, d
+    character(len=*), intent(in) :: why
+    character(len=24), parameter :: names(16) = [character(len=24) :: 'shear_constant', &
+      'extension_ratio', 'csl_lambda', 'csl_void_ratio', 'csl_exponent', 'yield_radius', &
+      'hardening_h0', 'hardening_ch', 'bounding_nb', 'dilatancy_a0', 'dilatancy_nd', &
+      'fabric_zmax', 'fabric_cz', 'atmospheric_pressure', 'pressure_floor', &
+      'integration_tolerance']
+    real(wp) :: given(16), default(16)
+    integer :: j
+    given = sanisand_values(m)
+    default = sanisand_values(d)
+    do j = 1, size(names)
+      if (given(j) /= default(j)) call add_warning(pb, g_material, k, trim(names(j)), &
+                                                   rtoa(given(j)), why)
+    end do
+  end subroutine warn_sanisand_variables
+
+  !> The sanisand variables of m in the order of warn_sanisand_variables' names.
+  pure function sanisand_values(m) result(v)
+    type(material_cfg_t), intent(in) :: m
+    real(wp) :: v(16)
+    v = [m%shear_constant, m%extension_ratio, m%csl_lambda, m%csl_void_ratio, m%csl_exponent, &
+         m%yield_radius, m%hardening_h0, m%hardening_ch, m%bounding_nb, m%dilatancy_a0, &
+         m%dilatancy_nd, m%fabric_zmax, m%fabric_cz, m%atmospheric_pressure, m%pressure_floor, &
+         m%integration_tolerance]
+  end function sanisand_values
+
+  !> The parameters of a sanisand material k (Dafalias & Manzari 2004, doc/input.md): each
+  !> constant in the range where the model's equations hold.
+  subroutine check_sanisand(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    if (.not. real_ok(m%critical_state_ratio, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'critical_state_ratio', rtoa(m%critical_state_ratio), 'must be > 0: M = q/p'' at the '// &
+      'critical state in triaxial compression (1.25 for Toyoura sand)')
+    if (.not. real_ok(m%void_ratio, gt=0.0_wp, lt=2.97_wp)) call add_value(pb, g_material, k, &
+      'void_ratio', rtoa(m%void_ratio), 'must be in (0, 2.97): the initial void ratio e0 (the '// &
+      'shear modulus has the factor (2.97 - e)^2)')
+    if (.not. real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) call add_value(pb, g_material, &
+      k, 'poisson_ratio', rtoa(m%poisson_ratio), 'must be in (-1, 0.5) (it gives K from G)')
+    if (.not. real_ok(m%shear_constant, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'shear_constant', rtoa(m%shear_constant), 'must be > 0: G0, the dimensionless shear '// &
+      'modulus constant')
+    if (.not. real_ok(m%extension_ratio, gt=0.0_wp, le=1.0_wp)) call add_value(pb, g_material, &
+      k, 'extension_ratio', rtoa(m%extension_ratio), 'must be in (0, 1]: c = M_e/M_c')
+    if (.not. real_ok(m%csl_lambda, ge=0.0_wp)) call add_value(pb, g_material, k, 'csl_lambda', &
+      rtoa(m%csl_lambda), 'must be >= 0: lambda_c, the fall of the critical void ratio')
+    if (.not. real_ok(m%csl_void_ratio, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'csl_void_ratio', rtoa(m%csl_void_ratio), 'must be > 0: e_c0, the critical void ratio at '// &
+      'p'' = 0')
+    if (.not. real_ok(m%csl_exponent, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'csl_exponent', rtoa(m%csl_exponent), 'must be > 0: xi')
+    if (.not. real_ok(m%yield_radius, gt=0.0_wp)) then
+      call add_value(pb, g_material, k, 'yield_radius', rtoa(m%yield_radius), &
+                     'must be > 0: m, the size of the yield cone (0.01 for Toyoura sand)')
+    else if (real_ok(m%critical_state_ratio, gt=0.0_wp) .and. &
+             real_ok(m%extension_ratio, gt=0.0_wp, le=1.0_wp)) then
+      if (m%yield_radius >= m%extension_ratio*m%critical_state_ratio) call add_value(pb, &
+        g_material, k, 'yield_radius', rtoa(m%yield_radius), 'must be < c M = '// &
+        rtoa(m%extension_ratio*m%critical_state_ratio)//' (the yield cone inside the '// &
+        'critical state surface in extension)')
+    end if
+    if (.not. real_ok(m%hardening_h0, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'hardening_h0', rtoa(m%hardening_h0), 'must be > 0: h0')
+    if (.not. real_ok(m%hardening_ch, ge=0.0_wp)) then
+      call add_value(pb, g_material, k, 'hardening_ch', rtoa(m%hardening_ch), 'must be >= 0: c_h')
+    else if (real_ok(m%void_ratio, gt=0.0_wp)) then
+      if (m%hardening_ch*m%void_ratio >= 1.0_wp) call add_value(pb, g_material, k, &
+        'hardening_ch', rtoa(m%hardening_ch), 'must be < 1/void_ratio = '// &
+        rtoa(1.0_wp/m%void_ratio)//' (b0 has the factor 1 - c_h e, which must stay > 0)')
+    end if
+    if (.not. real_ok(m%bounding_nb, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'bounding_nb', rtoa(m%bounding_nb), 'must be >= 0: n_b')
+    if (.not. real_ok(m%dilatancy_a0, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'dilatancy_a0', rtoa(m%dilatancy_a0), 'must be >= 0: A0')
+    if (.not. real_ok(m%dilatancy_nd, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'dilatancy_nd', rtoa(m%dilatancy_nd), 'must be >= 0: n_d')
+    if (.not. real_ok(m%fabric_zmax, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'fabric_zmax', rtoa(m%fabric_zmax), 'must be >= 0: z_max (0: no fabric effect)')
+    if (.not. real_ok(m%fabric_cz, ge=0.0_wp)) call add_value(pb, g_material, k, 'fabric_cz', &
+      rtoa(m%fabric_cz), 'must be >= 0: c_z')
+    if (.not. real_ok(m%atmospheric_pressure, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'atmospheric_pressure', rtoa(m%atmospheric_pressure), 'must be > 0 (Pa): p_at')
+    if (.not. real_ok(m%pressure_floor, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'pressure_floor', rtoa(m%pressure_floor), 'must be > 0 (Pa): the model is undefined at '// &
+      'p'' <= 0; a point below the floor is put at it (about 1e-3 atmospheric_pressure)')
+    if (.not. real_ok(m%integration_tolerance, gt=0.0_wp, le=0.01_wp)) call add_value(pb, &
+      g_material, k, 'integration_tolerance', rtoa(m%integration_tolerance), &
+      'must be in (0, 0.01]: the relative error of a substep (1e-5 by default)')
+  end subroutine check_sanisand
 
   !> The parameters of a cam_clay material k (Modified Cam-Clay, doc/input.md): lambda >
   !> kappa > 0, M > 0, e0 > 0, p_c0 >= 0, ocr >= 1, p_m >= 0, G >= 0 (0: from K and nu).

@@ -32,6 +32,13 @@ module dpmpm_material_params
     !> nu), and the pressure p_m whose stiffness a point at zero stress keeps (Pa)
     real(wp) :: cc_lambda = 0.0_wp, cc_kappa = 0.0_wp, cc_m = 0.0_wp, cc_e0 = 0.0_wp
     real(wp) :: cc_pc0 = 0.0_wp, cc_ocr = 1.0_wp, cc_shear = 0.0_wp, cc_min_pressure = 0.0_wp
+    !> sanisand (dpmpm_model_sanisand; Dafalias & Manzari 2004): G0, M, c, lambda_c, e_c0, xi,
+    !> m, h0, c_h, n_b, A0, n_d, z_max, c_z, p_at (Pa), the initial void ratio e0, the
+    !> pressure floor (Pa) and the relative error tolerance of the substeps
+    real(wp) :: sd_g0 = 0.0_wp, sd_mc = 0.0_wp, sd_c = 0.0_wp, sd_lc = 0.0_wp, sd_ec0 = 0.0_wp
+    real(wp) :: sd_xi = 0.0_wp, sd_m = 0.0_wp, sd_h0 = 0.0_wp, sd_ch = 0.0_wp, sd_nb = 0.0_wp
+    real(wp) :: sd_a0 = 0.0_wp, sd_nd = 0.0_wp, sd_zmax = 0.0_wp, sd_cz = 0.0_wp
+    real(wp) :: sd_pat = 1.0_wp, sd_e0 = 0.0_wp, sd_pmin = 1.0_wp, sd_tol = 1.0e-5_wp
     !> the state values a point of this material keeps (dpmpm_model_table's material_nstate)
     integer :: nstate = 0
     !> umat (dpmpm_model_umat): PROPS (umat_nprops of them), NSTATV and CMNAME

@@ -10,6 +10,7 @@ module dpmpm_materials
   use dpmpm_model_table, only: model_linear_elastic, model_neo_hookean, model_fluid, &
                                model_mohr_coulomb, model_drucker_prager, model_rigid, &
                                model_cam_clay, model_umat, model_from_name, is_plastic, &
+                               model_sanisand, &
                                is_pressure_dependent, material_nstate
   use dpmpm_material_params, only: material_t
   use dpmpm_plasticity, only: plastic_setup, dp_match_names, dp_plane_strain, &
@@ -20,12 +21,14 @@ module dpmpm_materials
   use dpmpm_model_cam_clay, only: cam_clay_update, cam_clay_init_state, cam_clay_moduli, &
                                   cam_clay_energy
   use dpmpm_model_umat, only: umat_update, umat_init_state
+  use dpmpm_model_sanisand, only: sanisand_update, sanisand_init_state, sanisand_moduli, &
+                                  sanisand_energy
   use dpmpm_tensor, only: as_3x3, det3
   implicit none
   private
   public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
   public :: model_mohr_coulomb, model_drucker_prager, model_rigid, model_cam_clay, is_plastic
-  public :: model_umat
+  public :: model_umat, model_sanisand
   public :: materials_from_config, stress_update, strain_energy, wave_speed, wave_speeds
   public :: model_update, init_state, point_moduli
 
@@ -100,6 +103,30 @@ contains
         mats(k)%cc_ocr = cfgs(k)%ocr
         mats(k)%cc_shear = cfgs(k)%shear_modulus
         mats(k)%cc_min_pressure = cfgs(k)%min_pressure
+        ! the stiffness follows the pressure: each point's own (point_moduli)
+        mats(k)%youngs = 0.0_wp
+        mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
+        mats(k)%bulk = 0.0_wp
+      end if
+      if (mats(k)%model == model_sanisand) then
+        mats(k)%sd_g0 = cfgs(k)%shear_constant
+        mats(k)%sd_mc = cfgs(k)%critical_state_ratio
+        mats(k)%sd_c = cfgs(k)%extension_ratio
+        mats(k)%sd_lc = cfgs(k)%csl_lambda
+        mats(k)%sd_ec0 = cfgs(k)%csl_void_ratio
+        mats(k)%sd_xi = cfgs(k)%csl_exponent
+        mats(k)%sd_m = cfgs(k)%yield_radius
+        mats(k)%sd_h0 = cfgs(k)%hardening_h0
+        mats(k)%sd_ch = cfgs(k)%hardening_ch
+        mats(k)%sd_nb = cfgs(k)%bounding_nb
+        mats(k)%sd_a0 = cfgs(k)%dilatancy_a0
+        mats(k)%sd_nd = cfgs(k)%dilatancy_nd
+        mats(k)%sd_zmax = cfgs(k)%fabric_zmax
+        mats(k)%sd_cz = cfgs(k)%fabric_cz
+        mats(k)%sd_pat = cfgs(k)%atmospheric_pressure
+        mats(k)%sd_e0 = cfgs(k)%void_ratio
+        mats(k)%sd_pmin = cfgs(k)%pressure_floor
+        mats(k)%sd_tol = cfgs(k)%integration_tolerance
         ! the stiffness follows the pressure: each point's own (point_moduli)
         mats(k)%youngs = 0.0_wp
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
@@ -187,6 +214,9 @@ contains
     case (model_cam_clay)
       call cam_clay_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
                            dissipation, plane)
+    case (model_sanisand)
+      call sanisand_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
+                           dissipation, plane)
     case (model_umat)
       call umat_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
                        dissipation, plane, time, step, x, ids, celent)
@@ -195,8 +225,9 @@ contains
 
   !> The initial state values of the points of material index m from their initial stress
   !> (after the geostatic start; a restart reads them instead): 0 for every model but
-  !> cam_clay (its preconsolidation pressure and void ratio) and umat (from a first call of
-  !> the UMAT with a zero increment, dpmpm_model_umat's umat_init_state).
+  !> cam_clay (its preconsolidation pressure and void ratio), sanisand (alpha and alpha_in
+  !> from the stress ratio, the void ratio) and umat (from a first call of the UMAT with a
+  !> zero increment, dpmpm_model_umat's umat_init_state).
   subroutine init_state(mat, m, n, pmat, stress, state, x, ids)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: m, n
@@ -209,6 +240,8 @@ contains
     select case (mat%model)
     case (model_cam_clay)
       call cam_clay_init_state(mat, m, n, pmat, stress, state)
+    case (model_sanisand)
+      call sanisand_init_state(mat, m, n, pmat, stress, state)
     case (model_umat)
       call umat_init_state(mat, m, n, pmat, stress, state, x, ids)
     end select
@@ -230,9 +263,16 @@ contains
     end do
     if (.not. any(is_pressure_dependent(mats%model))) return
     do p = 1, n
-      if (mats(pmat(p))%model /= model_cam_clay) cycle
-      call cam_clay_moduli(mats(pmat(p)), -(stress(1, p) + stress(2, p) + stress(3, p))/3.0_wp, &
-                           state(2, p), k, g)
+      select case (mats(pmat(p))%model)
+      case (model_cam_clay)
+        call cam_clay_moduli(mats(pmat(p)), -(stress(1, p) + stress(2, p) + stress(3, p))/3.0_wp, &
+                             state(2, p), k, g)
+      case (model_sanisand)
+        call sanisand_moduli(mats(pmat(p)), -(stress(1, p) + stress(2, p) + stress(3, p))/3.0_wp, &
+                             state(19, p), k, g)
+      case default
+        cycle
+      end select
       pw(p) = k + 4.0_wp*g/3.0_wp
     end do
   end subroutine point_moduli
@@ -269,6 +309,8 @@ contains
         e = e + w*vol0(p)
       case (model_cam_clay)
         e = e + cam_clay_energy(mat, stress(:, p), state(2, p), vol(p))
+      case (model_sanisand)
+        e = e + sanisand_energy(mat, stress(:, p), state(19, p), vol(p))
       case (model_umat)
         ! the UMAT's SSE, per unit volume (dpmpm_model_umat)
         e = e + state(7, p)*vol(p)

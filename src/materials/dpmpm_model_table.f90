@@ -11,9 +11,10 @@ module dpmpm_model_table
   public :: model_needs_defgrad, is_plastic, scene_state_names, material_nstate
   public :: model_linear_elastic, model_neo_hookean, model_fluid, model_mohr_coulomb
   public :: model_drucker_prager, model_rigid, model_cam_clay, is_pressure_dependent, model_umat
+  public :: model_sanisand
 
   !> The most state values a model may keep per point.
-  integer, parameter :: max_state = 16
+  integer, parameter :: max_state = 24
 
   !> One model: its input name, how many state values a point of it keeps (nstate) and
   !> their names (frame datasets of the point set), and what it needs: the deformation
@@ -35,7 +36,7 @@ module dpmpm_model_table
   !> Model codes: the lines of model_table.
   integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
   integer, parameter :: model_mohr_coulomb = 4, model_drucker_prager = 5, model_rigid = 6
-  integer, parameter :: model_cam_clay = 7, model_umat = 8
+  integer, parameter :: model_cam_clay = 7, model_umat = 8, model_sanisand = 9
 
   !> The one state value of the Mohr-Coulomb and Drucker-Prager soils: the accumulated
   !> plastic strain that softens the cohesion (dpmpm_plasticity).
@@ -56,7 +57,17 @@ module dpmpm_model_table
              'strain_xz', 'strain_xy', 'sse', 'spd', 'scd'], [max_state], &
             pad=[character(len=24) :: ''])
 
-  type(model_info_t), parameter :: model_table(8) = [ &
+  !> The state values of SANISAND (dpmpm_model_sanisand): the back-stress ratio alpha, the
+  !> fabric-dilatancy tensor z and the alpha of the last load reversal alpha_in (Voigt order,
+  !> tensor shears, compression positive), and the void ratio e.
+  character(len=24), parameter :: sanisand_state(max_state) = &
+    reshape([character(len=24) :: 'alpha_xx', 'alpha_yy', 'alpha_zz', 'alpha_yz', 'alpha_xz', &
+             'alpha_xy', 'fabric_xx', 'fabric_yy', 'fabric_zz', 'fabric_yz', 'fabric_xz', &
+             'fabric_xy', 'alpha_in_xx', 'alpha_in_yy', 'alpha_in_zz', 'alpha_in_yz', &
+             'alpha_in_xz', 'alpha_in_xy', 'void_ratio'], [max_state], &
+            pad=[character(len=24) :: ''])
+
+  type(model_info_t), parameter :: model_table(9) = [ &
     model_info_t(name='linear_elastic', skeleton=.true.), &
     model_info_t(name='neo_hookean', needs_defgrad=.true., skeleton=.true.), &
     model_info_t(name='fluid'), &
@@ -68,7 +79,9 @@ module dpmpm_model_table
     model_info_t(name='cam_clay', nstate=2, state_names=cam_clay_state, &
                  pressure_dependent=.true., skeleton=.true., plastic=.true.), &
     model_info_t(name='umat', nstate=9, state_names=umat_state, needs_defgrad=.true., &
-                 skeleton=.true., plastic=.true.)]
+                 skeleton=.true., plastic=.true.), &
+    model_info_t(name='sanisand', nstate=19, state_names=sanisand_state, &
+                 pressure_dependent=.true., skeleton=.true., plastic=.true.)]
 
 contains
 

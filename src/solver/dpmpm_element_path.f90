@@ -19,14 +19,18 @@
 !> the constant vertical stress of drained simple shear, the constant deviator of an
 !> isotropic test, the target q, p', sigma'_a or tau of stress control. Undrained means
 !> constant volume of the skeleton (the pore water incompressible against it):
-!> tr(deps) = 0, eps_r = -eps_a/2 in triaxial, no normal strain in simple shear.
+!> tr(deps) = 0, eps_r = -eps_a/2 in triaxial, no normal strain in simple shear. Plane
+!> strain undrained: no strain along y, eps_x = -eps_a; its deviator (the q of stress
+!> control and of the deviator target) is sigma'_a - sigma'_x, and the pore pressure the
+!> change of sigma'_x at a constant total sigma_x.
 !> A step that does not converge stops the path and is reported (element_history_t).
 module dpmpm_element_path
   use dpmpm_kinds, only: wp
   use dpmpm_element_config, only: element_cfg_t, path_isotropic, path_oedometer, &
                                   path_triaxial_drained, path_triaxial_undrained, &
                                   path_simple_shear_drained, path_simple_shear_undrained, &
-                                  path_from_name, target_of, initial_effective_stress
+                                  path_plane_strain_undrained, path_from_name, target_of, &
+                                  initial_effective_stress
   use dpmpm_materials, only: material_t, stress_update, init_state, point_moduli
   use dpmpm_model_table, only: model_table
   use dpmpm_strings, only: itoa
@@ -69,7 +73,8 @@ contains
   !> True for the paths at constant volume (undrained), which have an excess pore pressure.
   pure logical function is_undrained(path)
     integer, intent(in) :: path
-    is_undrained = path == path_triaxial_undrained .or. path == path_simple_shear_undrained
+    is_undrained = path == path_triaxial_undrained .or. path == path_simple_shear_undrained .or. &
+                   path == path_plane_strain_undrained
   end function is_undrained
 
   !> The initial state values of a point of material mat at the initial effective stress
@@ -194,6 +199,8 @@ contains
     ! volume-free split of radial against axial strain
     real(wp), parameter :: radial(6) = [1.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     real(wp), parameter :: split_ra(6) = [0.5_wp, 0.5_wp, -1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
+    ! the volume-free split of x against z strain with none along y (plane strain)
+    real(wp), parameter :: split_xz(6) = [1.0_wp, 0.0_wp, -1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     dir = 0.0_wp
     bmat = 0.0_wp
     nu = 0
@@ -232,6 +239,14 @@ contains
       else
         nu = 1
         bmat(:, 1) = -split_ra
+      end if
+    case (path_plane_strain_undrained)
+      if (strain_control) then
+        ! eps_x = -eps_a, eps_y = 0
+        dir = split_xz
+      else
+        nu = 1
+        bmat(:, 1) = -split_xz
       end if
     case (path_simple_shear_drained)
       nu = 1
@@ -277,6 +292,8 @@ contains
       if (.not. strain_control) r(2) = qdev(s) - y
     case (path_triaxial_undrained)
       if (.not. strain_control) r(1) = qdev(s) - y
+    case (path_plane_strain_undrained)
+      if (.not. strain_control) r(1) = qplane(s) - y
     case (path_simple_shear_drained)
       r(1) = s(3) - s0(3)
       if (.not. strain_control) r(2) = s(5) - y
@@ -297,6 +314,8 @@ contains
       y = -s(3)
     case (path_triaxial_drained, path_triaxial_undrained)
       y = qdev(s)
+    case (path_plane_strain_undrained)
+      y = qplane(s)
     case default
       y = s(5)
     end select
@@ -540,6 +559,7 @@ contains
     h%volume_ratio(i) = vol
     h%p(i) = pmean(s)
     h%q(i) = qdev(s)
+    if (path == path_plane_strain_undrained) h%q(i) = qplane(s)
     h%axial_strain(i) = -eps(3)
     h%volumetric_strain(i) = -sum(eps(1:3))
     h%shear_strain(i) = eps(5)
@@ -550,6 +570,7 @@ contains
     if (path == path_triaxial_undrained) &
       h%excess_pore_pressure(i) = 0.5_wp*(s(1) + s(2)) - 0.5_wp*(s0(1) + s0(2))
     if (path == path_simple_shear_undrained) h%excess_pore_pressure(i) = s(3) - s0(3)
+    if (path == path_plane_strain_undrained) h%excess_pore_pressure(i) = s(1) - s0(1)
     ! e from V/V0 = exp(tr eps): the strain is the sum of D dt, so tr eps = ln(V/V0)
     if (cfg%void_ratio > 0.0_wp) h%void_ratio(i) = (1.0_wp + cfg%void_ratio)*exp(sum(eps(1:3))) &
                                                     - 1.0_wp
@@ -574,6 +595,13 @@ contains
     real(wp), intent(in) :: s(6)
     qdev = 0.5_wp*(s(1) + s(2)) - s(3)
   end function qdev
+
+  !> The deviator of plane strain, sigma'_a - sigma'_x = sigma_xx - sigma_zz (compression
+  !> positive; y the direction without strain).
+  pure real(wp) function qplane(s)
+    real(wp), intent(in) :: s(6)
+    qplane = s(1) - s(3)
+  end function qplane
 
   !> A real as short text.
   pure function num(x) result(t)

@@ -2,27 +2,22 @@
 !> rectangular dam"): the scene of inputs/dam_seepage_2d.nml on a grid of 0.1 m against
 !> the steady free-boundary problem, solved here on its own by Baiocchi's transformation.
 program test_dam_seepage
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-      MPI_DOUBLE_PRECISION, MPI_MAX, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX, &
+                     MPI_SUM
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained, resolve_geostatic
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   integer, parameter :: ncol = 10             !< cells across the dam (h = 0.1 m)
   integer, parameter :: nref = 40             !< intervals of the reference over 1 m
   real(wp), parameter :: rho_g = 9810.0_wp
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_reference_free_surface()
   call test_dam_reaches_the_steady_free_surface()
   call test_drained_face_loads_only_the_water_there()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

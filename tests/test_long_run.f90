@@ -4,12 +4,12 @@
 !> 0.5 M v_u^2 (M the mass of the column, v_u = q / (rho_sat c_u) the particle
 !> speed behind the undrained front), and the run monitor's energy ratio.
 program test_long_run
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, &
-                     MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   ! W1: n_f = 0.3, rho_s = 2650, rho_f = 1000 kg/m^3, E_c = 10 MPa, K_f = 3 MPa, q = 1 Pa.
   real(wp), parameter :: NF = 0.3_wp, RHOS = 2650.0_wp, RHOF = 1000.0_wp, EC = 1.0e7_wp, KF = 3.0e6_wp
@@ -34,19 +34,15 @@ program test_long_run
   ! the run ends, monitor ratio 0.101 (the quadratic column loses energy at its top).
   real(wp), parameter :: KF3 = 2.2e9_wp, CU3 = sqrt((EC + KF3/NF)/RHOSAT)
   real(wp), parameter :: W3_TRANSITS = 100.0_wp*10.0_wp/CU3, W3_RATIO = 1.0_wp
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_w1_standard_bounded_over_20_transits()
   call test_w1_standard_grows_without_remap_drag()
   call test_w1_pair_uniform_scatter_bounded_over_20_transits()
   call test_w1_2d_standard_bounded_over_20_transits()
   call test_w3_quadratic_runs_100_transits()
   call test_w1_2d_standard_grows_without_remap_drag()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -3,9 +3,8 @@
 !> block or a footing on a saturated layer keeps the undrained time step, free water
 !> has n = 1 and no drag, and pore water takes n and 1/k from the soil around it.
 program test_mixed_scenes
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-      MPI_DOUBLE_PRECISION, MPI_MIN, MPI_MAX, MPI_SUM, MPI_INTEGER8
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN, &
+                     MPI_MAX, MPI_SUM, MPI_INTEGER8
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, bc_fixed, bc_roller, &
                           fbc_drained, &
@@ -14,12 +13,10 @@ program test_mixed_scenes
   use dpmpm_pore_pressure, only: skeleton_kinv, skeleton_porosity, smooth_pressure_change, &
                                  point_cells
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_dry_block_keeps_the_undrained_step()
   call test_footing_is_not_porous()
   call test_free_water_has_no_drag_and_pore_water_takes_the_soil()
@@ -35,9 +32,7 @@ program test_mixed_scenes
   call test_water_face_load_counted_once()
   call test_hydrostatic_side_faces()
   call test_water_above_a_surface_drains_to_the_air()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -8,18 +8,17 @@
 !> MPM's error at small deformation and do not crack at large, in 3D with a box weight.
 !> Bounds are measured values with the margins in doc/verification.md.
 program test_mls_solver
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
   use dpmpm_simulation, only: simulation_t
   use dpmpm_phase, only: solid_phase, fluid_phase
   use dpmpm_quadrature, only: gauss_point_gradients
   use dpmpm_benchmarks, only: benchmark_errors
-  use dpmpm_assert, only: begin_test, check, finish_tests
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_standard_mpm_is_linear_constant_mls()
   call test_transposed_pair_keeps_energy()
   call test_mms_crack_and_convergence()
@@ -27,9 +26,7 @@ program test_mls_solver
   call test_pair_thin_node_takes_no_force()
   call test_cell_gauss_point_keeps_standard_mpm_accuracy()
   call test_box_gauss_point_keeps_standard_mpm_accuracy_3d()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

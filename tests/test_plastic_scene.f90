@@ -4,27 +4,23 @@
 !> points the same way (tests/test_plasticity.f90, points_carry_plastic_strain). A box of
 !> soil without tension strength, kicked and left alone, does not gain energy.
 program test_plastic_scene
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, &
-                     MPI_IN_PLACE, MPI_MAX
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_MAX
   use dpmpm_kinds, only: wp, i8, mpi_wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
   use dpmpm_simulation, only: simulation_t
   use dpmpm_plasticity, only: plastic_setup, softening_limit, surface_mohr_coulomb, &
                               dp_plane_strain
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   character(len=*), parameter :: dir = 'out/test_plastic_scene'
   real(wp), parameter :: rho = 2000.0_wp, g = 9.81_wp, height = 0.375_wp, k0 = 0.3_wp
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_elastic_scene_has_no_plastic_history()
   call test_softening_column_restarts_exactly()
   call test_kicked_box_without_tension_gains_no_energy()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -2,21 +2,18 @@
 !> of a 4-rank job) gives the same point fields, matched by id, to 1e-10 relative.
 !> Points are scattered randomly, move across rank boundaries, and the body deforms.
 program test_rank_invariance
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_split, &
-                     MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_UNDEFINED, MPI_COMM_NULL, &
-                     operator(/=)
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm, MPI_Comm_split, MPI_Comm_size, MPI_Comm_free, &
+                     MPI_UNDEFINED, MPI_COMM_NULL, operator(/=)
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
   use dpmpm_test_scenes, only: column_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank, nworld
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  integer :: rank, nworld
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nworld)
-  am_root = rank == 0
   call test_same_fields_on_1_2_4_ranks('linear', 'musl')
   call test_same_fields_on_1_2_4_ranks('quadratic', 'musl')
   call test_same_fields_on_1_2_4_ranks('quadratic', 'usl')
@@ -35,9 +32,7 @@ program test_rank_invariance
   ! The same layers of Mohr-Coulomb soil with the cell smoothing of the skeleton's
   ! volumetric strain rate and of the pore pressure (cell sums stay on the cell's rank).
   call test_same_fields_on_1_2_4_ranks('linear', 'musl', 'smoothed_block')
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

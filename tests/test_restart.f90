@@ -2,32 +2,27 @@
 !> same run without a break ends, on the same ranks and (to the rank invariance of the
 !> solver) on fewer ranks; a bad checkpoint is refused.
 program test_restart
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_rank, &
-                     MPI_Comm_size, MPI_Barrier
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Barrier
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   character(len=*), parameter :: dir = 'out/test_restart'
-  integer :: status, rank, nranks
+  integer :: rank, nranks
   !> &run sort_every of the scene (0: the points are never sorted)
   integer :: sort_interval = 0
   !> the scene is the seepage strip of inflow_scene (fluid points enter at x = 0)
   logical :: inflow = .false.
   !> steps of the run in one go (the checkpoint at half of them)
   integer :: nsteps = 40
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  am_root = rank == 0
   call test_restart_continues_the_run_exactly()
   call test_restart_with_sorted_points_continues_exactly()
   call test_inflow_points_keep_their_ids()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -4,24 +4,19 @@
 !> saturated column (undrained) the force follows the mixture's modulus E_c + K_f / n_f
 !> and the pore pressure its share K_f / n_f.
 program test_rigid
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-                     MPI_DOUBLE_PRECISION, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_roller, bc_fixed, fbc_impermeable
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
   real(wp), parameter :: e = 1.0e7_wp, nu = 0.3_wp, v0 = 0.01_wp, t_end = 0.3_wp
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_plate_compresses_column_oedometrically()
   call test_plate_compresses_saturated_column_undrained()
   call test_smoothed_footing_on_tresca_soil_nears_prandtl()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

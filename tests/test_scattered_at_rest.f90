@@ -15,27 +15,22 @@
 !> largest of the three (RMS 0.016, largest 0.054, speed 8e-3 m/s); Standard MPM at
 !> least half its RMS (0.25).
 program test_scattered_at_rest
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-      MPI_DOUBLE_PRECISION, MPI_MAX, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX, &
+                     MPI_SUM
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, resolve_geostatic
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
   !> RMS and largest |p - p_h| / p_b, largest speed (m/s) of the quiet cases
   real(wp), parameter :: bound(3) = [0.016_wp, 0.054_wp, 8.0e-3_wp]
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_submerged_layer_on_random_points_stays_hydrostatic()
   call test_submerged_layer_on_uniform_points_stays_hydrostatic()
   call test_layer_alone_on_random_points_stays_hydrostatic()
   call test_standard_mpm_scatters_on_random_points()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) error stop 1
+  call end_tests()
 
 contains
 

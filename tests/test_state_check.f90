@@ -8,27 +8,24 @@
 !> with the monitor's exit code on every rank count, not migration (which loses such points).
 program test_state_check
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed
   use dpmpm_simulation, only: simulation_t
   use dpmpm_state, only: exit_monitor
   use dpmpm_energy, only: check_state
   use dpmpm_test_scenes, only: column_scene
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_undamaged_state_passes()
   call test_negative_volume_stops_the_run()
   call test_nonfinite_stress_stops_the_run()
   call test_nonfinite_pore_pressure_stops_the_run()
   call test_nonfinite_stress_stops_the_step_before_migration()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

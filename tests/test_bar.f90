@@ -6,6 +6,7 @@ program test_bar
   use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, bc_fixed
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_close
   use dpmpm_test_main, only: start_tests, end_tests
@@ -21,10 +22,7 @@ contains
     integer, intent(in) :: ncell_bar
     character(len=*), intent(in) :: kernel
     type(config_t) :: cfg
-    cfg%name = 'bar'
-    cfg%ndim = 1
-    cfg%ncells = [ncell_bar*5/4, 1, 1]
-    cfg%length = [1.25_wp, 1.0_wp, 1.0_wp]
+    cfg = grid_scene('bar', [ncell_bar*5/4], [1.25_wp])
     cfg%kernel = kernel
     cfg%t_end = 0.4_wp          ! one period of the first mode (omega = 5 pi)
     cfg%cfl = 0.2_wp

@@ -6,6 +6,7 @@ program test_dam_seepage
                      MPI_SUM
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained, resolve_geostatic
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check
   use dpmpm_test_main, only: start_tests, end_tests
@@ -102,13 +103,8 @@ contains
     logical, intent(in) :: gauss
     type(simulation_t), intent(inout) :: sim
     type(config_t) :: cfg
-    cfg%name = 'dam'
-    cfg%ndim = 2
-    cfg%ncells = [ncol, 12, 1]
-    cfg%length = [1.0_wp, 1.2_wp, 1.0_wp]
-    cfg%t_end = t_end
+    cfg = grid_scene('dam', [ncol, 12], [1.0_wp, 1.2_wp], t_end, gravity=[0.0_wp, -9.81_wp])
     cfg%drag = 'implicit'
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     if (gauss) then
       cfg%kernel = 'linear'
       cfg%quadrature = 'gauss'

@@ -6,7 +6,8 @@
 program test_long_run
   use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check
   use dpmpm_test_main, only: start_tests, end_tests
@@ -54,26 +55,14 @@ contains
     logical, intent(in) :: pair
     integer, intent(in), optional :: dims
     type(config_t) :: cfg
-    cfg%name = 'long_run'
-    cfg%ndim = 1
-    cfg%ncells = [100, 1, 1]
-    cfg%length = [10.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = TRANSITS
-    cfg%cfl = 0.5_wp
+    cfg = grid_scene('long_run', [100], [10.0_wp], TRANSITS, nmat=2, nreg=1, nload=1, cfl=0.5_wp)
     cfg%drag = 'implicit'
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=RHOS, &
                                       youngs_modulus=EC, poisson_ratio=0.0_wp, conductivity=1.0e-5_wp)
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=RHOF, bulk_modulus=KF)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [10.0_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = NF
-    cfg%regions(1)%ppc = 2
-    cfg%regions(1)%placement = placement
-    cfg%regions(1)%seed = seed
+    cfg%regions(1) = region_cfg_t(lo=[0.0_wp, 0.0_wp, 0.0_wp], hi=[10.0_wp, 1.0_wp, 1.0_wp], &
+                                  material=1, fluid_material=2, phase='saturated', porosity=NF, &
+                                  ppc=2, placement=placement, seed=seed)
     cfg%loads(1) = load_cfg_t(face=1, traction=[1.0_wp, 0.0_wp, 0.0_wp], ramp_time=0.0_wp)
     cfg%bc(2) = bc_fixed
     if (present(dims)) then

@@ -19,6 +19,7 @@ program test_migration
                                            ieee_set_flag
   use dpmpm_test_layouts, only: layouts_for, nested_test_cuts
   use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, am_root
+  use dpmpm_test_sort, only: ascending_order
   use dpmpm_test_main, only: start_tests, end_tests
   implicit none
 
@@ -696,25 +697,9 @@ contains
     end if
     call MPI_Gatherv(ps%id(1:ps%n), ps%n, MPI_INTEGER8, ids, counts, displs, MPI_INTEGER8, &
                      0, dec%comm)
-    if (dec%rank == 0) call sort_i8(ids)
+    ! (the ids of a test, below 2**53, are exact as reals)
+    if (dec%rank == 0) ids = ids(ascending_order(real(ids, wp)))
   end subroutine gather_sorted_ids
-
-  !> Insertion sort (the lists here have a few hundred entries).
-  subroutine sort_i8(a)
-    integer(i8), intent(inout) :: a(:)
-    integer :: i, j
-    integer(i8) :: t
-    do i = 2, size(a)
-      t = a(i)
-      j = i - 1
-      do while (j >= 1)
-        if (a(j) <= t) exit
-        a(j + 1) = a(j)
-        j = j - 1
-      end do
-      a(j + 1) = t
-    end do
-  end subroutine sort_i8
 
   !> Uniform number in [0, 1) from the Park-Miller minimal standard generator.
   real(wp) function uniform() result(u)

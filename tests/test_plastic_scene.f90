@@ -7,6 +7,7 @@ program test_plastic_scene
   use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_MAX
   use dpmpm_kinds, only: wp, i8, mpi_wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_plasticity, only: plastic_setup, softening_limit, surface_mohr_coulomb, &
                               dp_plane_strain
@@ -33,14 +34,8 @@ contains
     integer, intent(in) :: max_steps
     type(config_t) :: cfg
     real(wp) :: syy
-    cfg%name = 'plastic'
-    cfg%ndim = 2
-    cfg%ncells = [16, 8, 1]
-    cfg%length = [1.0_wp, 0.5_wp, 1.0_wp]
-    cfg%t_end = 1.0_wp
-    cfg%max_steps = max_steps
-    cfg%cfl = 0.4_wp
-    cfg%gravity = [0.0_wp, -g, 0.0_wp]
+    cfg = grid_scene('plastic', [16, 8], [1.0_wp, 0.5_wp], 1.0_wp, cfl=0.4_wp, &
+                     max_steps=max_steps, gravity=[0.0_wp, -g])
     cfg%output_dir = dir
     cfg%dims = [1, 0, 1]   ! ranks along y: on 2 ranks the column spans both
     allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
@@ -139,12 +134,7 @@ contains
     type(config_t) :: cfg
     type(simulation_t) :: sim
     call begin_test('kicked_box_without_tension_gains_no_energy')
-    cfg%name = 'kicked_box'
-    cfg%ndim = 2
-    cfg%ncells = [10, 15, 1]
-    cfg%length = [1.2_wp, 1.8_wp, 1.0_wp]
-    cfg%t_end = 0.5_wp
-    cfg%cfl = 0.5_wp
+    cfg = grid_scene('kicked_box', [10, 15], [1.2_wp, 1.8_wp], 0.5_wp, cfl=0.5_wp)
     cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
     allocate (cfg%materials(1), cfg%regions(2), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='mohr_coulomb', density=rho, &

@@ -4,7 +4,8 @@
 program test_restart
   use mpi_f08, only: MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Barrier
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check
   use dpmpm_test_main, only: start_tests, end_tests
@@ -34,16 +35,10 @@ contains
   function scene(max_steps) result(cfg)
     integer, intent(in) :: max_steps
     type(config_t) :: cfg
-    cfg%name = 'restart'
-    cfg%ndim = 2
-    cfg%ncells = [8, 8, 1]
-    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = 1.0_wp
-    cfg%max_steps = max_steps
-    cfg%cfl = 0.4_wp
+    cfg = grid_scene('restart', [8, 8], [1.0_wp, 1.0_wp], 1.0_wp, cfl=0.4_wp, max_steps=max_steps, &
+                     gravity=[0.0_wp, -9.81_wp])
     cfg%kernel = 'quadratic'
     cfg%drag = 'implicit'
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     cfg%output_dir = dir
     cfg%sort_every = sort_interval
     allocate (cfg%materials(3), cfg%regions(2), cfg%loads(0))
@@ -53,13 +48,9 @@ contains
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.0e7_wp)
     cfg%materials(3) = material_cfg_t(id=3, model='neo_hookean', density=2000.0_wp, &
                                       youngs_modulus=5.0e5_wp, poisson_ratio=0.3_wp)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [0.375_wp, 0.5_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = 0.4_wp
-    cfg%regions(1)%placement = 'random'
+    cfg%regions(1) = region_cfg_t(lo=[0.0_wp, 0.0_wp, 0.0_wp], hi=[0.375_wp, 0.5_wp, 1.0_wp], &
+                                  material=1, fluid_material=2, phase='saturated', &
+                                  porosity=0.4_wp, placement='random')
     cfg%regions(2)%lo = [0.625_wp, 0.0_wp, 0.0_wp]
     cfg%regions(2)%hi = [1.0_wp, 0.25_wp, 1.0_wp]
     cfg%regions(2)%material = 3
@@ -77,24 +68,15 @@ contains
   function inflow_scene(max_steps) result(cfg)
     integer, intent(in) :: max_steps
     type(config_t) :: cfg
-    cfg%name = 'restart'
-    cfg%ndim = 2
-    cfg%ncells = [4, 16, 1]
-    cfg%length = [0.4_wp, 1.6_wp, 1.0_wp]
-    cfg%t_end = 1.0_wp
-    cfg%max_steps = max_steps
+    cfg = grid_scene('restart', [4, 16], [0.4_wp, 1.6_wp], 1.0_wp, nmat=2, nreg=1, nload=0, &
+                     max_steps=max_steps)
     cfg%drag = 'implicit'
     cfg%output_dir = dir
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
                                       youngs_modulus=1.0e8_wp, poisson_ratio=0.3_wp, conductivity=1.0_wp)
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.0e7_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [0.4_wp, 1.6_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = 0.3_wp
+    cfg%regions(1) = region_cfg_t(lo=0.0_wp, hi=[0.4_wp, 1.6_wp, 1.0_wp], material=1, &
+                                  fluid_material=2, phase='saturated', porosity=0.3_wp)
     cfg%bc(1:4) = bc_roller
     cfg%fluid_bc(1:2) = fbc_drained
     cfg%pore_pressure(1) = 5.0e3_wp

@@ -4,7 +4,7 @@
 program test_two_phase
   use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained
   use dpmpm_simulation, only: simulation_t
   use dpmpm_drag, only: drag_limit
   use dpmpm_nodal_update, only: drag_solve
@@ -333,14 +333,10 @@ contains
     deallocate (cfg%regions, cfg%loads)
     allocate (cfg%regions(2), cfg%loads(0))
     do r = 1, 2
-      cfg%regions(r)%lo = [0.5_wp*(r - 1), 0.0_wp, 0.0_wp]
-      cfg%regions(r)%hi = [0.5_wp*r, 1.0_wp, 1.0_wp]
-      cfg%regions(r)%material = 1
-      cfg%regions(r)%fluid_material = 2
-      cfg%regions(r)%phase = 'saturated'
-      cfg%regions(r)%porosity = 0.1_wp + 0.2_wp*r
-      cfg%regions(r)%ppc = 2
-      cfg%regions(r)%placement = 'regular'
+      cfg%regions(r) = region_cfg_t(lo=[0.5_wp*(r - 1), 0.0_wp, 0.0_wp], &
+                                    hi=[0.5_wp*r, 1.0_wp, 1.0_wp], material=1, fluid_material=2, &
+                                    phase='saturated', porosity=0.1_wp + 0.2_wp*r, ppc=2, &
+                                    placement='regular')
     end do
     cfg%bc(1:2) = bc_fixed
     cfg%fluid_bc(1:2) = fbc_drained

@@ -5,6 +5,7 @@ program test_wall_friction
   use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_roller, bc_fixed
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_grid, only: grid_t
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_close, am_root
@@ -186,14 +187,8 @@ contains
     gn = g*cos(th)
     len = 0.2_wp
     if (present(length)) len = length
-    cfg%name = 'wall_friction'
-    cfg%ndim = 2
-    cfg%ncells = [nint((len + 0.8_wp)/0.02_wp), 10, 1]
-    cfg%length = [len + 0.8_wp, 0.2_wp, 1.0_wp]
-    cfg%t_end = t_end
-    cfg%cfl = 0.5_wp
-    cfg%flip = 0.5_wp
-    cfg%gravity = [g*sin(th), -gn, 0.0_wp]
+    cfg = grid_scene('wall_friction', [nint((len + 0.8_wp)/0.02_wp), 10], [len + 0.8_wp, 0.2_wp], &
+                     t_end, cfl=0.5_wp, flip=0.5_wp, gravity=[g*sin(th), -gn])
     cfg%bc(3) = bc_roller
     cfg%wall_friction(3) = mu
     allocate (cfg%materials(merge(2, 1, present(n))), cfg%regions(1), cfg%loads(0))

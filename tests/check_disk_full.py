@@ -22,6 +22,7 @@ import xml.dom.minidom
 import h5py
 
 from checkpoint_checksum import checksum
+from check_runs import RunChecks
 
 mpiexec, dpmpm, ranks, work, mode = sys.argv[1:6]
 work = pathlib.Path(work)
@@ -41,21 +42,12 @@ def scene(out):
 """
 
 
+checks = RunChecks(mpiexec, dpmpm, ranks, work)
+expect = checks.expect
+
+
 def run(name, text):
-    (work / name).write_text(text)
-    p = subprocess.run([mpiexec, "--oversubscribe", "-n", ranks, dpmpm, name], cwd=work,
-                       capture_output=True, text=True, timeout=120)
-    print(f"--- {name}: exit code {p.returncode}\n{p.stdout[-2000:]}{p.stderr}")
-    return p
-
-
-failures = []
-
-
-def expect(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
+    return checks.run(name, text, tail=2000)
 
 
 def whole_xml(path):
@@ -110,5 +102,4 @@ else:
     finally:
         subprocess.run(["umount", str(full)])
 
-print("PASS" if not failures else f"{len(failures)} check(s) failed")
-sys.exit(1 if failures else 0)
+checks.finish()

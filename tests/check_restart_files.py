@@ -17,12 +17,12 @@ holds a finished run and there is no checkpoint stops with exit code 2, and `--r
 import os
 import pathlib
 import shutil
-import subprocess
 import sys
 
 import h5py
 
 from checkpoint_checksum import checksum, restamp
+from check_runs import RunChecks
 
 mpiexec, dpmpm, ranks, work = sys.argv[1], sys.argv[2], sys.argv[3], pathlib.Path(sys.argv[4])
 shutil.rmtree(work, ignore_errors=True)
@@ -40,21 +40,8 @@ def scene(restart="", checkpoint_every=5):
 """
 
 
-def run(name, text, *flags):
-    (work / name).write_text(text)
-    p = subprocess.run([mpiexec, "--oversubscribe", "-n", ranks, dpmpm, *flags, name],
-                       cwd=work, capture_output=True, text=True, timeout=120)
-    print(f"--- {name} {' '.join(flags)}: exit code {p.returncode}\n{p.stdout}{p.stderr}")
-    return p
-
-
-failures = []
-
-
-def expect(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
+checks = RunChecks(mpiexec, dpmpm, ranks, work)
+run, expect = checks.run, checks.expect
 
 
 def expect_refused(p, name, text):
@@ -157,5 +144,4 @@ p = run("nockpt.nml", scene(checkpoint_every=0), "--restart", "--start-over")
 expect(p.returncode == 0, "--restart --start-over runs it again")
 expect("running the finished run" in p.stdout, "--start-over: the log says so")
 
-print("PASS" if not failures else f"{len(failures)} check(s) failed")
-sys.exit(1 if failures else 0)
+checks.finish()

@@ -14,13 +14,13 @@ what was changed.
 """
 import pathlib
 import shutil
-import subprocess
 import sys
 
 import h5py
 import numpy as np
 
 from checkpoint_checksum import restamp
+from check_runs import RunChecks
 
 mpiexec, dpmpm, work = sys.argv[1], sys.argv[2], pathlib.Path(sys.argv[3])
 shutil.rmtree(work, ignore_errors=True)
@@ -38,21 +38,8 @@ def scene(origin="0.0, 0.0", length="1.0, 1.0", restart=""):
 """
 
 
-def run(name, text):
-    (work / name).write_text(text)
-    p = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", dpmpm, name], cwd=work,
-                       capture_output=True, text=True, timeout=120)
-    print(f"--- {name}: exit code {p.returncode}\n{p.stdout}{p.stderr}")
-    return p
-
-
-failures = []
-
-
-def expect(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
+checks = RunChecks(mpiexec, dpmpm, 2, work)
+run, expect = checks.run, checks.expect
 
 
 p = run("first.nml", scene())
@@ -99,5 +86,4 @@ p = run("earlier.nml", scene(restart="out/earlier.ckpt.h5"))
 expect(p.returncode == 0, "a checkpoint of the earlier layout continues")
 expect("holds no monitor state" in p.stdout, "the log says the monitor starts over")
 
-print("PASS" if not failures else f"{len(failures)} check(s) failed")
-sys.exit(1 if failures else 0)
+checks.finish()

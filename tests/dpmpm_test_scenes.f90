@@ -4,9 +4,44 @@ module dpmpm_test_scenes
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed
   implicit none
   private
-  public :: column_scene
+  public :: grid_scene, column_scene
 
 contains
+
+  !> The part of a test scene that every test writes: its name, a grid of ncells cells
+  !> over length (m) per axis (ndim = size(ncells); the axes beyond ndim one cell of 1
+  !> m, as in an input file), the time to run, nmat materials, nreg regions and nload
+  !> loads allocated at their defaults (each group where its count is given), and cfl, flip, gravity
+  !> (its first components; the rest 0) and max_steps where given. Everything else is
+  !> config_t's default, for the test to set.
+  function grid_scene(name, ncells, length, t_end, nmat, nreg, nload, cfl, flip, gravity, &
+                      max_steps) result(cfg)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: ncells(:)
+    real(wp), intent(in) :: length(:)
+    real(wp), intent(in), optional :: t_end, cfl, flip, gravity(:)
+    integer, intent(in), optional :: nmat, nreg, nload, max_steps
+    type(config_t) :: cfg
+    integer :: nd
+    nd = size(ncells)
+    cfg%name = name
+    cfg%ndim = nd
+    cfg%ncells = 1
+    cfg%ncells(1:nd) = ncells
+    cfg%length = 1.0_wp
+    cfg%length(1:nd) = length
+    if (present(t_end)) cfg%t_end = t_end
+    if (present(cfl)) cfg%cfl = cfl
+    if (present(flip)) cfg%flip = flip
+    if (present(gravity)) then
+      cfg%gravity = 0.0_wp
+      cfg%gravity(1:size(gravity)) = gravity
+    end if
+    if (present(max_steps)) cfg%max_steps = max_steps
+    if (present(nmat)) allocate (cfg%materials(nmat))
+    if (present(nreg)) allocate (cfg%regions(nreg))
+    if (present(nload)) allocate (cfg%loads(nload))
+  end function grid_scene
 
   !> The saturated column of doc/theory.md 9.1 (W1 unless changed): 1D along x,
   !> loaded and drained at x-, fixed and impermeable at x+.

@@ -6,23 +6,20 @@
 !> stress. A column started in its geostatic state under gravity stays at rest on an
 !> absorbing base (the face carries the initial stress as a static load).
 program test_absorbing
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
+  use dpmpm_test_sort, only: ascending_order
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_dry_column_absorbs_a_wave()
   call test_saturated_column_absorbs_a_wave()
   call test_geostatic_columns_rest_on_absorbing_base()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -35,11 +32,7 @@ contains
     integer, intent(in) :: base
     logical, intent(in) :: saturated
     type(config_t) :: cfg
-    cfg%name = 'absorbing'
-    cfg%ndim = 1
-    cfg%ncells = [nint(10.0_wp*length), 1, 1]
-    cfg%length = [length, 1.0_wp, 1.0_wp]
-    cfg%t_end = t_end
+    cfg = grid_scene('absorbing', [nint(10.0_wp*length)], [length], t_end)
     cfg%drag = 'implicit'
     allocate (cfg%regions(1), cfg%loads(1))
     cfg%regions(1)%lo = 0.0_wp
@@ -79,8 +72,7 @@ contains
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
     real(wp), allocatable :: x(:, :), v(:, :), st(:, :)
-    integer :: i, j, n
-    real(wp) :: t
+    integer :: n
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
     call sim%gather_points(ids, x, v, st, fluid=fluid)
@@ -88,18 +80,7 @@ contains
     n = size(x, 2)
     allocate (s(n))
     s = st(1, :)
-    ! Insertion sort by x (a few hundred points, nearly in order already).
-    do i = 2, n
-      t = x(1, i)
-      do j = i - 1, 1, -1
-        if (x(1, j) <= t) exit
-      end do
-      x(1, j + 2:i) = x(1, j + 1:i - 1)
-      x(1, j + 1) = t
-      t = s(i)
-      s(j + 2:i) = s(j + 1:i - 1)
-      s(j + 1) = t
-    end do
+    s = s(ascending_order(x(1, :)))
   end function axial_stress
 
   !> Largest |stress of the short column - stress of the long column's top part| [Pa]

@@ -5,25 +5,20 @@
 !> bound and the measured difference: doc/parallel.md, "Nested cuts"), and a busiest rank
 !> that holds fewer points.
 program test_balance_nested
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-                     MPI_INTEGER, MPI_MAX
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_MAX
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t
   use dpmpm_input, only: read_input
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, check_equal_int, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
+  integer :: rank
   character(len=512) :: path
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests(rank)
   call get_command_argument(1, path)
   call test_nested_split_runs_the_column_as_the_even_one()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -3,19 +3,17 @@
 !> size, stays below a bound taken from a measured error (doc/verification.md),
 !> and the total energy is conserved within a measured bound.
 program test_bar
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, bc_fixed
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_bar_error_decreases_with_cell_size()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -24,10 +22,7 @@ contains
     integer, intent(in) :: ncell_bar
     character(len=*), intent(in) :: kernel
     type(config_t) :: cfg
-    cfg%name = 'bar'
-    cfg%ndim = 1
-    cfg%ncells = [ncell_bar*5/4, 1, 1]
-    cfg%length = [1.25_wp, 1.0_wp, 1.0_wp]
+    cfg = grid_scene('bar', [ncell_bar*5/4], [1.25_wp])
     cfg%kernel = kernel
     cfg%t_end = 0.4_wp          ! one period of the first mode (omega = 5 pi)
     cfg%cfl = 0.2_wp

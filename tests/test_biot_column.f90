@@ -3,19 +3,17 @@
 !> measured error (debug build) times a stated margin; the measurements are in the comments and
 !> in doc/verification.md.
 program test_biot_column
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_biot_column, only: biot_column_t, biot_column_solve, biot_undrained_split, &
                                biot_wave_speeds, biot_drag, biot_incompressible_sigma
   use dpmpm_terzaghi, only: terzaghi_t, terzaghi_pressure, terzaghi_degree, terzaghi_settlement, &
                             terzaghi_undrained_settlement, terzaghi_p0, terzaghi_time_factor, &
                             terzaghi_cv
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status
   real(wp), parameter :: pi = acos(-1.0_wp)
-  call start_mpi()
+  call start_tests()
   call test_wave_speeds_match_worked_numbers()
   call test_undrained_split_behind_fast_front()
   call test_zero_ahead_of_fast_front()
@@ -26,9 +24,7 @@ program test_biot_column
   call test_terzaghi_pressure_limits()
   call test_terzaghi_settlement_is_strain_integral()
   call test_direct_sums_match_the_fft()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

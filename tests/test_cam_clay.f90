@@ -7,17 +7,15 @@
 !> state from the stress and the overconsolidation ratio. Measured errors and margins: doc/verification.md,
 !> "Modified Cam-Clay at one point".
 program test_cam_clay
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: material_t, materials_from_config, init_state
   use dpmpm_config, only: material_cfg_t
   use dpmpm_model_cam_clay, only: cam_clay_return
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   real(wp), parameter :: lam = 0.2_wp, kap = 0.05_wp, mcs = 1.0_wp, e0 = 1.2_wp, p0 = 1.0e5_wp
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_undrained_path_follows_the_closed_form()
   call test_undrained_path_ends_at_the_critical_state()
   call test_elastic_step_follows_the_swelling_line()
@@ -25,9 +23,7 @@ program test_cam_clay
   call test_one_dimensional_compression_follows_lambda()
   call test_large_undrained_step_lands_on_the_closed_form()
   call test_initial_state_from_stress_and_ocr()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

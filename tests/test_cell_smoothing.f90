@@ -4,10 +4,10 @@
 !> of the forces, sum V sigma_bar : L, equals the power the stress update books,
 !> sum V sigma : L_bar; the cell means of the pore pressure.
 program test_cell_smoothing
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
   use dpmpm_kinds, only: wp
   use dpmpm_cell_smoothing, only: smooth_volumetric_rate, smoothed_mean_stress, cell_mean
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   integer, parameter :: n = 12, ncell = 3, nmat = 2
   ! cells and materials of the 12 points: cell 2 holds points of both materials, cell 3
@@ -16,11 +16,8 @@ program test_cell_smoothing
   integer, parameter :: mat(n) = [1, 1, 1, 1, 2, 2, 1, 2, 2, 1, 2, 1]
   ! the pair of cell and material of each point, as the step forms it
   integer, parameter :: key(n) = mat + nmat*(cell - 1), nkey = ncell*nmat
-  integer :: status, rank
   real(wp) :: vol(n), lg(9, n), sig(6, n)
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call fill()
   call test_volumetric_rate_is_the_cell_mean_and_the_deviator_stays(2)
   call test_volumetric_rate_is_the_cell_mean_and_the_deviator_stays(3)
@@ -29,9 +26,7 @@ program test_cell_smoothing
   call test_power_of_the_forces_is_the_booked_power(2)
   call test_power_of_the_forces_is_the_booked_power(3)
   call test_cell_mean_of_one_set()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

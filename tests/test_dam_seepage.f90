@@ -2,27 +2,23 @@
 !> rectangular dam"): the scene of inputs/dam_seepage_2d.nml on a grid of 0.1 m against
 !> the steady free-boundary problem, solved here on its own by Baiocchi's transformation.
 program test_dam_seepage
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-      MPI_DOUBLE_PRECISION, MPI_MAX, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX, &
+                     MPI_SUM
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained, resolve_geostatic
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   integer, parameter :: ncol = 10             !< cells across the dam (h = 0.1 m)
   integer, parameter :: nref = 40             !< intervals of the reference over 1 m
   real(wp), parameter :: rho_g = 9810.0_wp
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_reference_free_surface()
   call test_dam_reaches_the_steady_free_surface()
   call test_drained_face_loads_only_the_water_there()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -107,13 +103,8 @@ contains
     logical, intent(in) :: gauss
     type(simulation_t), intent(inout) :: sim
     type(config_t) :: cfg
-    cfg%name = 'dam'
-    cfg%ndim = 2
-    cfg%ncells = [ncol, 12, 1]
-    cfg%length = [1.0_wp, 1.2_wp, 1.0_wp]
-    cfg%t_end = t_end
+    cfg = grid_scene('dam', [ncol, 12], [1.0_wp, 1.2_wp], t_end, gravity=[0.0_wp, -9.81_wp])
     cfg%drag = 'implicit'
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     if (gauss) then
       cfg%kernel = 'linear'
       cfg%quadrature = 'gauss'

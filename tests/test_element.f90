@@ -7,7 +7,6 @@
 !> The tolerances are the measured errors (doc/verification.md, "Element tests") with a
 !> margin stated at each check.
 program test_element
-  use mpi_f08, only: MPI_Init, MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t
   use dpmpm_element_config, only: element_cfg_t
@@ -17,7 +16,8 @@ program test_element
   use dpmpm_input_problems, only: input_problems_t
   use dpmpm_materials, only: material_t, materials_from_config
   use dpmpm_strings, only: itoa
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   real(wp), parameter :: youngs = 1.0e7_wp, nu = 0.3_wp, p0 = 1.0e5_wp
   real(wp), parameter :: shear = youngs/(2.0_wp*(1.0_wp + nu))
@@ -27,8 +27,7 @@ program test_element
   !> the Mohr-Coulomb and Drucker-Prager soil of the failure tests
   real(wp), parameter :: phi = 30.0_wp, coh = 1.0e4_wp
   character(len=4096) :: example
-  integer :: status
-  call MPI_Init()
+  call start_tests()
   example = ''
   if (command_argument_count() >= 1) call get_command_argument(1, example)
   call test_elastic_drained_triaxial_gives_youngs_and_poisson()
@@ -48,9 +47,7 @@ program test_element
   call test_cyclic_simple_shear_strain_control()
   call test_initial_stress_outside_yield_surface_is_refused()
   call test_example_input_reaches_failure()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

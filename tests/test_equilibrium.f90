@@ -2,25 +2,21 @@
 !> local damping brings a dry column from zero stress to rest in its geostatic state; the
 !> velocities are zeroed at its end and the column stays at rest without damping after it.
 program test_equilibrium
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-      MPI_DOUBLE_PRECISION, MPI_MAX
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
+  use dpmpm_test_sort, only: ascending_order
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   real(wp), parameter :: t_phase = 6.0_wp     !< the equilibrium phase (s)
   real(wp), parameter :: t_piece = 0.025_wp   !< the 0.5 s after it, watched in 20 pieces
   integer, parameter :: npieces = 20
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_dry_column_settles_under_ramped_gravity()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -31,12 +27,7 @@ contains
   function column(alpha) result(cfg)
     real(wp), intent(in) :: alpha
     type(config_t) :: cfg
-    cfg%name = 'equilibrium'
-    cfg%ndim = 1
-    cfg%ncells = [50, 1, 1]
-    cfg%length = [5.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = t_phase + t_piece
-    cfg%gravity = [-9.81_wp, 0.0_wp, 0.0_wp]
+    cfg = grid_scene('equilibrium', [50], [5.0_wp], t_phase + t_piece, gravity=[-9.81_wp])
     cfg%equilibrium_time = t_phase
     cfg%equilibrium_damping = alpha
     allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
@@ -59,8 +50,7 @@ contains
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
     real(wp), allocatable :: x(:, :), v(:, :), st(:, :), e(:)
-    integer :: i, j, n, k
-    real(wp) :: t
+    integer :: n, k
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     vmax = 0.0_wp
     do k = 1, npieces
@@ -78,14 +68,7 @@ contains
     n = size(x, 2)
     e = abs(st(1, :) + 2000.0_wp*9.81_wp*(5.0_wp - x(1, :)))/(2000.0_wp*9.81_wp*5.0_wp)
     emax = maxval(e)
-    do i = 2, n
-      t = e(i)
-      do j = i - 1, 1, -1
-        if (e(j) <= t) exit
-        e(j + 1) = e(j)
-      end do
-      e(j + 1) = t
-    end do
+    e = e(ascending_order(e))
     emed = e((n + 1)/2)
   end subroutine run
 

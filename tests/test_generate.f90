@@ -7,10 +7,8 @@
 !> the whole set between them. A set holds only the fields its scene needs: its bytes
 !> per point are those of the fields asked for.
 program test_generate
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, &
-                     MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_INTEGER, &
-                     MPI_DOUBLE_PRECISION
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Allreduce, MPI_IN_PLACE, &
+                     MPI_SUM, MPI_INTEGER, MPI_DOUBLE_PRECISION
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t
   use dpmpm_grid, only: grid_t, cell_of
@@ -20,26 +18,23 @@ program test_generate
   use dpmpm_migrate, only: check_owned
   use dpmpm_generate, only: generate_points, point_in_polygon
   use dpmpm_test_layouts, only: layouts_for
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
 
   real(wp), parameter :: rho_soil = 2650.0_wp, rho_water = 1000.0_wp, rho_steel = 7850.0_wp
   real(wp), parameter :: k_soil = 1.0e-4_wp, n_sat = 0.4_wp
-  integer :: status, nranks, rank
+  integer :: nranks, rank
 
-  call start_mpi()
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = (rank == 0)
   call test_phase_masses_and_volumes()
   call test_uniform_box_and_polygon()
   call test_default_phase_is_solid()
   call test_sets_do_not_depend_on_ranks()
   call test_cell_blocks_tile_the_set()
   call test_point_memory_follows_the_fields()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

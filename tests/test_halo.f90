@@ -6,17 +6,15 @@
 !> (decomp_recut_nested, cuts of each axis that differ from part to part of the axes before
 !> it), and nested cuts equal in every group against the tensor-product exchange.
 program test_halo
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank, MPI_Allreduce, &
-                     MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size, MPI_Allreduce, MPI_IN_PLACE, &
+                     MPI_DOUBLE_PRECISION, MPI_MAX
   use dpmpm_kinds, only: wp
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, nranks, rank
-  call start_mpi()
+  integer :: nranks, rank
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = (rank == 0)
   call test_halo_sum_1d()
   call test_halo_sum_2d()
   call test_halo_sum_3d()
@@ -28,9 +26,7 @@ program test_halo
   call test_halo_copy_nested_2d()
   call test_halo_copy_nested_3d()
   call test_nested_with_equal_cuts_matches_tensor_product()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

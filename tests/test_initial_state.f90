@@ -4,12 +4,13 @@
 !> columns started at zero stress move. Bounds: measured values (doc/verification.md,
 !> "Initial state: hydrostatic and geostatic columns") plus 30 %.
 program test_initial_state
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, fbc_drained
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, bc_fixed, fbc_drained
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   real(wp), parameter :: g = 9.81_wp, rho_f = 1000.0_wp, rho_s = 2650.0_wp, n_f = 0.4_wp, &
                          kf = 2.2e9_wp, height = 1.0_wp
@@ -22,16 +23,12 @@ program test_initial_state
   real(wp), parameter :: WATER_V = 8.3e-9_wp, WATER_P = 9.4e-7_wp
   real(wp), parameter :: SOIL_V = 3.3e-10_wp, SOIL_P = 1.5e-6_wp, SOIL_S = 4.1e-7_wp
   real(wp), parameter :: WATER_MOVE = 2.4e-3_wp, SOIL_MOVE = 1.7e-4_wp
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_generated_fields_follow_the_gradients()
   call test_hydrostatic_water_column_stays_at_rest()
   call test_geostatic_soil_column_stays_at_rest()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -46,23 +43,15 @@ contains
     real(wp), intent(in) :: t_end
     type(config_t) :: cfg
     real(wp) :: gs
-    cfg%name = 'column'
-    cfg%ndim = 1
-    cfg%ncells = [20, 1, 1]
-    cfg%length = [height, 1.0_wp, 1.0_wp]
-    cfg%t_end = t_end
-    cfg%cfl = 0.5_wp
+    cfg = grid_scene('column', [20], [height], t_end, nmat=2, nreg=1, nload=0, cfl=0.5_wp, &
+                     gravity=[-g])
     cfg%drag = 'implicit'
-    cfg%gravity = [-g, 0.0_wp, 0.0_wp]
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=rho_s, &
                                       youngs_modulus=1.0e7_wp, poisson_ratio=0.0_wp, &
                                       conductivity=1.0e-4_wp)
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=rho_f, bulk_modulus=kf)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [height, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%phase = phase
-    cfg%regions(1)%ppc = 2
+    cfg%regions(1) = region_cfg_t(lo=[0.0_wp, 0.0_wp, 0.0_wp], hi=[height, 1.0_wp, 1.0_wp], &
+                                  phase=phase, ppc=2)
     if (phase == 'fluid') then
       cfg%regions(1)%material = 2
     else

@@ -6,24 +6,22 @@
 !> status on every rank instead of stopping.
 program test_input
   use, intrinsic :: iso_fortran_env, only: output_unit
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size, &
-                     MPI_Barrier, MPI_Bcast, MPI_INTEGER, MPI_CHARACTER, MPI_DOUBLE_PRECISION
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size, MPI_Barrier, MPI_Bcast, MPI_INTEGER, &
+                     MPI_CHARACTER, MPI_DOUBLE_PRECISION
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, bc_free, bc_fixed, bc_roller, face_index, fbc_default, &
                           fbc_drained, fbc_impermeable
   use dpmpm_input, only: read_input, print_config, input_ok, input_refused
   use dpmpm_input_read, only: parse_input
   use dpmpm_input_problems, only: input_problems_t
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank, nranks
+  integer :: rank, nranks
   character(len=16) :: tag
 
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  am_root = rank == 0
   ! Rank counts run side by side under ctest -j: one set of files per rank count.
   write (tag, '(a,i0)') 'np', nranks
   call test_valid_file_gives_values_on_every_rank()
@@ -35,9 +33,7 @@ program test_input
   call test_every_rank_parses_the_same_config()
   call test_text_parses_without_a_file()
   call test_refused_input_returns_status()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -3,17 +3,15 @@
 !> once (psi_stencils) are those of each point alone, their first nodes the intrinsic
 !> floor's.
 program test_kernels
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: bspline_1d, kernel_eval_1d, kernel_width, max_stencil, kernel_linear, &
                            kernel_quadratic, kernel_cubic, kernel_names, ngrid_kernels, &
                            kernel_weight, kernel_radial, kernel_reach, kernel_wendland_c2, &
                            kernel_wendland_c4, psi_stencils
-  use dpmpm_assert, only: begin_test, check_close, check, finish_tests
+  use dpmpm_assert, only: begin_test, check_close, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_partition_of_unity_1d()
   call test_stencil_matches_piecewise_bspline()
   call test_stencils_of_many_points_match_one_point()
@@ -23,9 +21,7 @@ program test_kernels
   call test_weight_gradient_matches_finite_difference()
   call test_radial_profiles_vanish_at_support()
   call test_box_weight_is_a_product_of_profiles()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

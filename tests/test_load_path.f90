@@ -2,18 +2,16 @@
 !> (dpmpm_load_path): the search for the uncovered edges, and the check of a run on
 !> columns with and without an empty cell layer.
 program test_load_path
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed
   use dpmpm_kernels, only: kernel_linear, kernel_quadratic, kernel_cubic
   use dpmpm_load_path, only: uncovered_run, first_node
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, check_equal_int, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_uncovered_run_from_either_end()
   call test_covered_span_has_no_run()
   call test_first_node_of_each_kernel()
@@ -22,9 +20,7 @@ program test_load_path
   call test_unbroken_column_is_not_cut()
   call test_empty_row_cuts_2d_block()
   call test_hole_does_not_cut_2d_block()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -3,29 +3,23 @@
 !> momentum changes exactly); a traction on part of a face has the exact resultant for
 !> every grid function, and the time functions give their factors.
 program test_loads
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, &
-                     MPI_DOUBLE_PRECISION, MPI_SUM, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_roller, bc_fixed
   use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
   use dpmpm_kernels, only: kernel_from_name
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_traction_changes_momentum_at_applied_rate()
   call test_gravity_changes_momentum_at_applied_rate()
   call test_strip_load_has_its_exact_resultant()
   call test_load_time_functions()
   call test_surface_load_matches_face_load()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -4,12 +4,13 @@
 !> 0.5 M v_u^2 (M the mass of the column, v_u = q / (rho_sat c_u) the particle
 !> speed behind the undrained front), and the run monitor's energy ratio.
 program test_long_run
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, &
-                     MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   ! W1: n_f = 0.3, rho_s = 2650, rho_f = 1000 kg/m^3, E_c = 10 MPa, K_f = 3 MPa, q = 1 Pa.
   real(wp), parameter :: NF = 0.3_wp, RHOS = 2650.0_wp, RHOF = 1000.0_wp, EC = 1.0e7_wp, KF = 3.0e6_wp
@@ -34,19 +35,15 @@ program test_long_run
   ! the run ends, monitor ratio 0.101 (the quadratic column loses energy at its top).
   real(wp), parameter :: KF3 = 2.2e9_wp, CU3 = sqrt((EC + KF3/NF)/RHOSAT)
   real(wp), parameter :: W3_TRANSITS = 100.0_wp*10.0_wp/CU3, W3_RATIO = 1.0_wp
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_w1_standard_bounded_over_20_transits()
   call test_w1_standard_grows_without_remap_drag()
   call test_w1_pair_uniform_scatter_bounded_over_20_transits()
   call test_w1_2d_standard_bounded_over_20_transits()
   call test_w3_quadratic_runs_100_transits()
   call test_w1_2d_standard_grows_without_remap_drag()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -58,26 +55,14 @@ contains
     logical, intent(in) :: pair
     integer, intent(in), optional :: dims
     type(config_t) :: cfg
-    cfg%name = 'long_run'
-    cfg%ndim = 1
-    cfg%ncells = [100, 1, 1]
-    cfg%length = [10.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = TRANSITS
-    cfg%cfl = 0.5_wp
+    cfg = grid_scene('long_run', [100], [10.0_wp], TRANSITS, nmat=2, nreg=1, nload=1, cfl=0.5_wp)
     cfg%drag = 'implicit'
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=RHOS, &
                                       youngs_modulus=EC, poisson_ratio=0.0_wp, conductivity=1.0e-5_wp)
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=RHOF, bulk_modulus=KF)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [10.0_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = NF
-    cfg%regions(1)%ppc = 2
-    cfg%regions(1)%placement = placement
-    cfg%regions(1)%seed = seed
+    cfg%regions(1) = region_cfg_t(lo=[0.0_wp, 0.0_wp, 0.0_wp], hi=[10.0_wp, 1.0_wp, 1.0_wp], &
+                                  material=1, fluid_material=2, phase='saturated', porosity=NF, &
+                                  ppc=2, placement=placement, seed=seed)
     cfg%loads(1) = load_cfg_t(face=1, traction=[1.0_wp, 0.0_wp, 0.0_wp], ramp_time=0.0_wp)
     cfg%bc(2) = bc_fixed
     if (present(dims)) then

@@ -3,12 +3,11 @@
 !> existing directory is accepted.
 program test_make_dir
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD
   use dpmpm_h5, only: make_dir
-  use dpmpm_assert, only: begin_test, check, finish_tests
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   character(len=*), parameter :: top = 'out/test_make_dir'
-  integer :: status
   interface
     function c_rmdir(path) bind(C, name='rmdir') result(r)
       import :: c_char, c_int
@@ -16,12 +15,10 @@ program test_make_dir
       integer(c_int) :: r
     end function c_rmdir
   end interface
-  call MPI_Init()
+  call start_tests()
   call test_shell_syntax_is_a_literal_name()
   call test_parents_are_made_in_turn()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

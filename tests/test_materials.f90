@@ -4,8 +4,6 @@
 !> (dpmpm_model_table): its lines, the state names of a scene, every model module behind
 !> the one interface, and every model documented in doc/input.md (the first argument).
 program test_materials
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: material_t, stress_update, model_neo_hookean, model_linear_elastic, &
                              model_update, materials_from_config
@@ -16,23 +14,21 @@ program test_materials
   use dpmpm_model_neo_hookean, only: neo_hookean_update
   use dpmpm_model_plastic, only: plastic_update
   use dpmpm_config, only: material_cfg_t
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   integer, parameter :: npt = 25
   !> Measured largest relative difference 6.3e-15 (release, neo-Hookean stress after 20
   !> steps; 3.3e-16 in the debug build); 5x margin.
   real(wp), parameter :: tol_rel = 3.0e-14_wp
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_plane_neo_hookean_matches_general()
   call test_plane_linear_elastic_matches_general()
   call test_model_table_lines_are_consistent()
   call test_scene_state_names_follow_the_models()
   call test_stress_update_dispatches_to_each_model_module()
   call test_model_table_names_every_model_in_the_input_doc()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -5,10 +5,9 @@
 !> neighbouring rank, must be kept and counted in nlost. The same on nested cuts
 !> (decomp_recut_nested), and balance_nested: every point on its owner, none lost or doubled.
 program test_migration
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Comm_rank, &
-                     MPI_Allreduce, MPI_Gather, MPI_Gatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, MPI_MIN, &
-                     MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_INTEGER8
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Allreduce, MPI_Gather, &
+                     MPI_Gatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, MPI_MIN, MPI_INTEGER, &
+                     MPI_DOUBLE_PRECISION, MPI_INTEGER8
   use dpmpm_kinds, only: wp, i8
   use dpmpm_decomp, only: decomp_t, split_extent, balanced_cuts
   use dpmpm_particles, only: particle_set_t
@@ -19,7 +18,9 @@ program test_migration
   use, intrinsic :: ieee_exceptions, only: ieee_get_halting_mode, ieee_set_halting_mode, ieee_invalid, &
                                            ieee_set_flag
   use dpmpm_test_layouts, only: layouts_for, nested_test_cuts
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, am_root
+  use dpmpm_test_sort, only: ascending_order
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
 
   !> Grid used by every test: different origin and cell size per axis, odd cell counts.
@@ -29,12 +30,10 @@ program test_migration
 
   !> Park-Miller generator state, one stream per rank.
   integer(i8) :: seed = 1_i8
-  integer :: status, nranks, rank
+  integer :: nranks, rank
 
-  call start_mpi()
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = (rank == 0)
   call test_cell_of()
   call test_axis_cells_match_cell_of()
   call test_all_inside_agrees_with_inside()
@@ -52,9 +51,7 @@ program test_migration
   call test_point_above_grid_is_kept()
   call test_point_jumping_past_neighbour_is_counted()
   call test_sort_by_cell_orders_cells_then_ids()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -700,25 +697,9 @@ contains
     end if
     call MPI_Gatherv(ps%id(1:ps%n), ps%n, MPI_INTEGER8, ids, counts, displs, MPI_INTEGER8, &
                      0, dec%comm)
-    if (dec%rank == 0) call sort_i8(ids)
+    ! (the ids of a test, below 2**53, are exact as reals)
+    if (dec%rank == 0) ids = ids(ascending_order(real(ids, wp)))
   end subroutine gather_sorted_ids
-
-  !> Insertion sort (the lists here have a few hundred entries).
-  subroutine sort_i8(a)
-    integer(i8), intent(inout) :: a(:)
-    integer :: i, j
-    integer(i8) :: t
-    do i = 2, size(a)
-      t = a(i)
-      j = i - 1
-      do while (j >= 1)
-        if (a(j) <= t) exit
-        a(j + 1) = a(j)
-        j = j - 1
-      end do
-      a(j + 1) = t
-    end do
-  end subroutine sort_i8
 
   !> Uniform number in [0, 1) from the Park-Miller minimal standard generator.
   real(wp) function uniform() result(u)

@@ -3,23 +3,21 @@
 !> block or a footing on a saturated layer keeps the undrained time step, free water
 !> has n = 1 and no drag, and pore water takes n and 1/k from the soil around it.
 program test_mixed_scenes
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-      MPI_DOUBLE_PRECISION, MPI_MIN, MPI_MAX, MPI_SUM, MPI_INTEGER8
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN, &
+                     MPI_MAX, MPI_SUM, MPI_INTEGER8
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, bc_fixed, bc_roller, &
                           fbc_drained, &
                           resolve_geostatic
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_materials, only: material_t, materials_from_config
   use dpmpm_pore_pressure, only: skeleton_kinv, skeleton_porosity, smooth_pressure_change, &
                                  point_cells
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_dry_block_keeps_the_undrained_step()
   call test_footing_is_not_porous()
   call test_free_water_has_no_drag_and_pore_water_takes_the_soil()
@@ -35,9 +33,7 @@ program test_mixed_scenes
   call test_water_face_load_counted_once()
   call test_hydrostatic_side_faces()
   call test_water_above_a_surface_drains_to_the_air()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -48,15 +44,10 @@ contains
   function layer_with_body(porosity, t_end) result(cfg)
     real(wp), intent(in) :: porosity, t_end
     type(config_t) :: cfg
-    cfg%name = 'mixed'
-    cfg%ndim = 2
-    cfg%ncells = [16, 16, 1]
-    cfg%length = [2.0_wp, 2.0_wp, 1.0_wp]
-    cfg%t_end = t_end
+    cfg = grid_scene('mixed', [16, 16], [2.0_wp, 2.0_wp], t_end, nmat=3, nreg=2, nload=0, &
+                     gravity=[0.0_wp, -9.81_wp])
     cfg%drag = 'implicit'
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     cfg%kernel = 'quadratic'
-    allocate (cfg%materials(3), cfg%regions(2), cfg%loads(0))
     cfg%materials(1) = sand(1, 1.0e7_wp, 0.3_wp, 1.0e-4_wp)
     cfg%materials(2) = water(2, 2.2e9_wp)
     cfg%materials(3) = material_cfg_t(id=3, model='linear_elastic', density=2400.0_wp, &
@@ -67,10 +58,8 @@ contains
     cfg%regions(1)%pore_pressure = 9810.0_wp
     cfg%regions(1)%pore_pressure_gradient = [0.0_wp, -9810.0_wp, 0.0_wp]
     if (porosity > 0.0_wp) then
-      cfg%regions(2)%lo = [0.5_wp, 1.0_wp, 0.0_wp]
-      cfg%regions(2)%hi = [1.5_wp, 1.5_wp, 1.0_wp]
-      cfg%regions(2)%material = 1
-      cfg%regions(2)%porosity = porosity
+      cfg%regions(2) = region_cfg_t(lo=[0.5_wp, 1.0_wp, 0.0_wp], hi=[1.5_wp, 1.5_wp, 1.0_wp], &
+                                    material=1, porosity=porosity)
     else
       cfg%regions(2)%lo = [0.75_wp, 1.0_wp, 0.0_wp]
       cfg%regions(2)%hi = [1.25_wp, 1.25_wp, 1.0_wp]
@@ -117,12 +106,8 @@ contains
     integer, intent(in) :: ncells, nregions
     real(wp), intent(in) :: length, e, kf, k(2)
     type(config_t) :: cfg
-    cfg%name = name
-    cfg%ndim = 1
-    cfg%ncells = [ncells, 1, 1]
-    cfg%length = [length, 1.0_wp, 1.0_wp]
+    cfg = grid_scene(name, [ncells], [length], nmat=3, nreg=nregions, nload=0)
     cfg%drag = 'implicit'
-    allocate (cfg%materials(3), cfg%regions(nregions), cfg%loads(0))
     cfg%materials(1) = sand(1, e, 0.0_wp, k(1))
     cfg%materials(2) = water(2, kf)
     cfg%materials(3) = sand(3, e, 0.0_wp, k(2))
@@ -346,15 +331,10 @@ contains
     type(config_t) :: cfg
     type(simulation_t) :: sim
     integer :: p
-    cfg%name = 'submerged'
-    cfg%ndim = 2
-    cfg%ncells = [4, 30, 1]
-    cfg%length = [0.4_wp, 3.0_wp, 1.0_wp]
-    cfg%t_end = 0.3_wp
+    cfg = grid_scene('submerged', [4, 30], [0.4_wp, 3.0_wp], 0.3_wp, nmat=2, nreg=2, nload=0, &
+                     gravity=[0.0_wp, -9.81_wp])
     cfg%drag = 'implicit'
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     cfg%porosity_gradient = pgrad
-    allocate (cfg%materials(2), cfg%regions(2), cfg%loads(0))
     cfg%materials(1) = sand(1, 5.0e7_wp, 0.3_wp, 1.0e-4_wp)
     cfg%materials(2) = water(2, 2.2e9_wp)
     cfg%regions(1) = saturated([0.4_wp, 1.5_wp], 1, 0.4_wp)
@@ -362,12 +342,9 @@ contains
     cfg%regions(1)%stress_gradient(:, 2) = [4162.3_wp, 9712.2_wp, 4162.3_wp, 0.0_wp, 0.0_wp, 0.0_wp]
     cfg%regions(1)%pore_pressure = 19620.0_wp
     cfg%regions(1)%pore_pressure_gradient = [0.0_wp, -9810.0_wp, 0.0_wp]
-    cfg%regions(2)%lo = [0.0_wp, 1.5_wp, 0.0_wp]
-    cfg%regions(2)%hi = [0.4_wp, 2.0_wp, 1.0_wp]
-    cfg%regions(2)%material = 2
-    cfg%regions(2)%phase = 'fluid'
-    cfg%regions(2)%pore_pressure = 19620.0_wp
-    cfg%regions(2)%pore_pressure_gradient = [0.0_wp, -9810.0_wp, 0.0_wp]
+    cfg%regions(2) = region_cfg_t(lo=[0.0_wp, 1.5_wp, 0.0_wp], hi=[0.4_wp, 2.0_wp, 1.0_wp], &
+                                  material=2, phase='fluid', pore_pressure=19620.0_wp, &
+                                  pore_pressure_gradient=[0.0_wp, -9810.0_wp, 0.0_wp])
     cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
@@ -532,11 +509,7 @@ contains
     integer, intent(in) :: nx, ny
     real(wp), intent(in) :: k, kf, ramp, t_end
     type(config_t) :: cfg
-    cfg%name = name
-    cfg%ndim = 2
-    cfg%ncells = [nx, ny, 1]
-    cfg%length = [6.0_wp, 4.0_wp, 1.0_wp]
-    cfg%t_end = t_end
+    cfg = grid_scene(name, [nx, ny], [6.0_wp, 4.0_wp], t_end)
     cfg%drag = 'implicit'
     cfg%pressure_smoothing = 'cell'
     allocate (cfg%materials(2), cfg%regions(1), cfg%loads(1))
@@ -558,11 +531,7 @@ contains
     real(wp), allocatable :: sp(:), sn(:)
     real(wp) :: acc(2)
     integer :: p, nc
-    cfg%name = 'strip_load'
-    cfg%ndim = 2
-    cfg%ncells = [16, 8, 1]
-    cfg%length = [2.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = 0.05_wp
+    cfg = grid_scene('strip_load', [16, 8], [2.0_wp, 1.0_wp], 0.05_wp)
     cfg%drag = 'implicit'
     cfg%kernel = 'quadratic'
     cfg%pressure_smoothing = smoothing
@@ -669,18 +638,11 @@ contains
     type(simulation_t) :: sim
     real(wp) :: e
     call begin_test('water_face_load_counted_once')
-    cfg%name = 'water_load'
-    cfg%ndim = 1
-    cfg%ncells = [20, 1, 1]
-    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = 0.012_wp
+    cfg = grid_scene('water_load', [20], [1.0_wp], 0.012_wp, nmat=1, nreg=1, nload=1)
     cfg%drag = 'implicit'
-    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(1))
     cfg%materials(1) = water(1, 2.2e9_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [1.0_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%phase = 'fluid'
+    cfg%regions(1) = region_cfg_t(lo=0.0_wp, hi=[1.0_wp, 1.0_wp, 1.0_wp], material=1, &
+                                  phase='fluid')
     cfg%bc(1) = bc_fixed
     cfg%fluid_bc(2) = fbc_drained
     cfg%pore_pressure(2) = 1.0e3_wp
@@ -721,14 +683,9 @@ contains
     type(config_t) :: cfg
     type(simulation_t) :: sim
     integer :: ip
-    cfg%name = 'side_column'
-    cfg%ndim = 2
-    cfg%ncells = [4, 20, 1]
-    cfg%length = [0.4_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = 0.2_wp
+    cfg = grid_scene('side_column', [4, 20], [0.4_wp, 1.0_wp], 0.2_wp, nmat=2, nreg=1, nload=0, &
+                     gravity=[0.0_wp, -9.81_wp])
     cfg%drag = 'implicit'
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))
     cfg%materials(1) = sand(1, 1.0e7_wp, 0.3_wp, 1.0e-4_wp)
     cfg%materials(2) = water(2, 2.2e9_wp)
     cfg%regions(1) = saturated([0.4_wp, 1.0_wp], 1, 0.4_wp)
@@ -755,11 +712,7 @@ contains
     real(wp), intent(in) :: pcav
     type(config_t) :: cfg
     type(simulation_t) :: sim
-    cfg%name = 'pulled_water'
-    cfg%ndim = 1
-    cfg%ncells = [20, 1, 1]
-    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = 2.0e-4_wp
+    cfg = grid_scene('pulled_water', [20], [1.0_wp], 2.0e-4_wp)
     cfg%drag = 'implicit'
     cfg%cavitation_pressure = pcav
     allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
@@ -820,11 +773,7 @@ contains
     type(simulation_t) :: sim
     integer(i8) :: counts(2)
     integer :: p
-    cfg%name = 'lifted_water'
-    cfg%ndim = 2
-    cfg%ncells = [10, 15, 1]
-    cfg%length = [1.0_wp, 1.5_wp, 1.0_wp]
-    cfg%t_end = 1.0e-3_wp
+    cfg = grid_scene('lifted_water', [10, 15], [1.0_wp, 1.5_wp], 1.0e-3_wp)
     cfg%drag = 'implicit'
     cfg%free_surface_fraction = f
     allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))

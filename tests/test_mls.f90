@@ -4,8 +4,6 @@
 !> Tolerances are measured values with a stated margin (noted next to each constant).
 program test_mls
   use, intrinsic :: iso_fortran_env, only: output_unit
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp, i8
   use dpmpm_kernels, only: kernel_names, kernel_linear, kernel_quadratic, kernel_cubic, &
                            kernel_wendland_c2, kernel_wendland_c4, kernel_reach, &
@@ -16,14 +14,14 @@ program test_mls
                        mls_stats_total, mls_max_basis, mls_max_packed
   use dpmpm_hash, only: hash_uniform
   use dpmpm_peaks, only: peaks_error, peaks_neval
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   integer, parameter :: nkernels = 5
   !> Cell size of the clouds: not 1, so that the 1/h of the gradients is exercised.
   real(wp), parameter :: hc = 0.37_wp
-  integer :: status
 
-  call start_mpi()
+  call start_tests()
   call test_basis_names_and_sizes()
   call test_reproduces_basis_on_random_clouds()
   call test_partition_of_unity_all_bases()
@@ -36,9 +34,7 @@ program test_mls
   call test_gamma_direct_constant_counts_full()
   call test_constant_basis_is_mass_projection()
   call test_peaks_errors_h015()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -8,18 +8,18 @@
 !> MPM's error at small deformation and do not crack at large, in 3D with a box weight.
 !> Bounds are measured values with the margins in doc/verification.md.
 program test_mls_solver
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_phase, only: solid_phase, fluid_phase
   use dpmpm_quadrature, only: gauss_point_gradients
   use dpmpm_benchmarks, only: benchmark_errors
-  use dpmpm_assert, only: begin_test, check, finish_tests
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_standard_mpm_is_linear_constant_mls()
   call test_transposed_pair_keeps_energy()
   call test_mms_crack_and_convergence()
@@ -27,31 +27,19 @@ program test_mls_solver
   call test_pair_thin_node_takes_no_force()
   call test_cell_gauss_point_keeps_standard_mpm_accuracy()
   call test_box_gauss_point_keeps_standard_mpm_accuracy_3d()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
   !> A neo-Hookean block with scattered points thrown onto a fixed floor under gravity.
   function block_scene() result(cfg)
     type(config_t) :: cfg
-    cfg%name = 'mls_block'
-    cfg%ndim = 2
-    cfg%ncells = [16, 12, 1]
-    cfg%length = [1.6_wp, 1.2_wp, 1.0_wp]
-    cfg%t_end = 0.3_wp
-    cfg%cfl = 0.4_wp
-    cfg%flip = 0.95_wp
-    cfg%gravity = [0.0_wp, -10.0_wp, 0.0_wp]
-    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
+    cfg = grid_scene('mls_block', [16, 12], [1.6_wp, 1.2_wp], 0.3_wp, nmat=1, nreg=1, nload=0, &
+                     cfl=0.4_wp, flip=0.95_wp, gravity=[0.0_wp, -10.0_wp])
     cfg%materials(1) = material_cfg_t(id=1, model='neo_hookean', density=1000.0_wp, &
                                       youngs_modulus=1.0e5_wp, poisson_ratio=0.3_wp)
-    cfg%regions(1)%lo = [0.25_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [1.05_wp, 0.7_wp, 0.0_wp]
-    cfg%regions(1)%placement = 'random'
-    cfg%regions(1)%seed = 5
-    cfg%regions(1)%velocity = [1.0_wp, 0.5_wp, 0.0_wp]
+    cfg%regions(1) = region_cfg_t(lo=[0.25_wp, 0.0_wp, 0.0_wp], hi=[1.05_wp, 0.7_wp, 0.0_wp], &
+                                  placement='random', seed=5, velocity=[1.0_wp, 0.5_wp, 0.0_wp])
     cfg%bc(3) = bc_fixed
     cfg%bc(1:2) = bc_roller
   end function block_scene
@@ -193,25 +181,14 @@ contains
     real(wp) :: lmax, ls, lff, ldiv
     real(wp), allocatable :: lf(:, :)
     call begin_test('pair_thin_node_takes_no_force')
-    cfg%name = 'thin_node'
-    cfg%ndim = 2
-    cfg%ncells = [10, 10, 1]
-    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
-    cfg%cfl = 0.4_wp
-    cfg%max_steps = 1
-    cfg%t_end = 1.0_wp
-    cfg%gravity = 0.0_wp
+    cfg = grid_scene('thin_node', [10, 10], [1.0_wp, 1.0_wp], 1.0_wp, nmat=2, nreg=1, nload=0, &
+                     cfl=0.4_wp, max_steps=1, gravity=[0.0_wp, 0.0_wp, 0.0_wp])
     cfg%drag = 'implicit'
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
                                       youngs_modulus=2.0e7_wp, poisson_ratio=0.3_wp, conductivity=1.0e-2_wp)
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.2e7_wp)
-    cfg%regions(1)%lo = [0.2_wp, 0.2_wp, 0.0_wp]
-    cfg%regions(1)%hi = [0.6_wp, 0.6_wp, 0.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = 0.4_wp
+    cfg%regions(1) = region_cfg_t(lo=[0.2_wp, 0.2_wp, 0.0_wp], hi=[0.6_wp, 0.6_wp, 0.0_wp], &
+                                  material=1, fluid_material=2, phase='saturated', porosity=0.4_wp)
     cfg%regions(1)%stress(1:3) = -1.0e4_wp
     cfg%regions(1)%pore_pressure = 1.0e4_wp
     call use_pair(cfg)
@@ -314,15 +291,9 @@ contains
     character(len=*), intent(in) :: support
     type(config_t) :: cfg
     type(simulation_t) :: sim
-    cfg%name = 'bar3d'
-    cfg%ndim = 3
-    cfg%ncells = [40, 2, 2]
-    cfg%length = [1.25_wp, 0.0625_wp, 0.0625_wp]
-    cfg%t_end = 0.4_wp
-    cfg%cfl = 0.2_wp
-    cfg%flip = 1.0_wp
+    cfg = grid_scene('bar3d', [40, 2, 2], [1.25_wp, 0.0625_wp, 0.0625_wp], 0.4_wp, nmat=1, nreg=1, &
+                     nload=0, cfl=0.2_wp, flip=1.0_wp)
     cfg%diag_every = 10
-    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=1.0_wp, &
                                       youngs_modulus=100.0_wp, poisson_ratio=0.0_wp)
     cfg%regions(1)%lo = 0.0_wp

@@ -8,29 +8,25 @@
 !> Gauss point per cell, the sums are those over every cell centre within the weight. A
 !> second field summed and solved with the first's counts and moments is solved as alone.
 program test_occupancy
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_strain, reach_cache_t, &
                                 reach_cache_entries, gauss_cell_components, gauss_solution_components, &
                                 gauss_solve, gauss_forces, gauss_second_field_components
   use dpmpm_kernels, only: kernel_wendland_c2, kernel_cubic, kernel_linear
   use dpmpm_mls, only: basis_linear, basis_constant, mls_stats_t
-  use dpmpm_assert, only: begin_test, check, finish_tests
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   !> The grid of the Gauss-field tests: origin and cell size (different along each axis).
   real(wp), parameter :: gorigin(3) = [0.1_wp, -0.2_wp, 0.3_wp], gh(3) = [0.5_wp, 0.25_wp, 0.4_wp]
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_closing_fills_gaps_up_to_twice_the_width_1d()
   call test_closing_keeps_block_surfaces_2d()
   call test_kept_reach_gives_the_same_gradients()
   call test_isotropic_field_gives_the_forces_of_its_tensor()
   call test_one_gauss_point_reaches_every_centre_within_the_weight()
   call test_second_field_is_solved_as_alone()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

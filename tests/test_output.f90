@@ -6,9 +6,7 @@
 !> The 2-rank files are checked again by scripts/check_output.py (ctest output_layout_np2).
 program test_output
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr, c_char, c_null_char
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_rank, &
-                     MPI_Comm_size, MPI_Barrier
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Barrier
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fopen_f, h5fclose_f, h5dopen_f, &
                   h5dclose_f, h5dread_f, h5dget_space_f, h5dget_type_f, h5sclose_f, &
                   h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5aopen_by_name_f, &
@@ -21,15 +19,14 @@ program test_output
   use dpmpm_diagnostics, only: diag_record_t, ndiag_real, diag_real_names
   use dpmpm_build_info, only: dpmpm_version
   use dpmpm_output, only: output_t, output_h5_path, output_xmf_path
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank, nranks
+  integer :: rank, nranks
   character(len=*), parameter :: input_text = '&run name = ''test_output'' /'//new_line('a')// &
                                               '&grid ndim = 2 /'//new_line('a')
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  am_root = (rank == 0)
   call test_two_frames_2d(MPI_COMM_WORLD)
   call test_second_file_3d(MPI_COMM_WORLD)
   call test_1d_with_empty_set(MPI_COMM_WORLD)
@@ -38,9 +35,7 @@ program test_output
   call test_two_sets_three_frames(MPI_COMM_WORLD, 1)
   call test_chosen_fields_uncompressed(MPI_COMM_WORLD)
   call test_rank_field_where_named(MPI_COMM_WORLD)
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -5,13 +5,12 @@
 !> Every field of a point is a value of its id and of the field's component, so that a
 !> point is checked after the set has been reordered.
 program test_particles
-  use mpi_f08, only: MPI_Init, MPI_Finalize
   use dpmpm_kinds, only: wp, i8
   use dpmpm_particles, only: particle_set_t
-  use dpmpm_assert, only: begin_test, check, check_equal_int, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status
-  call MPI_Init()
+  call start_tests()
   call test_remove_none_flagged()
   call test_remove_all_flagged()
   call test_remove_first_flagged()
@@ -19,9 +18,7 @@ program test_particles
   call test_remove_spread_keeps_every_field()
   call test_remove_moves_only_as_many_as_left()
   call test_remove_without_optional_fields()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

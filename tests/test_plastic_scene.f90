@@ -4,27 +4,24 @@
 !> points the same way (tests/test_plasticity.f90, points_carry_plastic_strain). A box of
 !> soil without tension strength, kicked and left alone, does not gain energy.
 program test_plastic_scene
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, &
-                     MPI_IN_PLACE, MPI_MAX
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_MAX
   use dpmpm_kinds, only: wp, i8, mpi_wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_plasticity, only: plastic_setup, softening_limit, surface_mohr_coulomb, &
                               dp_plane_strain
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   character(len=*), parameter :: dir = 'out/test_plastic_scene'
   real(wp), parameter :: rho = 2000.0_wp, g = 9.81_wp, height = 0.375_wp, k0 = 0.3_wp
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_elastic_scene_has_no_plastic_history()
   call test_softening_column_restarts_exactly()
   call test_kicked_box_without_tension_gains_no_energy()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -37,14 +34,8 @@ contains
     integer, intent(in) :: max_steps
     type(config_t) :: cfg
     real(wp) :: syy
-    cfg%name = 'plastic'
-    cfg%ndim = 2
-    cfg%ncells = [16, 8, 1]
-    cfg%length = [1.0_wp, 0.5_wp, 1.0_wp]
-    cfg%t_end = 1.0_wp
-    cfg%max_steps = max_steps
-    cfg%cfl = 0.4_wp
-    cfg%gravity = [0.0_wp, -g, 0.0_wp]
+    cfg = grid_scene('plastic', [16, 8], [1.0_wp, 0.5_wp], 1.0_wp, cfl=0.4_wp, &
+                     max_steps=max_steps, gravity=[0.0_wp, -g])
     cfg%output_dir = dir
     cfg%dims = [1, 0, 1]   ! ranks along y: on 2 ranks the column spans both
     allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
@@ -143,12 +134,7 @@ contains
     type(config_t) :: cfg
     type(simulation_t) :: sim
     call begin_test('kicked_box_without_tension_gains_no_energy')
-    cfg%name = 'kicked_box'
-    cfg%ndim = 2
-    cfg%ncells = [10, 15, 1]
-    cfg%length = [1.2_wp, 1.8_wp, 1.0_wp]
-    cfg%t_end = 0.5_wp
-    cfg%cfl = 0.5_wp
+    cfg = grid_scene('kicked_box', [10, 15], [1.2_wp, 1.8_wp], 0.5_wp, cfl=0.5_wp)
     cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
     allocate (cfg%materials(1), cfg%regions(2), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='mohr_coulomb', density=rho, &

@@ -5,7 +5,6 @@
 !> step size), never from numbers printed by the code under test.
 program test_plasticity
   use, intrinsic :: iso_fortran_env, only: int64
-  use mpi_f08, only: MPI_Init, MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_plasticity, only: plastic_params_t, plastic_setup, plastic_return, principal_stresses, &
                               mc_yield, mc_potential, dp_yield, dp_potential, cohesion_at, &
@@ -16,7 +15,8 @@ program test_plasticity
   use dpmpm_config, only: material_cfg_t
   use dpmpm_materials, only: material_t, materials_from_config, stress_update
   use dpmpm_kinds, only: i8
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   real(wp), parameter :: youngs = 1.0e7_wp, nu = 0.3_wp
   real(wp), parameter :: kb = youngs/(3.0_wp*(1.0_wp - 2.0_wp*nu))
@@ -25,9 +25,8 @@ program test_plasticity
   real(wp), parameter :: lam = kb - 2.0_wp*gs/3.0_wp
   real(wp), parameter :: pi = acos(-1.0_wp), deg = pi/180.0_wp
   real(wp), parameter :: no_cut = 1.0e30_wp
-  integer :: status
   integer(int64) :: seed = 12345_int64
-  call MPI_Init()
+  call start_tests()
   call test_principal_stresses_reconstruct()
   call test_principal_stresses_plane()
   call test_principal_stresses_repeated()
@@ -52,9 +51,7 @@ program test_plasticity
   call test_stress_update_plastic_work()
   call test_dilation_bound()
   call test_cutoff_opening_gains_no_energy()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

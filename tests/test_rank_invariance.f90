@@ -2,21 +2,18 @@
 !> of a 4-rank job) gives the same point fields, matched by id, to 1e-10 relative.
 !> Points are scattered randomly, move across rank boundaries, and the body deforms.
 program test_rank_invariance
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm, MPI_Comm_split, &
-                     MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_UNDEFINED, MPI_COMM_NULL, &
-                     operator(/=)
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm, MPI_Comm_split, MPI_Comm_size, MPI_Comm_free, &
+                     MPI_UNDEFINED, MPI_COMM_NULL, operator(/=)
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
-  use dpmpm_test_scenes, only: column_scene
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, bc_fixed, bc_roller
+  use dpmpm_test_scenes, only: grid_scene, column_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank, nworld
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  integer :: rank, nworld
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nworld)
-  am_root = rank == 0
   call test_same_fields_on_1_2_4_ranks('linear', 'musl')
   call test_same_fields_on_1_2_4_ranks('quadratic', 'musl')
   call test_same_fields_on_1_2_4_ranks('quadratic', 'usl')
@@ -35,9 +32,7 @@ program test_rank_invariance
   ! The same layers of Mohr-Coulomb soil with the cell smoothing of the skeleton's
   ! volumetric strain rate and of the pore pressure (cell sums stay on the cell's rank).
   call test_same_fields_on_1_2_4_ranks('linear', 'musl', 'smoothed_block')
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -46,26 +41,15 @@ contains
     character(len=*), intent(in) :: kernel, scheme
     character(len=*), intent(in), optional :: mls
     type(config_t) :: cfg
-    cfg%name = 'rank_invariance'
-    cfg%ndim = 2
-    cfg%ncells = [16, 12, 1]
-    cfg%length = [1.6_wp, 1.2_wp, 1.0_wp]
+    cfg = grid_scene('rank_invariance', [16, 12], [1.6_wp, 1.2_wp], 0.3_wp, nmat=1, nreg=1, &
+                     nload=0, cfl=0.4_wp, flip=0.95_wp, gravity=[0.0_wp, -10.0_wp])
     cfg%kernel = kernel
     cfg%scheme = scheme
-    cfg%t_end = 0.3_wp
-    cfg%cfl = 0.4_wp
-    cfg%flip = 0.95_wp
-    cfg%gravity = [0.0_wp, -10.0_wp, 0.0_wp]
-    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=3, model='neo_hookean', density=1000.0_wp, &
                                       youngs_modulus=1.0e5_wp, poisson_ratio=0.3_wp)
-    cfg%regions(1)%lo = [0.25_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [1.05_wp, 0.7_wp, 0.0_wp]
-    cfg%regions(1)%material = 3
-    cfg%regions(1)%ppc = 2
-    cfg%regions(1)%placement = 'random'
-    cfg%regions(1)%seed = 11
-    cfg%regions(1)%velocity = [1.0_wp, 0.5_wp, 0.0_wp]
+    cfg%regions(1) = region_cfg_t(lo=[0.25_wp, 0.0_wp, 0.0_wp], hi=[1.05_wp, 0.7_wp, 0.0_wp], &
+                                  material=3, ppc=2, placement='random', seed=11, &
+                                  velocity=[1.0_wp, 0.5_wp, 0.0_wp])
     cfg%bc(3) = bc_fixed
     cfg%bc(1) = bc_roller
     cfg%bc(2) = bc_roller

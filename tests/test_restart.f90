@@ -2,32 +2,28 @@
 !> same run without a break ends, on the same ranks and (to the rank invariance of the
 !> solver) on fewer ranks; a bad checkpoint is refused.
 program test_restart
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_rank, &
-                     MPI_Comm_size, MPI_Barrier
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_COMM_SELF, MPI_Comm_size, MPI_Barrier
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, bc_fixed, bc_roller, fbc_drained
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   character(len=*), parameter :: dir = 'out/test_restart'
-  integer :: status, rank, nranks
+  integer :: rank, nranks
   !> &run sort_every of the scene (0: the points are never sorted)
   integer :: sort_interval = 0
   !> the scene is the seepage strip of inflow_scene (fluid points enter at x = 0)
   logical :: inflow = .false.
   !> steps of the run in one go (the checkpoint at half of them)
   integer :: nsteps = 40
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  am_root = rank == 0
   call test_restart_continues_the_run_exactly()
   call test_restart_with_sorted_points_continues_exactly()
   call test_inflow_points_keep_their_ids()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -39,16 +35,10 @@ contains
   function scene(max_steps) result(cfg)
     integer, intent(in) :: max_steps
     type(config_t) :: cfg
-    cfg%name = 'restart'
-    cfg%ndim = 2
-    cfg%ncells = [8, 8, 1]
-    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = 1.0_wp
-    cfg%max_steps = max_steps
-    cfg%cfl = 0.4_wp
+    cfg = grid_scene('restart', [8, 8], [1.0_wp, 1.0_wp], 1.0_wp, cfl=0.4_wp, max_steps=max_steps, &
+                     gravity=[0.0_wp, -9.81_wp])
     cfg%kernel = 'quadratic'
     cfg%drag = 'implicit'
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     cfg%output_dir = dir
     cfg%sort_every = sort_interval
     allocate (cfg%materials(3), cfg%regions(2), cfg%loads(0))
@@ -58,13 +48,9 @@ contains
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.0e7_wp)
     cfg%materials(3) = material_cfg_t(id=3, model='neo_hookean', density=2000.0_wp, &
                                       youngs_modulus=5.0e5_wp, poisson_ratio=0.3_wp)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [0.375_wp, 0.5_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = 0.4_wp
-    cfg%regions(1)%placement = 'random'
+    cfg%regions(1) = region_cfg_t(lo=[0.0_wp, 0.0_wp, 0.0_wp], hi=[0.375_wp, 0.5_wp, 1.0_wp], &
+                                  material=1, fluid_material=2, phase='saturated', &
+                                  porosity=0.4_wp, placement='random')
     cfg%regions(2)%lo = [0.625_wp, 0.0_wp, 0.0_wp]
     cfg%regions(2)%hi = [1.0_wp, 0.25_wp, 1.0_wp]
     cfg%regions(2)%material = 3
@@ -82,24 +68,15 @@ contains
   function inflow_scene(max_steps) result(cfg)
     integer, intent(in) :: max_steps
     type(config_t) :: cfg
-    cfg%name = 'restart'
-    cfg%ndim = 2
-    cfg%ncells = [4, 16, 1]
-    cfg%length = [0.4_wp, 1.6_wp, 1.0_wp]
-    cfg%t_end = 1.0_wp
-    cfg%max_steps = max_steps
+    cfg = grid_scene('restart', [4, 16], [0.4_wp, 1.6_wp], 1.0_wp, nmat=2, nreg=1, nload=0, &
+                     max_steps=max_steps)
     cfg%drag = 'implicit'
     cfg%output_dir = dir
-    allocate (cfg%materials(2), cfg%regions(1), cfg%loads(0))
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
                                       youngs_modulus=1.0e8_wp, poisson_ratio=0.3_wp, conductivity=1.0_wp)
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.0e7_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [0.4_wp, 1.6_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%porosity = 0.3_wp
+    cfg%regions(1) = region_cfg_t(lo=0.0_wp, hi=[0.4_wp, 1.6_wp, 1.0_wp], material=1, &
+                                  fluid_material=2, phase='saturated', porosity=0.3_wp)
     cfg%bc(1:4) = bc_roller
     cfg%fluid_bc(1:2) = fbc_drained
     cfg%pore_pressure(1) = 5.0e3_wp

@@ -4,24 +4,20 @@
 !> saturated column (undrained) the force follows the mixture's modulus E_c + K_f / n_f
 !> and the pore pressure its share K_f / n_f.
 program test_rigid
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-                     MPI_DOUBLE_PRECISION, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, bc_roller, bc_fixed, fbc_impermeable
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, bc_roller, bc_fixed, fbc_impermeable
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
   real(wp), parameter :: e = 1.0e7_wp, nu = 0.3_wp, v0 = 0.01_wp, t_end = 0.3_wp
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_plate_compresses_column_oedometrically()
   call test_plate_compresses_saturated_column_undrained()
   call test_smoothed_footing_on_tresca_soil_nears_prandtl()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -32,12 +28,7 @@ contains
   !> E_c = E (1 - nu) / ((1 + nu)(1 - 2 nu)); the drive pushes with F = sigma_yy A.
   function press() result(cfg)
     type(config_t) :: cfg
-    cfg%name = 'rigid_press'
-    cfg%ndim = 2
-    cfg%ncells = [4, 24, 1]
-    cfg%length = [0.2_wp, 1.2_wp, 1.0_wp]
-    cfg%t_end = t_end
-    cfg%cfl = 0.5_wp
+    cfg = grid_scene('rigid_press', [4, 24], [0.2_wp, 1.2_wp], t_end, cfl=0.5_wp)
     cfg%bc(1:2) = bc_roller
     cfg%bc(3) = bc_fixed
     allocate (cfg%materials(2), cfg%regions(2), cfg%loads(0))
@@ -45,9 +36,7 @@ contains
                                       youngs_modulus=e, poisson_ratio=nu)
     cfg%materials(2) = material_cfg_t(id=2, model='rigid', density=2000.0_wp, &
                                       velocity=[0.0_wp, -v0, 0.0_wp])
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [0.2_wp, 1.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
+    cfg%regions(1) = region_cfg_t(lo=0.0_wp, hi=[0.2_wp, 1.0_wp, 1.0_wp], material=1)
     cfg%regions(2)%lo = [0.0_wp, 1.0_wp, 0.0_wp]
     cfg%regions(2)%hi = [0.2_wp, 1.1_wp, 1.0_wp]
     cfg%regions(2)%material = 2
@@ -168,12 +157,7 @@ contains
     real(wp) :: qsum, s
     integer :: p, nq
     call begin_test('smoothed_footing_on_tresca_soil_nears_prandtl')
-    cfg%name = 'footing_prandtl'
-    cfg%ndim = 2
-    cfg%ncells = [50, 36, 1]
-    cfg%length = [5.0_wp, 3.6_wp, 1.0_wp]
-    cfg%t_end = 0.1_wp*b/vf
-    cfg%cfl = 0.5_wp
+    cfg = grid_scene('footing_prandtl', [50, 36], [5.0_wp, 3.6_wp], 0.1_wp*b/vf, cfl=0.5_wp)
     cfg%volumetric_smoothing = 'cell'
     cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]
     allocate (cfg%materials(2), cfg%regions(2), cfg%loads(0))
@@ -181,9 +165,7 @@ contains
                                       poisson_ratio=0.3_wp, friction_angle=0.0_wp, dilatancy_angle=0.0_wp, &
                                       cohesion=c)
     cfg%materials(2) = material_cfg_t(id=2, model='rigid', density=2000.0_wp, velocity=[0.0_wp, -vf, 0.0_wp])
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [5.0_wp, 3.0_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
+    cfg%regions(1) = region_cfg_t(lo=0.0_wp, hi=[5.0_wp, 3.0_wp, 1.0_wp], material=1)
     cfg%regions(2)%lo = [0.0_wp, 3.0_wp, 0.0_wp]
     cfg%regions(2)%hi = [0.5_wp, 3.2_wp, 1.0_wp]
     cfg%regions(2)%material = 2

@@ -15,27 +15,23 @@
 !> largest of the three (RMS 0.016, largest 0.054, speed 8e-3 m/s); Standard MPM at
 !> least half its RMS (0.25).
 program test_scattered_at_rest
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, MPI_IN_PLACE, &
-      MPI_DOUBLE_PRECISION, MPI_MAX, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MAX, &
+                     MPI_SUM
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, resolve_geostatic
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, bc_fixed, bc_roller, resolve_geostatic
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
   !> RMS and largest |p - p_h| / p_b, largest speed (m/s) of the quiet cases
   real(wp), parameter :: bound(3) = [0.016_wp, 0.054_wp, 8.0e-3_wp]
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_submerged_layer_on_random_points_stays_hydrostatic()
   call test_submerged_layer_on_uniform_points_stays_hydrostatic()
   call test_layer_alone_on_random_points_stays_hydrostatic()
   call test_standard_mpm_scatters_on_random_points()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) error stop 1
+  call end_tests()
 
 contains
 
@@ -95,13 +91,9 @@ contains
     integer :: p, ip
     level = merge(2.0_wp, 1.5_wp, water)
     pb = 1000.0_wp*9.81_wp*level
-    cfg%name = 'scattered_at_rest'
-    cfg%ndim = 2
-    cfg%ncells = [4, merge(30, 15, water), 1]
-    cfg%length = [0.4_wp, merge(3.0_wp, 1.5_wp, water), 1.0_wp]
-    cfg%t_end = 0.1_wp
+    cfg = grid_scene('scattered_at_rest', [4, merge(30, 15, water)], &
+                     [0.4_wp, merge(3.0_wp, 1.5_wp, water)], 0.1_wp, gravity=[0.0_wp, -9.81_wp])
     cfg%drag = 'implicit'
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
     cfg%porosity_gradient = gauss .or. water
     if (gauss) then
       cfg%quadrature = 'gauss'
@@ -113,24 +105,13 @@ contains
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=2650.0_wp, &
                                       youngs_modulus=5.0e7_wp, poisson_ratio=0.3_wp, conductivity=1.0e-4_wp)
     cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=2.2e9_wp)
-    cfg%regions(1)%lo = 0.0_wp
-    cfg%regions(1)%hi = [0.4_wp, 1.5_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
-    cfg%regions(1)%phase = 'saturated'
-    cfg%regions(1)%fluid_material = 2
-    cfg%regions(1)%porosity = 0.4_wp
-    cfg%regions(1)%geostatic = .true.
-    cfg%regions(1)%water_level = level
-    cfg%regions(1)%placement = placement
-    cfg%regions(1)%seed = 5
+    cfg%regions(1) = region_cfg_t(lo=0.0_wp, hi=[0.4_wp, 1.5_wp, 1.0_wp], material=1, &
+                                  phase='saturated', fluid_material=2, porosity=0.4_wp, &
+                                  geostatic=.true., water_level=level, placement=placement, seed=5)
     if (water) then
-      cfg%regions(2)%lo = [0.0_wp, 1.5_wp, 0.0_wp]
-      cfg%regions(2)%hi = [0.4_wp, 2.0_wp, 1.0_wp]
-      cfg%regions(2)%material = 2
-      cfg%regions(2)%phase = 'fluid'
-      cfg%regions(2)%geostatic = .true.
-      cfg%regions(2)%placement = placement
-      cfg%regions(2)%seed = 6
+      cfg%regions(2) = region_cfg_t(lo=[0.0_wp, 1.5_wp, 0.0_wp], hi=[0.4_wp, 2.0_wp, 1.0_wp], &
+                                    material=2, phase='fluid', geostatic=.true., &
+                                    placement=placement, seed=6)
     end if
     call resolve_geostatic(cfg)
     cfg%bc(1:3) = [bc_roller, bc_roller, bc_fixed]

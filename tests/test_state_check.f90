@@ -8,27 +8,24 @@
 !> with the monitor's exit code on every rank count, not migration (which loses such points).
 program test_state_check
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, bc_fixed
   use dpmpm_simulation, only: simulation_t
   use dpmpm_state, only: exit_monitor
   use dpmpm_energy, only: check_state
-  use dpmpm_test_scenes, only: column_scene
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_test_scenes, only: grid_scene, column_scene
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_undamaged_state_passes()
   call test_negative_volume_stops_the_run()
   call test_nonfinite_stress_stops_the_run()
   call test_nonfinite_pore_pressure_stops_the_run()
   call test_nonfinite_stress_stops_the_step_before_migration()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -84,19 +81,12 @@ contains
   !> A block of soil on a fixed floor over the two halves of the grid (one per rank on two).
   function block_scene() result(cfg)
     type(config_t) :: cfg
-    cfg%name = 'block'
-    cfg%ndim = 2
-    cfg%ncells = [8, 8, 1]
-    cfg%length = [1.0_wp, 1.0_wp, 1.0_wp]
-    cfg%t_end = 1.0_wp
-    cfg%max_steps = 3
-    cfg%gravity = [0.0_wp, -9.81_wp, 0.0_wp]
-    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
+    cfg = grid_scene('block', [8, 8], [1.0_wp, 1.0_wp], 1.0_wp, nmat=1, nreg=1, nload=0, &
+                     max_steps=3, gravity=[0.0_wp, -9.81_wp])
     cfg%materials(1) = material_cfg_t(id=1, model='linear_elastic', density=1000.0_wp, &
                                       youngs_modulus=1.0e6_wp, poisson_ratio=0.3_wp)
-    cfg%regions(1)%lo = [0.125_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [0.875_wp, 0.5_wp, 1.0_wp]
-    cfg%regions(1)%material = 1
+    cfg%regions(1) = region_cfg_t(lo=[0.125_wp, 0.0_wp, 0.0_wp], hi=[0.875_wp, 0.5_wp, 1.0_wp], &
+                                  material=1)
     cfg%bc(3) = bc_fixed
   end function block_scene
 

@@ -1,18 +1,15 @@
 !> Order statistics of the benches' rounds (dpmpm_stats): sorted values and the median of
 !> odd and even counts, against values worked out by hand.
 program test_stats
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD
   use dpmpm_kinds, only: wp
   use dpmpm_stats, only: sorted, median
-  use dpmpm_assert, only: begin_test, check, finish_tests
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status
-  call MPI_Init()
+  call start_tests()
   call test_sorted_orders_values()
   call test_median_of_odd_and_even_counts()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -15,8 +15,6 @@
 !> 3D forms of p2g and g2p (compiled per stencil width)
 !> equal sums over the nodes written out from the tensor-product weights.
 program test_transfer
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_kernels, only: kernel_width, kernel_names, ngrid_kernels, max_stencil
   use dpmpm_stencil, only: psi_stencil, tensor_weights, stencil_offsets
@@ -25,13 +23,13 @@ program test_transfer
                             momentum_project_p2g, interp_two_values, solid_porosity_p2g, porous_p2g, &
                             g2p_remap, volume_p2g
   use dpmpm_drag, only: gravity_drag
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   integer, parameter :: npt = 40         !< points of a test set
   integer, parameter :: ncell = 6        !< cells per axis; points stay two cells from the edges
   real(wp), parameter :: h(3) = [0.5_wp, 0.25_wp, 0.4_wp]
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_p2g_conserves_mass_and_momentum()
   call test_uniform_stress_has_no_net_force()
   call test_g2p_reproduces_linear_velocity()
@@ -47,9 +45,7 @@ program test_transfer
   call test_three_d_forms_match_direct_sums()
   call test_three_d_remap_and_two_phase_forms_match_direct_sums()
   call test_volume_sums_match_node_by_node_sums()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -2,10 +2,9 @@
 !> saturated column (W1, coarse) against the analytical column solution, the
 !> agreement of explicit and implicit drag, and Terzaghi consolidation.
 program test_two_phase
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained
+  use dpmpm_config, only: config_t, region_cfg_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained
   use dpmpm_simulation, only: simulation_t
   use dpmpm_drag, only: drag_limit
   use dpmpm_nodal_update, only: drag_solve
@@ -13,7 +12,8 @@ program test_two_phase
   use dpmpm_terzaghi, only: terzaghi_t, terzaghi_cv, terzaghi_pressure, terzaghi_settlement, &
                             terzaghi_p0
   use dpmpm_two_phase_verify, only: two_phase_errors, error_name_len
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   use dpmpm_test_scenes, only: column_scene
   implicit none
   ! Bounds: the measured values of doc/verification.md (two-phase section) plus 30 %;
@@ -58,10 +58,8 @@ program test_two_phase
   ! the term the profile is 0.199 p_b off linear (must stay above 0.15).
   real(wp), parameter :: SEEP_TERM = 2.8e-3_wp, SEEP_IFACE = 0.089_wp, SEEP_NOTERM = 3.3e-3_wp, &
                          SEEP_KINK = 0.15_wp
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_drag_solve_conserves_momentum()
   call test_w1_against_reference_and_drag_agreement()
   call test_w1_uniform_scatter_mls_pair_beats_standard_mpm()
@@ -72,9 +70,7 @@ program test_two_phase
   call test_seepage_without_porosity_gradient_keeps_n_p_continuous()
   call test_t1_terzaghi(0.1_wp)
   call test_t1_terzaghi(0.5_wp)
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -337,14 +333,10 @@ contains
     deallocate (cfg%regions, cfg%loads)
     allocate (cfg%regions(2), cfg%loads(0))
     do r = 1, 2
-      cfg%regions(r)%lo = [0.5_wp*(r - 1), 0.0_wp, 0.0_wp]
-      cfg%regions(r)%hi = [0.5_wp*r, 1.0_wp, 1.0_wp]
-      cfg%regions(r)%material = 1
-      cfg%regions(r)%fluid_material = 2
-      cfg%regions(r)%phase = 'saturated'
-      cfg%regions(r)%porosity = 0.1_wp + 0.2_wp*r
-      cfg%regions(r)%ppc = 2
-      cfg%regions(r)%placement = 'regular'
+      cfg%regions(r) = region_cfg_t(lo=[0.5_wp*(r - 1), 0.0_wp, 0.0_wp], &
+                                    hi=[0.5_wp*r, 1.0_wp, 1.0_wp], material=1, fluid_material=2, &
+                                    phase='saturated', porosity=0.1_wp + 0.2_wp*r, ppc=2, &
+                                    placement='regular')
     end do
     cfg%bc(1:2) = bc_fixed
     cfg%fluid_bc(1:2) = fbc_drained

@@ -5,13 +5,13 @@
 !> the Wendland C2 weight (R = 2 cells, linear basis) stays close to Standard MPM
 !> against the analytical reference.
 program test_two_phase_mls_velocity
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t
   use dpmpm_simulation, only: simulation_t
   use dpmpm_two_phase_verify, only: two_phase_errors, error_name_len
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   use dpmpm_test_scenes, only: column_scene
   implicit none
   !> Wendland C2 against Standard MPM: errors / q measured (sigma', p) 0.0489 and 0.0484
@@ -19,14 +19,10 @@ program test_two_phase_mls_velocity
   !> linear/constant MLS gives Standard MPM's numbers to all printed digits): bounds 1.3
   !> times Standard MPM's errors, and 0.05 Pa on the total stress.
   real(wp), parameter :: GAIN_BOUND = 1.3_wp, TOT_BOUND = 0.05_wp
-  integer :: status, rank
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  integer :: rank
+  call start_tests(rank)
   call test_w1_mls_velocities()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -5,8 +5,7 @@
 !> measures must return exactly those amounts. Points are dealt round-robin to the ranks, so
 !> the gathering is exercised too; the results must not depend on the rank count.
 program test_two_phase_verify
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_size, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, face_index
   use dpmpm_materials, only: material_t, materials_from_config
@@ -16,15 +15,14 @@ program test_two_phase_verify
                             terzaghi_cv, terzaghi_time_factor
   use dpmpm_two_phase_verify, only: two_phase_column, terzaghi_from_scene, two_phase_errors, &
                                     two_phase_profiles, terzaghi_displacement, error_name_len
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, nranks, rank
+  integer :: nranks, rank
   !> W1 at this time: fast front at 4.82 m, so z < 3.32 m is behind it on the 20-cell grid.
   real(wp), parameter :: t_w1 = 0.05_wp
-  call start_mpi()
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = (rank == 0)
   call test_scene_gives_column_and_layer()
   call test_column_errors_vanish_on_reference()
   call test_column_errors_measure_known_perturbation()
@@ -34,9 +32,7 @@ program test_two_phase_verify
   call test_terzaghi_errors_vanish_on_reference()
   call test_terzaghi_errors_measure_known_perturbation()
   call test_profiles_are_the_references()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

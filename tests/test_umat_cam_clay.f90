@@ -5,13 +5,12 @@
 !> volume, dissipation, stored energy); and its first call sets p_c and e as the built-in
 !> init_state does. Measured differences and bounds: doc/verification.md, "A user's UMAT".
 program test_umat_cam_clay
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t, max_props
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy, &
                              init_state
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   integer, parameter :: npt = 30, nsteps = 300
   real(wp), parameter :: lam = 0.2_wp, kap = 0.05_wp, mcs = 1.0_wp, e0 = 1.2_wp, nu = 0.3_wp
@@ -19,14 +18,11 @@ program test_umat_cam_clay
   !> Largest relative difference of each quantity: measured up to 1.3e-14 (the void ratio;
   !> debug build, doc/verification.md); bound 2e-13, 15x.
   real(wp), parameter :: tol = 2.0e-13_wp
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_cam_clay_umat_matches_cam_clay_in_3d()
   call test_cam_clay_umat_matches_cam_clay_in_plane_strain()
   call test_cam_clay_umat_starts_from_the_stress_and_ocr()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

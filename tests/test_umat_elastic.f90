@@ -4,26 +4,22 @@
 !> in plane strain (stress, volume, stored energy), and it keeps the total strain STRAN.
 !> Measured differences and bounds: doc/verification.md, "A user's UMAT".
 program test_umat_elastic
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t, max_props
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, strain_energy
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   integer, parameter :: npt = 40, nsteps = 200
   real(wp), parameter :: young = 2.0e7_wp, nu = 0.3_wp
   !> Largest relative difference of stress, volume and stored energy: measured 2.9e-15 (3D) and 1.4e-15 (plane strain)
   !> (doc/verification.md); bound 1e-13, round-off with a margin.
   real(wp), parameter :: tol = 1.0e-13_wp
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_elastic_umat_matches_linear_elastic_in_3d()
   call test_elastic_umat_matches_linear_elastic_in_plane_strain()
   call test_umat_keeps_the_total_strain()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -5,17 +5,15 @@
 !> as many steps. With the argument 'refuse' the UMAT refuses every increment, and the run
 !> stops naming the point (the ctest test_umat_pnewdt_refused checks the message).
 program test_umat_pnewdt
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: material_cfg_t, max_props
   use dpmpm_materials, only: material_t, materials_from_config, stress_update
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   real(wp), parameter :: young = 1.0e7_wp, nu = 0.25_wp, limit = 1.0e-3_wp, dt = 1.0e-3_wp
   character(len=16) :: arg
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call get_command_argument(1, arg)
   if (arg == 'refuse') then
     call refused_everywhere()
@@ -23,9 +21,7 @@ program test_umat_pnewdt
     call test_pnewdt_half_takes_two_substeps()
     call test_small_pnewdt_takes_ceiling_of_its_inverse()
   end if
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

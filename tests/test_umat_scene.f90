@@ -7,23 +7,21 @@
 !> points of the umat keep STRAN, SSE, SPD, SCD and the UMAT's STATEV. Measured
 !> differences and bounds: doc/verification.md, "A user's UMAT".
 program test_umat_scene
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, &
-                     MPI_IN_PLACE, MPI_MAX
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_MAX
   use dpmpm_kinds, only: wp, i8, mpi_wp
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, max_props
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   real(wp), parameter :: rho = 2000.0_wp, g = 9.81_wp, height = 0.375_wp, k0 = 0.4_wp
   !> Largest difference relative to the largest value of positions, velocities and
   !> stresses: measured up to 7.1e-15 (velocity, 2D on 2 ranks; doc/verification.md);
   !> bound 1e-13 (14x). The energy balance: measured 8.8e-16 apart, bound 1e-13.
   real(wp), parameter :: tol = 1.0e-13_wp
-  integer :: status, rank
+  integer :: rank
   character(len=16) :: arg
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests(rank)
   call get_command_argument(1, arg)
   if (arg == 'cam_clay') then
     call test_cam_clay_umat_column_matches_cam_clay()
@@ -31,9 +29,7 @@ program test_umat_scene
     call test_elastic_umat_column_matches_linear_elastic_in_2d()
     call test_elastic_umat_column_matches_linear_elastic_in_3d()
   end if
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -2,20 +2,19 @@
 !> and an elastic block on an incline (gravity tilted against the grid) that slides at
 !> the Coulomb rate g (sin θ - μ cos θ) when tan θ > μ and stays where it is otherwise.
 program test_wall_friction
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Allreduce, &
-                     MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_roller, bc_fixed
+  use dpmpm_test_scenes, only: grid_scene
   use dpmpm_grid, only: grid_t
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_close, am_root
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
-  integer :: status, rank
+  integer :: rank
   !> incline of the block scenes: tan(30 deg) = 0.577
   real(wp), parameter :: theta = 30.0_wp*acos(-1.0_wp)/180.0_wp, g = 9.81_wp
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests(rank)
   call test_sliding_node_loses_mu_times_normal_speed()
   call test_slow_node_sticks()
   call test_wall_pulling_node_gives_no_friction()
@@ -30,9 +29,7 @@ program test_wall_friction
   call test_saturated_block_slides_on_effective_normal_force()
   call test_saturated_block_slides_where_dry_one_sticks()
   call test_saturated_block_with_explicit_drag_keeps_its_step()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 
@@ -190,14 +187,8 @@ contains
     gn = g*cos(th)
     len = 0.2_wp
     if (present(length)) len = length
-    cfg%name = 'wall_friction'
-    cfg%ndim = 2
-    cfg%ncells = [nint((len + 0.8_wp)/0.02_wp), 10, 1]
-    cfg%length = [len + 0.8_wp, 0.2_wp, 1.0_wp]
-    cfg%t_end = t_end
-    cfg%cfl = 0.5_wp
-    cfg%flip = 0.5_wp
-    cfg%gravity = [g*sin(th), -gn, 0.0_wp]
+    cfg = grid_scene('wall_friction', [nint((len + 0.8_wp)/0.02_wp), 10], [len + 0.8_wp, 0.2_wp], &
+                     t_end, cfl=0.5_wp, flip=0.5_wp, gravity=[g*sin(th), -gn])
     cfg%bc(3) = bc_roller
     cfg%wall_friction(3) = mu
     allocate (cfg%materials(merge(2, 1, present(n))), cfg%regions(1), cfg%loads(0))

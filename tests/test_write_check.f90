@@ -4,9 +4,8 @@
 !> rewritten and then holds the right values, and the other ranks' blocks are untouched.
 program test_write_check
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size, &
-                     MPI_Exscan, MPI_Allreduce, MPI_SUM, MPI_INFO_NULL, MPI_Barrier
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size, MPI_Exscan, MPI_Allreduce, MPI_SUM, &
+                     MPI_INFO_NULL, MPI_Barrier
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fclose_f, h5pcreate_f, h5pclose_f, &
                   h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, h5dopen_f, h5dclose_f, h5dwrite_f, &
                   h5dread_f, h5dget_space_f, h5sselect_hyperslab_f, h5screate_simple_f, &
@@ -16,17 +15,16 @@ program test_write_check
                   H5FD_MPIO_COLLECTIVE_F, H5S_SELECT_SET_F, H5T_IEEE_F64LE, H5T_STD_I64LE
   use dpmpm_kinds, only: wp, i8, mpi_i8
   use dpmpm_h5, only: h5check, make_dir, write_columns, write_check_t
-  use dpmpm_assert, only: begin_test, check, check_equal_int, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, check_equal_int
+  use dpmpm_test_main, only: start_tests, end_tests
   implicit none
   character(len=*), parameter :: dir = 'out/test_write_check'
   integer, parameter :: m = 3
-  integer :: status, rank, nranks, err
+  integer :: rank, nranks, err
   integer(i8) :: nloc, offset, nglob
   integer(hid_t) :: file, dxpl, fapl
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  am_root = rank == 0
   ! Rank r holds 4 + r points (the last rank none when there are 3 or more).
   nloc = merge(0_i8, int(4 + rank, i8), nranks >= 3 .and. rank == nranks - 1)
   offset = 0
@@ -51,9 +49,7 @@ program test_write_check
 
   call h5pclose_f(dxpl, err)
   call h5fclose_f(file, err)
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -243,7 +243,7 @@ contains
   !> indices within the cell (lexicographic), offsets (Gauss point minus point, cell
   !> units) and weights (kernel_weight's). Radial weights are evaluated only inside the radius,
   !> all of a point's at once.
-  pure subroutine points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, np, &
+  subroutine points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, np, &
                                   cells, gidx, offs, w, gax)
     integer, intent(in) :: nd, ncells(3), ng, kernel
     real(wp), intent(in) :: s(3), xi(:), radius, reach

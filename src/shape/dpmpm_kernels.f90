@@ -9,12 +9,15 @@
 !> Offsets and radii are in cell units; derivatives are with respect to them.
 module dpmpm_kernels
   use dpmpm_kinds, only: wp
+  use dpmpm_error, only: fatal
+  use dpmpm_strings, only: itoa
   implicit none
   private
   public :: kernel_linear, kernel_quadratic, kernel_cubic, kernel_wendland_c2, kernel_wendland_c4
   public :: kernel_names, kernel_from_name, ngrid_kernels, is_grid_kernel
   public :: kernel_width, kernel_ghost_width, kernel_eval_1d, max_stencil, psi_stencil, psi_stencils
   public :: bspline_1d, kernel_radial, kernel_radial_values, kernel_weight, kernel_reach
+  public :: refuse_kernel, refuse_width
 
   integer, parameter :: kernel_linear = 1, kernel_quadratic = 2, kernel_cubic = 3
   integer, parameter :: kernel_wendland_c2 = 4, kernel_wendland_c4 = 5
@@ -43,35 +46,63 @@ contains
     is_grid_kernel = kernel >= 1 .and. kernel <= ngrid_kernels
   end function is_grid_kernel
 
+  !> Stop the run on a kernel code that a dispatch does not know: a kernel added to
+  !> the list but not wired into every dispatch must not run as another one.
+  subroutine refuse_kernel(kernel, where)
+    integer, intent(in) :: kernel
+    character(len=*), intent(in) :: where
+    if (kernel >= 1 .and. kernel <= size(kernel_names)) then
+      call fatal('kernel '//trim(kernel_names(kernel))//' (code '//itoa(kernel)// &
+                 ') is not handled here', where)
+    else
+      call fatal('unknown kernel code '//itoa(kernel), where)
+    end if
+  end subroutine refuse_kernel
+
+  !> Stop the run on a stencil width (nodes per axis) that no transfer of fixed width
+  !> has: 2, 3 and 4 are those of the linear, quadratic and cubic B-spline.
+  subroutine refuse_width(nw, where)
+    integer, intent(in) :: nw
+    character(len=*), intent(in) :: where
+    call fatal('no grid transfer of stencil width '//itoa(nw)// &
+               ' (the widths are 2, 3 and 4 nodes per axis)', where)
+  end subroutine refuse_width
+
   !> Nodes per axis in a grid kernel's stencil.
-  pure integer function kernel_width(kernel) result(n)
+  integer function kernel_width(kernel) result(n)
     integer, intent(in) :: kernel
     select case (kernel)
     case (kernel_linear)
       n = 2
     case (kernel_quadratic)
       n = 3
-    case default
+    case (kernel_cubic)
       n = 4
+    case default
+      n = 0
+      call refuse_kernel(kernel, 'kernel_width')
     end select
   end function kernel_width
 
   !> Ghost layer (in nodes) that a point inside a rank's cells can reach beyond
   !> them with a grid kernel's stencil.
-  pure integer function kernel_ghost_width(kernel) result(g)
+  integer function kernel_ghost_width(kernel) result(g)
     integer, intent(in) :: kernel
     select case (kernel)
     case (kernel_linear)
       g = 1
-    case default
+    case (kernel_quadratic, kernel_cubic)
       g = 2
+    case default
+      g = 0
+      call refuse_kernel(kernel, 'kernel_ghost_width')
     end select
   end function kernel_ghost_width
 
   !> Evaluate a 1D grid kernel at s = (x - origin)/h (cell units). Returns the
   !> first stencil node i0 and, for nodes i0..i0+width-1, the weights w and
   !> derivatives dw with respect to s (divide by h for d/dx).
-  pure subroutine kernel_eval_1d(kernel, s, i0, w, dw)
+  subroutine kernel_eval_1d(kernel, s, i0, w, dw)
     integer, intent(in) :: kernel
     real(wp), intent(in) :: s
     integer, intent(out) :: i0
@@ -84,8 +115,11 @@ contains
       call linear_1d(s, 1.0_wp, i0, w(1:2), dw(1:2))
     case (kernel_quadratic)
       call quadratic_1d(s, 1.0_wp, i0, w(1:3), dw(1:3))
-    case default
+    case (kernel_cubic)
       call cubic_1d(s, 1.0_wp, i0, w(1:4), dw(1:4))
+    case default
+      i0 = 0
+      call refuse_kernel(kernel, 'kernel_eval_1d')
     end select
   end subroutine kernel_eval_1d
 
@@ -140,7 +174,7 @@ contains
   !> Grid-function weights and gradients (per metre) per axis at a position y in
   !> cell units: first node i0, weights sw(:, d), derivatives sdw(:, d); the
   !> unused axes have one node of weight 1.
-  pure subroutine psi_stencil(nd, kernel, y, h, i0, sw, sdw)
+  subroutine psi_stencil(nd, kernel, y, h, i0, sw, sdw)
     integer, intent(in) :: nd, kernel
     real(wp), intent(in) :: y(3), h(3)
     integer, intent(out) :: i0(3)
@@ -165,7 +199,7 @@ contains
   !> (2, 3 or 4 values; size(sw, 1) may be larger); the axes beyond nd are left as they
   !> are (stencil_t sets them once). In the module of kernel_eval_1d so that the kernel
   !> is evaluated inline, once per point and axis.
-  pure subroutine psi_stencils(nd, kernel, n, x, origin, h, i0, sw, sdw)
+  subroutine psi_stencils(nd, kernel, n, x, origin, h, i0, sw, sdw)
     integer, intent(in) :: nd, kernel, n
     real(wp), intent(in) :: x(:, :), origin(3), h(3)
     integer, contiguous, intent(inout) :: i0(:, :)
@@ -188,13 +222,15 @@ contains
           call quadratic_1d(s, h(d), i0(d, p), sw(1:3, d, p), sdw(1:3, d, p))
         end do
       end do
-    case default
+    case (kernel_cubic)
       do p = 1, n
         do d = 1, nd
           s = (x(d, p) - origin(d))/h(d)
           call cubic_1d(s, h(d), i0(d, p), sw(1:4, d, p), sdw(1:4, d, p))
         end do
       end do
+    case default
+      call refuse_kernel(kernel, 'psi_stencils')
     end select
   end subroutine psi_stencils
 
@@ -271,7 +307,7 @@ contains
 
   !> kernel_radial's profile (without its slope) at each r(1:n), in place: the kernel
   !> chosen once for the whole list instead of once per value.
-  pure subroutine kernel_radial_values(kernel, n, r)
+  subroutine kernel_radial_values(kernel, n, r)
     integer, intent(in) :: kernel, n
     real(wp), intent(inout) :: r(:)
     real(wp) :: q, dw
@@ -286,11 +322,13 @@ contains
         q = 1.0_wp - r(k)
         r(k) = merge(q**4*(1.0_wp + 4.0_wp*r(k)), 0.0_wp, r(k) < 1.0_wp)
       end do
-    case default
+    case (kernel_quadratic, kernel_cubic, kernel_wendland_c4)
       do k = 1, n
         q = r(k)
         call kernel_radial(kernel, q, r(k), dw)
       end do
+    case default
+      call refuse_kernel(kernel, 'kernel_radial_values')
     end select
   end subroutine kernel_radial_values
 
@@ -336,22 +374,29 @@ contains
   end subroutine kernel_weight
 
   !> Half-width (cell units) of the region where kernel_weight can be non-zero.
-  pure real(wp) function kernel_reach(kernel, radius, radial) result(reach)
+  real(wp) function kernel_reach(kernel, radius, radial) result(reach)
     integer, intent(in) :: kernel
     real(wp), intent(in) :: radius
     logical, intent(in) :: radial
-    if (radial .or. radius > 0.0_wp .or. .not. is_grid_kernel(kernel)) then
+    if (radial .or. radius > 0.0_wp) then
       reach = radius
-    else
-      select case (kernel)
-      case (kernel_linear)
-        reach = 1.0_wp
-      case (kernel_quadratic)
-        reach = 1.5_wp
-      case default
-        reach = 2.0_wp
-      end select
+      return
     end if
+    ! (natural support: the B-splines' own; the Wendland kernels have none, and the
+    ! input refuses them without a radius)
+    select case (kernel)
+    case (kernel_linear)
+      reach = 1.0_wp
+    case (kernel_quadratic)
+      reach = 1.5_wp
+    case (kernel_cubic)
+      reach = 2.0_wp
+    case (kernel_wendland_c2, kernel_wendland_c4)
+      reach = radius
+    case default
+      reach = 0.0_wp
+      call refuse_kernel(kernel, 'kernel_reach')
+    end select
   end function kernel_reach
 
 end module dpmpm_kernels

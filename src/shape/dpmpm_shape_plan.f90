@@ -66,7 +66,7 @@ contains
 
   !> Ghost layer (nodes and cells) wide enough for every stencil in use: the
   !> grid kernel, and the reach of the MLS weights around a point.
-  pure integer function plan_ghost_width(self) result(gw)
+  integer function plan_ghost_width(self) result(gw)
     class(shape_plan_t), intent(in) :: self
     gw = kernel_ghost_width(self%grid_kernel)
     if (self%velocity_mls) gw = max(gw, ceiling(kernel_reach(self%velocity_kernel, &

@@ -6,9 +6,10 @@
 !> its cell, the deviatoric part left as it is (the rate form of an F-bar step on the
 !> cell), and in the internal force each point's mean stress by the cell's mean of it. A
 !> grid of linear functions with several points per cell then no longer asks each point
-!> to keep its own volume where the plastic flow is isochoric (volumetric locking). For
-!> the pore fluid (`pressure_smoothing`) the pressure change and the pressure of the
-!> forces are the cell's means over its fluid points.
+!> to keep its own volume where the plastic flow is isochoric (volumetric locking). The
+!> pore fluid's smoothing (`pressure_smoothing`) takes cell_mean from here but lives
+!> elsewhere: the pressure change in smooth_pressure_change (dpmpm_pore_pressure), the
+!> pressure of the forces in swap_force_fields (dpmpm_step).
 module dpmpm_cell_smoothing
   use dpmpm_kinds, only: wp
   implicit none

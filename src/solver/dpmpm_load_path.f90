@@ -8,7 +8,7 @@
 !> "Long runs of the two-phase step").
 module dpmpm_load_path
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_kernels, only: kernel_width, kernel_linear, kernel_quadratic
+  use dpmpm_kernels, only: kernel_width, kernel_linear, kernel_quadratic, kernel_cubic, refuse_kernel
   use dpmpm_state, only: state_t
   use dpmpm_config, only: face_names
   use dpmpm_strings, only: rtoa
@@ -21,7 +21,7 @@ contains
 
   !> First node (global index along the axis, node 0 at the origin) of the grid
   !> functions of a point at xi cell widths from the origin.
-  pure integer function first_node(kernel, xi) result(i)
+  integer function first_node(kernel, xi) result(i)
     integer, intent(in) :: kernel
     real(wp), intent(in) :: xi
     select case (kernel)
@@ -29,8 +29,11 @@ contains
       i = floor(xi)
     case (kernel_quadratic)
       i = floor(xi - 0.5_wp)
-    case default
+    case (kernel_cubic)
       i = floor(xi) - 1
+    case default
+      i = 0
+      call refuse_kernel(kernel, 'first_node')
     end select
   end function first_node
 

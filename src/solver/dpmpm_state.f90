@@ -77,10 +77,6 @@ module dpmpm_state
     !> (box_known false) before the first step: the whole block.
     integer :: wlo(3) = 0, whi(3) = -1, zlo(3) = 0, zhi(3) = -1
     logical :: box_known = .false.
-    !> Rigid bodies (dpmpm_rigid): their share of the node fields (mass, momentum), the
-    !> drive's impulse on this rank since the last diagnostics record and the time of that
-    !> record, and the mean drive force over each interval (time, force(3)) for the output.
-    logical :: has_rigid = .false.
     !> a model of the scene has a stiffness that follows the pressure: the time step takes
     !> each point's modulus (point_moduli)
     logical :: pressure_dependent = .false.
@@ -90,9 +86,14 @@ module dpmpm_state
     !> &load surface = .true. (dpmpm_surface_loads): their nodal forces this step
     logical :: has_surface_loads = .false.
     real(wp), allocatable :: sforce(:, :, :, :)
-    real(wp), allocatable :: rnode(:, :, :, :)
     !> Times the grid was split again by the points during the run (&grid balance_every)
     integer :: nrebalance = 0
+    !> Rigid bodies (dpmpm_rigid): whether the scene has any, their share of the node
+    !> fields (mass, momentum), the drive's impulse on this rank since the last diagnostics
+    !> record and the time of that record, and the mean drive force over each interval
+    !> (time, force(3)) for the output.
+    logical :: has_rigid = .false.
+    real(wp), allocatable :: rnode(:, :, :, :)
     real(wp) :: drive_impulse(3) = 0.0_wp, drive_t0 = 0.0_wp
     real(wp), allocatable :: drive_hist(:, :)
     integer :: ndrive = 0
@@ -118,8 +119,9 @@ module dpmpm_state
     real(wp) :: energy_drift = 0.0_wp         !< energy_error / energy_scale
     !> why the last run stopped before t_end: a signal number, -1 for max_wall_time, 0 not
     integer :: stopped = 0
-    !> exit status of the run: 0 to go on; 2 bad input or restart, 4 stopped by the monitor
-    !> (collective conditions: every rank sets the same status and returns)
+    !> exit status of the run: 0 to go on; 2 bad input, restart or time step, 3 stopped
+    !> early with a checkpoint, 4 stopped by the run monitor (collective conditions: every
+    !> rank sets the same status and returns)
     integer :: exit_code = 0
     logical :: growth_stop = .false.          !< the monitor stopped the run for growth
     ! Run monitor (doc/verification.md, "Long runs"): energies against the work done

@@ -14,6 +14,7 @@ module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_tensor, only: voigt_to_tensor
   use dpmpm_drag, only: gravity_drag
+  use dpmpm_kernels, only: refuse_width
   use dpmpm_transfer_w2, only: p2g_2d_w2 => p2g_2d, p2g_3d_w2 => p2g_3d, porous_p2g_2d_w2 => porous_p2g_2d, &
     porous_p2g_3d_w2 => porous_p2g_3d, p2g_body_2d_w2 => p2g_body_2d, p2g_body_3d_w2 => p2g_body_3d, g2p_2d_w2 => g2p_2d, &
     g2p_3d_w2 => g2p_3d, point_gradient_2d_w2 => point_gradient_2d, &
@@ -87,8 +88,10 @@ contains
           call p2g_body_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
         case (3)
           call p2g_body_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-        case default
+        case (4)
           call p2g_body_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        case default
+          call refuse_width(nw(1), 'dpmpm_transfer')
         end select
       else
         select case (nw(1))
@@ -96,8 +99,10 @@ contains
           call p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
         case (3)
           call p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
-        case default
+        case (4)
           call p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        case default
+          call refuse_width(nw(1), 'dpmpm_transfer')
         end select
       end if
       return
@@ -108,8 +113,10 @@ contains
           call p2g_body_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
         case (3)
           call p2g_body_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-        case default
+        case (4)
           call p2g_body_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
+        case default
+          call refuse_width(nw(1), 'dpmpm_transfer')
         end select
       else
         select case (nw(1))
@@ -117,8 +124,10 @@ contains
           call p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
         case (3)
           call p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
-        case default
+        case (4)
           call p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
+        case default
+          call refuse_width(nw(1), 'dpmpm_transfer')
         end select
       end if
       return
@@ -158,8 +167,10 @@ contains
         call porous_p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
       case (3)
         call porous_p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
-      case default
+      case (4)
         call porous_p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
     else if (nd == 3 .and. all(nw == nw(1))) then
       select case (nw(1))
@@ -167,8 +178,10 @@ contains
         call porous_p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
       case (3)
         call porous_p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
-      case default
+      case (4)
         call porous_p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
     else
       call p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
@@ -258,8 +271,10 @@ contains
           call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
         case (3)
           call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
-        case default
+        case (4)
           call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
+        case default
+          call refuse_width(nw(1), 'dpmpm_transfer')
         end select
       else
         select case (nw(1))
@@ -267,8 +282,10 @@ contains
           call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
         case (3)
           call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
-        case default
+        case (4)
           call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
+        case default
+          call refuse_width(nw(1), 'dpmpm_transfer')
         end select
       end if
     end subroutine g2p_by_width
@@ -299,8 +316,10 @@ contains
             call g2p_remap_project_2d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
           case (3)
             call g2p_remap_project_2d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
-          case default
+          case (4)
             call g2p_remap_project_2d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+          case default
+            call refuse_width(nw(1), 'dpmpm_transfer')
           end select
         else
           select case (nw(1))
@@ -308,8 +327,10 @@ contains
             call g2p_remap_project_3d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
           case (3)
             call g2p_remap_project_3d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
-          case default
+          case (4)
             call g2p_remap_project_3d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
+          case default
+            call refuse_width(nw(1), 'dpmpm_transfer')
           end select
         end if
       else if (nd == 2) then
@@ -318,8 +339,10 @@ contains
           call g2p_remap_2d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
         case (3)
           call g2p_remap_2d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
-        case default
+        case (4)
           call g2p_remap_2d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
+        case default
+          call refuse_width(nw(1), 'dpmpm_transfer')
         end select
       else
         select case (nw(1))
@@ -327,8 +350,10 @@ contains
           call g2p_remap_3d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
         case (3)
           call g2p_remap_3d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
-        case default
+        case (4)
           call g2p_remap_3d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
+        case default
+          call refuse_width(nw(1), 'dpmpm_transfer')
         end select
       end if
     else if (present(gf) .and. present(gv)) then
@@ -380,8 +405,10 @@ contains
         call point_gradient_2d_w2(n, i0, sw, sdw, lo, nvel, vgrad)
       case (3)
         call point_gradient_2d_w3(n, i0, sw, sdw, lo, nvel, vgrad)
-      case default
+      case (4)
         call point_gradient_2d_w4(n, i0, sw, sdw, lo, nvel, vgrad)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -391,8 +418,10 @@ contains
         call point_gradient_3d_w2(n, i0, sw, sdw, lo, nvel, vgrad)
       case (3)
         call point_gradient_3d_w3(n, i0, sw, sdw, lo, nvel, vgrad)
-      case default
+      case (4)
         call point_gradient_3d_w4(n, i0, sw, sdw, lo, nvel, vgrad)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -430,8 +459,10 @@ contains
         call point_divergences_2d_w2(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
       case (3)
         call point_divergences_2d_w3(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
-      case default
+      case (4)
         call point_divergences_2d_w4(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -441,8 +472,10 @@ contains
         call point_divergences_3d_w2(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
       case (3)
         call point_divergences_3d_w3(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
-      case default
+      case (4)
         call point_divergences_3d_w4(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -480,8 +513,10 @@ contains
         call momentum_project_p2g_2d_w2(n, i0, sw, mass, v, lo, fp, node)
       case (3)
         call momentum_project_p2g_2d_w3(n, i0, sw, mass, v, lo, fp, node)
-      case default
+      case (4)
         call momentum_project_p2g_2d_w4(n, i0, sw, mass, v, lo, fp, node)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -491,8 +526,10 @@ contains
         call momentum_project_p2g_3d_w2(n, i0, sw, mass, v, lo, fp, node)
       case (3)
         call momentum_project_p2g_3d_w3(n, i0, sw, mass, v, lo, fp, node)
-      case default
+      case (4)
         call momentum_project_p2g_3d_w4(n, i0, sw, mass, v, lo, fp, node)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -521,8 +558,10 @@ contains
         call momentum_p2g_2d_w2(n, i0, sw, mass, v, lo, node)
       case (3)
         call momentum_p2g_2d_w3(n, i0, sw, mass, v, lo, node)
-      case default
+      case (4)
         call momentum_p2g_2d_w4(n, i0, sw, mass, v, lo, node)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -532,8 +571,10 @@ contains
         call momentum_p2g_3d_w2(n, i0, sw, mass, v, lo, node)
       case (3)
         call momentum_p2g_3d_w3(n, i0, sw, mass, v, lo, node)
-      case default
+      case (4)
         call momentum_p2g_3d_w4(n, i0, sw, mass, v, lo, node)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -564,9 +605,11 @@ contains
       case (3)
         if (nw(3) == 1) call volume_p2g_2d_w3(n, i0, sw, vol, lo, nvol)
         if (nw(3) > 1) call volume_p2g_3d_w3(n, i0, sw, vol, lo, nvol)
-      case default
+      case (4)
         if (nw(3) == 1) call volume_p2g_2d_w4(n, i0, sw, vol, lo, nvol)
         if (nw(3) > 1) call volume_p2g_3d_w4(n, i0, sw, vol, lo, nvol)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -624,8 +667,10 @@ contains
         call interp_two_values_2d_w2(n, i0, sw, lo, f, comp, val, val2)
       case (3)
         call interp_two_values_2d_w3(n, i0, sw, lo, f, comp, val, val2)
-      case default
+      case (4)
         call interp_two_values_2d_w4(n, i0, sw, lo, f, comp, val, val2)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -635,8 +680,10 @@ contains
         call interp_two_values_3d_w2(n, i0, sw, lo, f, comp, val, val2)
       case (3)
         call interp_two_values_3d_w3(n, i0, sw, lo, f, comp, val, val2)
-      case default
+      case (4)
         call interp_two_values_3d_w4(n, i0, sw, lo, f, comp, val, val2)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -679,9 +726,11 @@ contains
       case (3)
         call fluid_p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
                                 node_s, node_f, drag, fvol)
-      case default
+      case (4)
         call fluid_p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
                                 node_s, node_f, drag, fvol)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -693,9 +742,11 @@ contains
       case (3)
         call fluid_p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
                             node_s, node_f, drag, fvol)
-      case default
+      case (4)
         call fluid_p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
                             node_s, node_f, drag, fvol)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -767,8 +818,10 @@ contains
         call solid_porosity_p2g_2d_w2(n, i0, sw, mass, poro, kinv, lo, sporo)
       case (3)
         call solid_porosity_p2g_2d_w3(n, i0, sw, mass, poro, kinv, lo, sporo)
-      case default
+      case (4)
         call solid_porosity_p2g_2d_w4(n, i0, sw, mass, poro, kinv, lo, sporo)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -778,8 +831,10 @@ contains
         call solid_porosity_p2g_3d_w2(n, i0, sw, mass, poro, kinv, lo, sporo)
       case (3)
         call solid_porosity_p2g_3d_w3(n, i0, sw, mass, poro, kinv, lo, sporo)
-      case default
+      case (4)
         call solid_porosity_p2g_3d_w4(n, i0, sw, mass, poro, kinv, lo, sporo)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if
@@ -821,8 +876,10 @@ contains
         call reaches_thin_node_2d_w2(n, i0, sw, lo, f, hi, vmin, flag)
       case (3)
         call reaches_thin_node_2d_w3(n, i0, sw, lo, f, hi, vmin, flag)
-      case default
+      case (4)
         call reaches_thin_node_2d_w4(n, i0, sw, lo, f, hi, vmin, flag)
+      case default
+        call refuse_width(nw(1), 'dpmpm_transfer')
       end select
       return
     end if

@@ -101,7 +101,7 @@ contains
   !> MLS reconstruction fh(k) = dot(gamma, sum_p w_p pv_p f_p) at the points xe(2, :) from
   !> values f at the jittered sites of spacing h (peaks_sites layout, which bounds the
   !> search: site (i, j) lies within peaks_jitter h of its grid position).
-  pure subroutine peaks_reconstruct(basis, kernel, radius, radial, h, sites, f, xe, fh, stats)
+  subroutine peaks_reconstruct(basis, kernel, radius, radial, h, sites, f, xe, fh, stats)
     integer, intent(in) :: basis, kernel
     real(wp), intent(in) :: radius, h, sites(:, :), f(:), xe(:, :)
     logical, intent(in) :: radial

@@ -18,6 +18,7 @@ module dpmpm_input_check
   use dpmpm_input_check_material, only: check_material
   use dpmpm_strings, only: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, next_word
   use mpi_f08, only: MPI_Dims_create
+  use dpmpm_motion, only: check_motion
   implicit none
   private
   public :: check_config
@@ -228,6 +229,9 @@ contains
       quote(cfg%benchmark), 'the manufactured solution is 2D: set &grid ndim = 2')
     if (.not. real_ok(cfg%amplitude)) call add_value(pb, g_benchmark, 1, 'amplitude', &
       rtoa(cfg%amplitude), 'must be a finite number')
+
+    ! &motion (its files are read by read_input once these values are good)
+    call check_motion(pb, cfg)
   end subroutine check_config
 
   !> Saturated soil under gravity on scattered points (placement random or uniform of a

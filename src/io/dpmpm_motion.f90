@@ -16,9 +16,9 @@
 module dpmpm_motion
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, motion_series_t
+  use dpmpm_config, only: config_t, motion_series_t, face_index, bc_fixed
   use dpmpm_strings, only: itoa, rtoa, lower, quote
-  use dpmpm_input_problems, only: input_problems_t, add_value, g_motion, check_finite
+  use dpmpm_input_problems, only: input_problems_t, add_value, add_warning, g_motion, check_finite
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_INTEGER, MPI_DOUBLE_PRECISION
   implicit none
   private
@@ -50,6 +50,7 @@ contains
                      'the baseline corrections are none, linear')
     call check_finite(pb, g_motion, 1, 'scale', cfg%motion_scale)
     files = [cfg%motion_fx, cfg%motion_fy, cfg%motion_fz]
+    call check_base(pb, cfg, any(len_trim(files) > 0))
     do d = 1, 3
       if (len_trim(files(d)) == 0) cycle
       if (d > cfg%ndim) call add_value(pb, g_motion, 1, 'file_'//axes(d:d), quote(trim(files(d))), &
@@ -62,6 +63,37 @@ contains
                        ' or format = ''text''')
     end do
   end subroutine check_motion
+
+  !> The rigid base: a fixed face of the grid, linear grid functions (a wider kernel's
+  !> mirror images at the face would have to move with it); a base without a motion, or a
+  !> motion without a base, does nothing (warnings).
+  subroutine check_base(pb, cfg, has_files)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    logical, intent(in) :: has_files
+    integer :: f
+    if (len_trim(cfg%motion_base) == 0) then
+      if (has_files) call add_warning(pb, g_motion, 1, 'base', "''", 'the motion moves nothing '// &
+                                      'without a base (the face that follows it, e.g. base = ''y-'')')
+      return
+    end if
+    f = face_index(cfg%motion_base)
+    if (f < 1 .or. f > 2*cfg%ndim) then
+      call add_value(pb, g_motion, 1, 'base', quote(trim(cfg%motion_base)), &
+                     'must be a face of the grid: x-, x+ (y-, y+ in 2D, z-, z+ in 3D)')
+      return
+    end if
+    if (cfg%bc(f) /= bc_fixed) call add_value(pb, g_motion, 1, 'base', quote(trim(cfg%motion_base)), &
+      'the base must be a fixed face: &boundary face = '''//trim(adjustl(cfg%motion_base))// &
+      ''', condition = ''fixed''')
+    if (cfg%kernel /= 'linear' .or. .not. any(cfg%velocity_kernel == [character(len=6) :: '', &
+                                                                       'linear'])) &
+      call add_value(pb, g_motion, 1, 'base', quote(trim(cfg%motion_base)), &
+                     'a rigid base needs &shape kernel = ''linear'' and velocity_kernel '''' or '// &
+                     '''linear'' (the mirror images of wider grid functions do not follow the base yet)')
+    if (.not. has_files) call add_warning(pb, g_motion, 1, 'base', quote(trim(cfg%motion_base)), &
+                                          'no file_x, file_y or file_z: the base stays fixed')
+  end subroutine check_base
 
   !> The choices of &motion that reading its files needs are valid.
   pure logical function motion_values_ok(cfg) result(ok)

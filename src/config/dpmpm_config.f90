@@ -7,7 +7,7 @@ module dpmpm_config
   implicit none
   private
   public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t, table_length, motion_series_t
-  public :: max_poly, max_table, max_props, name_len, face_names, face_index
+  public :: max_poly, max_table, max_props, max_probes, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
   public :: optional_fields, field_listed, porosity_varies, resolve_geostatic, region_levels, &
@@ -18,6 +18,7 @@ module dpmpm_config
   integer, parameter :: max_poly = 64
   integer, parameter :: max_table = 64   !< entries of a load's time table
   integer, parameter :: max_props = 64   !< values of a material's umat_props (PROPS of a UMAT)
+  integer, parameter :: max_probes = 16  !< points of &output whose records are kept (probes)
   !> Grid faces in the order used by every per-face array: x-, x+, y-, y+, z-, z+.
   character(len=2), parameter :: face_names(6) = ['x-', 'x+', 'y-', 'y+', 'z-', 'z+']
   !> surface and water_level of a region not given (a finite value, so that the echo of

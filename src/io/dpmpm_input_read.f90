@@ -10,7 +10,7 @@
 module dpmpm_input_read
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
-                          name_len, max_table, max_props, face_names, face_index, bc_free, bc_fixed, bc_roller, &
+                          name_len, max_table, max_props, max_probes, face_names, face_index, bc_free, bc_fixed, bc_roller, &
                           bc_names, fbc_default, fbc_drained, fbc_impermeable, level_unset
   use dpmpm_input_problems, only: input_problems_t, ngroups, group_names, &
                                   repeatable, g_run, g_grid, g_shape, g_material, g_region, &

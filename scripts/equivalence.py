@@ -55,6 +55,7 @@ SCENES = {
     "loaded_block_2d": 0.05,
     "mms": 0.02,
     "seepage_layers_1d": 0.4,
+    "site_response_1d": 0.2,
     "slope_equilibrium_2d": 0.05,
     "slope_saturated_2d": 0.1,
     "slope_into_water_2d": 0.1,
@@ -112,6 +113,13 @@ def scene_text(scene, outdir, name, extra):
     eq = namelist.group(text, "run").get("equilibrium_time")
     if eq and float(eq[0]) > t_end:
         values["run.equilibrium_time"] = repr(t_end)
+    # a motion file named relative to the scene stays found from the copy in outdir
+    motion = namelist.group(text, "motion")
+    for axis in "xyz":
+        given = motion.get(f"file_{axis}")
+        path = str(given[0]).strip("'\"") if given else ""
+        if path and not os.path.isabs(path):
+            values[f"motion.file_{axis}"] = repr(os.path.join(ROOT, "inputs", path))
     values.update(sets)
     values.update(extra)
     return namelist.edit(text, values)

@@ -64,7 +64,7 @@ contains
       call check_config(pb, cfg, nranks)
       ! The &motion files, when the choices that read them are good (their problems are
       ! reported with the others).
-      if (pb%read_ok(g_motion) .and. motion_values_ok(cfg)) call load_motions(cfg, pb)
+      if (pb%read_ok(g_motion) .and. motion_values_ok(cfg)) call load_motions(cfg, pb, filename)
       nprob = pb%nprob
     end if
     call MPI_Bcast(nprob, 1, MPI_INTEGER, 0, comm)

@@ -104,11 +104,13 @@ contains
          any(cfg%motion_baseline == [character(len=6) :: 'none', 'linear'])
   end function motion_values_ok
 
-  !> Read every &motion file of cfg (rank 0): a file that is refused is a problem of its
-  !> variable (file_x, file_y, file_z) in pb.
-  subroutine load_motions(cfg, pb)
+  !> Read every &motion file of cfg (rank 0), a relative name from the folder of the input
+  !> file input_file: a file that is refused is a problem of its variable (file_x, file_y,
+  !> file_z) in pb.
+  subroutine load_motions(cfg, pb, input_file)
     type(config_t), intent(inout) :: cfg
     type(input_problems_t), intent(inout) :: pb
+    character(len=*), intent(in) :: input_file
     character(len=:), allocatable :: err
     character(len=1024) :: files(3)
     character(len=*), parameter :: axes = 'xyz'
@@ -116,13 +118,26 @@ contains
     files = [cfg%motion_fx, cfg%motion_fy, cfg%motion_fz]
     do d = 1, 3
       if (len_trim(files(d)) == 0) cycle
-      call read_motion_file(trim(files(d)), motion_format_of(cfg%motion_format, files(d)), &
+      call read_motion_file(beside(input_file, trim(files(d))), motion_format_of(cfg%motion_format, files(d)), &
                             cfg%motion_quantity, cfg%motion_scale(d), cfg%motion_baseline, &
                             cfg%motion(d), err)
       if (len(err) > 0) call add_value(pb, g_motion, 1, 'file_'//axes(d:d), &
                                        quote(trim(files(d))), err)
     end do
   end subroutine load_motions
+
+  !> The path of file: as it is when absolute or when input_file has no folder, else in the
+  !> folder of input_file.
+  pure function beside(input_file, file) result(path)
+    character(len=*), intent(in) :: input_file, file
+    character(len=:), allocatable :: path
+    integer :: k
+    path = file
+    if (len(file) == 0) return
+    if (file(1:1) == '/') return
+    k = index(input_file, '/', back=.true.)
+    if (k > 0) path = input_file(1:k)//file
+  end function beside
 
   !> Rank 0's motions on every rank of comm.
   subroutine bcast_motions(cfg, comm)

@@ -18,6 +18,7 @@ program test_site_response
   use dpmpm_motion, only: motion_from_samples, motion_velocity
   use dpmpm_simulation, only: simulation_t
   use dpmpm_base_motion, only: base_face, base_velocity
+  use dpmpm_site_response, only: layer_surface_velocity
   use dpmpm_assert, only: begin_test, check, finish_tests, am_root
   implicit none
   real(wp), parameter :: pi = acos(-1.0_wp)
@@ -33,6 +34,7 @@ program test_site_response
     call study()
   else
     call test_base_moves_after_the_equilibrium_phase()
+    call test_transfer_function_agrees_with_dalembert()
     call test_1d_layer_follows_dalembert()
     call test_2d_column_between_rollers_follows_dalembert()
     call test_saturated_layer_follows_undrained_dalembert()
@@ -208,6 +210,32 @@ contains
                'the record shifted by equilibrium_time, along y only')
     call check(abs(v(2) - amp) <= 1.0e-3_wp*amp, 'the wavelet''s peak at t0 after the phase')
   end subroutine test_base_moves_after_the_equilibrium_phase
+
+  !> The frequency-domain reference (dpmpm_site_response: the transfer function
+  !> 1/cos(omega H/c) applied with FFTW on the complex frequency), undamped, against
+  !> d'Alembert's sum: the base velocity sampled every 0.1 ms to 1.2 s. Measured
+  !> (doc/verification.md): largest difference 1.0e-8 of the peak (what the periodic
+  !> transform folds back, exp(-alpha T_fft)); bound measured + 50 %.
+  subroutine test_transfer_function_agrees_with_dalembert()
+    type(motion_series_t) :: s
+    real(wp), allocatable :: t(:), vb(:), vs(:), ve(:)
+    real(wp) :: worst
+    integer :: k, n
+    call begin_test('transfer_function_agrees_with_dalembert')
+    s = base_record()
+    n = 12001
+    t = [(1.0e-4_wp*k, k=0, n - 1)]
+    allocate (vb(n), vs(n), ve(n))
+    do k = 1, n
+      vb(k) = motion_velocity(s, t(k))
+      ve(k) = exact_surface(s, t(k), speed)
+    end do
+    call layer_surface_velocity(vb, 1.0e-4_wp, height, speed, vs)
+    worst = maxval(abs(vs - ve))/maxval(abs(ve))
+    if (am_root) print '(a,es11.3)', '  transfer function against d''Alembert, largest '// &
+      'difference over the peak:', worst
+    call check(worst <= 1.5e-8_wp, 'the two references agree within 1.5e-8 of the peak')
+  end subroutine test_transfer_function_agrees_with_dalembert
 
   !> 1D, 80 cells (8 per metre; the wavelet's 12 Hz, about 2.5 times its centre frequency,
   !> is 8 m long: 64 cells per wavelength). Measured (doc/verification.md), 1 and 2 ranks:

@@ -336,6 +336,9 @@ contains
     call check_refused('test_motion_dt.AT2', 'at2', 'a'//lf//'b'//lf//'c'//lf// &
                        'NPTS=  2.5, DT=   .0100 SEC'//lf//' .1 .2'//lf, &
                        'line 4: NPTS cannot be read as a whole number')
+    call check_refused('test_motion_dt.AT2', 'at2', 'a'//lf//'b'//lf//'c'//lf// &
+                       '  1e30  .0100  NPTS, DT'//lf//' .1 .2'//lf, &
+                       'line 4: NPTS = 1.0e30 is too large')
   end subroutine test_refuses_at2_with_a_bad_dt
 
 end program test_motion

@@ -475,6 +475,7 @@ contains
     end if
     if (index(s(i:), '=') > 0) then
       call value_after(s, 'npts', x, ios)
+      if (ios == 0 .and. abs(x) > 1.0e9_wp) ios = 1
       if (ios == 0) npts = nint(x)
       if (ios /= 0 .or. abs(x - npts) > 0.0_wp) then
         why = 'NPTS cannot be read as a whole number'//expected
@@ -490,6 +491,10 @@ contains
       call line_numbers(s(1:i - 1), vals, n, why)
       if (len(why) > 0 .or. n /= 2) then
         why = 'two numbers, NPTS and DT, must come before ''NPTS, DT'''//expected
+        return
+      end if
+      if (abs(vals(1)) > 1.0e9_wp) then
+        why = 'NPTS = '//rtoa(vals(1))//' is too large'
         return
       end if
       npts = nint(vals(1))

@@ -35,6 +35,7 @@ program test_site_response
   else
     call test_base_moves_after_the_equilibrium_phase()
     call test_transfer_function_agrees_with_dalembert()
+    call test_probe_interval_keeps_every_nth_record()
     call test_1d_layer_follows_dalembert()
     call test_2d_column_between_rollers_follows_dalembert()
     call test_saturated_layer_follows_undrained_dalembert()
@@ -236,6 +237,37 @@ contains
       'difference over the peak:', worst
     call check(worst <= 1.5e-8_wp, 'the two references agree within 1.5e-8 of the peak')
   end subroutine test_transfer_function_agrees_with_dalembert
+
+  !> probe_every = 7 keeps the records of every seventh step of the same run, unchanged.
+  subroutine test_probe_interval_keeps_every_nth_record()
+    type(config_t) :: cfg
+    type(simulation_t) :: sim
+    real(wp), allocatable :: t1(:), v1(:, :), a1(:, :)
+    integer :: n
+    call begin_test('probe_interval_keeps_every_nth_record')
+    cfg = layer(1, 20)
+    cfg%t_end = 0.3_wp
+    cfg%nprobes = 2
+    cfg%probe_x(1:2) = [height, 0.5_wp*height]
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    call sim%run()
+    t1 = sim%probes%t(1:sim%probes%nrec)
+    v1 = sim%probes%vel(:, 1:sim%probes%nrec)
+    a1 = sim%probes%acc(:, 1:sim%probes%nrec)
+    call sim%free()
+    cfg%probe_every = 7
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    call sim%run()
+    n = sim%probes%nrec
+    call check(n == size(t1)/7, 'one record in seven steps')
+    if (n == size(t1)/7) then
+      call check(all(sim%probes%t(1:n) == t1(7:7*n:7)), 'the times of every seventh step')
+      call check(all(sim%probes%vel(:, 1:n) == v1(:, 7:7*n:7)), 'their velocities')
+      call check(all(sim%probes%acc(:, 1:n) == a1(:, 7:7*n:7)), 'their accelerations (over one step)')
+      call check(any(v1(2, :) /= 0.0_wp), 'the second probe (mid-height) moves')
+    end if
+    call sim%free()
+  end subroutine test_probe_interval_keeps_every_nth_record
 
   !> 1D, 80 cells (8 per metre; the wavelet's 12 Hz, about 2.5 times its centre frequency,
   !> is 8 m long: 64 cells per wavelength). Measured (doc/verification.md), 1 and 2 ranks:

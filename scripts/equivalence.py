@@ -53,6 +53,7 @@ SCENES = {
     "loaded_block_2d": 0.05,
     "mms": 0.02,
     "seepage_layers_1d": 0.4,
+    "site_response_1d": 0.2,
     "slope_equilibrium_2d": 0.05,
     "slope_saturated_2d": 0.1,
     "slope_into_water_2d": 0.1,
@@ -109,6 +110,12 @@ def scene_of(scene, outdir, name, extra):
     # an equilibrium phase longer than the cut run is refused by the input: cut it with the run
     if float(s["run"].get("equilibrium_time", 0.0)) > t_end:
         s["run"]["equilibrium_time"] = t_end
+    # a motion file named relative to the scene stays found from the copy in outdir
+    if "motion" in s:
+        for axis in "xyz":
+            path = str(s["motion"].get(f"file_{axis}", "") or "").strip()
+            if path and not os.path.isabs(path):
+                s["motion"][f"file_{axis}"] = os.path.join(ROOT, "inputs", path)
     s.set({key: namelist.value(val) for key, val in dict(sets, **extra).items()})
     return s
 

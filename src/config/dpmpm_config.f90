@@ -6,8 +6,8 @@ module dpmpm_config
   use dpmpm_strings, only: next_word
   implicit none
   private
-  public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t, table_length
-  public :: max_poly, max_table, max_props, name_len, face_names, face_index
+  public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t, table_length, motion_series_t
+  public :: max_poly, max_table, max_props, max_probes, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
   public :: optional_fields, field_listed, porosity_varies, resolve_geostatic, region_levels, &
@@ -18,6 +18,7 @@ module dpmpm_config
   integer, parameter :: max_poly = 64
   integer, parameter :: max_table = 64   !< entries of a load's time table
   integer, parameter :: max_props = 64   !< values of a material's umat_props (PROPS of a UMAT)
+  integer, parameter :: max_probes = 16  !< points of &output whose records are kept (probes)
   !> Grid faces in the order used by every per-face array: x-, x+, y-, y+, z-, z+.
   character(len=2), parameter :: face_names(6) = ['x-', 'x+', 'y-', 'y+', 'z-', 'z+']
   !> surface and water_level of a region not given (a finite value, so that the echo of
@@ -55,6 +56,13 @@ module dpmpm_config
     integer :: nfactors = 0                          !< factors given (one per time of a table)
   end type load_cfg_t
 
+  !> One axis of a ground motion as read from its file (dpmpm_motion): the times (s, increasing)
+  !> and the acceleration (m/s^2), velocity (m/s) and displacement (m) at each, scaled and
+  !> baseline-corrected. No times: no motion along the axis.
+  type :: motion_series_t
+    real(wp), allocatable :: t(:), a(:), v(:), d(:)
+  end type motion_series_t
+
   !> All parameters of a run.
   type :: config_t
     character(len=4096) :: input_file = ''
@@ -68,6 +76,9 @@ module dpmpm_config
 #include "dpmpm_vars_shape.inc"
 #include "dpmpm_vars_output.inc"
 #include "dpmpm_vars_benchmark.inc"
+#include "dpmpm_vars_motion.inc"
+    !> the &motion files as read (rank 0 reads them, every rank gets them): one per axis
+    type(motion_series_t) :: motion(3)
     ! &material, &region, &load (repeatable)
     type(material_cfg_t), allocatable :: materials(:)
     type(region_cfg_t), allocatable :: regions(:)

@@ -10,12 +10,13 @@
 module dpmpm_input
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use dpmpm_config, only: config_t, resolve_geostatic
-  use dpmpm_input_problems, only: input_problems_t, add_value, g_run
+  use dpmpm_input_problems, only: input_problems_t, add_value, g_run, g_motion
   use dpmpm_kinds, only: wp, i8
   use dpmpm_strings, only: i8toa, rtoa
   use dpmpm_h5_salvage, only: last_record
   use dpmpm_input_read, only: load_text, parse_input
   use dpmpm_input_check, only: check_config
+  use dpmpm_motion, only: load_motions, bcast_motions, motion_values_ok
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Comm_size, MPI_Bcast, MPI_INTEGER, &
                      MPI_CHARACTER
   implicit none
@@ -61,6 +62,9 @@ contains
       end if
       call resolve_latest(cfg, pb, present_and_true(start_over))
       call check_config(pb, cfg, nranks)
+      ! The &motion files, when the choices that read them are good (their problems are
+      ! reported with the others).
+      if (pb%read_ok(g_motion) .and. motion_values_ok(cfg)) call load_motions(cfg, pb, filename)
       nprob = pb%nprob
     end if
     call MPI_Bcast(nprob, 1, MPI_INTEGER, 0, comm)
@@ -71,6 +75,7 @@ contains
     if (rank == 0) call pb%write_warnings(error_unit)
     ! The initial state of level ground, where asked for (checked above).
     call resolve_geostatic(cfg)
+    call bcast_motions(cfg, comm)
     ! The checkpoint to continue from, as rank 0 found it.
     call MPI_Bcast(cfg%restart, len(cfg%restart), MPI_CHARACTER, 0, comm)
     cfg%input_file = filename

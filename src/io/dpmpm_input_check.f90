@@ -5,7 +5,7 @@
 module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, optional_fields, field_listed, &
+  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, max_probes, optional_fields, field_listed, &
                           face_names, &
                           porosity_varies, region_levels, level_unset, &
                           table_length
@@ -18,6 +18,7 @@ module dpmpm_input_check
   use dpmpm_input_check_material, only: check_material
   use dpmpm_strings, only: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, next_word
   use mpi_f08, only: MPI_Dims_create
+  use dpmpm_motion, only: check_motion
   implicit none
   private
   public :: check_config
@@ -216,6 +217,7 @@ contains
       'must be >= 0 (s of wall time between checkpoints; 0 = none)')
     if (cfg%compression < 0 .or. cfg%compression > 9) call add_value(pb, g_output, 1, &
       'compression', itoa(cfg%compression), 'must be 0 (off) to 9 (gzip level)')
+    call check_probes(pb, cfg)
     call check_fields(pb, 'solid_fields', cfg%solid_fields, .false.)
     call check_fields(pb, 'fluid_fields', cfg%fluid_fields, .true.)
 
@@ -228,7 +230,32 @@ contains
       quote(cfg%benchmark), 'the manufactured solution is 2D: set &grid ndim = 2')
     if (.not. real_ok(cfg%amplitude)) call add_value(pb, g_benchmark, 1, 'amplitude', &
       rtoa(cfg%amplitude), 'must be a finite number')
+
+    ! &motion (its files are read by read_input once these values are good)
+    call check_motion(pb, cfg)
   end subroutine check_config
+
+  !> The probes of &output: at most max_probes, each inside the grid, a positive interval.
+  subroutine check_probes(pb, cfg)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    character(len=*), parameter :: axes = 'xyz'
+    real(wp) :: x(3)
+    integer :: k, d
+    if (cfg%nprobes < 0 .or. cfg%nprobes > max_probes) call add_value(pb, g_output, 1, 'nprobes', &
+      itoa(cfg%nprobes), 'must be 0 to '//itoa(max_probes))
+    if (cfg%probe_every < 1) call add_value(pb, g_output, 1, 'probe_every', itoa(cfg%probe_every), &
+                                            'must be >= 1 (steps between records)')
+    do k = 1, min(max(cfg%nprobes, 0), max_probes)
+      x = [cfg%probe_x(k), cfg%probe_y(k), cfg%probe_z(k)]
+      do d = 1, min(max(cfg%ndim, 1), 3)
+        if (.not. real_ok(x(d), ge=cfg%origin(d), le=cfg%origin(d) + cfg%length(d))) &
+          call add_value(pb, g_output, 1, 'probe_'//axes(d:d)//'('//itoa(k)//')', rtoa(x(d)), &
+                         'must lie in the grid, '//rtoa(cfg%origin(d))//' to '// &
+                         rtoa(cfg%origin(d) + cfg%length(d)))
+      end do
+    end do
+  end subroutine check_probes
 
   !> Saturated soil under gravity on scattered points (placement random or uniform of a
   !> region of pore water): the choices known to scatter or drift at rest warn (doc/verification.md,

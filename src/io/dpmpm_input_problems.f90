@@ -12,6 +12,7 @@ module dpmpm_input_problems
   private
   public :: input_problems_t, ngroups, group_names, repeatable
   public :: g_run, g_grid, g_shape, g_material, g_region, g_boundary, g_load, g_output, g_benchmark
+  public :: g_motion
   public :: add_value, add_raw, add_file_problem, add_warning, place, lines_of, real_ok
   public :: check_finite, prop_unset, count_given
 
@@ -19,11 +20,12 @@ module dpmpm_input_problems
   real(wp), parameter :: prop_unset = -huge(1.0_wp)
 
   integer, parameter :: g_run = 1, g_grid = 2, g_shape = 3, g_material = 4, g_region = 5, &
-                        g_boundary = 6, g_load = 7, g_output = 8, g_benchmark = 9, ngroups = 9
+                        g_boundary = 6, g_load = 7, g_output = 8, g_benchmark = 9, &
+                        g_motion = 10, ngroups = 10
   character(len=9), parameter :: group_names(ngroups) = [character(len=9) :: 'run', 'grid', &
-    'shape', 'material', 'region', 'boundary', 'load', 'output', 'benchmark']
+    'shape', 'material', 'region', 'boundary', 'load', 'output', 'benchmark', 'motion']
   logical, parameter :: repeatable(ngroups) = [.false., .false., .false., .true., .true., &
-                                               .true., .true., .false., .false.]
+                                               .true., .true., .false., .false., .false.]
   character(len=*), parameter :: err_prefix = 'dpmpm: input error: '
   character(len=*), parameter :: warn_prefix = 'dpmpm: input warning: '
 

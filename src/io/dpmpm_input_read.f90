@@ -10,11 +10,11 @@
 module dpmpm_input_read
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, load_cfg_t, max_poly, &
-                          name_len, max_table, max_props, face_names, face_index, bc_free, bc_fixed, bc_roller, &
+                          name_len, max_table, max_props, max_probes, face_names, face_index, bc_free, bc_fixed, bc_roller, &
                           bc_names, fbc_default, fbc_drained, fbc_impermeable, level_unset
   use dpmpm_input_problems, only: input_problems_t, ngroups, group_names, &
                                   repeatable, g_run, g_grid, g_shape, g_material, g_region, &
-                                  g_boundary, g_load, g_output, g_benchmark, add_value, add_raw, &
+                                  g_boundary, g_load, g_output, g_benchmark, g_motion, add_value, add_raw, &
                                   add_file_problem, place, lines_of, real_ok, prop_unset, count_given
   use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote, lower
   use dpmpm_nml_text, only: nml_records, nml_echo, nml_names
@@ -126,6 +126,8 @@ contains
         call read_output(pb, records, cfg, ok(g))
       case (g_benchmark)
         call read_benchmark(pb, records, cfg, ok(g))
+      case (g_motion)
+        call read_motion(pb, records, cfg, ok(g))
       end select
     end do
     pb%read_ok = ok
@@ -163,6 +165,9 @@ contains
     cfg%solid_fields = lower(cfg%solid_fields)
     cfg%fluid_fields = lower(cfg%fluid_fields)
     cfg%benchmark = lower(cfg%benchmark)
+    cfg%motion_format = lower(cfg%motion_format)
+    cfg%motion_quantity = lower(cfg%motion_quantity)
+    cfg%motion_baseline = lower(cfg%motion_baseline)
     do k = 1, size(cfg%materials)
       cfg%materials(k)%model = lower(cfg%materials(k)%model)
       cfg%materials(k)%conductivity_law = lower(cfg%materials(k)%conductivity_law)
@@ -790,6 +795,34 @@ contains
 #include "dpmpm_vars_benchmark.inc"
     end associate
   end subroutine read_benchmark
+
+  !> Read &motion (its variables: dpmpm_vars_motion.inc); the files it names are read after
+  !> the checks (dpmpm_motion).
+  subroutine read_motion(pb, records, cfg, ok)
+    type(input_problems_t), intent(inout) :: pb
+    character(len=*), intent(in) :: records(:)
+    type(config_t), intent(inout) :: cfg
+    logical, intent(out) :: ok
+#include "dpmpm_vars_as_local.h"
+#include "dpmpm_vars_motion.inc"
+#include "dpmpm_vars_as_namelist.h"
+#include "dpmpm_vars_motion.inc"
+    integer :: ios
+    character(len=512) :: msg
+    character(len=:), allocatable :: echo(:)
+#include "dpmpm_vars_as_default.h"
+#include "dpmpm_vars_motion.inc"
+    ios = 0
+    if (pb%count(g_motion) > 0) read (records, nml=motion, iostat=ios, iomsg=msg)
+    call nml_records(echo)
+    write (echo, nml=motion)
+    call took_group(pb, g_motion, 1, ios, msg, echo, cfg%echo, ok, records)
+    if (.not. ok) return
+    associate (dest => cfg)
+#include "dpmpm_vars_as_kept.h"
+#include "dpmpm_vars_motion.inc"
+    end associate
+  end subroutine read_motion
 
   !> A string read into a long buffer (a TEXT variable of &group) must fit the limit of its
   !> component in config_t.

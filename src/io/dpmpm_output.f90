@@ -600,22 +600,31 @@ contains
     self%ndiag_buf = 0
   end subroutine out_flush_diag
 
-  !> Write values as the 1D double dataset /verification/<name> (benchmark errors, norms).
-  subroutine out_write_verification(self, name, values)
+  !> Write values as the 1D double dataset /verification/<name> (benchmark errors, norms),
+  !> or in group (created when missing) as n x columns (values(columns, n), rank 0's).
+  subroutine out_write_verification(self, name, values, group, columns)
     class(output_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: values(:)
+    character(len=*), intent(in), optional :: group
+    integer, intent(in), optional :: columns
     character(len=*), parameter :: where = 'output%write_verification'
     integer(hid_t) :: gid
-    integer :: err
+    integer :: err, m
     integer(i8) :: n, nloc
     if (.not. self%is_open) call fatal('the output file is not open', where)
-    gid = verification_group(self)
-    n = size(values, kind=i8)
+    m = 0
+    if (present(columns)) m = columns
+    if (present(group)) then
+      gid = named_group(self, group)
+    else
+      gid = named_group(self, 'verification')
+    end if
+    n = size(values, kind=i8)/max(m, 1)
     nloc = merge(n, 0_i8, self%rank == 0)
-    call write_points_real(self, gid, name, 0, nloc, 0_i8, n, values(1:nloc))
+    call write_points_real(self, gid, name, m, nloc, 0_i8, n, values(1:max(m, 1)*nloc))
     call h5gclose_f(gid, err)
-    call h5check(err, 'h5gclose_f(/verification)', where)
+    call h5check(err, 'h5gclose_f(group of '//name//')', where)
   end subroutine out_write_verification
 
   !> Write a scalar as attribute <name> of /verification (e.g. an L2 error of a benchmark).
@@ -627,7 +636,7 @@ contains
     integer :: err
     if (.not. self%is_open) call fatal('the output file is not open', &
                                        'output%write_verification_attr')
-    gid = verification_group(self)
+    gid = named_group(self, 'verification')
     call attr_real(gid, name, value)
     call h5gclose_f(gid, err)
     call h5check(err, 'h5gclose_f(/verification)', 'output%write_verification_attr')
@@ -870,21 +879,23 @@ contains
                       nloc, offset, nglob, c_loc(buf))
   end subroutine write_points_i4
 
-  !> Open /verification, creating it on first use. The caller closes the group.
-  function verification_group(self) result(gid)
+  !> Open the group /<name> (/verification, /probes), creating it on first use. The caller
+  !> closes the group.
+  function named_group(self, name) result(gid)
     type(output_t), intent(in) :: self
+    character(len=*), intent(in) :: name
     integer(hid_t) :: gid
     logical :: exists
     integer :: err
-    call h5lexists_f(self%file_id, 'verification', exists, err)
-    call h5check(err, 'h5lexists_f(/verification)', 'output')
+    call h5lexists_f(self%file_id, name, exists, err)
+    call h5check(err, 'h5lexists_f(/'//name//')', 'output')
     if (exists) then
-      call h5gopen_f(self%file_id, 'verification', gid, err)
-      call h5check(err, 'h5gopen_f(/verification)', 'output')
+      call h5gopen_f(self%file_id, name, gid, err)
+      call h5check(err, 'h5gopen_f(/'//name//')', 'output')
     else
-      call h5gcreate_f(self%file_id, 'verification', gid, err)
-      call h5check(err, 'h5gcreate_f(/verification)', 'output')
+      call h5gcreate_f(self%file_id, name, gid, err)
+      call h5check(err, 'h5gcreate_f(/'//name//')', 'output')
     end if
-  end function verification_group
+  end function named_group
 
 end module dpmpm_output

@@ -13,6 +13,7 @@ module dpmpm_remap
   use dpmpm_transfer, only: g2p, g2p_remap, point_gradient, point_divergences, momentum_p2g, &
     momentum_project_p2g
   use dpmpm_nodal_update, only: remap_nodal_velocity, tie_fluid
+  use dpmpm_base_motion, only: base_face, base_velocity, shake_base
   use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
   use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points, body_velocities
   implicit none
@@ -43,6 +44,7 @@ contains
     real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :)
     integer :: ip, nd
     logical :: coupled, locked
+    real(wp) :: unused
     nd = self%nd
     coupled = self%nph == 2
     locked = remap_locks(self)
@@ -81,6 +83,16 @@ contains
         if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, &
                                                    self%rnode, self%grid, dt, s%nvel)
       end associate
+    end if
+    ! the rigid base (&motion base) holds the motion's velocity in the remapped field too
+    if (base_face(self%cfg) > 0) then
+      unused = 0.0_wp
+      do ip = 1, self%nph
+        call shake_base(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
+                        base_face(self%cfg), self%grid%ncells, base_velocity(self%cfg, self%time), &
+                        base_velocity(self%cfg, self%time + dt), self%phase(ip)%node, &
+                        self%phase(ip)%nvel, .false., self%cfg%gravity, dt, unused)
+      end do
     end if
     do ip = 1, self%nph
       call self%dec%halo_copy(self%phase(ip)%nvel)

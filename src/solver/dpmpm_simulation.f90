@@ -29,6 +29,7 @@ module dpmpm_simulation
   use dpmpm_phase, only: solid_phase, fluid_phase
   use dpmpm_state, only: state_t, exit_bad_input, exit_stopped
   use dpmpm_step, only: advance
+  use dpmpm_probes, only: probes_t
   use dpmpm_run_summary, only: report_summary, report_stop, points_per_rank
   use dpmpm_time_step, only: stable_dt
   use dpmpm_load_path, only: check_load_path
@@ -47,6 +48,7 @@ module dpmpm_simulation
 
   !> A run: its state and the procedures that make, run and release it.
   type, extends(state_t) :: simulation_t
+    type(probes_t) :: probes   !< records at points (&output nprobes)
   contains
     procedure :: init => sim_init
     procedure :: run => sim_run
@@ -264,6 +266,7 @@ contains
       'friction 0.7 slid 9.5 % too far, with a soft pore fluid half the distance (doc/verification.md, '// &
       '"Larger friction: frictional flutter")')
     call warn_field_reach(self)
+    call self%probes%init(self%cfg, self%grid)
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
@@ -623,6 +626,9 @@ contains
       self%dt = dt
       self%time = self%time + self%dt
       self%step = self%step + 1
+      if (self%probes%n > 0) call self%probes%sample(self%phase(1)%nvel, self%dec%alo, self%dec%olo, &
+                                                     self%dec%ohi, self%dec%comm, self%time, &
+                                                     self%step, self%dt)
       call check_state(self)
       if (self%exit_code /= 0) exit
       if (self%cfg%balance /= 'cells' .and. self%cfg%balance_every > 0 .and. self%dec%nranks > 1) then
@@ -682,6 +688,7 @@ contains
       if (mod(self%step, int(self%cfg%checkpoint_every, i8)) /= 0) call write_state(self)
     end if
     call write_verification(self)
+    if (self%write_output) call self%probes%write(self%out, self%grid)
     call report_mls(self)
     call report_summary(self, self%step - step0)
     if (self%write_output) then
@@ -701,6 +708,7 @@ contains
     if (.not. self%growth_stop) return
     call self%write_frame()
     call write_verification(self)
+    if (self%write_output) call self%probes%write(self%out, self%grid)
     call monitor_stopped(self)
   end subroutine record_diagnostics
 

@@ -23,6 +23,7 @@ module dpmpm_step
   use dpmpm_transfer, only: p2g, g2p, point_divergences, interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
+  use dpmpm_base_motion, only: base_face, base_velocity, shake_base
   use dpmpm_drag, only: nodal_drag_limit
   use dpmpm_remap, only: musl_remap, remap_locks
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, &
@@ -310,6 +311,16 @@ contains
         if (self%has_rigid) self%drive_impulse = self%drive_impulse + dt*rforce
       end associate
       call self%timers%toc(t_nodal)
+    end if
+
+    ! The rigid base (&motion base): its nodes follow the recorded motion, both phases.
+    if (base_face(self%cfg) > 0) then
+      do ip = 1, self%nph
+        call shake_base(nd, self%dec%alo, blo, bhi, base_face(self%cfg), self%grid%ncells, &
+                        base_velocity(self%cfg, self%time), base_velocity(self%cfg, self%time + dt), &
+                        self%phase(ip)%node, self%phase(ip)%nvel, .true., gravity_now(self), dt, &
+                        self%ext_work)
+      end do
     end if
 
     ! The work of the surface loads over the step (their nodes' mean velocity), and of

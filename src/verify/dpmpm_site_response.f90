@@ -1,0 +1,67 @@
+!> The frequency-domain reference of 1D site response: a uniform layer of height H on a
+!> rigid base (Kramer 1996, ch. 7): the surface motion over the base motion is
+!> 1/cos(omega H/c*), with c* = c sqrt(1 + i omega b) for a Kelvin-Voigt (viscous) damping
+!> G* = G (1 + i omega b) and c* = c without damping. The base velocity, sampled evenly,
+!> is transformed with FFTW, multiplied by the transfer function and transformed back.
+!> Undamped, the transfer function has poles at the layer's modes and the response never
+!> decays: the transform is taken on the complex frequency s = alpha + i omega (the
+!> samples weighted by exp(-alpha t) before and exp(alpha t) after, the numerical Laplace
+!> transform), which moves the poles off the axis and makes what the periodic transform
+!> folds back from beyond its length exp(-alpha T_fft) = 1e-8 of the response.
+module dpmpm_site_response
+  use, intrinsic :: iso_c_binding
+  use dpmpm_kinds, only: wp
+  implicit none
+  private
+  include 'fftw3.f03'
+
+  public :: layer_surface_velocity
+
+contains
+
+  !> Surface velocity vs(:) of the layer (height [m], wave speed [m/s], optional viscous
+  !> damping b [s]: G* = G (1 + s b)) at the samples of the base velocity vb(:), taken every
+  !> dt from t = 0 (at rest before).
+  subroutine layer_surface_velocity(vb, dt, height, speed, vs, damping)
+    real(wp), intent(in) :: vb(:), dt, height, speed
+    real(wp), intent(out) :: vs(:)
+    real(wp), intent(in), optional :: damping
+    real(wp), parameter :: pi = acos(-1.0_wp)
+    real(c_double), allocatable :: x(:)
+    complex(c_double_complex), allocatable :: spec(:)
+    type(c_ptr) :: fwd, bwd
+    integer :: n, nfft, k
+    real(wp) :: alpha, tfft, b
+    complex(wp) :: s, cstar
+    n = size(vb)
+    b = 0.0_wp
+    if (present(damping)) b = damping
+    nfft = 1
+    do while (nfft < 4*n)
+      nfft = 2*nfft
+    end do
+    tfft = nfft*dt
+    alpha = log(1.0e8_wp)/tfft
+    allocate (x(0:nfft - 1), spec(0:nfft/2))
+    fwd = fftw_plan_dft_r2c_1d(int(nfft, c_int), x, spec, FFTW_ESTIMATE)
+    bwd = fftw_plan_dft_c2r_1d(int(nfft, c_int), spec, x, FFTW_ESTIMATE)
+    x = 0.0_wp
+    do k = 0, n - 1
+      x(k) = vb(k + 1)*exp(-alpha*dt*k)
+    end do
+    call fftw_execute_dft_r2c(fwd, x, spec)
+    ! FFTW's forward transform has exp(-i omega t): the spectrum at s = alpha + i omega.
+    do k = 0, nfft/2
+      s = cmplx(alpha, 2.0_wp*pi*real(k, wp)/tfft, wp)
+      cstar = speed*sqrt(1.0_wp + s*b)
+      spec(k) = spec(k)/cosh(s*height/cstar)
+    end do
+    call fftw_execute_dft_c2r(bwd, spec, x)
+    do k = 0, n - 1
+      vs(k + 1) = x(k)*exp(alpha*dt*k)/real(nfft, wp)
+    end do
+    call fftw_destroy_plan(fwd)
+    call fftw_destroy_plan(bwd)
+  end subroutine layer_surface_velocity
+
+end module dpmpm_site_response

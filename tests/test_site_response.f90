@@ -1,0 +1,312 @@
+!> Site response on a rigid base (&motion base, doc/verification.md, "Site response on a
+!> rigid base"): an undamped uniform elastic layer of height H on a rigid base shaken by a
+!> broadband motion (a Ricker wavelet in velocity, given as its acceleration record). The
+!> surface velocity is the sum of the delayed copies of the base velocity (d'Alembert; T =
+!> H/c the travel time): v_s(t) = 2 sum_n>=0 (-1)^n v_b(t - (2n+1) T). The layer is shaken
+!> along the vertical axis (a compression wave, c = sqrt(M/rho)): in 1D, and in 2D as a
+!> column between roller sides, which hold it in the 1D state exactly. The base velocity of
+!> the reference is the record's (trapezoid-integrated, linear between samples), so that
+!> the error is the step's. The layer saturated with water (both phases on the base) carries
+!> the wave at the undrained speed. The surface velocity is the record of a probe (&output nprobes)
+!> at the surface node. With `study` as the argument the program prints the errors at
+!> 20, 40, 80 and 160 cells instead of testing.
+program test_site_response
+  use dpmpm_mpi_start, only: start_mpi
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use dpmpm_kinds, only: wp
+  use dpmpm_config, only: config_t, material_cfg_t, motion_series_t, bc_fixed, bc_roller
+  use dpmpm_motion, only: motion_from_samples, motion_velocity
+  use dpmpm_simulation, only: simulation_t
+  use dpmpm_base_motion, only: base_face, base_velocity
+  use dpmpm_site_response, only: layer_surface_velocity
+  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  implicit none
+  real(wp), parameter :: pi = acos(-1.0_wp)
+  real(wp), parameter :: height = 10.0_wp, speed = 100.0_wp, density = 2000.0_wp
+  real(wp), parameter :: f0 = 5.0_wp, t0 = 0.3_wp, amp = 0.01_wp, t_end = 1.0_wp
+  integer :: status, rank
+  character(len=16) :: arg
+  call start_mpi()
+  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  am_root = rank == 0
+  call get_command_argument(1, arg)
+  if (arg == 'study') then
+    call study()
+  else
+    call test_base_moves_after_the_equilibrium_phase()
+    call test_transfer_function_agrees_with_dalembert()
+    call test_probe_interval_keeps_every_nth_record()
+    call test_1d_layer_follows_dalembert()
+    call test_2d_column_between_rollers_follows_dalembert()
+    call test_saturated_layer_follows_undrained_dalembert()
+  end if
+  status = finish_tests(MPI_COMM_WORLD)
+  call MPI_Finalize()
+  if (status /= 0) stop 1, quiet = .true.
+
+contains
+
+  !> The base motion: the acceleration of a Ricker wavelet in velocity (peak amp at t0,
+  !> centre frequency f0), sampled every 1 ms to 1.2 s, integrated as a record is.
+  function base_record() result(s)
+    type(motion_series_t) :: s
+    real(wp), allocatable :: t(:), a(:), u(:)
+    integer :: i
+    t = [(0.001_wp*i, i=0, 1200)]
+    u = (pi*f0*(t - t0))**2
+    ! v = amp (1 - 2u) exp(-u), u = (pi f0 (t - t0))^2; dv/dt = amp exp(-u) (2u - 3) du/dt
+    a = amp*exp(-u)*(2.0_wp*u - 3.0_wp)*2.0_wp*(pi*f0)**2*(t - t0)
+    call motion_from_samples('acceleration', t, a, 'none', s)
+  end function base_record
+
+  !> The layer of ncells cells over H (two more cells of grid above it), its base the
+  !> rigid base, in 1D or as a 2D column two cells wide between rollers.
+  function layer(ndim, ncells) result(cfg)
+    integer, intent(in) :: ndim, ncells
+    type(config_t) :: cfg
+    real(wp) :: h
+    integer :: a
+    h = height/real(ncells, wp)
+    a = ndim
+    cfg%name = 'site_response'
+    cfg%ndim = ndim
+    cfg%ncells = 1
+    cfg%length = 1.0_wp
+    cfg%ncells(a) = ncells + 2
+    cfg%length(a) = height + 2.0_wp*h
+    if (ndim == 2) then
+      cfg%ncells(1) = 2
+      cfg%length(1) = 2.0_wp*h
+      cfg%bc(1:2) = bc_roller
+    end if
+    cfg%bc(2*a - 1) = bc_fixed
+    cfg%t_end = t_end
+    cfg%cfl = 0.5_wp
+    allocate (cfg%materials(1), cfg%regions(1), cfg%loads(0))
+    cfg%materials(1) = material_cfg_t(id=1, density=density, youngs_modulus=density*speed**2, &
+                                      poisson_ratio=0.0_wp)
+    cfg%regions(1)%lo = 0.0_wp
+    cfg%regions(1)%hi = cfg%length
+    cfg%regions(1)%hi(a) = height
+    cfg%regions(1)%material = 1
+    cfg%regions(1)%ppc = 2
+    cfg%motion_base = merge('x-', 'y-', ndim == 1)
+    cfg%motion(a) = base_record()
+  end function layer
+
+  !> The layer saturated: the W1 column's materials (doc/theory.md 9.1; E = 10 MPa, nu = 0,
+  !> rho_s = 2650, water rho_f = 1000 kg/m^3 with K_f = 3 MPa, n = 0.3, k = 1e-5 m/s), implicit
+  !> drag. At the wavelet's frequencies the drag locks the phases (undrained): the mixture
+  !> carries the wave at c_u = sqrt((E + K_f/n)/((1 - n) rho_s + n rho_f)) = 96.3 m/s.
+  subroutine saturate(cfg, c)
+    type(config_t), intent(inout) :: cfg
+    real(wp), intent(out) :: c
+    deallocate (cfg%materials)
+    allocate (cfg%materials(2))
+    cfg%materials(1) = material_cfg_t(id=1, density=2650.0_wp, youngs_modulus=1.0e7_wp, &
+                                      poisson_ratio=0.0_wp, conductivity=1.0e-5_wp)
+    cfg%materials(2) = material_cfg_t(id=2, model='fluid', density=1000.0_wp, bulk_modulus=3.0e6_wp)
+    cfg%regions(1)%phase = 'saturated'
+    cfg%regions(1)%fluid_material = 2
+    cfg%regions(1)%porosity = 0.3_wp
+    cfg%drag = 'implicit'
+    c = sqrt((1.0e7_wp + 3.0e6_wp/0.3_wp)/(0.7_wp*2650.0_wp + 0.3_wp*1000.0_wp))
+  end subroutine saturate
+
+  !> The surface velocity of d'Alembert's solution at t (wave speed c).
+  real(wp) function exact_surface(s, t, c) result(v)
+    type(motion_series_t), intent(in) :: s
+    real(wp), intent(in) :: t, c   !< time, wave speed
+    real(wp) :: tt
+    integer :: n
+    v = 0.0_wp
+    tt = height/c
+    do n = 0, 100
+      if (t - (2*n + 1)*tt < 0.0_wp) exit
+      v = v + 2.0_wp*(-1.0_wp)**n*motion_velocity(s, t - (2*n + 1)*tt)
+    end do
+  end function exact_surface
+
+  !> Run the layer with a probe at the surface (x = H; in 2D the column's middle): its
+  !> vertical velocity after each step against d'Alembert's: the RMS of the difference over
+  !> the run and the difference of the peaks, both over the exact peak velocity, and the
+  !> same of the probe's acceleration (the velocity's change over each step) at the peak.
+  subroutine run_layer(ndim, ncells, nranks_used, e_rms, e_peak, e_acc, saturated)
+    integer, intent(in) :: ndim, ncells
+    integer, intent(out) :: nranks_used
+    real(wp), intent(out) :: e_rms, e_peak, e_acc
+    logical, intent(in), optional :: saturated
+    type(config_t) :: cfg
+    real(wp) :: c
+    type(simulation_t) :: sim
+    type(motion_series_t) :: s
+    real(wp) :: ve, veold, sum2, peak_s, peak_e, apeak_s, apeak_e, told
+    real(wp), allocatable :: v(:), acc(:), t(:)
+    integer :: k
+    cfg = layer(ndim, ncells)
+    c = speed
+    if (present(saturated)) then
+      if (saturated) call saturate(cfg, c)
+    end if
+    s = cfg%motion(ndim)
+    cfg%nprobes = 1
+    cfg%probe_x(1) = merge(height, height/real(ncells, wp), ndim == 1)
+    cfg%probe_y(1) = height
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    nranks_used = sim%dec%nranks
+    call sim%run()
+    t = sim%probes%t(1:sim%probes%nrec)
+    v = sim%probes%vel(ndim, 1:sim%probes%nrec)
+    acc = sim%probes%acc(ndim, 1:sim%probes%nrec)
+    call check(sim%probes%nrec == sim%step, 'a record at every step')
+    call sim%free()
+    sum2 = 0.0_wp
+    peak_e = 0.0_wp
+    apeak_e = 0.0_wp
+    veold = 0.0_wp
+    told = 0.0_wp
+    do k = 1, size(t)
+      ve = exact_surface(s, t(k), c)
+      sum2 = sum2 + (v(k) - ve)**2
+      peak_e = max(peak_e, abs(ve))
+      apeak_e = max(apeak_e, abs(ve - veold)/(t(k) - told))
+      veold = ve
+      told = t(k)
+    end do
+    peak_s = maxval(abs(v))
+    apeak_s = maxval(abs(acc))
+    e_rms = sqrt(sum2/size(t))/peak_e
+    e_peak = abs(peak_s - peak_e)/peak_e
+    e_acc = abs(apeak_s - apeak_e)/apeak_e
+    if (am_root) print '(a,i0,a,i0,a,i0,a,3es11.3,a,2es11.3)', '  ', ndim, 'D, ', ncells, &
+      ' cells, ', nranks_used, ' ranks: RMS, peak velocity, peak acceleration errors', &
+      e_rms, e_peak, e_acc, '; peaks v, a', peak_e, apeak_e
+  end subroutine run_layer
+
+  !> The errors against the cell count (doc/verification.md).
+  subroutine study()
+    real(wp) :: e1, e2, e3
+    integer :: n, k, nr
+    integer, parameter :: counts(4) = [20, 40, 80, 160]
+    do k = 1, 2
+      do n = 1, size(counts)
+        call run_layer(k, counts(n), nr, e1, e2, e3)
+      end do
+    end do
+  end subroutine study
+
+  !> The motion's time zero is the end of the equilibrium phase: the base is at rest
+  !> before it, then moves with the record shifted by equilibrium_time.
+  subroutine test_base_moves_after_the_equilibrium_phase()
+    type(config_t) :: cfg
+    real(wp) :: v(3)
+    call begin_test('base_moves_after_the_equilibrium_phase')
+    cfg = layer(2, 20)
+    call check(base_face(cfg) == 3, 'the base is y-')
+    cfg%equilibrium_time = 0.5_wp
+    v = base_velocity(cfg, 0.45_wp)
+    call check(all(v == 0.0_wp), 'at rest during the equilibrium phase')
+    v = base_velocity(cfg, 0.5_wp + t0)
+    call check(v(1) == 0.0_wp .and. abs(v(2) - motion_velocity(cfg%motion(2), t0)) <= 0.0_wp, &
+               'the record shifted by equilibrium_time, along y only')
+    call check(abs(v(2) - amp) <= 1.0e-3_wp*amp, 'the wavelet''s peak at t0 after the phase')
+  end subroutine test_base_moves_after_the_equilibrium_phase
+
+  !> The frequency-domain reference (dpmpm_site_response: the transfer function
+  !> 1/cos(omega H/c) applied with FFTW on the complex frequency), undamped, against
+  !> d'Alembert's sum: the base velocity sampled every 0.1 ms to 1.2 s. Measured
+  !> (doc/verification.md): largest difference 1.0e-8 of the peak (what the periodic
+  !> transform folds back, exp(-alpha T_fft)); bound measured + 50 %.
+  subroutine test_transfer_function_agrees_with_dalembert()
+    type(motion_series_t) :: s
+    real(wp), allocatable :: t(:), vb(:), vs(:), ve(:)
+    real(wp) :: worst
+    integer :: k, n
+    call begin_test('transfer_function_agrees_with_dalembert')
+    s = base_record()
+    n = 12001
+    t = [(1.0e-4_wp*k, k=0, n - 1)]
+    allocate (vb(n), vs(n), ve(n))
+    do k = 1, n
+      vb(k) = motion_velocity(s, t(k))
+      ve(k) = exact_surface(s, t(k), speed)
+    end do
+    call layer_surface_velocity(vb, 1.0e-4_wp, height, speed, vs)
+    worst = maxval(abs(vs - ve))/maxval(abs(ve))
+    if (am_root) print '(a,es11.3)', '  transfer function against d''Alembert, largest '// &
+      'difference over the peak:', worst
+    call check(worst <= 1.5e-8_wp, 'the two references agree within 1.5e-8 of the peak')
+  end subroutine test_transfer_function_agrees_with_dalembert
+
+  !> probe_every = 7 keeps the records of every seventh step of the same run, unchanged.
+  subroutine test_probe_interval_keeps_every_nth_record()
+    type(config_t) :: cfg
+    type(simulation_t) :: sim
+    real(wp), allocatable :: t1(:), v1(:, :), a1(:, :)
+    integer :: n
+    call begin_test('probe_interval_keeps_every_nth_record')
+    cfg = layer(1, 20)
+    cfg%t_end = 0.3_wp
+    cfg%nprobes = 2
+    cfg%probe_x(1:2) = [height, 0.5_wp*height]
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    call sim%run()
+    t1 = sim%probes%t(1:sim%probes%nrec)
+    v1 = sim%probes%vel(:, 1:sim%probes%nrec)
+    a1 = sim%probes%acc(:, 1:sim%probes%nrec)
+    call sim%free()
+    cfg%probe_every = 7
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    call sim%run()
+    n = sim%probes%nrec
+    call check(n == size(t1)/7, 'one record in seven steps')
+    if (n == size(t1)/7) then
+      call check(all(sim%probes%t(1:n) == t1(7:7*n:7)), 'the times of every seventh step')
+      call check(all(sim%probes%vel(:, 1:n) == v1(:, 7:7*n:7)), 'their velocities')
+      call check(all(sim%probes%acc(:, 1:n) == a1(:, 7:7*n:7)), 'their accelerations (over one step)')
+      call check(any(v1(2, :) /= 0.0_wp), 'the second probe (mid-height) moves')
+    end if
+    call sim%free()
+  end subroutine test_probe_interval_keeps_every_nth_record
+
+  !> 1D, 80 cells (8 per metre; the wavelet's 12 Hz, about 2.5 times its centre frequency,
+  !> is 8 m long: 64 cells per wavelength). Measured (doc/verification.md), 1 and 2 ranks:
+  !> RMS error 2.71e-3 of the peak, peak velocity 1.65e-4, peak acceleration 1.12e-3;
+  !> bounds measured + 50 %.
+  subroutine test_1d_layer_follows_dalembert()
+    real(wp) :: e_rms, e_peak, e_acc
+    integer :: nr
+    call begin_test('1d_layer_follows_dalembert')
+    call run_layer(1, 80, nr, e_rms, e_peak, e_acc)
+    call check(e_rms <= 4.1e-3_wp, 'RMS of the surface velocity error below 4.1e-3 of the peak')
+    call check(e_peak <= 2.5e-4_wp, 'peak surface velocity within 2.5e-4')
+    call check(e_acc <= 1.7e-3_wp, 'peak surface acceleration within 1.7e-3')
+  end subroutine test_1d_layer_follows_dalembert
+
+  !> The same layer as a 2D column two cells wide between rollers, shaken vertically: the
+  !> same errors as in 1D (measured equal to the digits printed), the same bounds.
+  subroutine test_2d_column_between_rollers_follows_dalembert()
+    real(wp) :: e_rms, e_peak, e_acc
+    integer :: nr
+    call begin_test('2d_column_between_rollers_follows_dalembert')
+    call run_layer(2, 80, nr, e_rms, e_peak, e_acc)
+    call check(e_rms <= 4.1e-3_wp, 'RMS of the surface velocity error below 4.1e-3 of the peak')
+    call check(e_peak <= 2.5e-4_wp, 'peak surface velocity within 2.5e-4')
+    call check(e_acc <= 1.7e-3_wp, 'peak surface acceleration within 1.7e-3')
+  end subroutine test_2d_column_between_rollers_follows_dalembert
+
+  !> The saturated layer in 1D, 80 cells: both phases follow the base; the mixture's
+  !> surface velocity against d'Alembert's at the undrained speed. Measured
+  !> (doc/verification.md), 1 and 2 ranks: RMS error 2.76e-3 of the peak, peak velocity
+  !> 6.3e-5, peak acceleration 1.07e-3; bounds measured + 50 %.
+  subroutine test_saturated_layer_follows_undrained_dalembert()
+    real(wp) :: e_rms, e_peak, e_acc
+    integer :: nr
+    call begin_test('saturated_layer_follows_undrained_dalembert')
+    call run_layer(1, 80, nr, e_rms, e_peak, e_acc, saturated=.true.)
+    call check(e_rms <= 4.2e-3_wp, 'RMS of the surface velocity error below 4.2e-3 of the peak')
+    call check(e_peak <= 9.5e-5_wp, 'peak surface velocity within 9.5e-5')
+    call check(e_acc <= 1.6e-3_wp, 'peak surface acceleration within 1.6e-3')
+  end subroutine test_saturated_layer_follows_undrained_dalembert
+
+end program test_site_response

@@ -381,6 +381,53 @@ def check_run_readers(work):
                 raise AssertionError("a missing point or series was read")
 
 
+def check_probe_reader(work):
+    """dpmpm.motion.probe_history on /probes written here with h5py in the layout of
+    doc/output.md (3 probes in 2D, velocity column d (k - 1) + a), and python3 -m dpmpm
+    motion FILE.h5 --probe --axis on it: the peak acceleration of probe 1 along y printed
+    as the record gives it; a probe beyond the run's refused."""
+    import h5py
+    from dpmpm import open_run
+    path = os.path.join(work, "probes.h5")
+    m, n, d, dt = 400, 3, 2, 0.005
+    t = dt * np.arange(1, m + 1)
+    vel = np.zeros((m, n * d))
+    acc = np.zeros((m, n * d))
+    for k in range(n):
+        for a in range(d):
+            vel[:, d * k + a] = (k + 1) * (a + 1) * np.sin(2 * math.pi * t)
+            acc[:, d * k + a] = (k + 1) * (a + 1) * 2 * math.pi * np.cos(2 * math.pi * t)
+    with h5py.File(path, "w") as f:
+        f.attrs["ndim"] = np.int32(d)
+        g = f.create_group("probes")
+        g["time"] = t
+        g["step"] = np.arange(1, m + 1, dtype=float)
+        g["velocity"] = vel
+        g["acceleration"] = acc
+        g["position"] = np.array([[0.0, 1.0], [0.5, 2.0], [1.0, 3.0]])
+    with open_run(path) as run:
+        pr = motion.probe_history(run, 1)
+        assert np.array_equal(pr.position, [0.5, 2.0]), pr.position
+        assert np.array_equal(pr.velocity[:, 1], 4 * np.sin(2 * math.pi * t))
+        assert np.array_equal(pr.acceleration[:, 0], 2 * 2 * math.pi * np.cos(2 * math.pi * t))
+        try:
+            motion.probe_history(run, 3)
+        except KeyError as e:
+            print(f"  refused: {e}")
+        else:
+            raise AssertionError("probe 3 of 3 was read")
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "scripts", "python"))
+    png = os.path.join(work, "probe.png")
+    r = subprocess.run([sys.executable, "-m", "dpmpm", "motion", path, "--probe", "1", "--axis",
+                        "y", "--no-baseline", "-o", png], env=env, capture_output=True, text=True)
+    print("  " + r.stdout.replace("\n", "\n  ").rstrip())
+    assert r.returncode == 0, r.stderr
+    pga = [float(x.split("(")[1].split()[0]) for x in r.stdout.splitlines()
+           if x.startswith("PGA")][0]
+    ref = np.max(np.abs(acc[:, 3]))
+    report("probe 1 along y: printed PGA against the record's", abs(pga - ref) / ref, 1e-5)
+
+
 # ----------------------------------------------------------------------- command
 def check_command(work):
     """python3 -m dpmpm motion on the pulse as a two-column file in g: exit 0, a PNG,
@@ -424,7 +471,7 @@ def check_command(work):
 GROUPS = {"spectra": [check_recurrence_exact, check_resonance, check_spectrum_limits,
                       check_integration_baseline, check_fourier],
           "intensity": [check_arias, check_pore_pressure_ratio],
-          "files": [check_files, check_run_readers],
+          "files": [check_files, check_run_readers, check_probe_reader],
           "command": [check_command]}
 
 

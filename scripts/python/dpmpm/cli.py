@@ -144,17 +144,38 @@ def cmd_element(args):
     return 0
 
 
+def probe_acceleration(path, k, axis):
+    """(time step, acceleration, title) of probe k of a run's file along axis (x, y, z)."""
+    from . import motion, open_run
+    with open_run(path) as run:
+        pr = motion.probe_history(run, k)
+    a = "xyz".index(axis)
+    if a >= pr.acceleration.shape[1]:
+        raise ValueError(f"{path}: axis {axis} in a {pr.acceleration.shape[1]}D run")
+    try:
+        dt = motion.time_step(pr.time)
+    except ValueError as e:
+        raise ValueError(f"{path}: probe records at uneven times ({e}); a run whose "
+                         "records are read as a motion needs a fixed step (&run dt)") from None
+    at = ", ".join(f"{x:g}" for x in pr.position)
+    return dt, pr.acceleration[:, a], f"probe {k} ({at}) along {axis}"
+
+
 def cmd_motion(args):
     from . import motion
-    rec = motion.read_record(args.file, units=args.units, scale=args.scale)
-    if rec.quantity != "acceleration":
-        raise ValueError(f"{args.file}: holds {rec.quantity}; give an acceleration record")
-    dt = rec.dt
-    s = motion.summarize(dt, rec.values, baseline=not args.no_baseline)
+    if args.file.endswith(".h5"):
+        dt, acc, name = probe_acceleration(args.file, args.probe, args.axis)
+        acc = args.scale * acc
+    else:
+        rec = motion.read_record(args.file, units=args.units, scale=args.scale)
+        if rec.quantity != "acceleration":
+            raise ValueError(f"{args.file}: holds {rec.quantity}; give an acceleration record")
+        dt, acc, name = rec.dt, rec.values, rec.name
+    s = motion.summarize(dt, acc, baseline=not args.no_baseline)
     periods = motion.default_periods(args.periods, args.t_min, args.t_max)
     sp = motion.response_spectrum(dt, s.acceleration, periods, args.damping)
     out = args.output or os.path.splitext(args.file)[0] + ".png"
-    motion.plot_motion(s, sp, out, title=rec.name)
+    motion.plot_motion(s, sp, out, title=name)
     k = int(np.argmax(sp.psa))
     print(f"# {args.file}: {len(s.time)} samples, dt = {dt:.6g} s, duration "
           f"{s.time[-1]:.6g} s, baseline {'not corrected' if args.no_baseline else 'corrected'}")
@@ -236,10 +257,14 @@ def parser():
     p.add_argument("-o", "--output", help="PNG to write (default: FILE with .png)")
     p.set_defaults(func=cmd_element)
 
-    p = sub.add_parser("motion", help="a ground-motion record (two columns or PEER .AT2): "
-                       "histories, Fourier and response spectra in a PNG; PGA, PGV, PGD, "
-                       "Arias intensity, D5-95")
+    p = sub.add_parser("motion", help="a ground-motion record (two columns or PEER .AT2), or "
+                       "a probe's acceleration in a run's .h5 (/probes): histories, Fourier "
+                       "and response spectra in a PNG; PGA, PGV, PGD, Arias intensity, D5-95")
     p.add_argument("file", metavar="FILE")
+    p.add_argument("--probe", type=int, default=0, help="a run's .h5: the probe, 0-based "
+                   "(default 0)")
+    p.add_argument("--axis", default="x", choices=("x", "y", "z"), help="a run's .h5: the "
+                   "component (default x)")
     p.add_argument("-o", "--output", help="PNG to write (default: FILE with .png)")
     p.add_argument("--units", help="units of a two-column file: m/s2 (default), g, cm/s2, "
                    "gal (a PEER file states its own)")

@@ -444,6 +444,33 @@ def diagnostics_series(run, name):
     return d["time"], d[name]
 
 
+@dataclass
+class ProbeRecord:
+    """The records of one probe of a run (/probes, doc/output.md): times (s), the nearest
+    node's velocity (m/s) and acceleration (m/s^2) as (records, ndim) arrays, and the
+    node's position (m)."""
+    time: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    position: np.ndarray
+
+
+def probe_history(run, k):
+    """Probe k (0-based, in the order of &output probe_x, ...) of an open run."""
+    f = run.file
+    if f is None or "probes" not in f:
+        raise KeyError(f"{run.path}: no /probes (the run had no &output nprobes)")
+    g = f["probes"]
+    pos = np.atleast_2d(g["position"][...])
+    n, d = pos.shape
+    if not 0 <= k < n:
+        raise KeyError(f"{run.path}: probe {k} of {n} (0 to {n - 1})")
+    m = len(g["time"])
+    vel = g["velocity"][...].reshape(m, n, d)[:, k, :]
+    acc = g["acceleration"][...].reshape(m, n, d)[:, k, :]
+    return ProbeRecord(g["time"][...], vel, acc, pos[k])
+
+
 def point_history(run, set_name, dataset, point_id, column=None):
     """(time, values) of one point, found by id, over the frames of an open run: e.g. the
     pore pressure of a fluid point, or a column of the solid's velocity."""

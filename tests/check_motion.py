@@ -426,6 +426,15 @@ def check_probe_reader(work):
            if x.startswith("PGA")][0]
     ref = np.max(np.abs(acc[:, 3]))
     report("probe 1 along y: printed PGA against the record's", abs(pga - ref) / ref, 1e-5)
+    # a last step cut short, as a run that ends on t_end writes it: resampled, PGA kept
+    with h5py.File(path, "r+") as f:
+        tt = f["probes/time"][...]
+        tt[-1] = tt[-2] + dt / 3
+        f["probes/time"][...] = tt
+    r = subprocess.run([sys.executable, "-m", "dpmpm", "motion", path, "--probe", "1", "--axis",
+                        "y", "--no-baseline", "-o", png], env=env, capture_output=True, text=True)
+    assert r.returncode == 0 and "resampled at 0.005 s" in r.stdout, (r.stdout, r.stderr)
+    print("  uneven last step: " + r.stdout.splitlines()[0])
 
 
 # ----------------------------------------------------------------------- command

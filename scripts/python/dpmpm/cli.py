@@ -145,20 +145,28 @@ def cmd_element(args):
 
 
 def probe_acceleration(path, k, axis):
-    """(time step, acceleration, title) of probe k of a run's file along axis (x, y, z)."""
+    """(time step, acceleration, title) of probe k of a run's file along axis (x, y, z).
+    Records at uneven times (a run whose step follows the CFL condition) are resampled,
+    linearly, at their median step."""
     from . import motion, open_run
     with open_run(path) as run:
         pr = motion.probe_history(run, k)
     a = "xyz".index(axis)
     if a >= pr.acceleration.shape[1]:
         raise ValueError(f"{path}: axis {axis} in a {pr.acceleration.shape[1]}D run")
+    if len(pr.time) < 2:
+        raise ValueError(f"{path}: probe {k} has {len(pr.time)} record(s); a motion needs two")
+    acc = pr.acceleration[:, a]
+    at = ", ".join(f"{x:g}" for x in pr.position)
+    title = f"probe {k} ({at}) along {axis}"
     try:
         dt = motion.time_step(pr.time)
-    except ValueError as e:
-        raise ValueError(f"{path}: probe records at uneven times ({e}); a run whose "
-                         "records are read as a motion needs a fixed step (&run dt)") from None
-    at = ", ".join(f"{x:g}" for x in pr.position)
-    return dt, pr.acceleration[:, a], f"probe {k} ({at}) along {axis}"
+    except ValueError:
+        dt = float(np.median(np.diff(pr.time)))
+        t = pr.time[0] + dt * np.arange(int(np.floor((pr.time[-1] - pr.time[0]) / dt + 1e-9)) + 1)
+        acc = np.interp(t, pr.time, acc)
+        title += f", resampled at {dt:.6g} s"
+    return dt, acc, title
 
 
 def cmd_motion(args):
@@ -166,6 +174,7 @@ def cmd_motion(args):
     if args.file.endswith(".h5"):
         dt, acc, name = probe_acceleration(args.file, args.probe, args.axis)
         acc = args.scale * acc
+        print(f"# {name}")
     else:
         rec = motion.read_record(args.file, units=args.units, scale=args.scale)
         if rec.quantity != "acceleration":

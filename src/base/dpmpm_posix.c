@@ -1,7 +1,7 @@
 /* POSIX services that Fortran has no portable binding for: creating one directory with
  * the reason of a failure (errno), flushing a file to the disk, writing a whole file with
  * the reason of a failure, errno itself, whether a
- * path is a directory, and noting the stop signals a batch scheduler sends
+ * path is a directory, the working directory, and noting the stop signals a batch scheduler sends
  * before it kills a job (SIGTERM, SIGUSR1). Used through module dpmpm_posix. */
 #include <errno.h>
 #include <stddef.h>
@@ -108,4 +108,12 @@ const char *dpmpm_signal_name(int sig)
   if (sig == SIGTERM) return "SIGTERM";
   if (sig == SIGUSR1) return "SIGUSR1";
   return "a signal";
+}
+
+/* The working directory into buf (n bytes, NUL-terminated): 0, or the errno of the
+ * failure (ERANGE when it does not fit). */
+int dpmpm_getcwd(char *buf, size_t n)
+{
+  if (getcwd(buf, n) == NULL) return errno;
+  return 0;
 }

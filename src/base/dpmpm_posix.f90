@@ -10,7 +10,7 @@ module dpmpm_posix
   private
   public :: posix_mkdir, posix_strerror, posix_fsync, catch_stop_signals, stop_signal, signal_name
   public :: peak_resident_kib, posix_errno, posix_clear_errno, posix_is_directory
-  public :: posix_write_file
+  public :: posix_write_file, posix_getcwd
 
   interface
     function c_mkdir(path) bind(C, name='dpmpm_mkdir') result(err)
@@ -53,6 +53,12 @@ module dpmpm_posix
       import :: c_int
       integer(c_int) :: sig
     end function c_stop_signal
+    function c_getcwd(buf, n) bind(C, name='dpmpm_getcwd') result(err)
+      import :: c_int, c_char, c_size_t
+      character(kind=c_char), intent(out) :: buf(*)
+      integer(c_size_t), value :: n
+      integer(c_int) :: err
+    end function c_getcwd
     function c_signal_name(sig) bind(C, name='dpmpm_signal_name') result(p)
       import :: c_int, c_ptr
       integer(c_int), value :: sig
@@ -122,6 +128,21 @@ contains
     character(len=:), allocatable :: name
     name = c_string(c_signal_name(int(sig, c_int)))
   end function signal_name
+
+  !> The working directory ('' if the system cannot give it in 4096 characters).
+  function posix_getcwd() result(path)
+    character(len=:), allocatable :: path
+    character(kind=c_char) :: buf(4096)
+    integer :: n
+    path = ''
+    if (c_getcwd(buf, int(size(buf), c_size_t)) /= 0) return
+    n = 0
+    do while (n < size(buf))
+      if (buf(n + 1) == c_null_char) exit
+      n = n + 1
+    end do
+    path = transfer(buf(1:n), repeat(' ', n))
+  end function posix_getcwd
 
   !> A Fortran copy of a NUL-terminated C string.
   function c_string(p) result(s)

@@ -19,6 +19,7 @@ module dpmpm_input_read
   use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote, lower
   use dpmpm_nml_text, only: nml_records, nml_echo, nml_names
   use dpmpm_input_read_error, only: read_error, is_name_char
+  use dpmpm_motion, only: absolute_beside
   implicit none
   private
   public :: load_text, parse_input, split_records, next_eol
@@ -803,6 +804,7 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
+    character(len=long_len) :: given(3)
 #include "dpmpm_vars_as_local.h"
 #include "dpmpm_vars_motion.inc"
 #include "dpmpm_vars_as_namelist.h"
@@ -814,8 +816,17 @@ contains
 #include "dpmpm_vars_motion.inc"
     ios = 0
     if (pb%count(g_motion) > 0) read (records, nml=motion, iostat=ios, iomsg=msg)
+    ! the echo names the files by their absolute paths, so that it reads back from any
+    ! folder; the configuration keeps them as given (messages quote them so)
+    given = [character(len=long_len) :: file_x, file_y, file_z]
+    file_x = absolute_beside(pb%file, trim(file_x))
+    file_y = absolute_beside(pb%file, trim(file_y))
+    file_z = absolute_beside(pb%file, trim(file_z))
     call nml_records(echo)
     write (echo, nml=motion)
+    file_x = given(1)
+    file_y = given(2)
+    file_z = given(3)
     call took_group(pb, g_motion, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)

@@ -18,12 +18,14 @@ module dpmpm_motion
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, motion_series_t, face_index, bc_fixed
   use dpmpm_strings, only: itoa, rtoa, lower, quote
+  use dpmpm_posix, only: posix_getcwd
   use dpmpm_input_problems, only: input_problems_t, add_value, add_warning, g_motion, check_finite
   use mpi_f08, only: MPI_Comm, MPI_Comm_rank, MPI_Bcast, MPI_INTEGER, MPI_DOUBLE_PRECISION
   implicit none
   private
   public :: read_motion_file, motion_from_samples, trapezoid, derivative, motion_velocity
   public :: load_motions, bcast_motions, standard_gravity, motion_format_of, check_motion
+  public :: absolute_beside
   public :: motion_values_ok
 
   !> m/s^2 per g: the values of an .AT2 file are in g.
@@ -125,6 +127,17 @@ contains
                                        quote(trim(files(d))), err)
     end do
   end subroutine load_motions
+
+  !> The absolute path of file, as load_motions finds it beside input_file (relative paths
+  !> from the working directory); '' stays ''. The echo of the input names the files so,
+  !> that it reads back from any folder.
+  function absolute_beside(input_file, file) result(path)
+    character(len=*), intent(in) :: input_file, file
+    character(len=:), allocatable :: path
+    path = beside(input_file, file)
+    if (len(path) == 0) return
+    if (path(1:1) /= '/') path = posix_getcwd()//'/'//path
+  end function absolute_beside
 
   !> The path of file: as it is when absolute or when input_file has no folder, else in the
   !> folder of input_file.

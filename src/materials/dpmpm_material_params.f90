@@ -29,6 +29,10 @@ module dpmpm_material_params
     !> nu), and the pressure p_m whose stiffness a point at zero stress keeps (Pa)
     real(wp) :: cc_lambda = 0.0_wp, cc_kappa = 0.0_wp, cc_m = 0.0_wp, cc_e0 = 0.0_wp
     real(wp) :: cc_pc0 = 0.0_wp, cc_ocr = 1.0_wp, cc_shear = 0.0_wp, cc_min_pressure = 0.0_wp
+    !> mu_i (dpmpm_model_mu_i): the friction coefficients mu_s and mu_2, I_0, the grain
+    !> diameter d (m) and the grain density rho_s of the inertial number (kg/m^3)
+    real(wp) :: mui_mu_s = 0.0_wp, mui_mu_2 = 0.0_wp, mui_i0 = 0.0_wp
+    real(wp) :: mui_diameter = 0.0_wp, mui_grain_density = 0.0_wp
     !> the state values a point of this material keeps (dpmpm_model_table's material_nstate)
     integer :: nstate = 0
     !> umat (dpmpm_model_umat): PROPS (umat_nprops of them), NSTATV and CMNAME

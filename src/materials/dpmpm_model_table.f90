@@ -11,6 +11,7 @@ module dpmpm_model_table
   public :: model_needs_defgrad, is_plastic, scene_state_names, material_nstate
   public :: model_linear_elastic, model_neo_hookean, model_fluid, model_mohr_coulomb
   public :: model_drucker_prager, model_rigid, model_cam_clay, is_pressure_dependent, model_umat
+  public :: model_mu_i
 
   !> The most state values a model may keep per point.
   integer, parameter :: max_state = 16
@@ -36,6 +37,7 @@ module dpmpm_model_table
   integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
   integer, parameter :: model_mohr_coulomb = 4, model_drucker_prager = 5, model_rigid = 6
   integer, parameter :: model_cam_clay = 7, model_umat = 8
+  integer, parameter :: model_mu_i = 9
 
   !> The one state value of the Mohr-Coulomb and Drucker-Prager soils: the accumulated
   !> plastic strain that softens the cohesion (dpmpm_plasticity).
@@ -56,7 +58,13 @@ module dpmpm_model_table
              'strain_xz', 'strain_xy', 'sse', 'spd', 'scd'], [max_state], &
             pad=[character(len=24) :: ''])
 
-  type(model_info_t), parameter :: model_table(8) = [ &
+  !> The state values of the mu(I) rheology: the accumulated plastic shear strain and the
+  !> inertial number I of the last step (dpmpm_model_mu_i).
+  character(len=24), parameter :: mu_i_state(max_state) = &
+    reshape([character(len=24) :: 'plastic_shear_strain', 'inertial_number'], [max_state], &
+            pad=[character(len=24) :: ''])
+
+  type(model_info_t), parameter :: model_table(9) = [ &
     model_info_t(name='linear_elastic', skeleton=.true.), &
     model_info_t(name='neo_hookean', needs_defgrad=.true., skeleton=.true.), &
     model_info_t(name='fluid'), &
@@ -68,6 +76,8 @@ module dpmpm_model_table
     model_info_t(name='cam_clay', nstate=2, state_names=cam_clay_state, &
                  pressure_dependent=.true., skeleton=.true., plastic=.true.), &
     model_info_t(name='umat', nstate=9, state_names=umat_state, needs_defgrad=.true., &
+                 skeleton=.true., plastic=.true.), &
+    model_info_t(name='mu_i', nstate=2, state_names=mu_i_state, rate_dependent=.true., &
                  skeleton=.true., plastic=.true.)]
 
 contains

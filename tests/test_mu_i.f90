@@ -28,6 +28,7 @@ program test_mu_i
   call test_below_mu_s_the_point_stays_elastic()
   call test_trial_in_tension_returns_to_zero_stress()
   call test_return_solves_the_scalar_equation()
+  call test_volume_apart_stays_at_max_dilation()
   status = finish_tests()
   call MPI_Finalize()
   if (status /= 0) stop 1, quiet = .true.
@@ -272,5 +273,37 @@ contains
     call check(worst <= 1.0e-13_wp, 'tau = tau_tr - G dt gdot = mu(I) p')
     call check(worst_dir <= 1.0e-14_wp, 'the deviator keeps its direction')
   end subroutine test_return_solves_the_scalar_equation
+
+  !> A point pulled apart (stress-free) keeps growing in volume without a bound, and stays at
+  !> max_dilation V0 with one; its stress stays 0.
+  subroutine test_volume_apart_stays_at_max_dilation()
+    type(material_t), allocatable :: mats(:)
+    real(wp) :: stress(6, 1), vol(1), state(2, 1), vg(9, 1)
+    integer :: k, b
+    call begin_test('volume_apart_stays_at_max_dilation')
+    do b = 0, 1
+      call materials_from_config([material_cfg_t(id=1, model='mu_i', density=1500.0_wp, &
+                                                 youngs_modulus=young, poisson_ratio=nu, &
+                                                 mu_s=mus, mu_2=mu2, i_0=i0, grain_diameter=dg, &
+                                                 max_dilation=2.0_wp*b)], mats)
+      stress = 0.0_wp
+      vol = 1.0_wp
+      state = 0.0_wp
+      vg = 0.0_wp
+      vg(1, 1) = 1.0_wp
+      vg(5, 1) = 1.0_wp
+      ! 100 steps of 0.01 s stretching x and y at 1/s: J = 1.01^200 = 7.3 without the bound
+      do k = 1, 100
+        call stress_update(mats(1), 1, 0.01_wp, 1, [1], vg, stress, vol, [1.0_wp], state=state, &
+                           plane=.true.)
+      end do
+      if (b == 0) then
+        call check_close(vol(1), 1.01_wp**200, 1.0e-12_wp, 0.0_wp, 'no bound: V = J V0')
+      else
+        call check(vol(1) == 2.0_wp, 'bound: V = max_dilation V0')
+      end if
+      call check(all(stress == 0.0_wp), 'no stress while apart')
+    end do
+  end subroutine test_volume_apart_stays_at_max_dilation
 
 end program test_mu_i

@@ -58,9 +58,11 @@ contains
       call check_unused_material(pb, k, m)
       if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') then
         call check_plastic(pb, k, m)
+      else if (m%model == 'mu_i') then
+        call check_max_dilation(pb, k, m)
       else if (m%max_dilation /= 0.0_wp) then
         call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
-                     'only a mohr_coulomb or drucker_prager soil has this bound; leave it 0')
+                     'only a mohr_coulomb, drucker_prager or mu_i soil has this bound; leave it 0')
       end if
       do j = 1, k - 1
         if (mats(j)%id == m%id) then
@@ -248,6 +250,16 @@ contains
       'number; 0 takes density')
   end subroutine check_mu_i
 
+  !> max_dilation of a soil that takes it: 0 (no bound) or > 1.
+  subroutine check_max_dilation(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    if (.not. real_ok(m%max_dilation, ge=0.0_wp) .or. (m%max_dilation > 0.0_wp .and. m%max_dilation <= 1.0_wp)) &
+      call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
+                     'must be 0 (no bound) or > 1 (the largest volume of a point over its initial one)')
+  end subroutine check_max_dilation
+
   !> The mu_i variables given to material k of another model.
   subroutine warn_mu_i_variables(pb, k, m, d, why)
     type(input_problems_t), intent(inout) :: pb
@@ -298,9 +310,7 @@ contains
     end if
     if (.not. real_ok(m%tensile_strength, ge=0.0_wp)) call add_value(pb, g_material, k, &
       'tensile_strength', rtoa(m%tensile_strength), 'must be >= 0 (Pa; 0 = no tension)')
-    if (.not. real_ok(m%max_dilation, ge=0.0_wp) .or. (m%max_dilation > 0.0_wp .and. m%max_dilation <= 1.0_wp)) &
-      call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
-                     'must be 0 (no bound) or > 1 (the largest volume of a point over its initial one)')
+    call check_max_dilation(pb, k, m)
     if (.not. real_ok(m%residual_cohesion, ge=0.0_wp)) then
       call add_value(pb, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
                      'must be >= 0 (Pa)')

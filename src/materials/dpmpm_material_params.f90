@@ -21,7 +21,7 @@ module dpmpm_material_params
     real(wp) :: conductivity = 0.0_wp   !< hydraulic conductivity of a soil (m/s), 0 = none
     logical :: kozeny_carman = .false.  !< k follows the porosity (Kozeny-Carman)
     type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
-    real(wp) :: max_dilation = 0.0_wp   !< mohr_coulomb, drucker_prager: bound of V/V0, 0 = none
+    real(wp) :: max_dilation = 0.0_wp   !< mohr_coulomb, drucker_prager, mu_i: bound of V/V0, 0 = none
     real(wp) :: velocity(3) = 0.0_wp    !< rigid: the prescribed velocity of the body (m/s)
     !> cam_clay (dpmpm_model_cam_clay): compression and swelling indices lambda, kappa, the
     !> critical state ratio M, the initial void ratio e0, the preconsolidation pressure p_c0

@@ -114,6 +114,7 @@ contains
         mats(k)%mui_i0 = cfgs(k)%i_0
         mats(k)%mui_diameter = cfgs(k)%grain_diameter
         mats(k)%mui_grain_density = cfgs(k)%grain_density
+        mats(k)%max_dilation = cfgs(k)%max_dilation
         if (mats(k)%mui_grain_density == 0.0_wp) mats(k)%mui_grain_density = cfgs(k)%density
       end if
       mats(k)%nstate = material_nstate(mats(k)%model, cfgs(k)%umat_nstatev)

@@ -17,6 +17,9 @@
 !> gives it pressure again, from the volume it has then (the elastic strain of the gap is
 !> not remembered). This replaces the density criterion of Dunatunga & Kamrin (stress-free
 !> below a critical density), which would need the packing fraction as a state value.
+!> max_dilation (when > 0) bounds the volume of a point, as for the other soils: a point at
+!> a thinning front, apart and stress-free, would otherwise stretch without end and its
+!> wave speed, so the time step, with it.
 !> Two state values per point (dpmpm_model_table): the accumulated plastic shear strain
 !> sum(dt gdot_p) and the inertial number I of the last step (0 where elastic or apart).
 !> In a saturated soil this is the effective stress and p the effective pressure.
@@ -70,6 +73,8 @@ contains
       state(1, p) = state(1, p) + dt*gdot
       state(2, p) = inum
       vol(p) = vol(p)*jac
+      ! grains apart beyond the bound: the volume stays there (as the other soils, 5.4)
+      if (mat%max_dilation > 0.0_wp) vol(p) = min(vol(p), mat%max_dilation*vol0(p))
     end do
     if (present(dissipation)) dissipation = wsum
   end subroutine mu_i_update

@@ -56,7 +56,7 @@ def scene(tag, angle, flip, cells, t_end, workdir):
         "&shape kernel = 'linear' /",
         f"&material id = 1, model = 'mu_i', density = {RHO_B}, grain_density = {RHO_S},",
         "  youngs_modulus = 2.0e5, poisson_ratio = 0.3,",
-        f"  mu_s = {MU_S}, mu_2 = {MU_2}, i_0 = {I_0}, grain_diameter = {D} /",
+        f"  mu_s = {MU_S}, mu_2 = {MU_2}, i_0 = {I_0}, grain_diameter = {D}, max_dilation = 2.0 /",
         f"&region lo = {X0}, 0.0, hi = {X0 + LENGTH}, {H}, material = 1, ppc = 2,",
         f"  stress = {-p0:.6f}, {-p0:.6f}, {-p0:.6f}, 0.0, 0.0, {t0:.6f},",
         f"  stress_gradient(1:6, 2) = {p0 / H:.6f}, {p0 / H:.6f}, {p0 / H:.6f}, 0.0, 0.0, "
@@ -65,18 +65,20 @@ def scene(tag, angle, flip, cells, t_end, workdir):
         f"&output dir = '{workdir}', frame_interval = 0.1 /", ""])
 
 
-def closed_form(angle, z):
-    """Bagnold profile u(z), its surface value and I_theta at angle (degrees)."""
+def closed_form(angle, z, h):
+    """Bagnold profile u(z) of a layer of depth h, its surface value and I_theta at angle
+    (degrees)."""
     th = np.radians(angle)
     t = np.tan(th)
     i_th = I_0 * (t - MU_S) / (MU_2 - t)
     a = (2.0 / 3.0) * (i_th / D) * np.sqrt(RHO_B / RHO_S * G * np.cos(th))
-    return a * (H ** 1.5 - (H - z) ** 1.5), a * H ** 1.5, i_th
+    return a * (h ** 1.5 - np.clip(h - z, 0.0, None) ** 1.5), a * h ** 1.5, i_th
 
 
 def profile(frame, cells):
     """Bin centres z and mean v_x per bin of the points that started within 0.1 m of the
-    layer's middle."""
+    layer's middle, their mean v_x, and the depth of the layer there: the highest point
+    plus half the spacing of the points (a quarter cell)."""
     s = frame["solid"]
     x, v, u = s["x"], s["v"], s["displacement"]
     x0 = x[:, 0] - u[:, 0]
@@ -87,23 +89,25 @@ def profile(frame, cells):
     zc = 0.5 * (edges[1:] + edges[:-1])
     vb = np.array([vx[(z >= a) & (z < b)].mean() if np.any((z >= a) & (z < b)) else np.nan
                    for a, b in zip(edges[:-1], edges[1:])])
-    return zc, vb, vx.mean()
+    return zc, vb, vx.mean(), z.max() + 0.25 * H / cells
 
 
 def report(h5, angle, cells):
     with open_run(h5) as run:
         print(f"# {os.path.basename(h5)}: theta = {angle} deg")
         zc = None
-        print("# time (s)  u_top/u_s  mean/(3/5 u_s)  L2 distance of the profile / u_s")
+        print("# time (s)  depth h (m)  u_top/u(z_top)  mean/(3/5 u_s)  L2 distance of the "
+              "profile / u_s  (closed form of the depth h at that time)")
         for k in range(len(run)):
             fr = run[k]
-            zc, vb, vmean = profile(fr, cells)
-            ref, us, i_th = closed_form(angle, zc)
-            ok = np.isfinite(vb)
+            zc, vb, vmean, h = profile(fr, cells)
+            ref, us, i_th = closed_form(angle, zc, h)
+            ok = np.isfinite(vb) & (zc < h)
             l2 = np.sqrt(np.mean((vb[ok] - ref[ok]) ** 2)) / us
-            print(f"{fr.time:8.3f}  {vb[ok][-1] / ref[ok][-1]:9.4f}  {vmean / (0.6 * us):9.4f}  "
-                  f"{l2:9.4f}")
-        print(f"# I_theta = {i_th:.4f}, u_s = {us:.4f} m/s; last frame, z (m), u (m/s), closed form:")
+            print(f"{fr.time:8.3f}  {h:8.5f}  {vb[ok][-1] / ref[ok][-1]:9.4f}  "
+                  f"{vmean / (0.6 * us):9.4f}  {l2:9.4f}")
+        print(f"# I_theta = {i_th:.4f}, u_s = {us:.4f} m/s; last frame, z (m), u (m/s), "
+              "closed form:")
         for a, b, c in zip(zc, vb, ref):
             print(f"  {a:.4f}  {b:.5f}  {c:.5f}")
 

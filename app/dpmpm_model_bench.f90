@@ -48,8 +48,8 @@ program dpmpm_model_bench
   end do
 
   ! One material of each model with a stress: a soil of E = 10 MPa (or its Cam-Clay
-  ! counterpart), phi = 30 degrees and c = 5 kPa for the plastic soils, and Toyoura sand
-  ! (SANISAND, the paper's constants, e = 0.85).
+  ! counterpart), phi = 30 degrees and c = 5 kPa for the plastic soils, Toyoura sand
+  ! (SANISAND, the paper's constants, e = 0.85), and the mu(I) soil of glass beads.
   call materials_from_config([ &
                              material_cfg_t(id=1, model='linear_elastic', youngs_modulus=1.0e7_wp), &
                              material_cfg_t(id=2, model='neo_hookean', youngs_modulus=1.0e7_wp), &
@@ -61,7 +61,10 @@ program dpmpm_model_bench
                                             swelling_index=0.05_wp, critical_state_ratio=1.0_wp, &
                                             void_ratio=1.2_wp), &
                              material_cfg_t(id=6, model='sanisand', critical_state_ratio=1.25_wp, &
-                                            void_ratio=0.85_wp, poisson_ratio=0.05_wp)], mats)
+                                            void_ratio=0.85_wp, poisson_ratio=0.05_wp), &
+                             material_cfg_t(id=7, model='mu_i', youngs_modulus=1.0e7_wp, &
+                                            mu_s=0.38_wp, mu_2=0.64_wp, i_0=0.279_wp, &
+                                            grain_diameter=1.0e-3_wp, density=2500.0_wp)], mats)
   n = merge(4096, 65536, quick)
   write (output_unit, '(a,i0,a)') '# dpmpm_model_bench: one core, ', nround, &
     ' rounds; million stress updates per second, largest and median over the rounds'

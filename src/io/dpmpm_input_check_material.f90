@@ -45,6 +45,7 @@ contains
         call check_sanisand(pb, k, m)
       else if (m%model /= 'rigid') then
         if (m%model == 'umat') call check_umat(pb, k, m)
+        if (m%model == 'mu_i') call check_mu_i(pb, k, m)
         if (.not. real_ok(m%youngs_modulus, gt=0.0_wp)) call add_value(pb, g_material, k, &
         'youngs_modulus', rtoa(m%youngs_modulus), 'must be > 0 (Pa)')
         if (.not. real_ok(m%poisson_ratio, gt=-1.0_wp, lt=0.5_wp)) call add_value(pb, &
@@ -60,9 +61,11 @@ contains
       call check_unused_material(pb, k, m)
       if (m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager') then
         call check_plastic(pb, k, m)
+      else if (m%model == 'mu_i') then
+        call check_max_dilation(pb, k, m)
       else if (m%max_dilation /= 0.0_wp) then
         call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
-                     'only a mohr_coulomb or drucker_prager soil has this bound; leave it 0')
+                     'only a mohr_coulomb, drucker_prager or mu_i soil has this bound; leave it 0')
       end if
       do j = 1, k - 1
         if (mats(j)%id == m%id) then
@@ -101,6 +104,7 @@ contains
     if (m%model /= 'sanisand') call warn_sanisand_variables(pb, k, m, d, &
                                                           why//" (only 'sanisand' takes it)")
     if (m%model /= 'umat') call warn_umat_variables(pb, k, m, d, why//" (only 'umat' takes it)")
+    if (m%model /= 'mu_i') call warn_mu_i_variables(pb, k, m, d, why//" (only 'mu_i' takes it)")
     plastic = m%model == 'mohr_coulomb' .or. m%model == 'drucker_prager'
     skeleton = m%model /= 'fluid' .and. m%model /= 'rigid'
     if (.not. skeleton) then
@@ -336,6 +340,57 @@ contains
       quote(m%umat_name), why)
   end subroutine warn_umat_variables
 
+  !> The parameters of a mu_i material k (the mu(I) rheology, doc/input.md): 0 <= mu_s < mu_2,
+  !> I_0 > 0, grain_diameter > 0, grain_density >= 0 (0: density).
+  subroutine check_mu_i(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    if (.not. real_ok(m%mu_s, ge=0.0_wp)) then
+      call add_value(pb, g_material, k, 'mu_s', rtoa(m%mu_s), 'must be >= 0: the friction '// &
+                     'coefficient tau/p of slow flow (0.38 for glass beads, tan of the angle of '// &
+                     'repose)')
+    else if (.not. real_ok(m%mu_2, gt=m%mu_s)) then
+      call add_value(pb, g_material, k, 'mu_2', rtoa(m%mu_2), 'must be > mu_s = '// &
+                     rtoa(m%mu_s)//': the friction coefficient of fast flow, which mu(I) '// &
+                     'approaches from mu_s (0.64 for glass beads)')
+    end if
+    if (.not. real_ok(m%i_0, gt=0.0_wp)) call add_value(pb, g_material, k, 'i_0', rtoa(m%i_0), &
+      'must be > 0: the inertial number at which mu(I) is halfway from mu_s to mu_2 (0.279 for '// &
+      'glass beads)')
+    if (.not. real_ok(m%grain_diameter, gt=0.0_wp)) call add_value(pb, g_material, k, &
+      'grain_diameter', rtoa(m%grain_diameter), 'must be > 0 (m): the grain diameter d of the '// &
+      'inertial number I = gdot d/sqrt(p/rho_s)')
+    if (.not. real_ok(m%grain_density, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'grain_density', rtoa(m%grain_density), 'must be >= 0 (kg/m^3): rho_s of the inertial '// &
+      'number; 0 takes density')
+  end subroutine check_mu_i
+
+  !> max_dilation of a soil that takes it: 0 (no bound) or > 1.
+  subroutine check_max_dilation(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    if (.not. real_ok(m%max_dilation, ge=0.0_wp) .or. (m%max_dilation > 0.0_wp .and. m%max_dilation <= 1.0_wp)) &
+      call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
+                     'must be 0 (no bound) or > 1 (the largest volume of a point over its initial one)')
+  end subroutine check_max_dilation
+
+  !> The mu_i variables given to material k of another model.
+  subroutine warn_mu_i_variables(pb, k, m, d, why)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m, d
+    character(len=*), intent(in) :: why
+    if (m%mu_s /= d%mu_s) call add_warning(pb, g_material, k, 'mu_s', rtoa(m%mu_s), why)
+    if (m%mu_2 /= d%mu_2) call add_warning(pb, g_material, k, 'mu_2', rtoa(m%mu_2), why)
+    if (m%i_0 /= d%i_0) call add_warning(pb, g_material, k, 'i_0', rtoa(m%i_0), why)
+    if (m%grain_diameter /= d%grain_diameter) call add_warning(pb, g_material, k, &
+      'grain_diameter', rtoa(m%grain_diameter), why)
+    if (m%grain_density /= d%grain_density) call add_warning(pb, g_material, k, &
+      'grain_density', rtoa(m%grain_density), why)
+  end subroutine warn_mu_i_variables
+
   !> Strength parameters of a mohr_coulomb or drucker_prager material k.
   subroutine check_plastic(pb, k, m)
     type(input_problems_t), intent(inout) :: pb
@@ -371,9 +426,7 @@ contains
     end if
     if (.not. real_ok(m%tensile_strength, ge=0.0_wp)) call add_value(pb, g_material, k, &
       'tensile_strength', rtoa(m%tensile_strength), 'must be >= 0 (Pa; 0 = no tension)')
-    if (.not. real_ok(m%max_dilation, ge=0.0_wp) .or. (m%max_dilation > 0.0_wp .and. m%max_dilation <= 1.0_wp)) &
-      call add_value(pb, g_material, k, 'max_dilation', rtoa(m%max_dilation), &
-                     'must be 0 (no bound) or > 1 (the largest volume of a point over its initial one)')
+    call check_max_dilation(pb, k, m)
     if (.not. real_ok(m%residual_cohesion, ge=0.0_wp)) then
       call add_value(pb, g_material, k, 'residual_cohesion', rtoa(m%residual_cohesion), &
                      'must be >= 0 (Pa)')

@@ -21,7 +21,7 @@ module dpmpm_material_params
     real(wp) :: conductivity = 0.0_wp   !< hydraulic conductivity of a soil (m/s), 0 = none
     logical :: kozeny_carman = .false.  !< k follows the porosity (Kozeny-Carman)
     type(plastic_params_t) :: plastic   !< strength of mohr_coulomb and drucker_prager
-    real(wp) :: max_dilation = 0.0_wp   !< mohr_coulomb, drucker_prager: bound of V/V0, 0 = none
+    real(wp) :: max_dilation = 0.0_wp   !< mohr_coulomb, drucker_prager, mu_i: bound of V/V0, 0 = none
     real(wp) :: velocity(3) = 0.0_wp    !< rigid: the prescribed velocity of the body (m/s)
     !> rigid: the displacement amplitude A (m) and angular frequency omega (1/s) of a
     !> vibration added to velocity, v(t) = velocity + A omega cos(omega t)
@@ -39,6 +39,10 @@ module dpmpm_material_params
     real(wp) :: sd_xi = 0.0_wp, sd_m = 0.0_wp, sd_h0 = 0.0_wp, sd_ch = 0.0_wp, sd_nb = 0.0_wp
     real(wp) :: sd_a0 = 0.0_wp, sd_nd = 0.0_wp, sd_zmax = 0.0_wp, sd_cz = 0.0_wp
     real(wp) :: sd_pat = 1.0_wp, sd_e0 = 0.0_wp, sd_pmin = 1.0_wp, sd_tol = 1.0e-5_wp
+    !> mu_i (dpmpm_model_mu_i): the friction coefficients mu_s and mu_2, I_0, the grain
+    !> diameter d (m) and the grain density rho_s of the inertial number (kg/m^3)
+    real(wp) :: mui_mu_s = 0.0_wp, mui_mu_2 = 0.0_wp, mui_i0 = 0.0_wp
+    real(wp) :: mui_diameter = 0.0_wp, mui_grain_density = 0.0_wp
     !> the state values a point of this material keeps (dpmpm_model_table's material_nstate)
     integer :: nstate = 0
     !> umat (dpmpm_model_umat): PROPS (umat_nprops of them), NSTATV and CMNAME

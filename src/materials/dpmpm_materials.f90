@@ -12,6 +12,7 @@ module dpmpm_materials
                                model_cam_clay, model_umat, model_from_name, is_plastic, &
                                model_sanisand, &
                                is_pressure_dependent, material_nstate
+  use dpmpm_model_table, only: model_mu_i
   use dpmpm_material_params, only: material_t
   use dpmpm_plasticity, only: plastic_setup, dp_match_names, dp_plane_strain, &
                               surface_mohr_coulomb, surface_drucker_prager
@@ -23,12 +24,14 @@ module dpmpm_materials
   use dpmpm_model_umat, only: umat_update, umat_init_state
   use dpmpm_model_sanisand, only: sanisand_update, sanisand_init_state, sanisand_moduli, &
                                   sanisand_energy
+  use dpmpm_model_mu_i, only: mu_i_update
   use dpmpm_tensor, only: as_3x3, det3
   implicit none
   private
   public :: material_t, model_linear_elastic, model_neo_hookean, model_fluid, model_from_name
   public :: model_mohr_coulomb, model_drucker_prager, model_rigid, model_cam_clay, is_plastic
   public :: model_umat, model_sanisand
+  public :: model_mu_i
   public :: materials_from_config, stress_update, strain_energy, wave_speed, wave_speeds
   public :: model_update, init_state, point_moduli
 
@@ -132,6 +135,15 @@ contains
         mats(k)%lambda = 0.0_wp; mats(k)%mu = 0.0_wp; mats(k)%pwave = 0.0_wp
         mats(k)%bulk = 0.0_wp
       end if
+      if (mats(k)%model == model_mu_i) then
+        mats(k)%mui_mu_s = cfgs(k)%mu_s
+        mats(k)%mui_mu_2 = cfgs(k)%mu_2
+        mats(k)%mui_i0 = cfgs(k)%i_0
+        mats(k)%mui_diameter = cfgs(k)%grain_diameter
+        mats(k)%mui_grain_density = cfgs(k)%grain_density
+        mats(k)%max_dilation = cfgs(k)%max_dilation
+        if (mats(k)%mui_grain_density == 0.0_wp) mats(k)%mui_grain_density = cfgs(k)%density
+      end if
       mats(k)%nstate = material_nstate(mats(k)%model, cfgs(k)%umat_nstatev)
       if (mats(k)%model == model_umat) then
         ! youngs_modulus and poisson_ratio: the stiffest the UMAT gets, for the time step
@@ -220,6 +232,9 @@ contains
     case (model_umat)
       call umat_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
                        dissipation, plane, time, step, x, ids, celent)
+    case (model_mu_i)
+      call mu_i_update(mat, m, dt, n, pmat, vgrad, stress, vol, vol0, defgrad, state, &
+                       dissipation, plane)
     end select
   end subroutine stress_update
 
@@ -295,7 +310,7 @@ contains
     do p = 1, n
       if (pmat(p) /= m) cycle
       select case (mat%model)
-      case (model_linear_elastic, model_mohr_coulomb, model_drucker_prager)
+      case (model_linear_elastic, model_mohr_coulomb, model_drucker_prager, model_mu_i)
         s = stress(:, p)
         tr = s(1) + s(2) + s(3)
         ! sigma : eps with eps = ((1+nu) sigma - nu tr(sigma) I)/E; shear terms count twice.

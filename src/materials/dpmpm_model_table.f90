@@ -12,6 +12,7 @@ module dpmpm_model_table
   public :: model_linear_elastic, model_neo_hookean, model_fluid, model_mohr_coulomb
   public :: model_drucker_prager, model_rigid, model_cam_clay, is_pressure_dependent, model_umat
   public :: model_sanisand
+  public :: model_mu_i
 
   !> The most state values a model may keep per point.
   integer, parameter :: max_state = 24
@@ -37,6 +38,7 @@ module dpmpm_model_table
   integer, parameter :: model_linear_elastic = 1, model_neo_hookean = 2, model_fluid = 3
   integer, parameter :: model_mohr_coulomb = 4, model_drucker_prager = 5, model_rigid = 6
   integer, parameter :: model_cam_clay = 7, model_umat = 8, model_sanisand = 9
+  integer, parameter :: model_mu_i = 10
 
   !> The one state value of the Mohr-Coulomb and Drucker-Prager soils: the accumulated
   !> plastic strain that softens the cohesion (dpmpm_plasticity).
@@ -67,7 +69,13 @@ module dpmpm_model_table
              'alpha_in_xz', 'alpha_in_xy', 'void_ratio'], [max_state], &
             pad=[character(len=24) :: ''])
 
-  type(model_info_t), parameter :: model_table(9) = [ &
+  !> The state values of the mu(I) rheology: the accumulated plastic shear strain and the
+  !> inertial number I of the last step (dpmpm_model_mu_i).
+  character(len=24), parameter :: mu_i_state(max_state) = &
+    reshape([character(len=24) :: 'plastic_shear_strain', 'inertial_number'], [max_state], &
+            pad=[character(len=24) :: ''])
+
+  type(model_info_t), parameter :: model_table(10) = [ &
     model_info_t(name='linear_elastic', skeleton=.true.), &
     model_info_t(name='neo_hookean', needs_defgrad=.true., skeleton=.true.), &
     model_info_t(name='fluid'), &
@@ -81,7 +89,9 @@ module dpmpm_model_table
     model_info_t(name='umat', nstate=9, state_names=umat_state, needs_defgrad=.true., &
                  skeleton=.true., plastic=.true.), &
     model_info_t(name='sanisand', nstate=19, state_names=sanisand_state, &
-                 pressure_dependent=.true., skeleton=.true., plastic=.true.)]
+                 pressure_dependent=.true., skeleton=.true., plastic=.true.), &
+    model_info_t(name='mu_i', nstate=2, state_names=mu_i_state, rate_dependent=.true., &
+                 skeleton=.true., plastic=.true.)]
 
 contains
 

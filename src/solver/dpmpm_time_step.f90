@@ -6,6 +6,7 @@ module dpmpm_time_step
   use dpmpm_kinds, only: wp, i8
   use dpmpm_strings, only: i8toa
   use dpmpm_materials, only: wave_speeds, point_moduli, model_mohr_coulomb, model_drucker_prager
+  use dpmpm_materials, only: model_mu_i
   use dpmpm_state, only: state_t, exit_bad_input, exit_monitor
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Allreduce, MPI_Bcast, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_2DOUBLE_PRECISION, &
@@ -217,7 +218,8 @@ contains
       ' point id ', nint(info(1), i8), ' at x =', info(2:4), ': wave speed ', info(5), ' m/s, speed ', &
       info(6), ' m/s, volume ', info(7), ' times its initial one'
     call self%log%warning(trim(line))
-    if (nint(info(8)) == 1) call self%log%warning('  a Mohr-Coulomb or Drucker-Prager point keeps its stiffness '// &
+    if (nint(info(8)) == 1) call self%log%warning('  a Mohr-Coulomb, Drucker-Prager or mu(I) point keeps '// &
+                                               'its stiffness '// &
                                                'however far it dilates; &material max_dilation bounds its volume '// &
                                                '(doc/input.md)')
   contains
@@ -232,7 +234,7 @@ contains
       info(7) = ps%vol(p)/ps%vol0(p)
       ! A dilated plastic point without a bound on its volume: name the bound.
       if (is == 1 .and. info(7) > 2.0_wp) then
-        if (any(self%mats(ps%mat(p))%model == [model_mohr_coulomb, model_drucker_prager]) .and. &
+        if (any(self%mats(ps%mat(p))%model == [model_mohr_coulomb, model_drucker_prager, model_mu_i]) .and. &
             self%mats(ps%mat(p))%max_dilation == 0.0_wp) &
           info(8) = 1.0_wp
       end if

@@ -85,6 +85,9 @@ module dpmpm_config
     type(load_cfg_t), allocatable :: loads(:)
     ! &boundary: one type per face (face_names order)
     integer :: bc(6) = bc_free
+    !> tied faces (condition = 'tied', both faces of an axis): free to the grid, their nodes
+    !> at the same place along the face move together (dpmpm_tied_sides)
+    logical :: tied(6) = .false.
     integer :: fluid_bc(6) = fbc_default             !< pore-fluid condition per face
     real(wp) :: pore_pressure(6) = 0.0_wp            !< Pa, prescribed on drained faces
     real(wp) :: pore_pressure_ramp(6) = 0.0_wp       !< s, linear ramp of pore_pressure; 0 = step

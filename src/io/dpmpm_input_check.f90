@@ -14,7 +14,7 @@ module dpmpm_input_check
   use dpmpm_shape_plan, only: shape_plan_t, max_gauss
   use dpmpm_input_problems, only: input_problems_t, g_run, g_grid, g_shape, g_material, &
                                   g_region, g_load, g_output, g_benchmark, add_value, add_warning, &
-                                  real_ok, check_finite
+                                  real_ok, check_finite, add_raw
   use dpmpm_input_check_material, only: check_material
   use dpmpm_strings, only: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, next_word
   use mpi_f08, only: MPI_Dims_create
@@ -233,7 +233,34 @@ contains
 
     ! &motion (its files are read by read_input once these values are good)
     call check_motion(pb, cfg)
+    call check_tied(pb, cfg)
   end subroutine check_config
+
+  !> Tied faces (&boundary condition = 'tied'): both faces of an axis, not along the only
+  !> axis of a 1D grid, and linear grid functions (a wider kernel reaches beyond the faces,
+  !> where the ties do not carry it).
+  subroutine check_tied(pb, cfg)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer :: f, other
+    do f = 1, 2*cfg%ndim
+      if (.not. cfg%tied(f)) cycle
+      other = merge(f + 1, f - 1, mod(f, 2) == 1)
+      if (cfg%ndim == 1) then
+        call add_raw(pb, "&boundary face = '"//face_names(f)//"', condition = 'tied': a 1D grid "// &
+                     'has no sides to tie (tied faces make a 2D or 3D column move as the 1D one)')
+        return
+      end if
+      if (.not. cfg%tied(other)) call add_raw(pb, "&boundary face = '"//face_names(f)// &
+        "', condition = 'tied': face "//face_names(other)//' must be tied too (the nodes of '// &
+        'the two faces of an axis move together)')
+      if (mod(f, 2) == 1 .and. (cfg%kernel /= 'linear' .or. .not. any(cfg%velocity_kernel == &
+          [character(len=6) :: '', 'linear']))) &
+        call add_raw(pb, "&boundary face = '"//face_names(f)//"', condition = 'tied' needs "// &
+                     "&shape kernel = 'linear' and velocity_kernel '' or 'linear' (wider grid "// &
+                     'functions reach beyond the faces, where the ties do not carry them)')
+    end do
+  end subroutine check_tied
 
   !> The probes of &output: at most max_probes, each inside the grid, a positive interval.
   subroutine check_probes(pb, cfg)

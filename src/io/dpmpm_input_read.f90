@@ -548,10 +548,12 @@ contains
       case ('absorbing')
         c = bc_free
         absorbing = absorbing_material(pb, k, cfg, material)
+      case ('tied')
+        c = bc_free
       case default
         c = -1
         call add_value(pb, g_boundary, k, 'condition', quote(condition), &
-                       'the conditions are free, fixed, roller, absorbing')
+                       'the conditions are free, fixed, roller, absorbing, tied')
       end select
       if (.not. real_ok(friction, ge=0.0_wp, le=max_wall_friction)) then
         call add_value(pb, g_boundary, k, 'friction', rtoa(friction), &
@@ -636,6 +638,7 @@ contains
         cfg%absorbing(f) = absorbing
         cfg%wall_friction(f) = friction
         cfg%wall_lift_off(f) = lift_off
+        cfg%tied(f) = trim(adjustl(condition)) == 'tied'
       end if
     end do
   end subroutine read_boundaries

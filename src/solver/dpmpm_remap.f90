@@ -14,6 +14,7 @@ module dpmpm_remap
     momentum_project_p2g
   use dpmpm_nodal_update, only: remap_nodal_velocity, tie_fluid
   use dpmpm_base_motion, only: base_face, base_velocity, shake_base
+  use dpmpm_tied_sides, only: tie_sides
   use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
   use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points, body_velocities
   implicit none
@@ -92,6 +93,13 @@ contains
                         base_face(self%cfg), self%grid%ncells, base_velocity(self%cfg, self%time), &
                         base_velocity(self%cfg, self%time + dt), self%phase(ip)%node, &
                         self%phase(ip)%nvel, .false., self%cfg%gravity, dt, unused)
+      end do
+    end if
+    if (any(self%cfg%tied)) then
+      do ip = 1, self%nph
+        call tie_sides(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
+                       self%grid%ncells, self%cfg%tied, self%phase(ip)%node, self%phase(ip)%nvel, &
+                       .false., self%dec%comm)
       end do
     end if
     do ip = 1, self%nph

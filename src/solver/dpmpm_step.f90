@@ -24,6 +24,7 @@ module dpmpm_step
                             interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
   use dpmpm_base_motion, only: base_face, base_velocity, shake_base
+  use dpmpm_tied_sides, only: tie_sides
   use dpmpm_drag, only: nodal_drag_limit
   use dpmpm_remap, only: musl_remap, remap_locks
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, &
@@ -320,6 +321,13 @@ contains
                         base_velocity(self%cfg, self%time), base_velocity(self%cfg, self%time + dt), &
                         self%phase(ip)%node, self%phase(ip)%nvel, .true., gravity_now(self), dt, &
                         self%ext_work)
+      end do
+    end if
+    ! Tied faces (&boundary condition = 'tied'): each pair of their nodes moves as one.
+    if (any(self%cfg%tied)) then
+      do ip = 1, self%nph
+        call tie_sides(nd, self%dec%alo, blo, bhi, self%grid%ncells, self%cfg%tied, &
+                       self%phase(ip)%node, self%phase(ip)%nvel, .true., self%dec%comm)
       end do
     end if
 

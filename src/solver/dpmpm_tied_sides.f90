@@ -1,0 +1,93 @@
+!> Tied faces (&boundary condition = 'tied'): the nodes of the two faces of an axis that
+!> lie at the same place along the faces move together, in every component, as one node
+!> with both masses and both momenta. A 2D or 3D column between tied sides then moves as
+!> the free field, the 1D column: a shear wave from a shaken base rises through it as
+!> through a layer of infinite extent (doc/verification.md, "Site response on a rigid
+!> base"). To the grid the faces are free (no constraint, no mirror: linear grid functions
+!> only, which the input checks). The pairs may lie on different ranks: their mass and
+!> momenta are summed over the ranks, one reduction per call.
+module dpmpm_tied_sides
+  use dpmpm_kinds, only: wp
+  use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_DOUBLE_PRECISION
+  implicit none
+  private
+  public :: tie_sides
+
+contains
+
+  !> For every axis whose faces are tied (tied(2a - 1), tied(2a)): the owned nodes olo..ohi
+  !> of the two faces (grid of ncells cells) that hold mass (node(1)) take the mass-weighted
+  !> mean of the pair's new velocities (nvel(nd+1:2nd)), and with both also of the old ones
+  !> (nvel(1:nd)); the new velocities of a node are what the nodal update gave it, so that the
+  !> mean is the velocity of the joined node, (p0 + p1 + dt (f0 + f1))/(m0 + m1).
+  subroutine tie_sides(nd, lo, olo, ohi, ncells, tied, node, nvel, both, comm)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
+    logical, intent(in) :: tied(6)
+    real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    logical, intent(in) :: both
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), allocatable :: sums(:, :, :)
+    integer :: a, b, c, side, i(3), flo(3), fhi(3), nb, nc, ncomp, jb, jc
+    real(wp) :: m
+    ncomp = 1 + 2*nd
+    do a = 1, nd
+      if (.not. (tied(2*a - 1) .and. tied(2*a))) cycle
+      ! the two other axes (b, c) index a node of the face; an unused axis has one node
+      b = merge(2, 1, a == 1)
+      c = 6 - a - b
+      nb = merge(ncells(b), 0, b <= nd)
+      nc = merge(ncells(c), 0, c <= nd)
+      allocate (sums(ncomp, 0:nb, 0:nc))
+      sums = 0.0_wp
+      do side = 0, 1
+        call face_box(a, side, olo, ohi, ncells, flo, fhi)
+        do jc = flo(c), fhi(c)
+          do jb = flo(b), fhi(b)
+            i(a) = flo(a)
+            i(b) = jb
+            i(c) = jc
+            m = node(1, i(1), i(2), i(3))
+            if (m <= 0.0_wp) cycle
+            sums(1, jb, jc) = sums(1, jb, jc) + m
+            sums(2:ncomp, jb, jc) = sums(2:ncomp, jb, jc) + m*nvel(1:2*nd, i(1), i(2), i(3))
+          end do
+        end do
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+      do side = 0, 1
+        call face_box(a, side, olo, ohi, ncells, flo, fhi)
+        do jc = flo(c), fhi(c)
+          do jb = flo(b), fhi(b)
+            i(a) = flo(a)
+            i(b) = jb
+            i(c) = jc
+            if (node(1, i(1), i(2), i(3)) <= 0.0_wp .or. sums(1, jb, jc) <= 0.0_wp) cycle
+            nvel(nd + 1:2*nd, i(1), i(2), i(3)) = sums(2 + nd:ncomp, jb, jc)/sums(1, jb, jc)
+            if (both) nvel(1:nd, i(1), i(2), i(3)) = sums(2:1 + nd, jb, jc)/sums(1, jb, jc)
+          end do
+        end do
+      end do
+      deallocate (sums)
+    end do
+  end subroutine tie_sides
+
+  !> The owned nodes of face side (0: the lower, 1: the upper) of axis a: flo..fhi, empty
+  !> (flo > fhi) where this rank owns none of them; along an unused axis the one node 0.
+  pure subroutine face_box(a, side, olo, ohi, ncells, flo, fhi)
+    integer, intent(in) :: a, side, olo(3), ohi(3), ncells(3)
+    integer, intent(out) :: flo(3), fhi(3)
+    integer :: at
+    flo = max(olo, 0)
+    fhi = min(ohi, ncells)
+    at = side*ncells(a)
+    if (olo(a) <= at .and. at <= ohi(a)) then
+      flo(a) = at
+      fhi(a) = at
+    else
+      flo(a) = 1
+      fhi(a) = 0
+    end if
+  end subroutine face_box
+
+end module dpmpm_tied_sides

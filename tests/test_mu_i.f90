@@ -7,21 +7,19 @@
 !> return. Measured errors and margins: doc/verification.md, "The mu(I) rheology at one
 !> point".
 program test_mu_i
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
+  use dpmpm_test_main, only: start_tests, end_tests
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, init_state
   use dpmpm_config, only: material_cfg_t
   use dpmpm_model_mu_i, only: mu_i_return
-  use dpmpm_assert, only: begin_test, check, check_close, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close
   implicit none
   ! glass beads (Jop, Forterre & Pouliquen 2006): mu_s, mu_2, I_0; d = 1 mm, rho_s = 2500,
   ! p = 10 kPa, so that sqrt(p/rho_s) = 2 m/s and gdot = 2000 I (1/s)
   real(wp), parameter :: mus = 0.38_wp, mu2 = 0.64_wp, i0 = 0.279_wp, dg = 1.0e-3_wp
   real(wp), parameter :: rhos = 2500.0_wp, p0 = 1.0e4_wp, young = 1.0e7_wp, nu = 0.3_wp
   real(wp), parameter :: inertial(4) = [1.0e-3_wp, 1.0e-2_wp, 1.0e-1_wp, 1.0_wp]
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_steady_shear_return_follows_mu_of_i()
   call test_steady_shear_with_spin_follows_mu_of_i()
   call test_steady_shear_dissipates_tau_times_rate()
@@ -29,9 +27,7 @@ program test_mu_i
   call test_trial_in_tension_returns_to_zero_stress()
   call test_return_solves_the_scalar_equation()
   call test_volume_apart_stays_at_max_dilation()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

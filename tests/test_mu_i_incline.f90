@@ -6,27 +6,23 @@
 !> on 2, measured). Measured numbers and margins:
 !> doc/verification.md, "The mu(I) rheology on a rough incline".
 program test_mu_i_incline
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
+  use dpmpm_test_main, only: start_tests, end_tests
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
   implicit none
   ! glass beads (Jop, Forterre & Pouliquen 2006) of d = 5 mm, bulk density 0.6 rho_s; a layer
   ! 0.05 m deep in cells of 0.01 m
   real(wp), parameter :: mus = 0.38_wp, mu2 = 0.64_wp, i0 = 0.279_wp, dg = 5.0e-3_wp
   real(wp), parameter :: rhos = 2500.0_wp, rhob = 1500.0_wp, g = 9.81_wp, h = 0.05_wp
   real(wp), parameter :: pi = acos(-1.0_wp)
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_layer_below_mu_s_stays_at_rest_on_every_shape()
   call test_layer_above_mu_s_flows()
   call test_saturated_layer_rests_and_flows_at_its_own_angle()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -5,25 +5,21 @@
 !> checks (tests/CMakeLists.txt, bad inputs). Measured errors and bounds: doc/verification.md,
 !> "A vibrating rigid body".
 program test_rigid_vibration
-  use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_COMM_WORLD
+  use dpmpm_test_main, only: start_tests, end_tests
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_fixed
   use dpmpm_simulation, only: simulation_t
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
   implicit none
   real(wp), parameter :: pi = acos(-1.0_wp)
   !> the body's constant velocity, the vibration's amplitude (m) and frequency (Hz), the step
   real(wp), parameter :: vel(2) = [0.1_wp, 0.0_wp], amp(2) = [0.0_wp, 0.01_wp], freq = 5.0_wp
   real(wp), parameter :: dt = 1.0e-3_wp
   integer, parameter :: nsteps = 350
-  integer :: status, rank
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call test_vibrating_body_follows_its_motion()
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

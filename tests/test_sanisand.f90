@@ -9,21 +9,19 @@
 !> keeps the point on its yield surface, a failure that is reported. Measured values and
 !> the margins of the bounds: doc/verification.md, "SANISAND".
 program test_sanisand
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
+  use dpmpm_test_main, only: start_tests, end_tests
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t
   use dpmpm_element_config, only: element_cfg_t
   use dpmpm_element_path, only: element_history_t, run_element, element_ok
   use dpmpm_materials, only: material_t, materials_from_config, init_state, stress_update
   use dpmpm_model_sanisand, only: sanisand_integrate, sanisand_yield
-  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_close, check_equal_int
   implicit none
   !> Toyoura sand: M and nu (the other constants are the defaults of &material)
   real(wp), parameter :: mcs = 1.25_wp, nu = 0.05_wp
   real(wp), parameter :: ec0 = 0.934_wp, lamc = 0.019_wp, xi = 0.7_wp, pat = 101.0e3_wp
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call test_undrained_loose_softens_to_the_critical_state()
   call test_undrained_dense_dilates_to_the_critical_state()
   call test_drained_loose_contracts_to_the_critical_state()
@@ -33,9 +31,7 @@ program test_sanisand
   call test_reversal_in_one_step_matches_many_small_ones()
   call test_spin_keeps_the_point_on_its_yield_surface()
   call test_failed_integration_is_reported()
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -11,8 +11,8 @@
 !> at the surface node. With `study` as the argument the program prints the errors at
 !> 20, 40, 80 and 160 cells instead of testing.
 program test_site_response
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size
+  use dpmpm_test_main, only: start_tests, end_tests
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, motion_series_t, bc_fixed, bc_roller, &
                           bc_free
@@ -20,16 +20,13 @@ program test_site_response
   use dpmpm_simulation, only: simulation_t
   use dpmpm_base_motion, only: base_face, base_velocity
   use dpmpm_site_response, only: layer_surface_velocity
-  use dpmpm_assert, only: begin_test, check, finish_tests, am_root
+  use dpmpm_assert, only: begin_test, check, am_root
   implicit none
   real(wp), parameter :: pi = acos(-1.0_wp)
   real(wp), parameter :: height = 10.0_wp, speed = 100.0_wp, density = 2000.0_wp
   real(wp), parameter :: f0 = 5.0_wp, t0 = 0.3_wp, amp = 0.01_wp, t_end = 1.0_wp
-  integer :: status, rank
   character(len=16) :: arg
-  call start_mpi()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  am_root = rank == 0
+  call start_tests()
   call get_command_argument(1, arg)
   if (arg == 'study') then
     call study()
@@ -42,9 +39,7 @@ program test_site_response
     call test_saturated_layer_follows_undrained_dalembert()
     call test_2d_column_between_tied_sides_follows_shear_dalembert()
   end if
-  status = finish_tests(MPI_COMM_WORLD)
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -8,14 +8,13 @@
 !> model's own update, so the two paths may part by more than one update's round-off;
 !> measured differences and bounds: doc/verification.md, "A user's UMAT".
 program test_umat_element
-  use dpmpm_mpi_start, only: start_mpi
-  use mpi_f08, only: MPI_Finalize
+  use dpmpm_test_main, only: start_tests, end_tests
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t, max_props
   use dpmpm_element_config, only: element_cfg_t
   use dpmpm_element_path, only: element_history_t, run_element, element_ok
   use dpmpm_materials, only: material_t, materials_from_config
-  use dpmpm_assert, only: begin_test, check, check_equal_int, finish_tests
+  use dpmpm_assert, only: begin_test, check, check_equal_int
   implicit none
   real(wp), parameter :: youngs = 1.0e7_wp, nu = 0.3_wp
   real(wp), parameter :: lam = 0.2_wp, kap = 0.05_wp, mcs = 1.0_wp, e0 = 1.2_wp, pm = 1.0e3_wp
@@ -25,17 +24,14 @@ program test_umat_element
   !> doc/verification.md, "A user's UMAT"); bound 5e-13 (7.7x).
   real(wp), parameter :: tol = 5.0e-13_wp
   character(len=16) :: arg
-  integer :: status
-  call start_mpi()
+  call start_tests()
   call get_command_argument(1, arg)
   if (arg == 'cam_clay') then
     call test_cam_clay_umat_follows_cam_clay_on_every_path()
   else
     call test_elastic_umat_follows_linear_elastic_on_every_path()
   end if
-  status = finish_tests()
-  call MPI_Finalize()
-  if (status /= 0) stop 1, quiet = .true.
+  call end_tests()
 
 contains
 

@@ -125,9 +125,7 @@ contains
   end function exact_surface
 
   !> Run the layer with a probe at the surface (x = H; in 2D the column's middle): its
-  !> vertical velocity after each step against d'Alembert's: the RMS of the difference over
-  !> the run and the difference of the peaks, both over the exact peak velocity, and the
-  !> same of the probe's acceleration (the velocity's change over each step) at the peak.
+  !> vertical velocity after each step against d'Alembert's (surface_errors).
   subroutine run_layer(ndim, ncells, nranks_used, e_rms, e_peak, e_acc, saturated)
     integer, intent(in) :: ndim, ncells
     integer, intent(out) :: nranks_used
@@ -135,26 +133,68 @@ contains
     logical, intent(in), optional :: saturated
     type(config_t) :: cfg
     real(wp) :: c
-    type(simulation_t) :: sim
-    type(motion_series_t) :: s
-    real(wp) :: ve, veold, sum2, peak_s, peak_e, apeak_s, apeak_e, told
-    real(wp), allocatable :: v(:), acc(:), t(:)
-    integer :: k
     cfg = layer(ndim, ncells)
     c = speed
     if (present(saturated)) then
       if (saturated) call saturate(cfg, c)
     end if
-    s = cfg%motion(ndim)
-    cfg%nprobes = 1
     cfg%probe_x(1) = merge(height, height/real(ncells, wp), ndim == 1)
+    call surface_errors(cfg, ndim, cfg%motion(ndim), c, nranks_used, e_rms, e_peak, e_acc)
+    if (am_root) print '(a,i0,a,i0,a,i0,a,3es11.3)', '  ', ndim, 'D, ', ncells, ' cells, ', &
+      nranks_used, ' ranks: RMS, peak velocity, peak acceleration errors', e_rms, e_peak, e_acc
+  end subroutine run_layer
+
+  !> The column of layer(2, ncells) shaken horizontally (the record along x, none along y)
+  !> between tied sides (&boundary condition = 'tied' at x- and x+): a shear wave at
+  !> c_s = sqrt(G/rho) = speed (E = 2 rho speed^2 with nu = 0). The probe's horizontal
+  !> velocity at the surface against d'Alembert's (surface_errors).
+  subroutine run_shear(ncells, nranks_used, e_rms, e_peak, e_acc)
+    integer, intent(in) :: ncells
+    integer, intent(out) :: nranks_used
+    real(wp), intent(out) :: e_rms, e_peak, e_acc
+    type(config_t) :: cfg
+    type(motion_series_t) :: none
+    integer :: nranks
+    cfg = layer(2, ncells)
+    cfg%bc(1:2) = bc_free
+    cfg%tied(1:2) = .true.
+    ! on 2 ranks the ranks split the column across: each owns one of the tied faces
+    call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+    if (nranks == 2) cfg%dims = [2, 1, 1]
+    cfg%materials(1)%youngs_modulus = 2.0_wp*density*speed**2
+    cfg%motion(1) = cfg%motion(2)
+    cfg%motion(2) = none
+    cfg%probe_x(1) = height/real(ncells, wp)
+    call surface_errors(cfg, 1, cfg%motion(1), speed, nranks_used, e_rms, e_peak, e_acc)
+    if (am_root) print '(a,i0,a,i0,a,3es11.3)', '  2D shear between tied sides, ', ncells, &
+      ' cells, ', nranks_used, ' ranks: RMS, peak velocity, peak acceleration errors', e_rms, &
+      e_peak, e_acc
+  end subroutine run_shear
+
+  !> Run cfg with one probe (its x given, y = H) and compare its velocity along axis a after
+  !> each step with d'Alembert's surface velocity for base motion s at wave speed c: the RMS
+  !> of the difference over the run and the difference of the peaks, both over the exact
+  !> peak velocity, and the same of the probe's acceleration (the velocity's change over
+  !> each step) at the peak.
+  subroutine surface_errors(cfg, a, s, c, nranks_used, e_rms, e_peak, e_acc)
+    type(config_t), intent(inout) :: cfg
+    integer, intent(in) :: a
+    type(motion_series_t), intent(in) :: s
+    real(wp), intent(in) :: c
+    integer, intent(out) :: nranks_used
+    real(wp), intent(out) :: e_rms, e_peak, e_acc
+    type(simulation_t) :: sim
+    real(wp) :: ve, veold, sum2, peak_e, apeak_e, told
+    real(wp), allocatable :: v(:), acc(:), t(:)
+    integer :: k
+    cfg%nprobes = 1
     cfg%probe_y(1) = height
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     nranks_used = sim%dec%nranks
     call sim%run()
     t = sim%probes%t(1:sim%probes%nrec)
-    v = sim%probes%vel(ndim, 1:sim%probes%nrec)
-    acc = sim%probes%acc(ndim, 1:sim%probes%nrec)
+    v = sim%probes%vel(a, 1:sim%probes%nrec)
+    acc = sim%probes%acc(a, 1:sim%probes%nrec)
     call check(sim%probes%nrec == sim%step, 'a record at every step')
     call sim%free()
     sum2 = 0.0_wp
@@ -170,70 +210,10 @@ contains
       veold = ve
       told = t(k)
     end do
-    peak_s = maxval(abs(v))
-    apeak_s = maxval(abs(acc))
-    e_rms = sqrt(sum2/size(t))/peak_e
-    e_peak = abs(peak_s - peak_e)/peak_e
-    e_acc = abs(apeak_s - apeak_e)/apeak_e
-    if (am_root) print '(a,i0,a,i0,a,i0,a,3es11.3,a,2es11.3)', '  ', ndim, 'D, ', ncells, &
-      ' cells, ', nranks_used, ' ranks: RMS, peak velocity, peak acceleration errors', &
-      e_rms, e_peak, e_acc, '; peaks v, a', peak_e, apeak_e
-  end subroutine run_layer
-
-  !> The column of layer(2, ncells) shaken horizontally (the record along x, none along y)
-  !> between tied sides (&boundary condition = 'tied' at x- and x+): a shear wave at
-  !> c_s = sqrt(G/rho) = speed (E = 2 rho speed^2 with nu = 0). The probe's horizontal
-  !> velocity at the surface against d'Alembert's; errors as run_layer's.
-  subroutine run_shear(ncells, nranks_used, e_rms, e_peak, e_acc)
-    integer, intent(in) :: ncells
-    integer, intent(out) :: nranks_used
-    real(wp), intent(out) :: e_rms, e_peak, e_acc
-    type(config_t) :: cfg
-    type(simulation_t) :: sim
-    type(motion_series_t) :: s, none
-    real(wp) :: ve, veold, sum2, peak_e, apeak_e, told
-    real(wp), allocatable :: v(:), acc(:), t(:)
-    integer :: k, nranks
-    cfg = layer(2, ncells)
-    cfg%bc(1:2) = bc_free
-    cfg%tied(1:2) = .true.
-    ! on 2 ranks the ranks split the column across: each owns one of the tied faces
-    call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-    if (nranks == 2) cfg%dims = [2, 1, 1]
-    cfg%materials(1)%youngs_modulus = 2.0_wp*density*speed**2
-    s = cfg%motion(2)
-    cfg%motion(1) = s
-    cfg%motion(2) = none
-    cfg%nprobes = 1
-    cfg%probe_x(1) = height/real(ncells, wp)
-    cfg%probe_y(1) = height
-    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
-    nranks_used = sim%dec%nranks
-    call sim%run()
-    t = sim%probes%t(1:sim%probes%nrec)
-    v = sim%probes%vel(1, 1:sim%probes%nrec)
-    acc = sim%probes%acc(1, 1:sim%probes%nrec)
-    call sim%free()
-    sum2 = 0.0_wp
-    peak_e = 0.0_wp
-    apeak_e = 0.0_wp
-    veold = 0.0_wp
-    told = 0.0_wp
-    do k = 1, size(t)
-      ve = exact_surface(s, t(k), speed)
-      sum2 = sum2 + (v(k) - ve)**2
-      peak_e = max(peak_e, abs(ve))
-      apeak_e = max(apeak_e, abs(ve - veold)/(t(k) - told))
-      veold = ve
-      told = t(k)
-    end do
     e_rms = sqrt(sum2/size(t))/peak_e
     e_peak = abs(maxval(abs(v)) - peak_e)/peak_e
     e_acc = abs(maxval(abs(acc)) - apeak_e)/apeak_e
-    if (am_root) print '(a,i0,a,i0,a,3es11.3)', '  2D shear between tied sides, ', ncells, &
-      ' cells, ', nranks_used, ' ranks: RMS, peak velocity, peak acceleration errors', e_rms, &
-      e_peak, e_acc
-  end subroutine run_shear
+  end subroutine surface_errors
 
   !> The errors against the cell count (doc/verification.md).
   subroutine study()

@@ -35,7 +35,7 @@ module dpmpm_probes
     integer(i8), allocatable :: sid(:), fid(:) !< (n): ids of the followed solid and fluid points
     integer, allocatable :: sloc(:), floc(:)  !< (n): their last local index (0 = not here)
     real(wp), allocatable :: sx0(:, :)        !< (nd, n): the solid points' places at the start
-    real(wp), allocatable :: disp(:, :)       !< (nd n, records): the solid point's x - x0
+    real(wp), allocatable :: disp(:, :)       !< (nd n, records): the solid point's x - x0, as frames
     real(wp), allocatable :: sig(:, :)        !< (6 n, records): its stress, Voigt xx yy zz yz xz xy
     real(wp), allocatable :: pw(:, :)         !< (n, records): the fluid point's pore pressure
   contains
@@ -84,7 +84,7 @@ contains
     self%fid = 0
     self%floc = 0
     if (present(fluid)) call nearest_points(fluid, places, comm, self%fid, self%floc)
-    ! The followed solid points' places now (x - x0 is the displacement recorded).
+    ! The followed solid points' places at the start of the run (written with the records).
     self%sx0 = 0.0_wp
     do k = 1, self%n
       j = self%sloc(k)
@@ -185,7 +185,7 @@ contains
         j = find_point(solid, self%sid(k), self%sloc(k))
         self%sloc(k) = j
         if (j > 0) then
-          pv(nd*(k - 1) + 1:nd*k) = solid%x(:, j) - self%sx0(:, k)
+          pv(nd*(k - 1) + 1:nd*k) = solid%x(:, j) - solid%x0(:, j)
           pv(nd*self%n + 6*(k - 1) + 1:nd*self%n + 6*k) = solid%stress(:, j)
         end if
         if (present(fluid) .and. self%fluid) then

@@ -437,6 +437,55 @@ def check_probe_reader(work):
     print("  uneven last step: " + r.stdout.splitlines()[0])
 
 
+def check_probe_pore_pressure_ratio(work):
+    """r_u of the probes from /probes stress and pore_pressure written here with h5py in
+    the layout of doc/output.md (2 probes in 2D): the pore pressure raised from its first
+    value u_0 by a known fraction of the first record's sigma'_v0 = -sigma_yy, read back
+    as that fraction; a record of one phase (no pore_pressure) refused."""
+    import h5py
+    from dpmpm import open_run
+    path = os.path.join(work, "probes_ru.h5")
+    m, n, d = 50, 2, 2
+    t = 0.01 * np.arange(1, m + 1)
+    frac = np.linspace(0.0, 1.0, m) ** 2
+    sv0 = np.array([26.0e3, 52.0e3])
+    u0 = np.array([49.05e3, 98.1e3])
+    sig = np.zeros((m, n, 6))
+    pw = np.zeros((m, n))
+    for k in range(n):
+        sig[:, k, 0] = -0.5 * sv0[k] * (1 - frac)
+        sig[:, k, 1] = -sv0[k] * (1 - frac)
+        pw[:, k] = u0[k] + frac * sv0[k]
+    with h5py.File(path, "w") as f:
+        f.attrs["ndim"] = np.int32(d)
+        g = f.create_group("probes")
+        g["time"] = t
+        g["step"] = np.arange(1, m + 1, dtype=float)
+        g["velocity"] = np.zeros((m, n * d))
+        g["acceleration"] = np.zeros((m, n * d))
+        g["position"] = np.array([[0.5, 5.0], [0.5, 3.0]])
+        g["displacement"] = np.zeros((m, n * d))
+        g["stress"] = sig.reshape(m, 6 * n)
+        g["pore_pressure"] = pw
+    with open_run(path) as run:
+        err = 0.0
+        for k in range(n):
+            ru = motion.probe_pore_pressure_ratio(motion.probe_history(run, k))
+            err = max(err, float(np.max(np.abs(ru - frac))))
+        report("r_u of two probes against the fraction of sigma'_v0 raised", err, 1e-15)
+        png = motion.plot_pore_pressure_ratios(run, os.path.join(work, "ru.png"))
+        assert os.path.getsize(png) > 0
+    with h5py.File(path, "r+") as f:
+        del f["probes/pore_pressure"]
+    with open_run(path) as run:
+        try:
+            motion.probe_pore_pressure_ratio(motion.probe_history(run, 0))
+        except KeyError as e:
+            print(f"  refused: {e}")
+        else:
+            raise AssertionError("r_u of a probe without pore pressure")
+
+
 # ----------------------------------------------------------------------- command
 def check_command(work):
     """python3 -m dpmpm motion on the pulse as a two-column file in g: exit 0, a PNG,
@@ -480,7 +529,8 @@ def check_command(work):
 GROUPS = {"spectra": [check_recurrence_exact, check_resonance, check_spectrum_limits,
                       check_integration_baseline, check_fourier],
           "intensity": [check_arias, check_pore_pressure_ratio],
-          "files": [check_files, check_run_readers, check_probe_reader],
+          "files": [check_files, check_run_readers, check_probe_reader,
+                    check_probe_pore_pressure_ratio],
           "command": [check_command]}
 
 

@@ -266,7 +266,11 @@ contains
       'friction 0.7 slid 9.5 % too far, with a soft pore fluid half the distance (doc/verification.md, '// &
       '"Larger friction: frictional flutter")')
     call warn_field_reach(self)
-    call self%probes%init(self%cfg, self%grid)
+    if (self%two_phase) then
+      call self%probes%init(self%cfg, self%grid, self%dec%comm, self%phase(1)%pts, self%phase(2)%pts)
+    else
+      call self%probes%init(self%cfg, self%grid, self%dec%comm, self%phase(1)%pts)
+    end if
     ! A restarted run keeps the frame schedule of the run it continues.
     if (len_trim(cfg%restart) == 0) call self%write_frame()
   end subroutine sim_init
@@ -626,9 +630,7 @@ contains
       self%dt = dt
       self%time = self%time + self%dt
       self%step = self%step + 1
-      if (self%probes%n > 0) call self%probes%sample(self%phase(1)%nvel, self%dec%alo, self%dec%olo, &
-                                                     self%dec%ohi, self%dec%comm, self%time, &
-                                                     self%step, self%dt)
+      if (self%probes%n > 0) call sample_probes(self)
       call check_state(self)
       if (self%exit_code /= 0) exit
       if (self%cfg%balance /= 'cells' .and. self%cfg%balance_every > 0 .and. self%dec%nranks > 1) then
@@ -697,6 +699,19 @@ contains
     end if
     if (self%stopped /= 0) call report_stop(self)
   end subroutine sim_run
+
+  !> The probes' records after a step (dpmpm_probes): the solid's nodes, the followed points.
+  subroutine sample_probes(self)
+    class(simulation_t), intent(inout) :: self
+    if (self%two_phase) then
+      call self%probes%sample(self%phase(1)%nvel, self%dec%alo, self%dec%olo, self%dec%ohi, &
+                              self%dec%comm, self%time, self%step, self%dt, self%phase(1)%pts, &
+                              self%phase(2)%pts)
+    else
+      call self%probes%sample(self%phase(1)%nvel, self%dec%alo, self%dec%olo, self%dec%ohi, &
+                              self%dec%comm, self%time, self%step, self%dt, self%phase(1)%pts)
+    end if
+  end subroutine sample_probes
 
   !> The diagnostics record (dpmpm_energy); when the run monitor stops the run for
   !> growth, the last frame and the verification records so far (benchmark errors, the

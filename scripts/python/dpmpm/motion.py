@@ -448,11 +448,17 @@ def diagnostics_series(run, name):
 class ProbeRecord:
     """The records of one probe of a run (/probes, doc/output.md): times (s), the nearest
     node's velocity (m/s) and acceleration (m/s^2) as (records, ndim) arrays, and the
-    node's position (m)."""
+    node's position (m); where the run has them, the followed solid point's displacement
+    (records, ndim) and stress (records, 6; Voigt xx yy zz yz xz xy, tension positive, the
+    effective stress in saturated soil) and the followed fluid point's pore pressure
+    (records,; Pa, compression positive), else None."""
     time: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
     position: np.ndarray
+    displacement: np.ndarray = None
+    stress: np.ndarray = None
+    pore_pressure: np.ndarray = None
 
 
 def probe_history(run, k):
@@ -468,7 +474,52 @@ def probe_history(run, k):
     m = len(g["time"])
     vel = g["velocity"][...].reshape(m, n, d)[:, k, :]
     acc = g["acceleration"][...].reshape(m, n, d)[:, k, :]
-    return ProbeRecord(g["time"][...], vel, acc, pos[k])
+    disp = g["displacement"][...].reshape(m, n, d)[:, k, :] if "displacement" in g else None
+    sig = g["stress"][...].reshape(m, n, 6)[:, k, :] if "stress" in g else None
+    pw = g["pore_pressure"][...].reshape(m, n)[:, k] if "pore_pressure" in g else None
+    return ProbeRecord(g["time"][...], vel, acc, pos[k], disp, sig, pw)
+
+
+def probe_pore_pressure_ratio(record, vertical=None):
+    """r_u(t) of a probe record (probe_history): the excess pore pressure of its fluid point
+    over the vertical effective stress of its solid point, both taken from the first record,
+    r_u = (u - u_0) / sigma'_v0. vertical: the axis of gravity (0-based; default the last
+    axis of the run, as a geostatic start has it)."""
+    if record.pore_pressure is None or record.stress is None:
+        raise KeyError("the probe has no pore pressure and stress (a run of one phase, or "
+                       "written before the probes recorded them)")
+    a = len(record.position) - 1 if vertical is None else vertical
+    sv0 = -record.stress[0, a]
+    if not sv0 > 0:
+        raise ValueError(f"sigma'_v0 = {sv0:g} Pa at the first record: not compressive")
+    return pore_pressure_ratio(record.pore_pressure, sv0)
+
+
+def plot_pore_pressure_ratios(run, out, dpi=110):
+    """A PNG of r_u(t) of every probe of an open run that has pore pressures, labelled by the
+    probe's place."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = len(np.atleast_2d(run.file["probes"]["position"][...]))
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for k in range(n):
+        pr = probe_history(run, k)
+        try:
+            ru = probe_pore_pressure_ratio(pr)
+        except ValueError:
+            continue   # a probe at the surface: no effective stress to divide by
+        ax.plot(pr.time, ru, lw=0.9, label=f"probe {k} at {', '.join(f'{x:g}' for x in pr.position)} m")
+    ax.axhline(1.0, color="k", lw=0.5, ls="--")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("excess pore pressure ratio r_u")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=dpi)
+    plt.close(fig)
+    return out
 
 
 def point_history(run, set_name, dataset, point_id, column=None):

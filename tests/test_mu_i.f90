@@ -8,6 +8,7 @@
 !> point".
 program test_mu_i
   use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_stress, only: ptau
   use dpmpm_kinds, only: wp
   use dpmpm_materials, only: material_t, materials_from_config, stress_update, init_state
   use dpmpm_config, only: material_cfg_t
@@ -47,17 +48,6 @@ contains
     real(wp), intent(in) :: inum
     mu_closed = mus + (mu2 - mus)/(i0/inum + 1.0_wp)
   end function mu_closed
-
-  !> Mean pressure (compression positive) and equivalent shear stress |s|/sqrt(2).
-  subroutine ptau(s, p, tau)
-    real(wp), intent(in) :: s(6)
-    real(wp), intent(out) :: p, tau
-    real(wp) :: d(6)
-    p = -(s(1) + s(2) + s(3))/3.0_wp
-    d = s
-    d(1:3) = d(1:3) + p
-    tau = sqrt(0.5_wp*sum(d(1:3)**2) + sum(d(4:6)**2))
-  end subroutine ptau
 
   !> Simple shear at the rate of inertial number inum from isotropic p0, nsteps steps of shear
   !> strain 1e-4 each, through mu_i_return (no spin): tau/p and the last I and rate.

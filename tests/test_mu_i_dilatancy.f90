@@ -9,6 +9,7 @@
 !> rheology with dilatancy".
 program test_mu_i_dilatancy
   use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_stress, only: ptau
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t
   use dpmpm_element_config, only: element_cfg_t
@@ -55,17 +56,6 @@ contains
     real(wp), intent(in) :: inum
     mu_closed = mus + (mu2 - mus)*inum/(i0 + inum)
   end function mu_closed
-
-  !> Mean pressure (compression positive) and equivalent shear stress |s|/sqrt(2).
-  subroutine ptau(s, p, tau)
-    real(wp), intent(in) :: s(6)
-    real(wp), intent(out) :: p, tau
-    real(wp) :: d(6)
-    p = -(s(1) + s(2) + s(3))/3.0_wp
-    d = s
-    d(1:3) = d(1:3) + p
-    tau = sqrt(0.5_wp*sum(d(1:3)**2) + sum(d(4:6)**2))
-  end subroutine ptau
 
   !> A pseudo-random number in (0, 1) (the minimal standard generator of Park & Miller,
   !> whose products stay within 64-bit integers: the same draws on every build).

@@ -92,24 +92,18 @@ contains
     real(wp), intent(inout) :: stress(6)
     real(wp), intent(out) :: gdot, inum
     real(wp), intent(in), optional :: phi
-    real(wp) :: p, dv, s(6), tau
+    real(wp) :: p, s(6), tau
     gdot = 0.0_wp
     inum = 0.0_wp
     if (mat%mui_k > 0.0_wp .and. present(phi)) then
       call dilatant_return(mat, dt, deps, stress, gdot, inum, phi)
       return
     end if
-    ! elastic trial: p_tr = p_n - K tr(deps), s_tr = s_n + 2 G dev(deps)
-    dv = deps(1) + deps(2) + deps(3)
-    p = -(stress(1) + stress(2) + stress(3))/3.0_wp - mat%bulk*dv
+    call elastic_trial(mat, deps, stress, p, s, tau)
     if (p <= 0.0_wp) then
       stress = 0.0_wp
       return
     end if
-    s(1:3) = stress(1:3) - (stress(1) + stress(2) + stress(3))/3.0_wp &
-             + 2.0_wp*mat%mu*(deps(1:3) - dv/3.0_wp)
-    s(4:6) = stress(4:6) + mat%mu*deps(4:6)
-    tau = sqrt(0.5_wp*(s(1)**2 + s(2)**2 + s(3)**2) + sum(s(4:6)**2))
     ! (a step of no time, dt = 0, has no rate to flow at: it stays elastic)
     if (tau > mat%mui_mu_s*p .and. dt > 0.0_wp) then
       gdot = mu_i_rate(mat, dt, tau, p)
@@ -120,6 +114,21 @@ contains
     stress(1:3) = s(1:3) - p
     stress(4:6) = s(4:6)
   end subroutine mu_i_return
+
+  !> The elastic trial of a step: p_tr = p_n - K tr(deps), s_tr = s_n + 2 G dev(deps) (s, tau
+  !> = |s_tr|/sqrt(2)).
+  pure subroutine elastic_trial(mat, deps, stress, p, s, tau)
+    type(material_t), intent(in) :: mat
+    real(wp), intent(in) :: deps(6), stress(6)
+    real(wp), intent(out) :: p, s(6), tau
+    real(wp) :: dv
+    dv = deps(1) + deps(2) + deps(3)
+    p = -(stress(1) + stress(2) + stress(3))/3.0_wp - mat%bulk*dv
+    s(1:3) = stress(1:3) - (stress(1) + stress(2) + stress(3))/3.0_wp &
+             + 2.0_wp*mat%mu*(deps(1:3) - dv/3.0_wp)
+    s(4:6) = stress(4:6) + mat%mu*deps(4:6)
+    tau = sqrt(0.5_wp*(s(1)**2 + s(2)**2 + s(3)**2) + sum(s(4:6)**2))
+  end subroutine elastic_trial
 
   !> The return with dilatancy (doc/theory.md 5.9, "Dilatancy"): the point of volume
   !> fraction phi (at the start of the step) flows with the plastic shear rate x and the
@@ -134,20 +143,15 @@ contains
     real(wp), intent(in) :: dt, deps(6), phi
     real(wp), intent(inout) :: stress(6)
     real(wp), intent(out) :: gdot, inum
-    real(wp) :: ptr, dv, s(6), tau, xa, xb, fa, fb, x, f, p, pa, pb
+    real(wp) :: ptr, s(6), tau, xa, xb, fa, fb, x, f, p, pa, pb
     integer :: it, side
     gdot = 0.0_wp
     inum = 0.0_wp
-    dv = deps(1) + deps(2) + deps(3)
-    ptr = -(stress(1) + stress(2) + stress(3))/3.0_wp - mat%bulk*dv
+    call elastic_trial(mat, deps, stress, ptr, s, tau)
     if (ptr <= 0.0_wp) then
       stress = 0.0_wp
       return
     end if
-    s(1:3) = stress(1:3) - (stress(1) + stress(2) + stress(3))/3.0_wp &
-             + 2.0_wp*mat%mu*(deps(1:3) - dv/3.0_wp)
-    s(4:6) = stress(4:6) + mat%mu*deps(4:6)
-    tau = sqrt(0.5_wp*(s(1)**2 + s(2)**2 + s(3)**2) + sum(s(4:6)**2))
     p = ptr
     if (tau > max(mat%mui_mu_s + mat%mui_k*(phi - mat%mui_phic), 0.0_wp)*ptr .and. dt > 0.0_wp) then
       ! f(0) = tau - (mu_s + tan psi_0) p_tr > 0, f(tau/(G dt)) = -(friction) p <= 0

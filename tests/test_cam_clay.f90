@@ -13,6 +13,7 @@ program test_cam_clay
   use dpmpm_model_cam_clay, only: cam_clay_return
   use dpmpm_assert, only: begin_test, check, check_close
   use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_stress, only: pq
   implicit none
   real(wp), parameter :: lam = 0.2_wp, kap = 0.05_wp, mcs = 1.0_wp, e0 = 1.2_wp, p0 = 1.0e5_wp
   call start_tests()
@@ -38,17 +39,6 @@ contains
                                                min_pressure=0.0_wp)], mats)
     mat = mats(1)
   end function clay
-
-  !> Mean effective stress (compression positive) and deviator of a Voigt stress.
-  subroutine pq(s, p, q)
-    real(wp), intent(in) :: s(6)
-    real(wp), intent(out) :: p, q
-    real(wp) :: d(6)
-    p = -(s(1) + s(2) + s(3))/3.0_wp
-    d = s
-    d(1:3) = d(1:3) + p
-    q = sqrt(1.5_wp*(d(1)**2 + d(2)**2 + d(3)**2 + 2.0_wp*sum(d(4:6)**2)))
-  end subroutine pq
 
   !> An isotropic stress p (compression positive) and its state for ocr: [p_c, e0].
   subroutine start(mat, p, s, st)

@@ -22,6 +22,7 @@ program test_mu_i_incline
   call test_layer_below_mu_s_stays_at_rest_on_every_shape()
   call test_layer_above_mu_s_flows()
   call test_saturated_layer_rests_and_flows_at_its_own_angle()
+  call test_saturated_dense_layer_creeps_and_loose_layer_runs()
   call end_tests()
 
 contains
@@ -66,10 +67,14 @@ contains
   !> points within 0.03 m of the middle in the lower half of the layer (y < h/2; between the
   !> walls, 0.1 m apart, this leaves out the two columns of cells at each wall: the corner of
   !> a wall and the fixed base yields a little in the transient, 1.3e-4).
-  subroutine run(cfg, vmax, vmean, gmin, gmax)
+  !> (With dpore: on every rank, the mean excess over hydrostatic, rho_f g cos(theta) (h - y)
+  !> at the point's height y, of the pore pressure of the fluid points within 0.03 m of the
+  !> middle in the lower half of the layer, at incline theta.)
+  subroutine run(cfg, vmax, vmean, gmin, gmax, dpore, theta)
     type(config_t), intent(in) :: cfg
     real(wp), intent(out) :: vmax, vmean
-    real(wp), intent(out), optional :: gmin, gmax
+    real(wp), intent(out), optional :: gmin, gmax, dpore
+    real(wp), intent(in), optional :: theta
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
     real(wp), allocatable :: x(:, :), v(:, :), st(:, :)
@@ -83,6 +88,14 @@ contains
         mid = abs(pts%x(1, 1:n) - sum(pts%x(1, 1:n))/n) < 0.03_wp .and. pts%x(2, 1:n) < 0.5_wp*h
         gmin = minval(pts%state(1, 1:n), mask=mid)
         gmax = maxval(pts%state(1, 1:n), mask=mid)
+      end associate
+    end if
+    if (present(dpore)) then
+      associate (pts => sim%phase(2)%pts)
+        n = pts%n
+        mid = abs(pts%x(1, 1:n) - sum(pts%x(1, 1:n))/n) < 0.03_wp .and. pts%x(2, 1:n) < 0.5_wp*h
+        dpore = sum(pts%pressure(1:n) - 1000.0_wp*g*cos(theta*pi/180.0_wp)*(h - pts%x(2, 1:n)), &
+                    mask=mid)/count(mid)
       end associate
     end if
     call sim%gather_points(ids, x, v, st)
@@ -217,5 +230,43 @@ contains
       call check(vmean > 0.0_wp, 'moves down the slope at 15 degrees')
     end if
   end subroutine test_saturated_layer_rests_and_flows_at_its_own_angle
+
+  !> Dilatancy in the saturated layer at 15 degrees (doc/theory.md 5.9,
+  !> "Dilatancy"; K = 4, phi_c = 0.6, a = 0.2; the grains keep rho_b = 1500 kg/m^3 of the
+  !> layer above, so only the packing differs): the dense packing (porosity 0.38, phi = 0.62)
+  !> dilates as it starts to shear and draws the water in, so its pore pressure falls below
+  !> hydrostatic and it moves slower than the layer without dilatancy; the loose one
+  !> (porosity 0.42, phi = 0.58) contracts, its pore pressure rises more than that of the
+  !> layer without dilatancy (whose start raises it too) and it moves faster. Free ends,
+  !> 0.05 s. Measured (doc/verification.md, "The mu(I) rheology with dilatancy"): 1.8e-4,
+  !> 0.023, 0.056 m/s; -167, +174, +459 Pa.
+  subroutine test_saturated_dense_layer_creeps_and_loose_layer_runs()
+    real(wp) :: v(3), dp(3), vmax, gmin, gmax
+    real(wp), parameter :: porosity(3) = [0.38_wp, 0.4_wp, 0.42_wp]
+    type(config_t) :: cfg
+    integer :: k
+    call begin_test('saturated_dense_layer_creeps_and_loose_layer_runs')
+    do k = 1, 3
+      cfg = saturated_layer(15.0_wp, .false., 0.05_wp)
+      cfg%regions(1)%porosity = porosity(k)
+      cfg%materials(1)%density = rhob/(1.0_wp - porosity(k))
+      if (k /= 2) then
+        cfg%materials(1)%dilatancy_k = 4.0_wp
+        cfg%materials(1)%critical_fraction = 0.6_wp
+        cfg%materials(1)%fraction_slope = 0.2_wp
+        cfg%materials(1)%volume_fraction = 1.0_wp - porosity(k)
+      end if
+      call run(cfg, vmax, v(k), gmin, gmax, dp(k), 15.0_wp)
+    end do
+    if (am_root) then
+      print '(a,3es11.3)', '  mean speed in the middle, dense / no dilatancy / loose (m/s):', v
+      print '(a,3es11.3)', '  mean excess pore pressure, lower half (Pa):                 ', dp
+      call check(dp(1) < 0.0_wp, 'the dense layer draws water in (suction)')
+      call check(dp(3) > dp(2), 'the loose layer has more excess pore pressure than the one '// &
+                 'without dilatancy')
+      call check(v(1) < v(2), 'the dense layer is slower than the one without dilatancy')
+      call check(v(3) > v(2), 'the loose layer is faster than the one without dilatancy')
+    end if
+  end subroutine test_saturated_dense_layer_creeps_and_loose_layer_runs
 
 end program test_mu_i_incline

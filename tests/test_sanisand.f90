@@ -10,6 +10,7 @@
 !> the margins of the bounds: doc/verification.md, "SANISAND".
 program test_sanisand
   use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_stress, only: pq
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: material_cfg_t
   use dpmpm_element_config, only: element_cfg_t
@@ -370,16 +371,5 @@ contains
     call init_state(mat, 1, 1, [1], ss, sts)
     st = sts(:, 1)
   end subroutine start
-
-  !> p' (compression positive) and q of a Voigt stress.
-  subroutine pq(s, p, q)
-    real(wp), intent(in) :: s(6)
-    real(wp), intent(out) :: p, q
-    real(wp) :: d(6)
-    p = -(s(1) + s(2) + s(3))/3.0_wp
-    d = s
-    d(1:3) = d(1:3) + p
-    q = sqrt(1.5_wp*(d(1)**2 + d(2)**2 + d(3)**2 + 2.0_wp*sum(d(4:6)**2)))
-  end subroutine pq
 
 end program test_sanisand

@@ -364,6 +364,26 @@ contains
     if (.not. real_ok(m%grain_density, ge=0.0_wp)) call add_value(pb, g_material, k, &
       'grain_density', rtoa(m%grain_density), 'must be >= 0 (kg/m^3): rho_s of the inertial '// &
       'number; 0 takes density')
+    if (.not. real_ok(m%dilatancy_k, ge=0.0_wp)) then
+      call add_value(pb, g_material, k, 'dilatancy_k', rtoa(m%dilatancy_k), 'must be >= 0: K of '// &
+                     'the dilatancy tan(psi) = K (phi - phi_eq(I)); 0 for none')
+    else if (m%dilatancy_k > 0.0_wp) then
+      if (.not. real_ok(m%critical_fraction, gt=0.0_wp, lt=1.0_wp)) call add_value(pb, g_material, &
+        k, 'critical_fraction', rtoa(m%critical_fraction), 'must be in (0, 1) with dilatancy_k > 0: '// &
+        'the steady volume fraction phi_c of slow flow (about 0.6 for glass beads)')
+      if (.not. real_ok(m%fraction_slope, ge=0.0_wp)) call add_value(pb, g_material, k, &
+        'fraction_slope', rtoa(m%fraction_slope), 'must be >= 0: a in phi_eq(I) = phi_c - a I')
+      if (.not. real_ok(m%volume_fraction, ge=0.0_wp, lt=1.0_wp)) then
+        call add_value(pb, g_material, k, 'volume_fraction', rtoa(m%volume_fraction), &
+                       'must be in [0, 1): the volume fraction phi of the points as placed')
+      else if (m%volume_fraction == 0.0_wp .and. (m%grain_density == 0.0_wp .or. &
+                                                  m%density >= m%grain_density)) then
+        call add_value(pb, g_material, k, 'volume_fraction', rtoa(m%volume_fraction), &
+                       'must be given with dilatancy_k > 0 when density/grain_density is not '// &
+                       'below 1: the volume fraction of the points as placed (1 - porosity for '// &
+                       'the skeleton of a saturated soil)')
+      end if
+    end if
   end subroutine check_mu_i
 
   !> max_dilation of a soil that takes it: 0 (no bound) or > 1.
@@ -389,6 +409,14 @@ contains
       'grain_diameter', rtoa(m%grain_diameter), why)
     if (m%grain_density /= d%grain_density) call add_warning(pb, g_material, k, &
       'grain_density', rtoa(m%grain_density), why)
+    if (m%dilatancy_k /= d%dilatancy_k) call add_warning(pb, g_material, k, &
+      'dilatancy_k', rtoa(m%dilatancy_k), why)
+    if (m%critical_fraction /= d%critical_fraction) call add_warning(pb, g_material, k, &
+      'critical_fraction', rtoa(m%critical_fraction), why)
+    if (m%fraction_slope /= d%fraction_slope) call add_warning(pb, g_material, k, &
+      'fraction_slope', rtoa(m%fraction_slope), why)
+    if (m%volume_fraction /= d%volume_fraction) call add_warning(pb, g_material, k, &
+      'volume_fraction', rtoa(m%volume_fraction), why)
   end subroutine warn_mu_i_variables
 
   !> Strength parameters of a mohr_coulomb or drucker_prager material k.

@@ -43,6 +43,8 @@ module dpmpm_material_params
     !> diameter d (m) and the grain density rho_s of the inertial number (kg/m^3)
     real(wp) :: mui_mu_s = 0.0_wp, mui_mu_2 = 0.0_wp, mui_i0 = 0.0_wp
     real(wp) :: mui_diameter = 0.0_wp, mui_grain_density = 0.0_wp
+    !> mu_i dilatancy: tan(psi) = mui_k (phi - mui_phic + mui_slope I), phi = mui_phi0 V0/V
+    real(wp) :: mui_k = 0.0_wp, mui_phic = 0.0_wp, mui_slope = 0.0_wp, mui_phi0 = 0.0_wp
     !> the state values a point of this material keeps (dpmpm_model_table's material_nstate)
     integer :: nstate = 0
     !> umat (dpmpm_model_umat): PROPS (umat_nprops of them), NSTATV and CMNAME

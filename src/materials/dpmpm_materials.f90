@@ -143,6 +143,11 @@ contains
         mats(k)%mui_grain_density = cfgs(k)%grain_density
         mats(k)%max_dilation = cfgs(k)%max_dilation
         if (mats(k)%mui_grain_density == 0.0_wp) mats(k)%mui_grain_density = cfgs(k)%density
+        mats(k)%mui_k = cfgs(k)%dilatancy_k
+        mats(k)%mui_phic = cfgs(k)%critical_fraction
+        mats(k)%mui_slope = cfgs(k)%fraction_slope
+        mats(k)%mui_phi0 = cfgs(k)%volume_fraction
+        if (mats(k)%mui_phi0 == 0.0_wp) mats(k)%mui_phi0 = cfgs(k)%density/mats(k)%mui_grain_density
       end if
       mats(k)%nstate = material_nstate(mats(k)%model, cfgs(k)%umat_nstatev)
       if (mats(k)%model == model_umat) then

@@ -10,7 +10,8 @@ fields of scripts/c1_study.py --shape pair), runs each on every rank count of --
 prints one table row per run: how it ended, the steps and run time, the monitor's largest
 (kinetic + stored) / (work + initial) and largest balance error and its warnings, the
 kinetic energy left against its peak, the runout (farthest point and end of the deposit),
-the height, and how far the end of the deposit moved over the last half second.
+the height, and over the last half second how far the end of the deposit moved, how many
+points moved by more than 1 mm and the largest move.
 
     python3 scripts/mu_i_hard_cases.py --bin build/release/dpmpm --workdir out/mu_i_hard \\
         [--ratio 2] [--cell 0.02] [--t-scale 2] [--ranks 1 2] [--shapes linear pair ...]
@@ -44,14 +45,17 @@ SHAPES = {
 }
 
 
-def deposit_end_moved(path, cell):
-    """How far the end of the connected deposit moved over the last half second (m)."""
+def last_motion(path, cell):
+    """Over the last half second: how far the end of the connected deposit moved (m), how
+    many points moved by more than 1 mm, and the largest move of a point (m)."""
     with dpmpm.open_run(path) as run:
         last = run.frames[-1]
         back = run.frame_at(max(0.0, last.time - 0.5))
-        e1 = c1_study.deposit_end(last["solid"]["x"][:, 0], cell)
-        e0 = c1_study.deposit_end(back["solid"]["x"][:, 0], cell)
-    return e1 - e0
+        x1, x0 = last["solid"]["x"], back["solid"]["x"]
+        e1 = c1_study.deposit_end(x1[:, 0], cell)
+        e0 = c1_study.deposit_end(x0[:, 0], cell)
+    d = np.linalg.norm(x1 - x0, axis=1)
+    return e1 - e0, int((d > 1.0e-3).sum()), d.max()
 
 
 def main():
@@ -88,17 +92,19 @@ def main():
             if not os.path.exists(h5):
                 continue
             m = c1_study.measure(h5, args.ratio, args.cell)
-            rows.append(dict(m, shape=shape, ranks=ranks, how=how,
-                             moved=deposit_end_moved(h5, args.cell)))
+            moved, nmoved, dmax = last_motion(h5, args.cell)
+            rows.append(dict(m, shape=shape, ranks=ranks, how=how, moved=moved, nmoved=nmoved,
+                             dmax=dmax))
     print("| shape | ranks | how it ended | t (s) | steps | wall (s) | monitor (KE + stored)/"
           "(work + initial) | balance error | warnings | KE left / peak | (L−L0)/L0 farthest "
-          "| deposit end | H/L0 | end of the deposit moved over the last 0.5 s (m) |")
+          "| deposit end | H/L0 | over the last 0.5 s: end of the deposit moved (m), points "
+          "moved > 1 mm, largest move (m) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['shape']} | {r['ranks']} | {r['how']} | {r['t']:.2f} | {r['steps']} | "
               f"{r['wall']:.0f} | {r['ratio']:.3f} | {r['balance']:.1e} | {r['warnings']} | "
               f"{r['ke']:.1e} | {r['runout']:.2f} | {r['end']:.2f} | {r['height']:.2f} | "
-              f"{r['moved']:.1e} |")
+              f"{r['moved']:.1e}, {r['nmoved']}, {r['dmax']:.1e} |")
     return 0 if all(np.isfinite(r["ratio"]) for r in rows) else 1
 
 

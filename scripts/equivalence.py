@@ -39,6 +39,7 @@ SCENES = {
     "c1_a2": 0.05,
     "cam_clay_undrained_2d": 0.2,
     "c1_3d": 0.02,
+    "c1_mu_i_a2": 0.05,
     "consolidation_2d": 0.1,
     "dam_break_dry_bed_2d": 0.05,
     "dam_seepage_2d": 0.1,

@@ -1,10 +1,13 @@
 !> The dry column collapse with the mu(I) rheology, inputs/c1_mu_i_a2.nml (its path is the
 !> argument; a = H0/L0 = 2, L0 = 0.2 m), on cells of 2 cm (half the scene's resolution) to
 !> 1.2 s: the front of the connected deposit has stopped (it moves less than a cell from
-!> 1.0 to 1.2 s), its runout lies within the envelope of the experiments of Lube et al.
-!> (2005) and Lajeunesse et al. (2005), widened by the error measured for this scene and
-!> a margin, and the final height within its law likewise. Measured numbers and margins:
-!> doc/verification.md, "Column collapse with the mu(I) rheology".
+!> 1.0 to 1.2 s). Its runout does NOT lie within the envelope of the experiments of Lube et
+!> al. (2005) and Lajeunesse et al. (2005): it runs 12 % beyond the upper law (1.8 a) on these
+!> cells, and further on finer ones (doc/verification.md). The test holds the model to what
+!> it does: the runout no more than 25 % beyond the envelope (the 12 % measured and a margin)
+!> and not short of it, and the final height, 24 % below a^0.4, no more than 35 % off. A
+!> change that moves the collapse further from the experiments fails it. Measured numbers
+!> and margins: doc/verification.md, "Column collapse with the mu(I) rheology".
 program test_c1_mu_i
   use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
@@ -21,7 +24,7 @@ program test_c1_mu_i
   character(len=512) :: path
   call start_tests()
   call get_command_argument(1, path)
-  call test_collapse_runs_out_within_the_experiments_envelope()
+  call test_collapse_runs_out_no_further_beyond_the_experiments_than_measured()
   call end_tests()
 
 contains
@@ -57,14 +60,14 @@ contains
   !> Lube et al. (2005): (L - L0)/L0 = 1.2 a below a0, 1.9 a^(2/3) above, a0 = 1.8 to 2.8;
   !> Lajeunesse et al. (2005): 1.8 a below a0 = 3 (doc/theory.md 9.6). At a = 2 the
   !> envelope of the two is [2.4, 3.6]; the final height H/L0 = a^0.4.
-  subroutine test_collapse_runs_out_within_the_experiments_envelope()
+  subroutine test_collapse_runs_out_no_further_beyond_the_experiments_than_measured()
     type(config_t) :: cfg
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
     real(wp), allocatable :: x(:, :), v(:, :), s(:, :)
     real(wp) :: half, runout_end, runout_far, height, lo, hi, end_before
     integer :: st
-    call begin_test('collapse_runs_out_within_the_experiments_envelope')
+    call begin_test('collapse_runs_out_no_further_beyond_the_experiments_than_measured')
     call read_input(trim(path), MPI_COMM_WORLD, cfg, st)
     call check_equal_int(st, 0, 'the scene reads')
     if (st /= 0) return
@@ -92,9 +95,9 @@ contains
     hi = 1.8_wp*a
     call check(runout_end > lo*(1.0_wp - runout_margin) .and. &
                runout_end < hi*(1.0_wp + runout_margin), &
-               'the end of the deposit within the envelope of the experiments and its margin')
+               'the end of the deposit no further beyond the envelope than measured (12 %) and a margin')
     call check(height > a**0.4_wp*(1.0_wp - height_margin) .and. &
                height < a**0.4_wp*(1.0_wp + height_margin), 'the final height near a^0.4')
-  end subroutine test_collapse_runs_out_within_the_experiments_envelope
+  end subroutine test_collapse_runs_out_no_further_beyond_the_experiments_than_measured
 
 end program test_c1_mu_i

@@ -24,7 +24,7 @@ program test_c1_mu_i
   character(len=512) :: path
   call start_tests()
   call get_command_argument(1, path)
-  call test_collapse_runs_out_no_further_beyond_the_experiments_than_measured()
+  call test_runout_beyond_experiments_no_more_than_measured()
   call end_tests()
 
 contains
@@ -60,14 +60,14 @@ contains
   !> Lube et al. (2005): (L - L0)/L0 = 1.2 a below a0, 1.9 a^(2/3) above, a0 = 1.8 to 2.8;
   !> Lajeunesse et al. (2005): 1.8 a below a0 = 3 (doc/theory.md 9.6). At a = 2 the
   !> envelope of the two is [2.4, 3.6]; the final height H/L0 = a^0.4.
-  subroutine test_collapse_runs_out_no_further_beyond_the_experiments_than_measured()
+  subroutine test_runout_beyond_experiments_no_more_than_measured()
     type(config_t) :: cfg
     type(simulation_t) :: sim
     integer(i8), allocatable :: ids(:)
     real(wp), allocatable :: x(:, :), v(:, :), s(:, :)
     real(wp) :: half, runout_end, runout_far, height, lo, hi, end_before
     integer :: st
-    call begin_test('collapse_runs_out_no_further_beyond_the_experiments_than_measured')
+    call begin_test('runout_beyond_experiments_no_more_than_measured')
     call read_input(trim(path), MPI_COMM_WORLD, cfg, st)
     call check_equal_int(st, 0, 'the scene reads')
     if (st /= 0) return
@@ -98,6 +98,6 @@ contains
                'the end of the deposit no further beyond the envelope than measured (12 %) and a margin')
     call check(height > a**0.4_wp*(1.0_wp - height_margin) .and. &
                height < a**0.4_wp*(1.0_wp + height_margin), 'the final height near a^0.4')
-  end subroutine test_collapse_runs_out_no_further_beyond_the_experiments_than_measured
+  end subroutine test_runout_beyond_experiments_no_more_than_measured
 
 end program test_c1_mu_i

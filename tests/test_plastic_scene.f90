@@ -163,9 +163,9 @@ contains
 
   !> Half of a rigid strip footing B = 0.6 m (0.3 m x 0.2 m) pushed at 0.06 m/s into Tresca
   !> soil with weight (c = 25 kPa, E = 20 MPa, nu = 0.3, tensile_strength 0, geostatic start)
-  !> 3 m x 1.5 m between rollers on a fixed base, h = 0.1 m, cell smoothing, for 0.75 s: to
-  !> a settlement of 0.075 B, some ten times the settlement at which it fails. Points at the
-  !> footing's corner open at the cut-off. The kinetic energy must stay that of the
+  !> 3 m x 1.5 m between rollers on a fixed base, h = 0.1 m, cell smoothing, for 0.75 s: q/c
+  !> passes 2 + pi at a settlement of 0.03 B (0.31 s), the push goes on to 0.075 B. Points
+  !> at the footing's corner open at the cut-off. The kinetic energy must stay that of the
   !> flowing mechanism. The same footing on weightless soil has no rest state: its surface
   !> layer is lifted and never pulled back (nothing pulls down at a surface without weight or
   !> tension; doc/verification.md "Tension cut-off: opening without work"): its kinetic energy

@@ -172,8 +172,8 @@ contains
   !> reaches 14.5 J/m at 0.75 s. Measured here (the monitor's largest kinetic energy at a
   !> record, the start of the push): 1.93 J/m on 1 and 2 ranks, debug and release (the
   !> weightless footing without the cut-off: 1.97 J/m). Bound 4 J/m (twice the measured),
-  !> which the weightless footing with the cut-off passes at 0.36 s. q/c over the last fifth 6.42 (the grid's excess over 5.14 at
-  !> h = B/6). 1 and 2 ranks.
+  !> which the weightless footing with the cut-off passes at 0.36 s. q/c over the last
+  !> fifth 6.42 (the grid's excess over 5.14 at h = B/6). 1 and 2 ranks.
   subroutine test_footing_under_weight_far_past_failure_stays_calm()
     real(wp), parameter :: c = 2.5e4_wp, vf = 0.06_wp, b = 0.6_wp, nc = 2.0_wp + acos(-1.0_wp)
     type(config_t) :: cfg

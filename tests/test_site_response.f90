@@ -509,7 +509,7 @@ contains
     logical :: bad
     real(wp), parameter :: cfls(10) = [1.0_wp, 1.2_wp, 1.4_wp, 1.6_wp, 1.8_wp, 2.0_wp, 2.2_wp, 2.4_wp, &
                                        2.6_wp, 2.8_wp]
-    real(wp), parameter :: cfl0(5) = [0.9_wp, 0.95_wp, 1.0_wp, 1.05_wp, 1.1_wp]
+    real(wp), parameter :: cfl0(6) = [1.0_wp, 1.2_wp, 1.4_wp, 1.6_wp, 1.8_wp, 2.0_wp]
     do j = 1, size(cfls)
       call run_damped(1, 80, cfls(j), nr, e1, e2, e3, bad)
     end do

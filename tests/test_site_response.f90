@@ -562,20 +562,21 @@ contains
   end subroutine test_1d_damped_layer_follows_the_transfer_function
 
   !> The damped layer as a 2D column two cells wide between tied sides, shaken across (a
-  !> shear wave), 80 cells, against the same solution. Measured (doc/verification.md), 1 rank
-  !> and 2 ranks that each own one tied face, the same digits: RMS error of the surface
-  !> velocity 1.21e-3 of the peak, of the surface acceleration 1.98e-3, peak acceleration
-  !> 8.2e-4; bounds measured + 50 %.
+  !> shear wave), against the same solution; 40 cells, to keep the test short on 2 ranks
+  !> (the lowered step doubles the steps). Measured (doc/verification.md), 1 rank and 2
+  !> ranks that each own one tied face, the same digits: RMS error of the surface velocity
+  !> 4.91e-3 of the peak, of the surface acceleration 8.00e-3, peak acceleration 1.4e-3;
+  !> bounds measured + 50 %.
   subroutine test_2d_damped_tied_column_follows_the_transfer_function()
     real(wp) :: e_v, e_a, e_pa
     integer :: nr
     logical :: bad
     call begin_test('2d_damped_tied_column_follows_the_transfer_function')
-    call run_damped(2, 80, 0.5_wp, nr, e_v, e_a, e_pa, bad)
+    call run_damped(2, 40, 0.5_wp, nr, e_v, e_a, e_pa, bad)
     call check(.not. bad, 'stable')
-    call check(e_v <= 1.8e-3_wp, 'RMS of the surface velocity error below 1.8e-3 of the peak')
-    call check(e_a <= 3.0e-3_wp, 'RMS of the surface acceleration error below 3.0e-3 of the peak')
-    call check(e_pa <= 1.3e-3_wp, 'peak surface acceleration within 1.3e-3')
+    call check(e_v <= 7.4e-3_wp, 'RMS of the surface velocity error below 7.4e-3 of the peak')
+    call check(e_a <= 1.2e-2_wp, 'RMS of the surface acceleration error below 1.2e-2 of the peak')
+    call check(e_pa <= 2.2e-3_wp, 'peak surface acceleration within 2.2e-3')
   end subroutine test_2d_damped_tied_column_follows_the_transfer_function
 
 end program test_site_response

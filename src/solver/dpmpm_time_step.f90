@@ -46,7 +46,14 @@ contains
     end if
     crit = minval(self%grid%h(1:self%nd))/rate
     call rayleigh_coefficients(self%cfg, alpha, beta)
-    if (beta > 0.0_wp) crit = crit*damped_step_factor(beta, crit)
+    if (beta > 0.0_wp) then
+      if (self%dt_first <= 0.0_wp) then
+        write (line, '(a,es10.3,a,es10.3,a,f6.3,a)') 'Rayleigh damping: alpha ', alpha, ' 1/s, beta ', beta, &
+          ' s; the stable step is ', damped_step_factor(beta, crit), ' of the undamped one (doc/theory.md 7.3)'
+        call self%log%info(trim(line))
+      end if
+      crit = crit*damped_step_factor(beta, crit)
+    end if
     if (self%cfg%dt > 0.0_wp) then
       if (self%cfg%dt > crit) then
         write (line, '(a,es11.4,a,es11.4,a,i0,a)') '&run dt = ', self%cfg%dt, &

@@ -379,7 +379,7 @@ contains
   end subroutine damp
 
   !> The damped layer (ndim 1: shaken along its axis, a compression wave at c = speed; ndim
-  !> 2: the column between tied sides shaken across, a shear wave at c = speed) of ncells
+  !> 2 and 3: the column between tied sides shaken across, a shear wave at c = speed) of ncells
   !> cells, run at Courant number cfl, against the frequency-domain solution of the damped
   !> layer (damped_errors).
   subroutine run_damped(ndim, ncells, cfl, nranks_used, e_v, e_a, e_pa, unstable, history, undamped)
@@ -405,6 +405,18 @@ contains
       cfg%motion(1) = cfg%motion(2)
       cfg%motion(2) = none
       a = 1
+    else if (ndim == 3) then
+      ! the column two cells wide along x and y, tied along both, shaken along x
+      cfg%ncells(1:2) = 2
+      cfg%length(1:2) = 2.0_wp*height/real(ncells, wp)
+      cfg%bc(1:4) = bc_free
+      cfg%tied(1:4) = .true.
+      cfg%motion_base = 'z-'
+      cfg%materials(1)%youngs_modulus = 2.0_wp*density*speed**2
+      cfg%motion(1) = cfg%motion(3)
+      cfg%motion(3) = none
+      cfg%probe_y(1) = height/real(ncells, wp)
+      a = 1
     end if
     cfg%cfl = cfl
     call damp(cfg, speed)
@@ -423,7 +435,7 @@ contains
       'acceleration errors, unstable', e_v, e_a, e_pa, unstable
   end subroutine run_damped
 
-  !> Run cfg (Rayleigh damping set) with one probe (its x given, y = H) and compare its
+  !> Run cfg (Rayleigh damping set) with one probe (its x given, at the surface) and compare its
   !> velocity and acceleration (the velocity's change over each step) along axis a with the
   !> frequency-domain solution of the damped layer for base motion s at wave speed c (the
   !> base velocity sampled every 0.1 ms, the solution taken linearly between samples, its
@@ -446,7 +458,8 @@ contains
     real(wp) :: w
     integer :: k, nr, j, u
     cfg%nprobes = 1
-    cfg%probe_y(1) = height
+    if (cfg%ndim == 2) cfg%probe_y(1) = height
+    if (cfg%ndim == 3) cfg%probe_z(1) = height
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     nranks_used = sim%dec%nranks
     call sim%run()
@@ -493,7 +506,7 @@ contains
     logical :: bad
     integer, parameter :: counts(3) = [40, 80, 160]
     character(len=64) :: name
-    do k = 1, 2
+    do k = 1, 3
       do n = 1, size(counts)
         write (name, '(a,i0,a,i0,a)') 'site_response_damped_', k, 'D_', counts(n), '.txt'
         call run_damped(k, counts(n), 0.5_wp, nr, e1, e2, e3, bad, trim(name))

@@ -98,6 +98,7 @@ contains
                      'value only at half of equilibrium_time)')
     end if
     call check_one_phase(pb, cfg)
+    call check_rayleigh(pb, cfg)
     if (.not. real_ok(cfg%equilibrium_damping, ge=0.0_wp) .or. .not. cfg%equilibrium_damping < 1.0_wp) &
       call add_value(pb, g_run, 1, 'equilibrium_damping', rtoa(cfg%equilibrium_damping), &
                      'must be in [0, 1) (the fraction of the unbalanced force the damping takes)')
@@ -422,6 +423,46 @@ contains
       end if
     end do
   end subroutine check_load_part
+
+  !> Rayleigh damping (&run rayleigh_*): each value finite and >= 0; one form only, a ratio
+  !> at two frequencies f1 < f2 or alpha and beta; one-phase scenes only.
+  subroutine check_rayleigh(pb, cfg)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    character(len=14), parameter :: names(5) = [character(len=14) :: 'rayleigh_ratio', 'rayleigh_f1', &
+                                                 'rayleigh_f2', 'rayleigh_alpha', 'rayleigh_beta']
+    real(wp) :: v(5)
+    integer :: k
+    v = [cfg%rayleigh_ratio, cfg%rayleigh_f1, cfg%rayleigh_f2, cfg%rayleigh_alpha, cfg%rayleigh_beta]
+    do k = 1, 5
+      if (.not. real_ok(v(k), ge=0.0_wp)) then
+        call add_value(pb, g_run, 1, trim(names(k)), rtoa(v(k)), 'must be >= 0 (0 = no Rayleigh damping)')
+        return
+      end if
+    end do
+    if (all(v == 0.0_wp)) return
+    if (any(v(1:3) > 0.0_wp) .and. any(v(4:5) > 0.0_wp)) then
+      call add_value(pb, g_run, 1, 'rayleigh_alpha', rtoa(v(4))//', rayleigh_beta = '//rtoa(v(5)), &
+                     'give either rayleigh_ratio with rayleigh_f1 and rayleigh_f2, or rayleigh_alpha '// &
+                     'and rayleigh_beta, not both')
+      return
+    end if
+    if (any(v(1:3) > 0.0_wp)) then
+      if (.not. v(1) < 1.0_wp .or. v(1) == 0.0_wp) then
+        call add_value(pb, g_run, 1, 'rayleigh_ratio', rtoa(v(1)), 'must be in (0, 1) with '// &
+                       'rayleigh_f1 and rayleigh_f2 (the damping ratio at both frequencies, 0.05 = 5 %)')
+      else if (v(2) == 0.0_wp .or. .not. v(2) < v(3)) then
+        call add_value(pb, g_run, 1, 'rayleigh_f1', rtoa(v(2))//', rayleigh_f2 = '//rtoa(v(3)), &
+                       'need 0 < rayleigh_f1 < rayleigh_f2 (Hz: the two frequencies at which the '// &
+                       'damping ratio is rayleigh_ratio)')
+      end if
+    end if
+    if (any(cfg%regions%phase /= 'solid')) &
+      call add_value(pb, g_run, 1, 'rayleigh_'//trim(merge('ratio', 'alpha', v(1) > 0.0_wp)), &
+                     rtoa(merge(v(1), v(4), v(1) > 0.0_wp)), 'Rayleigh damping is for one-phase '// &
+                     'scenes: with pore water the drag damps the relative motion, and the skeleton''s '// &
+                     'damping would have to be split between the phases (doc/input.md)')
+  end subroutine check_rayleigh
 
   !> Settings of the pore water (&run) in a scene without it do nothing: a warning for each
   !> that differs from its default.

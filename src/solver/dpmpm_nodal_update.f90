@@ -10,6 +10,7 @@ module dpmpm_nodal_update
   use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
   use dpmpm_drag, only: sliver_node
+  use dpmpm_damping, only: rayleigh_mass
   implicit none
   private
   public :: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid, drag_solve
@@ -21,7 +22,7 @@ contains
   !> boundary conditions, on the nodes olo..ohi; the work of the external forces is
   !> added to ext_work.
   subroutine nodal_update(nd, lo, olo, ohi, node, gravity, faces, time, dt, nvel, ext_work, &
-                          damping, dissipated)
+                          damping, dissipated, rayleigh)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: gravity(3)
@@ -31,6 +32,7 @@ contains
     real(wp), intent(inout) :: ext_work
     real(wp), intent(in) :: damping           !< local damping coefficient (0 = none)
     real(wp), intent(inout) :: dissipated     !< energy taken by the local damping and wall friction
+    real(wp), intent(in), optional :: rayleigh(4) !< Rayleigh's alpha and reference velocity (dpmpm_damping)
     integer :: i, j, k
     real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3), ffr(3), wf, vwall(3)
     integer :: contact(3)
@@ -60,6 +62,7 @@ contains
             fext(1:nd) = fext(1:nd) + fd(1:nd)
           end if
           vnew(1:nd) = vold(1:nd) + dt*(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
+          if (present(rayleigh)) call rayleigh_mass(nd, m, dt, rayleigh, fix, vold, vnew, ext_work, dissipated)
           ! Dashpots of absorbing faces, at the new velocity (stable at any step).
           cd = 0.0_wp
           if (near) cd = faces%dashpot([i, j, k], .false.)

@@ -25,6 +25,7 @@ module dpmpm_step
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
   use dpmpm_base_motion, only: base_face, base_velocity, shake_base
   use dpmpm_tied_sides, only: tie_sides
+  use dpmpm_damping, only: viscous_forces, rayleigh_mass_args
   use dpmpm_drag, only: nodal_drag_limit
   use dpmpm_remap, only: musl_remap, remap_locks
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, &
@@ -236,6 +237,8 @@ contains
       end if
     end if
 
+    ! Rayleigh damping's viscous stress: its forces join the internal forces (dpmpm_damping).
+    if (.not. coupled) call viscous_forces(self, blo, bhi, dt)
     ! 4. Nodal update: MLS nodal velocities, then each phase alone or both with drag.
     call self%timers%tic(t_nodal)
     if (self%has_surface_loads) then
@@ -256,7 +259,7 @@ contains
     if (.not. coupled) then
       call nodal_update(nd, self%dec%alo, blo, bhi, self%phase(solid_phase)%node, &
                         gravity_now(self), self%faces, self%time, dt, self%phase(solid_phase)%nvel, &
-                        self%ext_work, damping_now(self), self%drag_loss)
+                        self%ext_work, damping_now(self), self%drag_loss, rayleigh_mass_args(self%cfg, self%time + dt))
       if (self%has_rigid) call drive_rigid(self, dt)
       call self%timers%toc(t_nodal)
     else

@@ -9,6 +9,7 @@ module dpmpm_time_step
   use dpmpm_materials, only: model_mu_i
   use dpmpm_state, only: state_t, exit_bad_input, exit_monitor
   use dpmpm_particles, only: particle_set_t
+  use dpmpm_damping, only: rayleigh_coefficients, damped_step_factor
   use mpi_f08, only: MPI_Allreduce, MPI_Bcast, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_2DOUBLE_PRECISION, &
                      MPI_MAXLOC
   implicit none
@@ -23,11 +24,12 @@ contains
   !> the porosity a fluid point uses is a weighted mean of these, so its K_f / n is
   !> covered. Bodies that are not porous (porosity 0) carry their own wave. A fixed dt above the critical step
   !> (Courant number 1) is refused, and a non-finite speed stops the run (collective:
-  !> exit_code set on every rank, dt = 0). Each time the step falls another decade
+  !> exit_code set on every rank, dt = 0). Rayleigh damping's stiffness-proportional part
+  !> lowers the critical step by damped_step_factor (doc/theory.md 7.3). Each time the step falls another decade
   !> below the run's first one, the point of the fastest signal is named (dt_falls).
   real(wp) function stable_dt(self) result(dt)
     class(state_t), intent(inout) :: self
-    real(wp) :: rate, crit, best(2)
+    real(wp) :: rate, crit, best(2), alpha, beta
     character(len=256) :: line
     rate = 0.0_wp
     call fastest_signal(self, 1, rate)
@@ -43,6 +45,15 @@ contains
       return
     end if
     crit = minval(self%grid%h(1:self%nd))/rate
+    call rayleigh_coefficients(self%cfg, alpha, beta)
+    if (beta > 0.0_wp) then
+      if (self%dt_first <= 0.0_wp) then
+        write (line, '(a,es10.3,a,es10.3,a,f6.3,a)') 'Rayleigh damping: alpha ', alpha, ' 1/s, beta ', beta, &
+          ' s; the stable step is ', damped_step_factor(beta, crit), ' of the undamped one (doc/theory.md 7.3)'
+        call self%log%info(trim(line))
+      end if
+      crit = crit*damped_step_factor(beta, crit)
+    end if
     if (self%cfg%dt > 0.0_wp) then
       if (self%cfg%dt > crit) then
         write (line, '(a,es11.4,a,es11.4,a,i0,a)') '&run dt = ', self%cfg%dt, &

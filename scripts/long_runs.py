@@ -10,13 +10,14 @@ ended (its exit code, monitor warnings and stops), the monitor's largest
 (kinetic + stored) / (work + initial) and its largest balance error, the steps
 and the wall time. A shape that the input refuses is listed with the reason.
 
-With --placement random or uniform every &region of the scene places its points that way
-(doc/input.md, `placement`; doc/verification.md, "Saturated soil at rest on scattered
-points"); --np takes a list of rank counts (2D and 3D scenes run on each).
+With --placement random, uniform or stirred every &region of the scene places its points
+that way (doc/input.md, `placement`; doc/verification.md, "Saturated soil at rest on
+scattered points"; stirred: the regular points after the default rounds of shears, as
+after a large deformation); --np takes a list of rank counts (2D and 3D scenes run on each).
 
 usage: scripts/long_runs.py [--bin build/release/dpmpm] [--np 2 | --np 1,2] [--out DIR]
        [--scenes a,b,...] [--shapes standard,quadratic,cubic,pair,linear_gauss]
-       [--placement as_shipped|random|uniform] [--transits 20]
+       [--placement as_shipped|random|uniform|stirred] [--transits 20]
 
 By default every scene but the W1-W3 columns, which scripts/stability_map.py covers.
 """
@@ -135,7 +136,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--bin', default=os.path.join(ROOT, 'build', 'release', 'dpmpm'))
     ap.add_argument('--np', default='2', help='rank counts of 2D and 3D scenes, comma-separated')
-    ap.add_argument('--placement', default='as_shipped', choices=('as_shipped', 'random', 'uniform'))
+    ap.add_argument('--placement', default='as_shipped', choices=('as_shipped', 'random', 'uniform', 'stirred'))
     ap.add_argument('--out', default='/tmp/dpmpm_long_runs')
     ap.add_argument('--scenes', default='', help='scene names (default: every file in inputs/)')
     ap.add_argument('--shapes', default='standard,quadratic,cubic,pair')

@@ -6,14 +6,15 @@ The scene of inputs/submerged_layer_2d.nml (2 m x 1.5 m of sand, n = 0.4, k = 1e
 K_f = 2.2 GPa, hydrostatic and geostatic start, rollers at the sides, fixed
 impermeable base), with 0.5 m of free water above (`--water free`) or without it
 (`--water none`: the grid ends at the soil's drained top). For each placement of the
-points and each shape choice it runs the scene to --t-end and prints, for the last
+points (stirred: the regular points after rounds of area-preserving shears, as after a
+large deformation) and each shape choice it runs the scene to --t-end and prints, for the last
 frame, the RMS and the largest |p - p_h| of the fluid points in units of the
 hydrostatic pressure at the base (p_h = rho_f g (water level - y) at the point), the
 largest |mean p - mean p_h| over the rows of cells (band means), and the largest speed
 of either phase.
 
     python3 scripts/scatter_at_rest.py [--bin build/release/dpmpm] [--np 2]
-        [--water free,none] [--placements regular,random,uniform]
+        [--water free,none] [--placements regular,random,uniform,stirred]
         [--shapes standard,quadratic,cubic,linear_gauss,pair] [--smoothing none,cell]
         [--t-end 0.2] [--out DIR]
 """

@@ -25,6 +25,8 @@ program test_generate
   real(wp), parameter :: rho_soil = 2650.0_wp, rho_water = 1000.0_wp, rho_steel = 7850.0_wp
   real(wp), parameter :: k_soil = 1.0e-4_wp, n_sat = 0.4_wp
   integer :: nranks, rank
+  !> Largest relative departure of a quarter's count from a quarter of the points
+  real(wp), parameter :: stirred_quarter_bound = 0.15_wp
 
   call start_tests(rank)
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
@@ -34,6 +36,7 @@ program test_generate
   call test_sets_do_not_depend_on_ranks()
   call test_cell_blocks_tile_the_set()
   call test_point_memory_follows_the_fields()
+  call test_stirred_points_are_the_lattice_moved()
   call end_tests()
 
 contains
@@ -73,12 +76,12 @@ contains
   end function box
 
   !> The scene: a steel block (regular), a saturated layer (random), water above it up to the
-  !> upper grid face (uniform), a saturated wedge (polygon, uniform) and a steel strip
-  !> (uniform, ppc 3).
+  !> upper grid face (uniform), a saturated wedge (polygon, uniform), a steel strip
+  !> (uniform, ppc 3) and a pond of water (polygon, stirred) over the block and the layer.
   subroutine make_scene(cfg)
     type(config_t), intent(out) :: cfg
     call make_config(cfg)
-    allocate (cfg%regions(5))
+    allocate (cfg%regions(6))
     cfg%regions(1) = box([-0.5_wp, 0.2_wp], [-0.2_wp, 0.5_wp], 'solid', 3, 'regular')
     cfg%regions(2) = box([-0.2_wp, 0.2_wp], [0.7_wp, 0.6_wp], 'saturated', 1, 'random')
     cfg%regions(2)%seed = 5
@@ -96,6 +99,14 @@ contains
     cfg%regions(4)%fluid_seed = 17
     cfg%regions(5) = box([-0.45_wp, 1.0_wp], [-0.3_wp, 1.15_wp], 'solid', 3, 'uniform')
     cfg%regions(5)%ppc = 3
+    cfg%regions(6)%shape = 'polygon'
+    cfg%regions(6)%npoly = 4
+    cfg%regions(6)%poly(:, 1:4) = reshape([-0.45_wp, 0.25_wp, 0.3_wp, 0.3_wp, 0.6_wp, &
+                                           0.55_wp, -0.4_wp, 0.5_wp], [2, 4])
+    cfg%regions(6)%phase = 'fluid'
+    cfg%regions(6)%material = 2
+    cfg%regions(6)%placement = 'stirred'
+    cfg%regions(6)%seed = 3
   end subroutine make_scene
 
   !> Grid, decomposition over comm with layout dims, materials and one set of a phase.
@@ -387,5 +398,61 @@ contains
     call check_equal_int(ps%bytes_per_point(), 132 + 8 + 16, 'pore fluid')
     call ps%free()
   end subroutine test_point_memory_follows_the_fields
+
+  !> Stirred placement of a saturated box of 8 x 6 cells (ppc 2): each set holds the points
+  !> of the regular placement (the same ids, volumes and masses), moved inside the box, no
+  !> two on one spot, most of them by more than a tenth of a cell; the shears keep the
+  !> density: each quarter of the box holds a quarter of the points within the bound
+  !> below (measured: doc/verification.md, "Saturated soil at rest on scattered points").
+  subroutine test_stirred_points_are_the_lattice_moved()
+    type(config_t) :: cfg
+    type(particle_set_t) :: st, reg
+    type(grid_t) :: grid
+    type(decomp_t) :: dec
+    character(len=5), parameter :: phases(2) = ['solid', 'fluid']
+    real(wp), parameter :: lo(2) = [-0.3_wp, 0.3_wp], hi(2) = [0.5_wp, 0.9_wp]
+    integer :: ip, k, j, nmoved, nq(4), q
+    real(wp) :: dmin
+    logical :: same
+    call begin_test('stirred_points_are_the_lattice_moved')
+    do ip = 1, 2
+      call make_config(cfg)
+      allocate (cfg%regions(1))
+      cfg%regions(1) = box(lo, hi, 'saturated', 1, 'regular')
+      call generate(cfg, .false., [0, 0, 0], phases(ip), reg, grid, dec)
+      call dec%free()
+      cfg%regions(1)%placement = 'stirred'
+      call generate(cfg, .false., [0, 0, 0], phases(ip), st, grid, dec)
+      call dec%free()
+      call check_equal_int(st%n, reg%n, phases(ip)//': as many points as the regular placement')
+      same = st%n == reg%n
+      nmoved = 0
+      nq = 0
+      dmin = huge(1.0_wp)
+      do k = 1, st%n
+        j = findloc(reg%id(1:reg%n), st%id(k), dim=1)
+        if (j == 0) then
+          same = .false.
+          cycle
+        end if
+        same = same .and. st%vol(k) == reg%vol(j) .and. st%mass(k) == reg%mass(j)
+        same = same .and. all(st%x(1:2, k) >= lo) .and. all(st%x(1:2, k) < hi)
+        if (norm2(st%x(1:2, k) - reg%x(1:2, j)) > 0.01_wp) nmoved = nmoved + 1
+        q = 1 + merge(1, 0, st%x(1, k) >= 0.5_wp*(lo(1) + hi(1))) + &
+            2*merge(1, 0, st%x(2, k) >= 0.5_wp*(lo(2) + hi(2)))
+        nq(q) = nq(q) + 1
+        do j = k + 1, st%n
+          dmin = min(dmin, norm2(st%x(1:2, k) - st%x(1:2, j)))
+        end do
+      end do
+      call check(same, phases(ip)//': the regular ids, volumes and masses, inside the box')
+      call check(dmin > 0.0_wp, phases(ip)//': no two points on one spot')
+      call check(nmoved > 3*st%n/4, phases(ip)//': most points moved')
+      write (*, '(2a, 4i5, a, i5, a, es10.3)') phases(ip), ' quarters', nq, ' of', st%n, &
+        ' nearest pair', dmin
+      call check(all(abs(real(nq, wp) - 0.25_wp*st%n) <= stirred_quarter_bound*0.25_wp*st%n), &
+                 phases(ip)//': each quarter holds about a quarter of the points')
+    end do
+  end subroutine test_stirred_points_are_the_lattice_moved
 
 end program test_generate

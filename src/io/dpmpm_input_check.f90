@@ -665,10 +665,17 @@ contains
       if (trim(r%phase) == 'solid') call check_dry_porous(pb, cfg, k, materials_ok)
       if (r%ppc < 1 .or. r%ppc > 10) call add_value(pb, g_region, k, 'ppc', itoa(r%ppc), &
         'must be in 1..10 (points per cell along each axis)')
-      if (.not. any(r%placement == [character(len=7) :: 'regular', 'random', 'uniform'])) &
+      if (.not. any(r%placement == [character(len=7) :: 'regular', 'random', 'uniform', 'stirred'])) &
         call add_value(pb, g_region, k, 'placement', quote(r%placement), &
                        'the placements are regular, random (scattered in each cell), '// &
-                       'uniform (scattered over the whole region)')
+                       'uniform (scattered over the whole region), stirred (the regular '// &
+                       'points after area-preserving shears)')
+      if (r%placement == 'stirred' .and. cfg%ndim == 1) call add_value(pb, g_region, k, &
+        'placement', quote(r%placement), 'a line has nothing to stir: stirred needs ndim = 2 or 3')
+      if (r%stir_rounds < 0 .or. r%stir_rounds > 100) call add_value(pb, g_region, k, &
+        'stir_rounds', itoa(r%stir_rounds), 'must be in 0..100')
+      if (.not. (r%stir_shear >= 0.0_wp .and. r%stir_shear <= 100.0_wp)) call add_value(pb, &
+        g_region, k, 'stir_shear', rtoa(r%stir_shear), 'must be in 0..100')
       if (r%seed < 0) call add_value(pb, g_region, k, 'seed', itoa(r%seed), 'must be >= 0')
       if (r%fluid_seed < -1) call add_value(pb, g_region, k, 'fluid_seed', itoa(r%fluid_seed), &
         'must be >= 0, or -1 for seed + 1')

@@ -10,7 +10,9 @@
 !>  - regular: ppc points per cell and axis at the centres of a regular sub-grid;
 !>  - random:  ppc**ndim points per cell, each scattered uniformly in its cell;
 !>  - uniform: N points scattered uniformly over the whole region, not per cell, all of
-!>    the same volume (see fill_uniform).
+!>    the same volume (see fill_uniform);
+!>  - stirred: the regular points moved by an area-preserving map of the region's
+!>    bounding box, as points after a large shear (see fill_stirred).
 !> Every choice (position, id) depends only on the global cell or the point's number in
 !> its region, its slot and the seed, so the points are the same whatever the number of
 !> ranks; each rank keeps the points whose cell it owns.
@@ -75,6 +77,8 @@ contains
       if (region_fill(reg, mats, which, fill)) then
         if (trim(reg%placement) == 'uniform') then
           call fill_uniform(reg, grid, clo, chi, fill, base, ps)
+        else if (trim(reg%placement) == 'stirred') then
+          call fill_stirred(reg, grid, clo, chi, fill, base, ps)
         else
           call fill_cells(reg, grid, clo, chi, fill, base, ps)
         end if
@@ -230,6 +234,91 @@ contains
       call add_point(ps, base + k + 1, reg, fill, x, vol)
     end do
   end subroutine fill_uniform
+
+  !> Stirred placement: the points of the regular placement within the region's bounding
+  !> box B, moved by stir_rounds rounds of shears, then kept when inside the region and in
+  !> the cells olo..ohi. B is taken as periodic (a torus), and each round shifts every axis
+  !> a in turn by a sine of the next axis b (b = a + 1, cyclic):
+  !>   x_a <- lo_a + mod(x_a - lo_a + A_b sin(2 pi m_b (x_b - lo_b) / L_b + phi), L_a),
+  !> L the box's extent, m_b = max(1, nint(L_b / (10 h_b))) waves across it (about ten
+  !> cells each), A_b = stir_shear L_b / (2 pi m_b) so that the largest shear strain of a
+  !> stage is stir_shear, and phi = 2 pi hash_uniform(seed, round, 0, a). Each stage maps
+  !> B onto itself one to one with a Jacobian of one, so the points keep the density of
+  !> the lattice on average while rows bend, thin and crowd as after a large shear. In 1D
+  !> there is nothing to stir (the input refuses it). Every rank maps all points of B and
+  !> keeps those in its cells, so the set is the same on any number of ranks; ids as in
+  !> fill_cells, of the point's lattice cell and slot.
+  subroutine fill_stirred(reg, grid, olo, ohi, fill, base, ps)
+    type(region_cfg_t), intent(in) :: reg
+    type(grid_t), intent(in) :: grid
+    integer, intent(in) :: olo(3), ohi(3)
+    type(fill_t), intent(in) :: fill
+    integer(i8), intent(in) :: base
+    type(particle_set_t), intent(inout) :: ps
+    real(wp), parameter :: two_pi = 8.0_wp*atan(1.0_wp)
+    integer :: d, nd, npc, k, slot(3), c(3), cx(3), clo(3), chi(3), c1, c2, c3
+    integer(i8) :: lin
+    real(wp) :: x(3), lo(3), hi(3), vol
+    nd = grid%ndim
+    npc = reg%ppc**nd
+    vol = grid%cell_volume/real(npc, wp)
+    lo = 0.0_wp; hi = 0.0_wp
+    clo = 0; chi = 0
+    do d = 1, nd
+      lo(d) = region_lo(reg, d)
+      hi(d) = region_hi(reg, d)
+      clo(d) = max(0, floor((lo(d) - grid%origin(d))/grid%h(d)))
+      chi(d) = min(grid%ncells(d) - 1, ceiling((hi(d) - grid%origin(d))/grid%h(d)) - 1)
+    end do
+    do c3 = clo(3), chi(3)
+      do c2 = clo(2), chi(2)
+        do c1 = clo(1), chi(1)
+          c = [c1, c2, c3]
+          lin = int(c(1), i8) + int(grid%ncells(1), i8)*(int(c(2), i8) + &
+                int(grid%ncells(2), i8)*int(c(3), i8))
+          do k = 0, npc - 1
+            slot = 0
+            slot(1) = mod(k, reg%ppc)
+            if (nd >= 2) slot(2) = mod(k/reg%ppc, reg%ppc)
+            if (nd >= 3) slot(3) = k/(reg%ppc*reg%ppc)
+            x = 0.0_wp
+            do d = 1, nd
+              x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + &
+                     (real(slot(d), wp) + 0.5_wp)/real(reg%ppc, wp))
+            end do
+            if (any(x(1:nd) < lo(1:nd)) .or. any(x(1:nd) >= hi(1:nd))) cycle
+            call stir(x)
+            if (.not. in_region(reg, x, nd)) cycle
+            call into_grid(grid, x, cx)
+            if (any(cx < olo .or. cx > ohi)) cycle
+            call add_point(ps, base + lin*npc + k + 1, reg, fill, x, vol)
+          end do
+        end do
+      end do
+    end do
+  contains
+    !> The rounds of shears of one position inside B.
+    subroutine stir(x)
+      real(wp), intent(inout) :: x(3)
+      integer :: j, a, b
+      real(wp) :: ext(3), waves, amp, phi
+      ext = hi - lo
+      if (nd < 2) return
+      do j = 1, reg%stir_rounds
+        do a = 1, nd
+          b = mod(a, nd) + 1
+          waves = real(max(1, nint(ext(b)/(10.0_wp*grid%h(b)))), wp)
+          amp = reg%stir_shear*ext(b)/(two_pi*waves)
+          phi = two_pi*hash_uniform(fill%seed, int(j, i8), 0, a)
+          x(a) = lo(a) + modulo(x(a) - lo(a) + amp*sin(two_pi*waves*(x(b) - lo(b))/ext(b) + phi), &
+                                ext(a))
+          ! lo + (a value below L) may still round up to hi: keep B half-open.
+          if (x(a) >= hi(a)) x(a) = nearest(hi(a), -1.0_wp)
+          if (x(a) < lo(a)) x(a) = lo(a)
+        end do
+      end do
+    end subroutine stir
+  end subroutine fill_stirred
 
   !> Number of points (box) or candidates (polygon) of a uniform placement, 0 otherwise.
   integer(i8) function uniform_count(reg, grid) result(n)

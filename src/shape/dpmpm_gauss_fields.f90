@@ -16,6 +16,14 @@
 !> leave cells empty inside the body, and those must count, while the closing
 !> does not move a free surface.
 !>
+!> A Gauss point of an occupied cell that finds no point within the weight's reach
+!> widens it, by a quarter cell and then by half a cell (widened_radii), instead of
+!> entering the forces with a zero field: gauss_accumulate with `only` adds the points
+!> within the wider reach to those Gauss points alone, the solution keeps the radius
+!> each Gauss point took (gauss_radius_slot), and gauss_strain takes the same wider
+!> weights for the transpose, so that the pair stays exact. Only a Gauss point that
+!> finds no point within the widest reach keeps the zero field.
+!>
 !> Cell arrays are indexed like nodes by the cell's lower corner, so they use
 !> the same storage bounds and the same halo_sum / halo_copy.
 module dpmpm_gauss_fields
@@ -32,6 +40,7 @@ module dpmpm_gauss_fields
   public :: occupancy_pass, gauss_cell_components, gauss_solution_components, gauss_second_field_components
   public :: reach_cache_t, reach_cache_entries, reach_cache_bytes
   public :: thin_fraction, thin_node_forces
+  public :: widened_radii, widened_cell_offset, gauss_radius_slot
 
   !> Most Gauss points of one cell (4 per axis in 3D).
   integer, parameter :: max_gauss_cell = 64
@@ -156,12 +165,44 @@ contains
     n = ng**nd*basis_size(basis, nd)*fields_of(nd, isotropic)
   end function gauss_second_field_components
 
-  !> Components per cell of the Gauss-point solution (gauss_solve).
+  !> Components per cell of the Gauss-point solution (gauss_solve): the occupied flag,
+  !> per Gauss point gamma and the fields, then per Gauss point the radius of a widened
+  !> reach (0: the field's own; gauss_radius_slot).
   pure integer function gauss_solution_components(nd, ng, basis, isotropic) result(n)
     integer, intent(in) :: nd, ng, basis
     logical, intent(in), optional :: isotropic
-    n = 1 + ng**nd*(basis_size(basis, nd) + fields_of(nd, isotropic))
+    n = 1 + ng**nd*(basis_size(basis, nd) + fields_of(nd, isotropic)) + ng**nd
   end function gauss_solution_components
+
+  !> The solution's component before the widened radii: Gauss point g's radius is
+  !> sol(gauss_radius_slot(...) + g, cell), 0 where it kept the field's own radius.
+  pure integer function gauss_radius_slot(nd, ng, basis, isotropic) result(n)
+    integer, intent(in) :: nd, ng, basis
+    logical, intent(in), optional :: isotropic
+    n = 1 + ng**nd*(basis_size(basis, nd) + fields_of(nd, isotropic))
+  end function gauss_radius_slot
+
+  !> The radii an empty Gauss point tries in turn: the field's radius plus a quarter
+  !> and plus half a cell (0.75 -> 1.0, 1.25).
+  pure function widened_radii(radius) result(r)
+    real(wp), intent(in) :: radius
+    real(wp) :: r(2)
+    r = radius + [0.25_wp, 0.5_wp]
+  end function widened_radii
+
+  !> The most cells between a point's cell and a cell of a Gauss point within reach of
+  !> it (a weight of the given radius, ng Gauss points per axis): widened reaches must
+  !> stay within the ghost cells.
+  integer function widened_cell_offset(ng, kernel, radius, radial) result(m)
+    integer, intent(in) :: ng, kernel
+    real(wp), intent(in) :: radius
+    logical, intent(in) :: radial
+    real(wp) :: xi(ng), w(ng)
+    call gauss_rule(ng, xi, w)
+    ! A point at the top of cell c reaches the lowest Gauss point of cell c + m when
+    ! m + xi(1) - 1 < reach.
+    m = ceiling(kernel_reach(kernel, radius, radial) + 1.0_wp - xi(1)) - 1
+  end function widened_cell_offset
 
   ! ----------------------------------------------------------------------------
   ! Gauss-point quadrature
@@ -320,7 +361,7 @@ contains
   !> Gauss point: count, packed sum V W p p^T, sum V W p sigma_f (nf fields).
   !> With isotropic, stress(1, :) is the value s of an isotropic field s I, one field.
   subroutine gauss_accumulate(nd, n, x, vol, stress, origin, h, ncells, ng, kernel, radius, &
-                              radial, basis, lo, acc, stress2, acc2, cache, isotropic)
+                              radial, basis, lo, acc, stress2, acc2, cache, isotropic, only, level)
     integer, intent(in) :: nd, n, ncells(3), ng, kernel, basis
     real(wp), intent(in) :: x(:, :), vol(:), stress(:, :), origin(3), h(3), radius
     logical, intent(in) :: radial
@@ -333,13 +374,19 @@ contains
     !> Keeps the Gauss points within reach of each point for gauss_strain.
     type(reach_cache_t), intent(inout), optional :: cache
     logical, intent(in), optional :: isotropic
+    !> With only and level: add the points to the Gauss points g of cell c with
+    !> only(g, c) == level alone (a widened reach, radius = level), not to the point
+    !> counts of the cells nor to the cache.
+    real(wp), intent(in), optional :: only(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in), optional :: level
     integer :: p, i, j, k, q, nb, np, nf, ncg, f, cp(3), base, base2, d, nq, nc
     integer, allocatable :: cells(:, :), gidx(:), gax(:)
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), w, pv(10), reach, xi(ng), wxi(ng), sig(6), sig2(6)
-    logical :: two, keep
+    logical :: two, keep, widen
     two = present(stress2) .and. present(acc2)
-    keep = present(cache)
+    widen = present(only) .and. present(level)
+    keep = present(cache) .and. .not. widen
     if (keep) then
       cache%n = n
       cache%valid = .true.
@@ -379,7 +426,7 @@ contains
       do d = 1, nd
         cp(d) = min(max(floor(s(d)), 0), ncells(d) - 1)
       end do
-      acc(1, cp(1), cp(2), cp(3)) = acc(1, cp(1), cp(2), cp(3)) + 1.0_wp
+      if (.not. widen) acc(1, cp(1), cp(2), cp(3)) = acc(1, cp(1), cp(2), cp(3)) + 1.0_wp
       ! MLS sums at the Gauss points.
       call points_in_reach(nd, s, ncells, ng, xi, kernel, radius, radial, reach, nq, cells, gidx, &
                            offs, wq, gax)
@@ -388,6 +435,9 @@ contains
       end if
       do q = 1, nq
         i = cells(1, q); j = cells(2, q); k = cells(3, q)
+        if (widen) then
+          if (only(gidx(q), i, j, k) /= level) cycle
+        end if
         w = vol(p)*wq(q)
         base = 1 + (gidx(q) - 1)*ncg
         base2 = (gidx(q) - 1)*nb*nf
@@ -788,12 +838,12 @@ contains
     type(reach_cache_t), intent(in), optional :: cache
     !> sol holds one isotropic field (gauss_accumulate).
     logical, intent(in), optional :: isotropic
-    integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d, q0, g, ga(3), c(3)
+    integer :: p, i, j, k, q, nq, nb, nf, bs, bl, d, q0, g, ga(3), c(3), iw, ngp, lv
     integer, allocatable :: cells(:, :), gidx(:), gax(:)
     real(wp), allocatable :: offs(:, :), wq(:)
     real(wp) :: s(3), dneg(3), pv(10), reach, xi(ng), wxi(ng), yg(3, max_gauss_cell), &
-                wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell, wgt
-    logical :: full, two, kept
+                wg(max_gauss_cell), cgp, ctot, l(9), l2(9), lm(3, 3), wcell, wgt, rw(2)
+    logical :: full, two, kept, wide(2)
     full = present(vgrad)
     two = present(div) .and. present(lg2) .and. present(div2) .and. .not. full
     kept = .false.
@@ -808,6 +858,23 @@ contains
               gax(max_reach_of(nd, ng, reach)))
     wcell = product(h(1:nd))
     nkept = 0
+    ! Widened Gauss points (gauss_accumulate's only): which of the two radii occur here.
+    ngp = ng**nd
+    iw = 1 + ngp*(nb + nf)
+    rw = widened_radii(radius)
+    wide = .false.
+    if (size(sol, 1) >= iw + ngp) then
+      wide(1) = any(sol(iw + 1:iw + ngp, :, :, :) == rw(1))
+      wide(2) = any(sol(iw + 1:iw + ngp, :, :, :) == rw(2))
+    end if
+    if (any(wide)) then
+      deallocate (cells, gidx, offs, wq, gax)
+      reach = max(reach, kernel_reach(kernel, rw(2), radial))
+      allocate (cells(3, max_reach_of(nd, ng, reach)), gidx(max_reach_of(nd, ng, reach)), &
+                offs(3, max_reach_of(nd, ng, reach)), wq(max_reach_of(nd, ng, reach)), &
+                gax(max_reach_of(nd, ng, reach)))
+      reach = kernel_reach(kernel, radius, radial)
+    end if
     do p = 1, n
       s = 0.0_wp
       do d = 1, nd
@@ -873,6 +940,35 @@ contains
           l(1) = l(1) + cgp*lg(bl + 1, i, j, k)
           if (two) l2(1) = l2(1) + cgp*lg2(bl + 1, i, j, k)
         end select
+      end do
+      ! The widened Gauss points within their wider reach of the point.
+      do lv = 1, 2
+        if (.not. wide(lv)) cycle
+        call points_in_reach(nd, s, ncells, ng, xi, kernel, rw(lv), radial, &
+                             kernel_reach(kernel, rw(lv), radial), nq, cells, gidx, offs, wq, gax)
+        do q = 1, nq
+          i = cells(1, q); j = cells(2, q); k = cells(3, q)
+          g = gidx(q)
+          if (sol(1, i, j, k) < 0.5_wp .or. sol(iw + g, i, j, k) /= rw(lv)) cycle
+          bs = 1 + (g - 1)*(nb + nf)
+          if (nb == 1) then
+            cgp = wg(g)*wcell*vol(p)*wq(q)*sol(bs + 1, i, j, k)
+          else
+            dneg = -offs(:, q)
+            call basis_eval(basis, nd, dneg(1:nd), pv(1:nb))
+            cgp = wg(g)*wcell*vol(p)*wq(q)*dot_product(sol(bs + 1:bs + nb, i, j, k), pv(1:nb))
+          end if
+          bl = (g - 1)*nd*nd
+          ctot = ctot + cgp
+          if (full) then
+            l(1:nd*nd) = l(1:nd*nd) + cgp*lg(bl + 1:bl + nd*nd, i, j, k)
+          else
+            do d = 1, nd
+              l((d - 1)*nd + d) = l((d - 1)*nd + d) + cgp*lg(bl + (d - 1)*nd + d, i, j, k)
+              if (two) l2((d - 1)*nd + d) = l2((d - 1)*nd + d) + cgp*lg2(bl + (d - 1)*nd + d, i, j, k)
+            end do
+          end if
+        end do
       end do
       vt(p) = ctot
       if (ctot <= 0.0_wp) then

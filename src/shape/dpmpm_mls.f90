@@ -42,9 +42,12 @@ module dpmpm_mls
   !> Tikhonov factor: eps = mls_tikhonov * trace(Mhat)/nb (doc/theory.md 3.4).
   real(wp), parameter :: mls_tikhonov = 1.0e-6_wp
 
-  !> How often each fallback path was taken (one counter per evaluation point).
+  !> How often each fallback path was taken (one counter per evaluation point), and
+  !> how many Gauss points widened their reach to find points (dpmpm_quadrature; their
+  !> solves are counted by path as well).
   type :: mls_stats_t
     integer(i8) :: nfull = 0, nreduced = 0, nregularised = 0, nconstant = 0, nempty = 0
+    integer(i8) :: nwidened = 0
   end type mls_stats_t
 
   integer, parameter :: path_full = 1, path_reduced = 2, path_regularised = 3, &
@@ -127,6 +130,7 @@ contains
     a%nregularised = a%nregularised + b%nregularised
     a%nconstant = a%nconstant + b%nconstant
     a%nempty = a%nempty + b%nempty
+    a%nwidened = a%nwidened + b%nwidened
   end subroutine mls_stats_add
 
   !> Number of evaluation points counted in s.

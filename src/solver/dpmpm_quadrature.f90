@@ -8,8 +8,10 @@
 module dpmpm_quadrature
   use dpmpm_kinds, only: wp
   use dpmpm_timer, only: t_halo
+  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_MAX
   use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_solve, gauss_forces, gauss_masses, &
-                               gauss_velocity_gradient, gauss_strain, thin_fraction
+                               gauss_velocity_gradient, gauss_strain, thin_fraction, widened_radii, &
+                               widened_cell_offset, gauss_radius_slot, gauss_cell_components
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: volume_p2g
@@ -41,7 +43,8 @@ contains
     !> In place of node2: the second field is a density (in its first component),
     !> integrated against the grid functions into gmass(1, :) (gauss_masses).
     real(wp), intent(inout), optional :: gmass(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
-    integer :: n
+    integer :: n, iw, g
+    real(wp), allocatable :: wide(:, :, :, :)
     logical :: two
     two = present(fields2) .and. present(sol2) .and. (present(node2) .or. present(gmass))
     n = tr%pts%n
@@ -67,11 +70,21 @@ contains
       if (two) call self%dec%halo_sum(tr%gacc2)
       call self%timers%toc(t_halo)
       if (two) then
+        call widen_empty_gauss_points(self, tr, fields, wide, fields2)
         call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, tr%gacc, sol, &
                          self%mls_stats, tr%giso, tr%gacc2, sol2)
       else
+        call widen_empty_gauss_points(self, tr, fields, wide)
         call gauss_solve(self%nd, pl%ngauss, pl%field_basis, self%dec%alo, clo, chi, tr%gacc, sol, &
                          self%mls_stats, tr%giso)
+      end if
+      ! The radius each widened Gauss point took, for the transpose (gauss_strain).
+      if (allocated(wide)) then
+        iw = gauss_radius_slot(self%nd, pl%ngauss, pl%field_basis, tr%giso)
+        do g = 1, pl%ngauss**self%nd
+          sol(iw + g, clo(1):chi(1), clo(2):chi(2), clo(3):chi(3)) = &
+            max(wide(g, clo(1):chi(1), clo(2):chi(2), clo(3):chi(3)), 0.0_wp)
+        end do
       end if
       call self%timers%tic(t_halo)
       call self%dec%halo_copy(sol)
@@ -88,6 +101,93 @@ contains
       end if
     end associate
   end subroutine gauss_force_integrals
+
+  !> Gauss points of occupied owned cells that found no point of tr within the field's
+  !> radius widen their reach (widened_radii: 0.75 -> 1.0, then 1.25 cells) instead of
+  !> entering the forces with a zero field: the points within the wider reach are added
+  !> to their sums in tr%gacc (and tr%gacc2) alone, and wide(g, c) keeps the radius each
+  !> took (0 for the others and for those that found no point even so). Unallocated
+  !> without &shape field_widen, or where no Gauss point on any rank is empty: then
+  !> nothing changes. A radius whose
+  !> reach would pass the ghost cells (or 3 cells) is not tried. Counts the widened
+  !> Gauss points in self%mls_stats%nwidened.
+  subroutine widen_empty_gauss_points(self, tr, fields, wide, fields2)
+    class(state_t), intent(inout) :: self
+    type(phase_t), intent(inout) :: tr
+    real(wp), intent(in) :: fields(:, :)
+    real(wp), allocatable, intent(out) :: wide(:, :, :, :)
+    real(wp), intent(in), optional :: fields2(:, :)
+    real(wp), parameter :: unfound = -1.0_wp
+    integer :: i, j, k, g, ngp, ncg, lv, nempty(1)
+    real(wp) :: rw(2)
+    if (.not. self%cfg%field_widen) return
+    associate (pl => self%plan, clo => self%dec%clo, chi => self%dec%chi, acc => tr%gacc)
+      ngp = pl%ngauss**self%nd
+      ncg = (gauss_cell_components(self%nd, pl%ngauss, pl%field_basis, tr%giso) - 1)/ngp
+      nempty = 0
+      do k = clo(3), chi(3)
+        do j = clo(2), chi(2)
+          do i = clo(1), chi(1)
+            if (acc(1, i, j, k) < 0.5_wp) cycle
+            do g = 1, ngp
+              if (acc(2 + (g - 1)*ncg, i, j, k) < 0.5_wp) nempty(1) = nempty(1) + 1
+            end do
+          end do
+        end do
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, nempty, 1, MPI_INTEGER, MPI_MAX, self%dec%comm)
+      if (nempty(1) == 0) return
+      allocate (wide(ngp, lbound(acc, 2):ubound(acc, 2), lbound(acc, 3):ubound(acc, 3), &
+                     lbound(acc, 4):ubound(acc, 4)))
+      wide = 0.0_wp
+      do k = clo(3), chi(3)
+        do j = clo(2), chi(2)
+          do i = clo(1), chi(1)
+            if (acc(1, i, j, k) < 0.5_wp) cycle
+            do g = 1, ngp
+              if (acc(2 + (g - 1)*ncg, i, j, k) < 0.5_wp) wide(g, i, j, k) = unfound
+            end do
+          end do
+        end do
+      end do
+      rw = widened_radii(pl%field_radius)
+      do lv = 1, 2
+        if (widened_cell_offset(pl%ngauss, pl%field_kernel, rw(lv), pl%field_radial) > &
+            minval(self%dec%gw(1:self%nd)) .or. rw(lv) > 3.0_wp) exit
+        where (wide == unfound) wide = rw(lv)
+        call self%dec%halo_copy(wide)
+        if (present(fields2)) then
+          call gauss_accumulate(self%nd, tr%pts%n, tr%pts%x, tr%pts%vol, fields, self%grid%origin, &
+                                self%grid%h, self%grid%ncells, pl%ngauss, pl%field_kernel, rw(lv), &
+                                pl%field_radial, pl%field_basis, self%dec%alo, acc, fields2, &
+                                tr%gacc2, isotropic=tr%giso, only=wide, level=rw(lv))
+        else
+          call gauss_accumulate(self%nd, tr%pts%n, tr%pts%x, tr%pts%vol, fields, self%grid%origin, &
+                                self%grid%h, self%grid%ncells, pl%ngauss, pl%field_kernel, rw(lv), &
+                                pl%field_radial, pl%field_basis, self%dec%alo, acc, &
+                                isotropic=tr%giso, only=wide, level=rw(lv))
+        end if
+        ! (the ghosts of acc are zero after the first halo_sum: only the new sums move)
+        call self%dec%halo_sum(acc)
+        if (present(fields2)) call self%dec%halo_sum(tr%gacc2)
+        do k = clo(3), chi(3)
+          do j = clo(2), chi(2)
+            do i = clo(1), chi(1)
+              do g = 1, ngp
+                if (wide(g, i, j, k) /= rw(lv)) cycle
+                if (acc(2 + (g - 1)*ncg, i, j, k) < 0.5_wp) then
+                  wide(g, i, j, k) = unfound
+                else
+                  self%mls_stats%nwidened = self%mls_stats%nwidened + 1
+                end if
+              end do
+            end do
+          end do
+        end do
+      end do
+      where (wide < 0.0_wp) wide = 0.0_wp
+    end associate
+  end subroutine widen_empty_gauss_points
 
   !> Occupied Gauss cells: acc(1, c) holds the point count of each owned cell on
   !> entry and 1 (occupied) or 0 on exit. A cell is occupied when it holds a

@@ -128,7 +128,7 @@ contains
   !> counts as attributes of /verification when the run writes one.
   subroutine report_mls(self)
     class(state_t), intent(inout) :: self
-    integer(i8) :: c(6), nthin
+    integer(i8) :: c(6), nthin, nwide(1)
     character(len=256) :: line
     character(len=16), parameter :: names(6) = [character(len=16) :: 'mls_full', 'mls_reduced', &
       'mls_regularised', 'mls_constant', 'mls_empty', 'strain_pointwise']
@@ -140,14 +140,27 @@ contains
     write (line, '(a,5(1x,i0),a,i0)') '  MLS solves: full, reduced basis, regularised, constant '// &
       'basis, empty:', c(1:5), '; point gradients left point-wise: ', c(6)
     call self%log%info(line)
+    nwide = self%mls_stats%nwidened
+    call MPI_Allreduce(MPI_IN_PLACE, nwide, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
+    if (self%plan%gauss .and. nwide(1) > 0) then
+      write (line, '(a,i0,a)') '  Gauss points of occupied cells that widened their reach (no point '// &
+        'within field_radius, some within a quarter or half a cell more): ', nwide(1), ' times'
+      call self%log%info(line)
+    end if
     ! (without MLS velocities every solve is one of a Gauss point of an occupied cell)
-    if (self%plan%gauss .and. .not. self%plan%velocity_mls .and. c(5) > 0) then
+    if (self%plan%gauss .and. .not. self%plan%velocity_mls .and. c(5) > 0 .and. self%cfg%field_widen) then
+      call self%log%warning('Gauss points of occupied cells found no point even within field_radius '// &
+                            '+ 0.5 cells '//i8toa(c(5))//' times: their cells entered the forces with '// &
+                            'no stress or pore pressure, which is right where pore water has drained '// &
+                            'away but a hole where the points of a body lie scattered apart '// &
+                            '(doc/verification.md, "Empty Gauss points of linear + one Gauss point")')
+    else if (self%plan%gauss .and. .not. self%plan%velocity_mls .and. c(5) > 0) then
       call self%log%warning('Gauss points of occupied cells found no point within field_radius '// &
                             i8toa(c(5))//' times: their cells entered the forces with no stress or '// &
                             'pore pressure, which is right where pore water has drained away but a hole '// &
-                            'where the points of a body lie scattered apart; there field_radius = 1.0 or '// &
-                            'the pair of doc/theory.md 3.6 reach across empty cells (doc/verification.md, '// &
-                            '"Empty Gauss points of linear + one Gauss point")')
+                            'where the points of a body lie scattered apart; there &shape field_widen = '// &
+                            '.true., field_radius = 1.0 or the pair of doc/theory.md 3.6 reach across '// &
+                            'empty cells (doc/verification.md, "Empty Gauss points of linear + one Gauss point")')
     end if
     if (self%plan%gauss) then
       nthin = self%nthin

@@ -23,8 +23,6 @@ module dpmpm_step
   use dpmpm_transfer, only: p2g, g2p, point_divergences, interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
-  use dpmpm_base_motion, only: base_face, base_velocity, shake_base
-  use dpmpm_tied_sides, only: tie_sides
   use dpmpm_drag, only: nodal_drag_limit
   use dpmpm_remap, only: musl_remap, remap_locks
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, &
@@ -241,7 +239,7 @@ contains
     if (self%has_surface_loads) then
       ! Tractions on the body's surface inside the grid join the nodal forces of the solid.
       associate (s => self%phase(solid_phase)%node, olo => self%dec%olo, ohi => self%dec%ohi)
-        call surface_forces(self%faces, self%time, nd, self%dec%alo, olo, ohi, s, self%dec%comm, self%sforce)
+        call surface_forces(self%bnd%faces, self%time, nd, self%dec%alo, olo, ohi, s, self%dec%comm, self%sforce)
         s(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = &
           s(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) + &
           self%sforce(1:nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3))
@@ -255,7 +253,7 @@ contains
     end if
     if (.not. coupled) then
       call nodal_update(nd, self%dec%alo, blo, bhi, self%phase(solid_phase)%node, &
-                        gravity_now(self), self%faces, self%time, dt, self%phase(solid_phase)%nvel, &
+                        gravity_now(self), self%bnd%faces, self%time, dt, self%phase(solid_phase)%nvel, &
                         self%ext_work, damping_now(self), self%drag_loss)
       if (self%has_rigid) call drive_rigid(self, dt)
       call self%timers%toc(t_nodal)
@@ -305,7 +303,7 @@ contains
         if (self%has_rigid) call rigid_node_sums(self, dt)
         rforce = 0.0_wp
         call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
-                                  self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
+                                  self%nporo, self%ndrag, gravity_now(self), self%bnd%faces, f%bc, &
                                   self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
                                   self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce, &
                                   fvol, self%cfg%free_surface_fraction)
@@ -314,22 +312,11 @@ contains
       call self%timers%toc(t_nodal)
     end if
 
-    ! The rigid base (&motion base): its nodes follow the recorded motion, both phases.
-    if (base_face(self%cfg) > 0) then
-      do ip = 1, self%nph
-        call shake_base(nd, self%dec%alo, blo, bhi, base_face(self%cfg), self%grid%ncells, &
-                        base_velocity(self%cfg, self%time), base_velocity(self%cfg, self%time + dt), &
-                        self%phase(ip)%node, self%phase(ip)%nvel, .true., gravity_now(self), dt, &
-                        self%ext_work)
-      end do
-    end if
-    ! Tied faces (&boundary condition = 'tied'): each pair of their nodes moves as one.
-    if (any(self%cfg%tied)) then
-      do ip = 1, self%nph
-        call tie_sides(nd, self%dec%alo, blo, bhi, self%grid%ncells, self%cfg%tied, &
-                       self%phase(ip)%node, self%phase(ip)%nvel, .true., self%dec%comm)
-      end do
-    end if
+    ! The kinematic conditions of whole faces (the rigid base, tied faces), both phases.
+    do ip = 1, self%nph
+      call self%bnd%hold(self%cfg, self%dec%alo, blo, bhi, self%phase(ip)%node, self%phase(ip)%nvel, &
+                         .true., self%time, dt, gravity_now(self), self%ext_work, self%dec%comm)
+    end do
 
     ! The work of the surface loads over the step (their nodes' mean velocity), and of
     ! the gravity by Gauss quadrature beyond the points' own.
@@ -699,7 +686,7 @@ contains
           wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
           do side = 1, 2
             face = 2*(d - 1) + side
-            if (self%fbc(face) /= fbc_drained) cycle
+            if (self%bnd%fbc(face) /= fbc_drained) cycle
             if ((side == 1 .and. ps%x(d, p) < wall(1)) .or. (side == 2 .and. ps%x(d, p) >= wall(2))) &
               gone(p) = .true.
           end do

@@ -19,7 +19,7 @@ module dpmpm_boundary
   use mpi_f08, only: MPI_Comm
   implicit none
   private
-  public :: boundary_t, resolve_fluid_bc
+  public :: boundary_t, resolve_fluid_bc, remap_nodal_velocity, tie_fluid
 
   !> The faces' conditions of a scene: what init resolves from the input, and the face
   !> loads. Data set up once; the procedures do not change it.
@@ -45,8 +45,7 @@ module dpmpm_boundary
 
 contains
 
-  !> The faces' conditions of cfg on grid (whose bc holds the skeleton's kinds), with the
-  !> grid functions of kernel; two_phase: the scene has pore fluid, whose conditions are
+  !> The faces' conditions of cfg on grid, with the grid functions of kernel; two_phase: the scene has pore fluid, whose conditions are
   !> resolved (resolve_fluid_bc).
   subroutine boundary_init(self, cfg, grid, kernel, two_phase)
     class(boundary_t), intent(inout) :: self
@@ -58,13 +57,13 @@ contains
     self%nd = cfg%ndim
     self%ncells = grid%ncells
     self%fbc = 0
-    if (two_phase) self%fbc = resolve_fluid_bc(cfg, grid%bc)
-    self%kind(:, 1) = grid%bc
+    if (two_phase) self%fbc = resolve_fluid_bc(cfg, cfg%bc)
+    call self%faces%init(cfg, grid, kernel, self%fbc)
+    self%kind(:, 1) = self%faces%walls%bc
     self%kind(:, 2) = bc_free
-    if (two_phase) self%kind(:, 2) = fluid_mirror_bc(self%nd, self%fbc, grid%bc)
+    if (two_phase) self%kind(:, 2) = fluid_mirror_bc(self%nd, self%fbc, self%kind(:, 1))
     self%tied = cfg%tied
     self%base = base_face(cfg)
-    call self%faces%init(cfg, grid, kernel, self%fbc)
   end subroutine boundary_init
 
   !> Release what init made; no face holds a condition afterwards.
@@ -116,5 +115,69 @@ contains
     if (any(self%tied)) &
       call tie_sides(self%nd, lo, olo, ohi, self%ncells, self%tied, node, nvel, both, comm)
   end subroutine boundary_hold
+
+  !> MUSL remap, at the nodes olo..ohi: the new-velocity slots of nvel (cleared first)
+  !> from the remapped momenta node(2:1+nd) over the step's masses node(1); components
+  !> held by the face conditions bc (faces%walls) are zero (with walls, not those of a node that
+  !> moves away from a rough wall, which the wall lets go as in nodal_update).
+  subroutine remap_nodal_velocity(nd, lo, olo, ohi, node, faces, bc, nvel, walls)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)
+    type(face_loads_t), intent(in) :: faces
+    integer, intent(in) :: bc(6)
+    real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
+    logical, intent(in) :: walls   !< rough walls let go of nodes moving away (nodal_update)
+    integer :: i, j, k, ilo(3), ihi(3)
+    real(wp) :: m, v(3)
+    logical :: fix(3), row_free
+    nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
+    ! Inside the box of free nodes no component is held.
+    call faces%grid%interior_nodes(1, ilo, ihi)
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        row_free = j >= ilo(2) .and. j <= ihi(2) .and. k >= ilo(3) .and. k <= ihi(3)
+        do i = olo(1), ohi(1)
+          m = node(1, i, j, k)
+          if (m <= 0.0_wp) cycle
+          nvel(nd + 1:2*nd, i, j, k) = node(2:1 + nd, i, j, k)/m
+          if (row_free .and. i >= ilo(1) .and. i <= ihi(1)) cycle
+          fix = faces%walls%constrained([i, j, k], bc)
+          if (walls .and. any(fix)) then
+            ! As in the update: a rough wall holds only a node that runs into it.
+            v = 0.0_wp
+            v(1:nd) = nvel(nd + 1:2*nd, i, j, k)
+            where (faces%walls%wall_contact([i, j, k], nd, v) == 2) fix = .false.
+          end if
+          where (fix(1:nd)) nvel(nd + 1:2*nd, i, j, k) = 0.0_wp
+        end do
+      end do
+    end do
+  end subroutine remap_nodal_velocity
+
+  !> Set the fluid velocity components tied to the solid (fluid_ties) to the solid's
+  !> on the owned nodes, in the new-velocity slots of nvel.
+  subroutine tie_fluid(nd, lo, olo, ohi, faces, node_s, node_f, nvel_s, nvel_f)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
+    type(face_loads_t), intent(in) :: faces
+    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: nvel_s(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: nvel_f(:, lo(1):, lo(2):, lo(3):)
+    integer :: i, j, k, ilo(3), ihi(3)
+    logical :: tie(3), row_near
+    ! Only nodes near a face are tied.
+    call faces%inner_nodes(ilo, ihi)
+    do k = olo(3), ohi(3)
+      do j = olo(2), ohi(2)
+        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
+        do i = olo(1), ohi(1)
+          if (.not. (row_near .or. i < ilo(1) .or. i > ihi(1))) cycle
+          tie = faces%fluid_ties([i, j, k])
+          if (.not. any(tie)) cycle
+          if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
+          where (tie(1:nd)) nvel_f(nd + 1:2*nd, i, j, k) = nvel_s(nd + 1:2*nd, i, j, k)
+        end do
+      end do
+    end do
+  end subroutine tie_fluid
 
 end module dpmpm_boundary

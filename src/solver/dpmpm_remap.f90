@@ -12,7 +12,7 @@ module dpmpm_remap
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: g2p, g2p_remap, point_gradient, point_divergences, momentum_p2g, &
     momentum_project_p2g
-  use dpmpm_nodal_update, only: remap_nodal_velocity, tie_fluid
+  use dpmpm_boundary, only: remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
   use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points, body_velocities
   implicit none
@@ -66,7 +66,7 @@ contains
     end do
     ! the nodes of rigid bodies move with them in the remapped field too
     if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
-                                               self%phase(solid_phase)%node, self%rnode, self%grid, dt, &
+                                               self%phase(solid_phase)%node, self%rnode, self%bnd%faces%walls, dt, &
                                                self%phase(solid_phase)%nvel)
     if (coupled) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
@@ -80,7 +80,7 @@ contains
         end if
         ! the corrections keep the pair's momentum; the skeleton at rigid nodes keeps v_r
         if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, &
-                                                   self%rnode, self%grid, dt, s%nvel)
+                                                   self%rnode, self%bnd%faces%walls, dt, s%nvel)
       end associate
     end if
     ! the kinematic conditions of whole faces (the rigid base, tied faces) on the remapped
@@ -156,7 +156,7 @@ contains
     call self%dec%halo_sum(ph%node)
     ! Rough walls let go of nodes moving away from them in scenes of one phase (nodal_update).
     call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
-                              ph%node, self%grid, ph%bc, ph%nvel, self%grid%rough .and. self%nph == 1)
+                              ph%node, self%bnd%faces, ph%bc, ph%nvel, self%bnd%faces%walls%rough .and. self%nph == 1)
   end subroutine remap_velocities
 
 end module dpmpm_remap

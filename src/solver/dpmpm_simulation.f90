@@ -253,12 +253,12 @@ contains
     end if
     call diagnostics(self)
     call check_load_path(self)
-    if (self%grid%rough .and. cfg%flip > 0.5_wp) call self%log%warning('rough walls (&boundary '// &
+    if (self%bnd%faces%walls%rough .and. cfg%flip > 0.5_wp) call self%log%warning('rough walls (&boundary '// &
       'friction) with flip > 0.5: a block that the friction should hold creeps (flip 1, friction '// &
       '0.7 at 30 degrees: 2 mm in 0.1 s, 0.03 mm with flip 0.5), and with flip 1 a cohesionless '// &
       'soil flowing on a wall that lets go of its nodes throws points off it (lift_off = .false. '// &
       'holds them; doc/verification.md, "Rough walls")')
-    if (maxval(self%grid%friction) >= 0.45_wp .and. self%nph == 2) call self%log%warning('rough '// &
+    if (maxval(self%bnd%faces%walls%friction) >= 0.45_wp .and. self%nph == 2) call self%log%warning('rough '// &
       'walls (&boundary friction) of 0.45 or more under pore water: the wall holds the skeleton '// &
       'where it would pull it (it lets go only in scenes of one phase), and a saturated block with '// &
       'friction 0.7 slid 9.5 % too far, with a soft pore fluid half the distance (doc/verification.md, '// &

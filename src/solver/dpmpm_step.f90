@@ -166,7 +166,7 @@ contains
       if (self%plan%gauss) call self%mirror%fold(self%phase(ip)%nvol, 2, self%phase(ip)%bc)
     end do
     if (coupled) then
-      call self%mirror%fold(self%nporo, 3, self%grid%bc)
+      call self%mirror%fold(self%nporo, 3, self%bnd%kind(:, 1))
       call self%mirror%fold(self%ndrag, 1, self%phase(fluid_phase)%bc)
     end if
     ! (each share folded with the conditions of the phase it goes to)
@@ -265,7 +265,7 @@ contains
       call self%timers%toc(t_nodal)
       call self%timers%tic(t_halo)
       call self%dec%halo_copy(self%nporo)
-      call self%mirror%unfold(self%nporo, 3, self%grid%bc)
+      call self%mirror%unfold(self%nporo, 3, self%bnd%kind(:, 1))
       call self%timers%toc(t_halo)
       call self%timers%tic(t_g2p)
       allocate (nval(nf), gnrel(nf), nkinv(nf))
@@ -523,7 +523,7 @@ contains
     associate (s => self%phase(solid_phase))
       force = 0.0_wp
       call drive_rigid_nodes(self%nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, self%rnode, &
-                             self%grid, dt, s%nvel, force, self%ext_work)
+                             self%bnd%faces%walls, dt, s%nvel, force, self%ext_work)
       self%drive_impulse = self%drive_impulse + dt*force
     end associate
   end subroutine drive_rigid
@@ -560,7 +560,7 @@ contains
       self%rnode = 0.0_wp
       call rigid_p2g(self%nd, s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%pts%mass, s%pts%mat, self%mats, &
                      body_velocities(self%mats, self%time + 0.5_wp*dt), self%dec%alo, self%rnode)
-      call self%mirror%fold(self%rnode, 1, self%grid%bc)
+      call self%mirror%fold(self%rnode, 1, self%bnd%kind(:, 1))
       call self%dec%halo_sum(self%rnode)
     end associate
   end subroutine rigid_node_sums
@@ -701,7 +701,7 @@ contains
         wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
         eps = 1.0e-9_wp*self%grid%h(d)
         do side = 1, 2
-          if (self%grid%bc(2*(d - 1) + side) == bc_free) cycle
+          if (self%bnd%kind(2*(d - 1) + side, 1) == bc_free) cycle
           if (side == 1 .and. ps%x(d, p) < wall(1)) then
             ps%x(d, p) = wall(1) + eps
             self%nwall = self%nwall + 1

@@ -4,10 +4,11 @@
 !> base of &motion, and the face loads (tractions, drained-face pore pressure, dashpots of
 !> absorbing faces, the fluid's ties at impermeable faces: face_loads_t). The step applies
 !> them at three moments: on the node fields in p2g (the mirror walls' fold, the phases'
-!> kinds), in the nodal update (forces and constraints, face_loads_t and the grid's
-!> constraints), and on the velocities after the update and after the remap (hold: the
-!> kinematic conditions that overwrite the velocities of whole faces). doc/architecture.md,
-!> "Boundary conditions", lists where each kind is decided and applied.
+!> kinds), in the nodal update and the remap (forces and constraints: face_loads_t and its
+!> walls_t; remap_nodal_velocity and tie_fluid here), and on the velocities after the
+!> update and after the remap (hold: the kinematic conditions that overwrite the velocities
+!> of whole faces). doc/architecture.md, "Boundary conditions", lists where each kind is
+!> decided and applied.
 module dpmpm_boundary
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable
@@ -45,8 +46,8 @@ module dpmpm_boundary
 
 contains
 
-  !> The faces' conditions of cfg on grid, with the grid functions of kernel; two_phase: the scene has pore fluid, whose conditions are
-  !> resolved (resolve_fluid_bc).
+  !> The faces' conditions of cfg on grid, with the grid functions of kernel; two_phase:
+  !> the scene has pore fluid, whose conditions are resolved (resolve_fluid_bc).
   subroutine boundary_init(self, cfg, grid, kernel, two_phase)
     class(boundary_t), intent(inout) :: self
     type(config_t), intent(in) :: cfg
@@ -118,8 +119,8 @@ contains
 
   !> MUSL remap, at the nodes olo..ohi: the new-velocity slots of nvel (cleared first)
   !> from the remapped momenta node(2:1+nd) over the step's masses node(1); components
-  !> held by the face conditions bc (faces%walls) are zero (with walls, not those of a node that
-  !> moves away from a rough wall, which the wall lets go as in nodal_update).
+  !> held by the face conditions bc (faces%walls) are zero (with walls, not those of a
+  !> node that moves away from a rough wall, which the wall lets go as in nodal_update).
   subroutine remap_nodal_velocity(nd, lo, olo, ohi, node, faces, bc, nvel, walls)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)

@@ -3,8 +3,8 @@
 !> boundary conditions, for one phase alone or for the two phases coupled by the
 !> drag (drag_solve: here, beside its caller, so that the compiler inlines it; the
 !> drag's other parts are in dpmpm_drag) and the dashpots of absorbing faces (the MUSL
-!> remap's nodal velocities and the fluid's ties: dpmpm_boundary). Work of the external forces and the drag dissipation
-!> are booked here for the energy balance.
+!> remap's nodal velocities and the fluid's ties: dpmpm_boundary). Work of the external
+!> forces and the drag dissipation are booked here for the energy balance.
 module dpmpm_nodal_update
   use dpmpm_kinds, only: wp
   use dpmpm_face_loads, only: face_loads_t

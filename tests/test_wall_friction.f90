@@ -1,4 +1,4 @@
-!> Rough walls (&boundary friction): the Coulomb friction of one node (grid_t%wall_friction)
+!> Rough walls (&boundary friction): the Coulomb friction of one node (walls_t%wall_friction)
 !> and an elastic block on an incline (gravity tilted against the grid) that slides at
 !> the Coulomb rate g (sin θ - μ cos θ) when tan θ > μ and stays where it is otherwise.
 program test_wall_friction
@@ -6,7 +6,7 @@ program test_wall_friction
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, bc_roller, bc_fixed
   use dpmpm_test_scenes, only: grid_scene
-  use dpmpm_grid, only: grid_t
+  use dpmpm_walls, only: walls_t
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_close, am_root
   use dpmpm_test_main, only: start_tests, end_tests
@@ -35,10 +35,10 @@ contains
 
   !> A 2D grid of 10 x 10 cells with rough roller faces y- and y+ (friction mu) and a
   !> fixed face x-.
-  function rough_grid(mu, nd) result(grid)
+  function rough_walls(mu, nd) result(walls)
     real(wp), intent(in) :: mu
     integer, intent(in) :: nd
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     type(config_t) :: cfg
     cfg%ndim = nd
     cfg%ncells = [10, 10, merge(10, 1, nd == 3)]
@@ -46,116 +46,116 @@ contains
     cfg%bc(1) = bc_fixed
     cfg%bc(2*nd - 1:2*nd) = bc_roller
     cfg%wall_friction(2*nd - 1:2*nd) = mu
-    call grid%init(cfg)
-  end function rough_grid
+    call walls%init(cfg)
+  end function rough_walls
 
   subroutine test_sliding_node_loses_mu_times_normal_speed()
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     real(wp) :: v(3)
     call begin_test('sliding_node_loses_mu_times_normal_speed')
-    grid = rough_grid(0.5_wp, 2)
+    walls = rough_walls(0.5_wp, 2)
     v = [1.0_wp, -0.3_wp, 0.0_wp]
-    call grid%wall_friction([4, 0, 0], 2, [.false., .true., .false.], [0.2_wp, -0.1_wp, 0.0_wp], v)
+    call walls%wall_friction([4, 0, 0], 2, [.false., .true., .false.], [0.2_wp, -0.1_wp, 0.0_wp], v)
     call check_close(v(1), 0.95_wp, 0.0_wp, 1.0e-15_wp, 'speed along the wall 1 - 0.5 x 0.1')
     call check_close(v(2), -0.3_wp, 0.0_wp, 0.0_wp, 'normal component left to the constraint')
   end subroutine test_sliding_node_loses_mu_times_normal_speed
 
   subroutine test_slow_node_sticks()
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     real(wp) :: v(3)
     call begin_test('slow_node_sticks')
-    grid = rough_grid(0.5_wp, 2)
+    walls = rough_walls(0.5_wp, 2)
     v = [0.01_wp, 0.0_wp, 0.0_wp]
-    call grid%wall_friction([4, 0, 0], 2, [.false., .true., .false.], [0.0_wp, -0.1_wp, 0.0_wp], v)
+    call walls%wall_friction([4, 0, 0], 2, [.false., .true., .false.], [0.0_wp, -0.1_wp, 0.0_wp], v)
     call check_close(v(1), 0.0_wp, 0.0_wp, 0.0_wp, 'at rest, not reversed')
   end subroutine test_slow_node_sticks
 
   subroutine test_wall_pulling_node_gives_no_friction()
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     real(wp) :: v(3)
     call begin_test('wall_pulling_node_gives_no_friction')
-    grid = rough_grid(0.5_wp, 2)
+    walls = rough_walls(0.5_wp, 2)
     v = [1.0_wp, 0.0_wp, 0.0_wp]
-    call grid%wall_friction([4, 0, 0], 2, [.false., .true., .false.], [0.0_wp, 0.1_wp, 0.0_wp], v)
+    call walls%wall_friction([4, 0, 0], 2, [.false., .true., .false.], [0.0_wp, 0.1_wp, 0.0_wp], v)
     call check_close(v(1), 1.0_wp, 0.0_wp, 0.0_wp, 'moving away from y-: no friction')
   end subroutine test_wall_pulling_node_gives_no_friction
 
   subroutine test_node_off_the_face_is_untouched()
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     real(wp) :: v(3)
     call begin_test('node_off_the_face_is_untouched')
-    grid = rough_grid(0.5_wp, 2)
+    walls = rough_walls(0.5_wp, 2)
     v = [1.0_wp, 0.0_wp, 0.0_wp]
-    call grid%wall_friction([4, 1, 0], 2, [.false., .false., .false.], [0.0_wp, -0.1_wp, 0.0_wp], v)
+    call walls%wall_friction([4, 1, 0], 2, [.false., .false., .false.], [0.0_wp, -0.1_wp, 0.0_wp], v)
     call check_close(v(1), 1.0_wp, 0.0_wp, 0.0_wp, 'one node above the face')
   end subroutine test_node_off_the_face_is_untouched
 
   !> 3D, face z+ (outward normal +z): the push is dv_z > 0; the speed along the wall
   !> (3, 4) = 5 drops by mu vn = 1 in its own direction.
   subroutine test_upper_face_and_direction_along_wall()
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     real(wp) :: v(3)
     call begin_test('upper_face_and_direction_along_wall')
-    grid = rough_grid(1.0_wp, 3)
+    walls = rough_walls(1.0_wp, 3)
     v = [3.0_wp, 4.0_wp, 0.0_wp]
-    call grid%wall_friction([4, 4, 10], 3, [.false., .false., .true.], [0.0_wp, 0.0_wp, 1.0_wp], v)
+    call walls%wall_friction([4, 4, 10], 3, [.false., .false., .true.], [0.0_wp, 0.0_wp, 1.0_wp], v)
     call check_close(v(1), 2.4_wp, 0.0_wp, 1.0e-15_wp, 'x: 3 x 4/5')
     call check_close(v(2), 3.2_wp, 0.0_wp, 1.0e-15_wp, 'y: 4 x 4/5')
     v = [3.0_wp, 4.0_wp, 0.0_wp]
-    call grid%wall_friction([4, 4, 10], 3, [.false., .false., .true.], [0.0_wp, 0.0_wp, -1.0_wp], v)
+    call walls%wall_friction([4, 4, 10], 3, [.false., .false., .true.], [0.0_wp, 0.0_wp, -1.0_wp], v)
     call check_close(v(2), 4.0_wp, 0.0_wp, 0.0_wp, 'dv_z < 0 pulls away from z+: no friction')
   end subroutine test_upper_face_and_direction_along_wall
 
   !> The corner node (0, 0) of the fixed face x- and the rough face y-: x is held, so
   !> nothing slides.
   subroutine test_component_held_by_fixed_face_does_not_slide()
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     real(wp) :: v(3)
     call begin_test('component_held_by_fixed_face_does_not_slide')
-    grid = rough_grid(0.5_wp, 2)
+    walls = rough_walls(0.5_wp, 2)
     v = [1.0_wp, 0.0_wp, 0.0_wp]
-    call grid%wall_friction([0, 0, 0], 2, [.true., .true., .false.], [0.0_wp, -0.1_wp, 0.0_wp], v)
+    call walls%wall_friction([0, 0, 0], 2, [.true., .true., .false.], [0.0_wp, -0.1_wp, 0.0_wp], v)
     call check_close(v(1), 1.0_wp, 0.0_wp, 0.0_wp, 'x left to the fixed face (zeroed by the caller)')
   end subroutine test_component_held_by_fixed_face_does_not_slide
 
   subroutine test_smooth_roller_has_no_friction()
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     real(wp) :: v(3)
     call begin_test('smooth_roller_has_no_friction')
-    grid = rough_grid(0.0_wp, 2)
-    call check(.not. grid%rough, 'no rough face')
+    walls = rough_walls(0.0_wp, 2)
+    call check(.not. walls%rough, 'no rough face')
     v = [1.0_wp, 0.0_wp, 0.0_wp]
-    call grid%wall_friction([4, 0, 0], 2, [.false., .true., .false.], [0.0_wp, -0.1_wp, 0.0_wp], v)
+    call walls%wall_friction([4, 0, 0], 2, [.false., .true., .false.], [0.0_wp, -0.1_wp, 0.0_wp], v)
     call check_close(v(1), 1.0_wp, 0.0_wp, 0.0_wp, 'friction 0')
   end subroutine test_smooth_roller_has_no_friction
 
-  !> The wall's contact (grid_t%wall_contact): a node on the rough face y- running into it
+  !> The wall's contact (walls_t%wall_contact): a node on the rough face y- running into it
   !> (v_y < 0) is held (1), one moving away (v_y >= 0) is let go (2), a node above the
   !> face is no concern of the wall (0), at the corner with the fixed face x- the fixed
   !> face decides (0), and a wall without lift-off holds its nodes (0). 3D, face z+:
   !> v_z > 0 runs into it.
   subroutine test_wall_holds_node_running_into_it_and_lets_go_otherwise()
-    type(grid_t) :: grid
+    type(walls_t) :: walls
     integer :: s(3)
     call begin_test('wall_holds_node_running_into_it_and_lets_go_otherwise')
-    grid = rough_grid(0.5_wp, 2)
-    s = grid%wall_contact([4, 0, 0], 2, [1.0_wp, -0.1_wp, 0.0_wp])
+    walls = rough_walls(0.5_wp, 2)
+    s = walls%wall_contact([4, 0, 0], 2, [1.0_wp, -0.1_wp, 0.0_wp])
     call check(all(s == [0, 1, 0]), 'running into y-: held')
-    s = grid%wall_contact([4, 0, 0], 2, [1.0_wp, 0.1_wp, 0.0_wp])
+    s = walls%wall_contact([4, 0, 0], 2, [1.0_wp, 0.1_wp, 0.0_wp])
     call check(all(s == [0, 2, 0]), 'moving away from y-: let go')
-    s = grid%wall_contact([4, 0, 0], 2, [1.0_wp, 0.0_wp, 0.0_wp])
+    s = walls%wall_contact([4, 0, 0], 2, [1.0_wp, 0.0_wp, 0.0_wp])
     call check(all(s == [0, 2, 0]), 'at rest along y: let go (no force needed)')
-    s = grid%wall_contact([4, 1, 0], 2, [1.0_wp, -0.1_wp, 0.0_wp])
+    s = walls%wall_contact([4, 1, 0], 2, [1.0_wp, -0.1_wp, 0.0_wp])
     call check(all(s == 0), 'one node above the face: no contact')
-    s = grid%wall_contact([0, 0, 0], 2, [1.0_wp, 0.1_wp, 0.0_wp])
+    s = walls%wall_contact([0, 0, 0], 2, [1.0_wp, 0.1_wp, 0.0_wp])
     call check(all(s == 0), 'corner of the fixed face x-: held by it')
-    grid%lift_off = .false.
-    s = grid%wall_contact([4, 0, 0], 2, [1.0_wp, 0.1_wp, 0.0_wp])
+    walls%lift_off = .false.
+    s = walls%wall_contact([4, 0, 0], 2, [1.0_wp, 0.1_wp, 0.0_wp])
     call check(all(s == 0), 'lift_off = .false.: the wall holds the node whatever its motion')
-    grid = rough_grid(1.0_wp, 3)
-    s = grid%wall_contact([4, 4, 10], 3, [0.0_wp, 0.0_wp, 0.2_wp])
+    walls = rough_walls(1.0_wp, 3)
+    s = walls%wall_contact([4, 4, 10], 3, [0.0_wp, 0.0_wp, 0.2_wp])
     call check(all(s == [0, 0, 1]), 'running into z+: held')
-    s = grid%wall_contact([4, 4, 10], 3, [0.0_wp, 0.0_wp, -0.2_wp])
+    s = walls%wall_contact([4, 4, 10], 3, [0.0_wp, 0.0_wp, -0.2_wp])
     call check(all(s == [0, 0, 2]), 'moving away from z+: let go')
   end subroutine test_wall_holds_node_running_into_it_and_lets_go_otherwise
 

@@ -14,8 +14,7 @@ module dpmpm_damping
   use dpmpm_state, only: state_t
   use dpmpm_phase, only: solid_phase
   use dpmpm_transfer, only: p2g, point_gradient
-  use dpmpm_base_motion, only: base_face, base_velocity, shake_base
-  use dpmpm_tied_sides, only: tie_sides
+  use dpmpm_base_motion, only: base_face, base_velocity
   use dpmpm_materials, only: model_rigid
   implicit none
   private
@@ -114,20 +113,18 @@ contains
             m = ph%node(1, i, j, k)
             if (m <= 0.0_wp) cycle
             vn(nd + 1:2*nd, i, j, k) = ph%node(2:1 + nd, i, j, k)/m
-            if (self%faces%near_face([i, j, k])) then
-              fix = self%faces%grid%constrained([i, j, k])
+            if (self%bnd%faces%near_face([i, j, k])) then
+              fix = self%bnd%faces%walls%constrained([i, j, k])
               where (fix(1:nd)) vn(nd + 1:2*nd, i, j, k) = 0.0_wp
             end if
             vn(1:nd, i, j, k) = vn(nd + 1:2*nd, i, j, k)
           end do
         end do
       end do
+      ! the rigid base at the motion's velocity at the start of the step, tied pairs as one
       dummy = 0.0_wp
-      if (base_face(self%cfg) > 0) &
-        call shake_base(nd, lo, blo, bhi, base_face(self%cfg), self%grid%ncells, base_velocity(self%cfg, self%time), &
-                        base_velocity(self%cfg, self%time), ph%node, vn, .false., self%cfg%gravity, dt, dummy)
-      if (any(self%cfg%tied)) call tie_sides(nd, lo, blo, bhi, self%grid%ncells, self%cfg%tied, ph%node, vn, &
-                                             .false., self%dec%comm)
+      call self%bnd%hold(self%cfg, lo, blo, bhi, ph%node, vn, .false., self%time, 0.0_wp, &
+                         self%cfg%gravity, dummy, self%dec%comm)
       call self%dec%halo_copy(vn)
       call self%mirror%unfold(vn, 0, ph%bc)
       allocate (lg(9, max(n, 1)), sv(6, max(n, 1)), zm(max(n, 1)), zv(nd, max(n, 1)))

@@ -132,7 +132,7 @@ contains
     logical :: free(3)
     free = .true.
     if (.not. faces%near_face(idx)) return
-    free = .not. (faces%grid%constrained(idx) .or. faces%grid%constrained(idx, mbc) .or. &
+    free = .not. (faces%walls%constrained(idx) .or. faces%walls%constrained(idx, mbc) .or. &
                   faces%fluid_ties(idx))
   end function free_components
 

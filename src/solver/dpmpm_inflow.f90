@@ -32,12 +32,12 @@ contains
     integer, allocatable :: first(:), place(:)
     integer(i8), allocatable :: keys(:)
     real(wp) :: vcell, vt, deficit, vn, x(3), pface, poro, rho, sg, xwide(2)
-    if (.not. any(self%fbc(1:2*self%nd) == fbc_drained)) return
+    if (.not. any(self%bnd%fbc(1:2*self%nd) == fbc_drained)) return
     vcell = product(self%grid%h(1:self%nd))
     n0 = ps%n
     allocate (keys(0))
     do f = 1, 2*self%nd
-      if (self%fbc(f) /= fbc_drained) cycle
+      if (self%bnd%fbc(f) /= fbc_drained) cycle
       d = (f + 1)/2
       side = 2 - mod(f, 2)
       sg = merge(1.0_wp, -1.0_wp, side == 1)   ! +1: away from the face is +x_d
@@ -101,7 +101,7 @@ contains
         x(d) = self%grid%origin(d) + merge(0.0_wp, self%grid%ncells(d)*self%grid%h(d), side == 1) + &
                sg*0.5_wp*deficit/vcell*self%grid%h(d)
         poro = acc(5, ic)/acc(3, ic)
-        pface = self%faces%pore_pressure_at(self%time, f, x)
+        pface = self%bnd%faces%pore_pressure_at(self%time, f, x)
         m = ps%mat(first(ic))
         rho = fluid_density(self%mats(m)%density, self%mats(m)%bulk_fluid, pface)
         ! (the key of the face and global cell orders the new points of the step over the

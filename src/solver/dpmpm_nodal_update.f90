@@ -2,18 +2,17 @@
 !> after the step from the summed node fields, with gravity, face loads and the
 !> boundary conditions, for one phase alone or for the two phases coupled by the
 !> drag (drag_solve: here, beside its caller, so that the compiler inlines it; the
-!> drag's other parts are in dpmpm_drag), the dashpots of absorbing faces, and the
-!> nodal half of the MUSL remap. Work of the external forces and the drag dissipation
-!> are booked here for the energy balance.
+!> drag's other parts are in dpmpm_drag) and the dashpots of absorbing faces (the MUSL
+!> remap's nodal velocities and the fluid's ties: dpmpm_boundary). Work of the external
+!> forces and the drag dissipation are booked here for the energy balance.
 module dpmpm_nodal_update
   use dpmpm_kinds, only: wp
-  use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
   use dpmpm_drag, only: sliver_node
   use dpmpm_damping, only: rayleigh_mass
   implicit none
   private
-  public :: nodal_update, nodal_update_coupled, remap_nodal_velocity, tie_fluid, drag_solve
+  public :: nodal_update, nodal_update_coupled, drag_solve
 
 contains
 
@@ -45,7 +44,7 @@ contains
           if (m <= 0.0_wp) cycle
           near = faces%near_face([i, j, k])
           fix = .false.
-          if (near) fix = faces%grid%constrained([i, j, k])
+          if (near) fix = faces%walls%constrained([i, j, k])
           vold = 0.0_wp
           vold(1:nd) = node(2:1 + nd, i, j, k)/m
           if (near) then
@@ -67,19 +66,19 @@ contains
           cd = 0.0_wp
           if (near) cd = faces%dashpot([i, j, k], .false.)
           if (any(cd(1:nd) > 0.0_wp)) vnew(1:nd) = vnew(1:nd)*m/(m + dt*cd(1:nd))
-          rough = near .and. faces%grid%rough
+          rough = near .and. faces%walls%rough
           if (rough) then
             ! A rough wall pushes and rubs but does not pull (doc/theory.md 6.7): it holds
             ! the normal component of a node that runs into it, whose whole normal velocity
             ! it takes (the impulse of the friction), and lets go of one moving away.
-            contact = faces%grid%wall_contact([i, j, k], nd, vnew)
+            contact = faces%walls%wall_contact([i, j, k], nd, vnew)
             where (contact == 2) fix = .false.
             ffr = vnew
             ! Where the wall holds its nodes whatever their motion (lift_off = .false.),
             ! the impulse is the change of the step (the normal velocity is held at zero).
             vwall = vnew
             if (all(contact == 0)) vwall = vnew - vold
-            call faces%grid%wall_friction([i, j, k], nd, fix, vwall, vnew)
+            call faces%walls%wall_friction([i, j, k], nd, fix, vwall, vnew)
             where (contact == 1) vnew = 0.0_wp
             ! The wall's force, normal and friction, m dv/dt.
             ffr = m*(vnew - ffr)/dt
@@ -179,7 +178,7 @@ contains
             ! The static load of absorbing faces on each phase.
             ts = faces%absorbing_static([i, j, k], .false.)
             tf = faces%absorbing_static([i, j, k], .true.)
-            fps = faces%pore_pressure_force(time, [i, j, k], faces%grid%bc)
+            fps = faces%pore_pressure_force(time, [i, j, k], faces%walls%bc)
             fpf = faces%pore_pressure_force(time, [i, j, k], mbc)
             if (present(fvol) .and. (any(fps /= 0.0_wp) .or. any(fpf /= 0.0_wp))) then
               if (fvol(1, i, j, k) < thin*faces%node_volume([i, j, k])) then
@@ -204,8 +203,8 @@ contains
           end if
           sfix = .false.; ffix = .false.; tie = .false.; cs = 0.0_wp; cf = 0.0_wp
           if (near) then
-            sfix = faces%grid%constrained([i, j, k])
-            ffix = faces%grid%constrained([i, j, k], mbc)
+            sfix = faces%walls%constrained([i, j, k])
+            ffix = faces%walls%constrained([i, j, k], mbc)
             tie = faces%fluid_ties([i, j, k])
             cs = faces%dashpot([i, j, k], .false.)
             cf = faces%dashpot([i, j, k], .true.)
@@ -231,7 +230,7 @@ contains
           end if
           ! A skeleton node on a rough wall (not driven by a rigid body) takes friction, and
           ! its tangential components are solved again from the velocities kept here.
-          rough = near .and. faces%grid%rough .and. ms > 0.0_wp .and. .not. any(rigid)
+          rough = near .and. faces%walls%rough .and. ms > 0.0_wp .and. .not. any(rigid)
           if (rough) then
             vs0 = vs; vf0 = vf
           end if
@@ -264,7 +263,7 @@ contains
               dve(c) = dt*(pushs(c) - rp)/meff
             end do
             vt = vsn
-            call faces%grid%wall_friction([i, j, k], nd, sfix, dve, vt)
+            call faces%walls%wall_friction([i, j, k], nd, sfix, dve, vt)
             ffr(1:nd) = meff*(vt(1:nd) - vsn(1:nd))/dt
             do c = 1, nd
               if (ffr(c) == 0.0_wp) cycle
@@ -445,69 +444,5 @@ contains
     as = ((mf + e)*r1 + e*r2)/det
     af = (e*r1 + (ms + e)*r2)/det
   end subroutine drag_solve
-
-  !> MUSL remap, at the nodes olo..ohi: the new-velocity slots of nvel (cleared first)
-  !> from the remapped momenta node(2:1+nd) over the step's masses node(1); components
-  !> held by the face conditions bc of grid are zero (with walls, not those of a node that
-  !> moves away from a rough wall, which the wall lets go as in nodal_update).
-  subroutine remap_nodal_velocity(nd, lo, olo, ohi, node, grid, bc, nvel, walls)
-    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
-    real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):)
-    type(grid_t), intent(in) :: grid
-    integer, intent(in) :: bc(6)
-    real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
-    logical, intent(in) :: walls   !< rough walls let go of nodes moving away (nodal_update)
-    integer :: i, j, k, ilo(3), ihi(3)
-    real(wp) :: m, v(3)
-    logical :: fix(3), row_free
-    nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
-    ! Inside the box of free nodes no component is held.
-    call grid%interior_nodes(1, ilo, ihi)
-    do k = olo(3), ohi(3)
-      do j = olo(2), ohi(2)
-        row_free = j >= ilo(2) .and. j <= ihi(2) .and. k >= ilo(3) .and. k <= ihi(3)
-        do i = olo(1), ohi(1)
-          m = node(1, i, j, k)
-          if (m <= 0.0_wp) cycle
-          nvel(nd + 1:2*nd, i, j, k) = node(2:1 + nd, i, j, k)/m
-          if (row_free .and. i >= ilo(1) .and. i <= ihi(1)) cycle
-          fix = grid%constrained([i, j, k], bc)
-          if (walls .and. any(fix)) then
-            ! As in the update: a rough wall holds only a node that runs into it.
-            v = 0.0_wp
-            v(1:nd) = nvel(nd + 1:2*nd, i, j, k)
-            where (grid%wall_contact([i, j, k], nd, v) == 2) fix = .false.
-          end if
-          where (fix(1:nd)) nvel(nd + 1:2*nd, i, j, k) = 0.0_wp
-        end do
-      end do
-    end do
-  end subroutine remap_nodal_velocity
-
-  !> Set the fluid velocity components tied to the solid (fluid_ties) to the solid's
-  !> on the owned nodes, in the new-velocity slots of nvel.
-  subroutine tie_fluid(nd, lo, olo, ohi, faces, node_s, node_f, nvel_s, nvel_f)
-    integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
-    type(face_loads_t), intent(in) :: faces
-    real(wp), intent(in) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(in) :: nvel_s(:, lo(1):, lo(2):, lo(3):)
-    real(wp), intent(inout) :: nvel_f(:, lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k, ilo(3), ihi(3)
-    logical :: tie(3), row_near
-    ! Only nodes near a face are tied.
-    call faces%inner_nodes(ilo, ihi)
-    do k = olo(3), ohi(3)
-      do j = olo(2), ohi(2)
-        row_near = j < ilo(2) .or. j > ihi(2) .or. k < ilo(3) .or. k > ihi(3)
-        do i = olo(1), ohi(1)
-          if (.not. (row_near .or. i < ilo(1) .or. i > ihi(1))) cycle
-          tie = faces%fluid_ties([i, j, k])
-          if (.not. any(tie)) cycle
-          if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
-          where (tie(1:nd)) nvel_f(nd + 1:2*nd, i, j, k) = nvel_s(nd + 1:2*nd, i, j, k)
-        end do
-      end do
-    end do
-  end subroutine tie_fluid
 
 end module dpmpm_nodal_update

@@ -12,9 +12,7 @@ module dpmpm_remap
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: g2p, g2p_remap, point_gradient, point_divergences, momentum_p2g, &
     momentum_project_p2g
-  use dpmpm_nodal_update, only: remap_nodal_velocity, tie_fluid
-  use dpmpm_base_motion, only: base_face, base_velocity, shake_base
-  use dpmpm_tied_sides, only: tie_sides
+  use dpmpm_boundary, only: remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
   use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points, body_velocities
   implicit none
@@ -56,7 +54,7 @@ contains
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                         self%dec%alo(3):self%dec%ahi(3)))
-        call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
+        call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, &
                              f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
       end associate
       call self%dec%halo_copy(lockv)
@@ -68,40 +66,31 @@ contains
     end do
     ! the nodes of rigid bodies move with them in the remapped field too
     if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
-                                               self%phase(solid_phase)%node, self%rnode, self%grid, dt, &
+                                               self%phase(solid_phase)%node, self%rnode, self%bnd%faces%walls, dt, &
                                                self%phase(solid_phase)%nvel)
     if (coupled) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
-        call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, s%node, f%node, &
+        call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, s%node, f%node, &
                        s%nvel, f%nvel)
         if (locked) then
-          call remove_split(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, f%node, &
+          call remove_split(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, f%node, &
                             s%node(nd + 2:1 + 2*nd, :, :, :), f%node(nd + 2:1 + 2*nd, :, :, :), s%nvel, f%nvel)
-          call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%faces, f%bc, s%node, &
+          call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, &
                               f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
         end if
         ! the corrections keep the pair's momentum; the skeleton at rigid nodes keeps v_r
         if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, &
-                                                   self%rnode, self%grid, dt, s%nvel)
+                                                   self%rnode, self%bnd%faces%walls, dt, s%nvel)
       end associate
     end if
-    ! the rigid base (&motion base) holds the motion's velocity in the remapped field too
-    if (base_face(self%cfg) > 0) then
-      unused = 0.0_wp
-      do ip = 1, self%nph
-        call shake_base(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
-                        base_face(self%cfg), self%grid%ncells, base_velocity(self%cfg, self%time), &
-                        base_velocity(self%cfg, self%time + dt), self%phase(ip)%node, &
-                        self%phase(ip)%nvel, .false., self%cfg%gravity, dt, unused)
-      end do
-    end if
-    if (any(self%cfg%tied)) then
-      do ip = 1, self%nph
-        call tie_sides(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
-                       self%grid%ncells, self%cfg%tied, self%phase(ip)%node, self%phase(ip)%nvel, &
-                       .false., self%dec%comm)
-      end do
-    end if
+    ! the kinematic conditions of whole faces (the rigid base, tied faces) on the remapped
+    ! field too (the new velocities only; no work)
+    unused = 0.0_wp
+    do ip = 1, self%nph
+      call self%bnd%hold(self%cfg, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
+                         self%phase(ip)%node, self%phase(ip)%nvel, .false., self%time, dt, &
+                         self%cfg%gravity, unused, self%dec%comm)
+    end do
     do ip = 1, self%nph
       call self%dec%halo_copy(self%phase(ip)%nvel)
       call self%mirror%unfold(self%phase(ip)%nvel, 0, self%phase(ip)%bc)
@@ -167,7 +156,7 @@ contains
     call self%dec%halo_sum(ph%node)
     ! Rough walls let go of nodes moving away from them in scenes of one phase (nodal_update).
     call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
-                              ph%node, self%grid, ph%bc, ph%nvel, self%grid%rough .and. self%nph == 1)
+                              ph%node, self%bnd%faces, ph%bc, ph%nvel, self%bnd%faces%walls%rough .and. self%nph == 1)
   end subroutine remap_velocities
 
 end module dpmpm_remap

@@ -6,7 +6,7 @@
 !> reaction, summed over the owned nodes.
 module dpmpm_rigid
   use dpmpm_kinds, only: wp
-  use dpmpm_grid, only: grid_t
+  use dpmpm_walls, only: walls_t
   use dpmpm_materials, only: material_t, model_rigid
   implicit none
   private
@@ -60,10 +60,10 @@ contains
   !> meet), except the components the grid's face conditions hold. With force and work,
   !> the force that takes, m (v_r - v)/dt with m the node's whole mass (node(1)), is
   !> added to force and its work, over the step's mean velocity, to work.
-  subroutine drive_rigid_nodes(nd, lo, olo, ohi, node, rnode, grid, dt, nvel, force, work)
+  subroutine drive_rigid_nodes(nd, lo, olo, ohi, node, rnode, walls, dt, nvel, force, work)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3)
     real(wp), intent(in) :: node(:, lo(1):, lo(2):, lo(3):), rnode(:, lo(1):, lo(2):, lo(3):)
-    type(grid_t), intent(in) :: grid
+    type(walls_t), intent(in) :: walls
     real(wp), intent(in) :: dt
     real(wp), intent(inout) :: nvel(:, lo(1):, lo(2):, lo(3):)
     real(wp), intent(inout), optional :: force(3), work
@@ -76,7 +76,7 @@ contains
           if (rnode(1, i, j, k) <= 0.0_wp) cycle
           vr = 0.0_wp
           vr(1:nd) = rnode(2:1 + nd, i, j, k)/rnode(1, i, j, k)
-          fix = grid%constrained([i, j, k])
+          fix = walls%constrained([i, j, k])
           where (fix) vr = 0.0_wp
           if (present(force)) then
             f = 0.0_wp

@@ -8,7 +8,7 @@ module dpmpm_simulation
   use dpmpm_kinds, only: wp, i8
   use dpmpm_strings, only: ftoa
   use dpmpm_timer, only: t_total, t_output, t_checkpoint
-  use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable, fbc_names, face_names
+  use dpmpm_config, only: config_t, fbc_names, face_names
   use dpmpm_kernels, only: kernel_reach
   use dpmpm_mls, only: mls_stats_t, basis_size, packed_size
   use dpmpm_gauss_fields, only: gauss_cell_components, gauss_solution_components, gauss_cover_radius, &
@@ -22,7 +22,6 @@ module dpmpm_simulation
   use dpmpm_scene_check, only: check_scene_points
   use dpmpm_posix, only: stop_signal, peak_resident_kib
   use dpmpm_benchmarks, only: benchmark_setup, nbench_err
-  use dpmpm_mirror, only: fluid_mirror_bc
   use dpmpm_gather, only: gather_points
   use dpmpm_migrate, only: balance_by_points, balance_nested
   use dpmpm_error, only: fatal
@@ -170,12 +169,11 @@ contains
     ! made or read now; the rank layout stays).
     self%nrebalance = 0
     if (cfg%balance /= 'cells' .and. self%dec%nranks > 1) call split_by_points(self, changed)
-    self%fbc = 0
+    call self%bnd%init(cfg, self%grid, self%kernel, self%two_phase)
     if (self%two_phase) call init_two_phase(self)
-    call self%faces%init(cfg, self%grid, self%kernel, self%fbc)
     call self%mirror%init(self%nd, self%grid%ncells, self%dec%gw, self%dec%alo, self%dec%ahi)
-    self%phase(1)%bc = self%grid%bc
-    if (self%two_phase) self%phase(2)%bc = fluid_mirror_bc(self%nd, self%fbc, self%grid%bc)
+    self%phase(1)%bc = self%bnd%kind(:, 1)
+    if (self%two_phase) self%phase(2)%bc = self%bnd%kind(:, 2)
     self%has_surface_loads = .false.
     if (allocated(cfg%loads)) self%has_surface_loads = any(cfg%loads%surface)
     self%has_rigid = any(self%mats%model == model_rigid)
@@ -255,12 +253,12 @@ contains
     end if
     call diagnostics(self)
     call check_load_path(self)
-    if (self%grid%rough .and. cfg%flip > 0.5_wp) call self%log%warning('rough walls (&boundary '// &
+    if (self%bnd%faces%walls%rough .and. cfg%flip > 0.5_wp) call self%log%warning('rough walls (&boundary '// &
       'friction) with flip > 0.5: a block that the friction should hold creeps (flip 1, friction '// &
       '0.7 at 30 degrees: 2 mm in 0.1 s, 0.03 mm with flip 0.5), and with flip 1 a cohesionless '// &
       'soil flowing on a wall that lets go of its nodes throws points off it (lift_off = .false. '// &
       'holds them; doc/verification.md, "Rough walls")')
-    if (maxval(self%grid%friction) >= 0.45_wp .and. self%nph == 2) call self%log%warning('rough '// &
+    if (maxval(self%bnd%faces%walls%friction) >= 0.45_wp .and. self%nph == 2) call self%log%warning('rough '// &
       'walls (&boundary friction) of 0.45 or more under pore water: the wall holds the skeleton '// &
       'where it would pull it (it lets go only in scenes of one phase), and a saturated block with '// &
       'friction 0.7 slid 9.5 % too far, with a soft pore fluid half the distance (doc/verification.md, '// &
@@ -580,19 +578,13 @@ contains
     call self%timers%toc(t_checkpoint)
   end subroutine write_state
 
-  !> Two-phase set-up: the pore-fluid condition of each face (drained at free
-  !> faces, impermeable at fixed and roller faces unless given), and the stiffest
-  !> and lightest fluid for the undrained wave speed of the time step.
+  !> Two-phase set-up: the stiffest and lightest fluid for the undrained wave speed of the
+  !> time step, and the pore-fluid condition of each face (resolved by the faces' init,
+  !> resolve_fluid_bc) in the log.
   subroutine init_two_phase(self)
     class(simulation_t), intent(inout) :: self
     integer :: f, m
     character(len=256) :: line
-    do f = 1, 2*self%nd
-      self%fbc(f) = self%cfg%fluid_bc(f)
-      if (self%fbc(f) == fbc_default) then
-        self%fbc(f) = merge(fbc_drained, fbc_impermeable, self%grid%bc(f) == bc_free)
-      end if
-    end do
     self%kf_max = 0.0_wp
     self%rhof_min = huge(1.0_wp)
     do m = 1, size(self%mats)
@@ -602,7 +594,7 @@ contains
     end do
     line = '  pore fluid at the faces:'
     do f = 1, 2*self%nd
-      line = trim(line)//' '//face_names(f)//' '//trim(fbc_names(self%fbc(f)))
+      line = trim(line)//' '//face_names(f)//' '//trim(fbc_names(self%bnd%fbc(f)))
     end do
     call self%log%info(trim(line))
   end subroutine init_two_phase
@@ -800,7 +792,7 @@ contains
     if (allocated(self%ndrag)) deallocate (self%ndrag)
     if (allocated(self%occ)) deallocate (self%occ)
     if (allocated(self%occ2)) deallocate (self%occ2)
-    call self%faces%free()
+    call self%bnd%free()
     self%governing = 0
     self%two_phase = .false.
     if (allocated(self%err_hist)) deallocate (self%err_hist)

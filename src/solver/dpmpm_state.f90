@@ -15,7 +15,7 @@ module dpmpm_state
   use dpmpm_output, only: output_t
   use dpmpm_two_phase_verify, only: error_name_len
   use dpmpm_mirror, only: mirror_t
-  use dpmpm_face_loads, only: face_loads_t
+  use dpmpm_boundary, only: boundary_t
   use dpmpm_phase, only: phase_t
   implicit none
   private
@@ -44,12 +44,13 @@ module dpmpm_state
     type(shape_plan_t) :: plan                !< grid functions and MLS choices (&shape)
     integer :: kernel = 1
     type(mirror_t) :: mirror                  !< the mirror walls of this rank's node block
-    type(face_loads_t) :: faces               !< tractions and pore-fluid conditions of the faces
+    !> the faces' conditions (dpmpm_boundary): each phase's kinds, the pore fluid's, tied
+    !> faces, the rigid base, the face loads
+    type(boundary_t) :: bnd
     ! Two-phase node fields of the porous solid points (dpmpm_pore_pressure): nodal
     ! porosity (1 where there is no porous solid), porous mass, 1/k (0 there); and the
     ! drag coefficient D (kg/s).
     real(wp), allocatable :: nporo(:, :, :, :), ndrag(:, :, :, :)
-    integer :: fbc(6) = 0                     !< resolved pore-fluid condition per face
     real(wp) :: kf_max = 0.0_wp, rhof_min = 0.0_wp !< stiffest, lightest pore fluid (CFL)
     real(wp) :: dt_wave = 0.0_wp, dt_drag = huge(1.0_wp) !< the two limits of the last step
     integer :: governing = 0                  !< limit that set the last step: 1 wave, 2 drag

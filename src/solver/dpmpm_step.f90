@@ -23,8 +23,6 @@ module dpmpm_step
   use dpmpm_transfer, only: p2g, g2p, point_divergences, interp_two_values, fluid_p2g, reaches_thin_node, body_force_work, &
                             interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
-  use dpmpm_base_motion, only: base_face, base_velocity, shake_base
-  use dpmpm_tied_sides, only: tie_sides
   use dpmpm_damping, only: viscous_forces, rayleigh_mass_args
   use dpmpm_drag, only: nodal_drag_limit
   use dpmpm_remap, only: musl_remap, remap_locks
@@ -169,7 +167,7 @@ contains
       if (self%plan%gauss) call self%mirror%fold(self%phase(ip)%nvol, 2, self%phase(ip)%bc)
     end do
     if (coupled) then
-      call self%mirror%fold(self%nporo, 3, self%grid%bc)
+      call self%mirror%fold(self%nporo, 3, self%bnd%kind(:, 1))
       call self%mirror%fold(self%ndrag, 1, self%phase(fluid_phase)%bc)
     end if
     ! (each share folded with the conditions of the phase it goes to)
@@ -244,7 +242,7 @@ contains
     if (self%has_surface_loads) then
       ! Tractions on the body's surface inside the grid join the nodal forces of the solid.
       associate (s => self%phase(solid_phase)%node, olo => self%dec%olo, ohi => self%dec%ohi)
-        call surface_forces(self%faces, self%time, nd, self%dec%alo, olo, ohi, s, self%dec%comm, self%sforce)
+        call surface_forces(self%bnd%faces, self%time, nd, self%dec%alo, olo, ohi, s, self%dec%comm, self%sforce)
         s(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = &
           s(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) + &
           self%sforce(1:nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3))
@@ -258,7 +256,7 @@ contains
     end if
     if (.not. coupled) then
       call nodal_update(nd, self%dec%alo, blo, bhi, self%phase(solid_phase)%node, &
-                        gravity_now(self), self%faces, self%time, dt, self%phase(solid_phase)%nvel, &
+                        gravity_now(self), self%bnd%faces, self%time, dt, self%phase(solid_phase)%nvel, &
                         self%ext_work, damping_now(self), self%drag_loss, rayleigh_mass_args(self%cfg, self%time + dt))
       if (self%has_rigid) call drive_rigid(self, dt)
       call self%timers%toc(t_nodal)
@@ -270,7 +268,7 @@ contains
       call self%timers%toc(t_nodal)
       call self%timers%tic(t_halo)
       call self%dec%halo_copy(self%nporo)
-      call self%mirror%unfold(self%nporo, 3, self%grid%bc)
+      call self%mirror%unfold(self%nporo, 3, self%bnd%kind(:, 1))
       call self%timers%toc(t_halo)
       call self%timers%tic(t_g2p)
       allocate (nval(nf), gnrel(nf), nkinv(nf))
@@ -308,7 +306,7 @@ contains
         if (self%has_rigid) call rigid_node_sums(self, dt)
         rforce = 0.0_wp
         call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
-                                  self%nporo, self%ndrag, gravity_now(self), self%faces, f%bc, &
+                                  self%nporo, self%ndrag, gravity_now(self), self%bnd%faces, f%bc, &
                                   self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
                                   self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce, &
                                   fvol, self%cfg%free_surface_fraction)
@@ -317,22 +315,11 @@ contains
       call self%timers%toc(t_nodal)
     end if
 
-    ! The rigid base (&motion base): its nodes follow the recorded motion, both phases.
-    if (base_face(self%cfg) > 0) then
-      do ip = 1, self%nph
-        call shake_base(nd, self%dec%alo, blo, bhi, base_face(self%cfg), self%grid%ncells, &
-                        base_velocity(self%cfg, self%time), base_velocity(self%cfg, self%time + dt), &
-                        self%phase(ip)%node, self%phase(ip)%nvel, .true., gravity_now(self), dt, &
-                        self%ext_work)
-      end do
-    end if
-    ! Tied faces (&boundary condition = 'tied'): each pair of their nodes moves as one.
-    if (any(self%cfg%tied)) then
-      do ip = 1, self%nph
-        call tie_sides(nd, self%dec%alo, blo, bhi, self%grid%ncells, self%cfg%tied, &
-                       self%phase(ip)%node, self%phase(ip)%nvel, .true., self%dec%comm)
-      end do
-    end if
+    ! The kinematic conditions of whole faces (the rigid base, tied faces), both phases.
+    do ip = 1, self%nph
+      call self%bnd%hold(self%cfg, self%dec%alo, blo, bhi, self%phase(ip)%node, self%phase(ip)%nvel, &
+                         .true., self%time, dt, gravity_now(self), self%ext_work, self%dec%comm)
+    end do
 
     ! The work of the surface loads over the step (their nodes' mean velocity), and of
     ! the gravity by Gauss quadrature beyond the points' own.
@@ -539,7 +526,7 @@ contains
     associate (s => self%phase(solid_phase))
       force = 0.0_wp
       call drive_rigid_nodes(self%nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, self%rnode, &
-                             self%grid, dt, s%nvel, force, self%ext_work)
+                             self%bnd%faces%walls, dt, s%nvel, force, self%ext_work)
       self%drive_impulse = self%drive_impulse + dt*force
     end associate
   end subroutine drive_rigid
@@ -576,7 +563,7 @@ contains
       self%rnode = 0.0_wp
       call rigid_p2g(self%nd, s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%pts%mass, s%pts%mat, self%mats, &
                      body_velocities(self%mats, self%time + 0.5_wp*dt), self%dec%alo, self%rnode)
-      call self%mirror%fold(self%rnode, 1, self%grid%bc)
+      call self%mirror%fold(self%rnode, 1, self%bnd%kind(:, 1))
       call self%dec%halo_sum(self%rnode)
     end associate
   end subroutine rigid_node_sums
@@ -702,7 +689,7 @@ contains
           wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
           do side = 1, 2
             face = 2*(d - 1) + side
-            if (self%fbc(face) /= fbc_drained) cycle
+            if (self%bnd%fbc(face) /= fbc_drained) cycle
             if ((side == 1 .and. ps%x(d, p) < wall(1)) .or. (side == 2 .and. ps%x(d, p) >= wall(2))) &
               gone(p) = .true.
           end do
@@ -717,7 +704,7 @@ contains
         wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
         eps = 1.0e-9_wp*self%grid%h(d)
         do side = 1, 2
-          if (self%grid%bc(2*(d - 1) + side) == bc_free) cycle
+          if (self%bnd%kind(2*(d - 1) + side, 1) == bc_free) cycle
           if (side == 1 .and. ps%x(d, p) < wall(1)) then
             ps%x(d, p) = wall(1) + eps
             self%nwall = self%nwall + 1

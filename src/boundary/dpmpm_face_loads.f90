@@ -9,6 +9,7 @@ module dpmpm_face_loads
                           fbc_impermeable
   use dpmpm_generate, only: point_in_polygon
   use dpmpm_grid, only: grid_t
+  use dpmpm_walls, only: walls_t
   use dpmpm_kernels, only: bspline_1d
   implicit none
   private
@@ -17,6 +18,7 @@ module dpmpm_face_loads
   !> The loaded faces of a scene: tractions, pore-fluid conditions and pressures.
   type :: face_loads_t
     type(grid_t) :: grid
+    type(walls_t) :: walls                !< the faces' kinds and rough walls
     integer :: nd = 1
     integer :: kernel = 1                 !< grid function (B-spline order)
     type(load_cfg_t), allocatable :: loads(:)
@@ -52,6 +54,7 @@ contains
     type(grid_t), intent(in) :: grid
     integer, intent(in) :: kernel, fbc(6)
     self%grid = grid
+    call self%walls%init(cfg)
     self%nd = cfg%ndim
     self%kernel = kernel
     if (allocated(cfg%loads)) then
@@ -138,7 +141,7 @@ contains
       zn = merge(self%z_fluid(f), self%z_normal(f), fluid)
       zt = merge(0.0_wp, self%z_shear(f), fluid)
       if (zn == 0.0_wp .and. zt == 0.0_wp) cycle
-      w = face_weight(self, idx, f, self%grid%bc)
+      w = face_weight(self, idx, f, self%walls%bc)
       if (w == 0.0_wp) cycle
       d = (f + 1)/2
       w = w*face_area(self, idx, d)
@@ -175,7 +178,7 @@ contains
     do l = 1, size(self%loads)
       if (self%loads(l)%surface) cycle     ! on the body's surface: surface_forces
       f = self%loads(l)%face
-      w = face_weight(self, idx, f, self%grid%bc)
+      w = face_weight(self, idx, f, self%walls%bc)
       if (w == 0.0_wp) cycle
       fext(1:self%nd) = fext(1:self%nd) + w*load_factor(self%loads(l), time)* &
                         load_area(self, idx, self%loads(l))*self%loads(l)%traction(1:self%nd)
@@ -331,7 +334,7 @@ contains
     if (.not. self%absorbing) return
     do f = 1, 2*self%nd
       if (self%z_normal(f) == 0.0_wp .and. self%z_fluid(f) == 0.0_wp) cycle
-      w = face_weight(self, idx, f, self%grid%bc)
+      w = face_weight(self, idx, f, self%walls%bc)
       if (w == 0.0_wp) cycle
       d = (f + 1)/2
       sg = merge(-1.0_wp, 1.0_wp, mod(f, 2) == 1)
@@ -469,7 +472,7 @@ contains
     do d = 1, self%nd
       do side = 1, 2
         f = 2*(d - 1) + side
-        if (self%fbc(f) /= fbc_impermeable .or. self%grid%bc(f) /= bc_free) cycle
+        if (self%fbc(f) /= fbc_impermeable .or. self%walls%bc(f) /= bc_free) cycle
         if (side == 1 .and. idx(d) <= 0) tie(d) = .true.
         if (side == 2 .and. idx(d) >= self%grid%ncells(d)) tie(d) = .true.
       end do

@@ -16,6 +16,7 @@ program test_c1_mu_i
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_equal_int, am_root
   use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_sort, only: ascending_order
   implicit none
   real(wp), parameter :: l0 = 0.2_wp, a = 2.0_wp, cell = 0.02_wp
   ! measured on these cells (doc/verification.md): the end of the deposit 12 % beyond the
@@ -34,20 +35,9 @@ contains
   real(wp) function deposit_end(x)
     real(wp), intent(in) :: x(:)
     real(wp), allocatable :: xs(:)
-    integer :: i, j, n
-    real(wp) :: t
-    xs = x
+    integer :: i, n
+    xs = x(ascending_order(x))
     n = size(xs)
-    do i = 2, n                         ! insertion sort: a few hundred points
-      t = xs(i)
-      j = i - 1
-      do while (j >= 1)
-        if (xs(j) <= t) exit
-        xs(j + 1) = xs(j)
-        j = j - 1
-      end do
-      xs(j + 1) = t
-    end do
     deposit_end = xs(n)
     do i = 1, n - 1
       if (xs(i + 1) - xs(i) > cell) then

@@ -145,7 +145,7 @@ contains
     type(fill_t), intent(in) :: fill
     integer(i8), intent(in) :: base
     type(particle_set_t), intent(inout) :: ps
-    integer :: d, nd, npc, k, slot(3), c(3), clo(3), chi(3), c1, c2, c3
+    integer :: d, nd, npc, k, c(3), clo(3), chi(3), c1, c2, c3
     integer(i8) :: lin
     real(wp) :: x(3), u, vol
     logical :: random
@@ -163,23 +163,17 @@ contains
       do c2 = clo(2), chi(2)
         do c1 = clo(1), chi(1)
           c = [c1, c2, c3]
-          lin = int(c(1), i8) + int(grid%ncells(1), i8)*(int(c(2), i8) + &
-                int(grid%ncells(2), i8)*int(c(3), i8))
+          lin = cell_number(grid, c)
           do k = 0, npc - 1
-            slot = 0
-            slot(1) = mod(k, reg%ppc)
-            if (nd >= 2) slot(2) = mod(k/reg%ppc, reg%ppc)
-            if (nd >= 3) slot(3) = k/(reg%ppc*reg%ppc)
-            x = 0.0_wp
-            do d = 1, nd
-              if (random) then
+            if (random) then
+              x = 0.0_wp
+              do d = 1, nd
                 u = hash_uniform(fill%seed, lin, k, d)
                 x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + u)
-              else
-                x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + &
-                       (real(slot(d), wp) + 0.5_wp)/real(reg%ppc, wp))
-              end if
-            end do
+              end do
+            else
+              x = lattice_point(grid, reg%ppc, c, k)
+            end if
             if (.not. in_region(reg, x, nd)) cycle
             call add_point(ps, base + lin*npc + k + 1, reg, fill, x, vol)
           end do
@@ -187,6 +181,32 @@ contains
       end do
     end do
   end subroutine fill_cells
+
+  !> The number of cell c (0-based indices) in the grid's x-fastest order.
+  pure integer(i8) function cell_number(grid, c) result(lin)
+    type(grid_t), intent(in) :: grid
+    integer, intent(in) :: c(3)
+    lin = int(c(1), i8) + int(grid%ncells(1), i8)*(int(c(2), i8) + &
+          int(grid%ncells(2), i8)*int(c(3), i8))
+  end function cell_number
+
+  !> Point k (0 .. ppc**ndim - 1) of the regular lattice of ppc points per cell edge in
+  !> cell c: at the middles of the cell's ppc**ndim sub-cells, x fastest.
+  pure function lattice_point(grid, ppc, c, k) result(x)
+    type(grid_t), intent(in) :: grid
+    integer, intent(in) :: ppc, c(3), k
+    real(wp) :: x(3)
+    integer :: slot(3), d, nd
+    nd = grid%ndim
+    slot = 0
+    slot(1) = mod(k, ppc)
+    if (nd >= 2) slot(2) = mod(k/ppc, ppc)
+    if (nd >= 3) slot(3) = k/(ppc*ppc)
+    x = 0.0_wp
+    do d = 1, nd
+      x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + (real(slot(d), wp) + 0.5_wp)/real(ppc, wp))
+    end do
+  end function lattice_point
 
   !> Uniform placement: N points scattered uniformly over the region, not stratified per
   !> cell. Box: N = nint(region volume / cell volume * ppc**ndim) (at least 1), each of
@@ -256,7 +276,7 @@ contains
     integer(i8), intent(in) :: base
     type(particle_set_t), intent(inout) :: ps
     real(wp), parameter :: two_pi = 8.0_wp*atan(1.0_wp)
-    integer :: d, nd, npc, k, slot(3), c(3), cx(3), clo(3), chi(3), c1, c2, c3
+    integer :: d, nd, npc, k, c(3), cx(3), clo(3), chi(3), c1, c2, c3
     integer(i8) :: lin
     real(wp) :: x(3), lo(3), hi(3), vol
     nd = grid%ndim
@@ -274,18 +294,9 @@ contains
       do c2 = clo(2), chi(2)
         do c1 = clo(1), chi(1)
           c = [c1, c2, c3]
-          lin = int(c(1), i8) + int(grid%ncells(1), i8)*(int(c(2), i8) + &
-                int(grid%ncells(2), i8)*int(c(3), i8))
+          lin = cell_number(grid, c)
           do k = 0, npc - 1
-            slot = 0
-            slot(1) = mod(k, reg%ppc)
-            if (nd >= 2) slot(2) = mod(k/reg%ppc, reg%ppc)
-            if (nd >= 3) slot(3) = k/(reg%ppc*reg%ppc)
-            x = 0.0_wp
-            do d = 1, nd
-              x(d) = grid%origin(d) + grid%h(d)*(real(c(d), wp) + &
-                     (real(slot(d), wp) + 0.5_wp)/real(reg%ppc, wp))
-            end do
+            x = lattice_point(grid, reg%ppc, c, k)
             if (any(x(1:nd) < lo(1:nd)) .or. any(x(1:nd) >= hi(1:nd))) cycle
             call stir(x)
             if (.not. in_region(reg, x, nd)) cycle

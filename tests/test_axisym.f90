@@ -2,7 +2,7 @@
 !> cylinder under outer pressure against Lame at two resolutions, and a column whose points
 !> do not move radially against the same column in plane strain.
 program test_axisym
-  use mpi_f08, only: MPI_COMM_WORLD
+  use mpi_f08, only: MPI_COMM_WORLD, MPI_Comm_size
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
   use dpmpm_test_scenes, only: grid_scene
@@ -94,21 +94,27 @@ contains
   !> ratio 1.99; u held above by the phase's end state and the large-strain update); the
   !> plane control 193 (u), 1.8-1.9 (sigma_thth). Bounds: each error 1.5 times its
   !> measured value; the ratio of the stress errors at least 1.8; the control's u error at
-  !> least 100 times the bound of the axisymmetric one.
+  !> least 100 times the bound of the axisymmetric one. On more than one rank the
+  !> 16-cell cylinder only.
   subroutine test_lame_cylinder_converges()
     real(wp) :: eu(2), err(2), ett(2), eu0, err0, ett0
-    integer :: k
+    integer :: nranks
     call begin_test('lame_cylinder_converges')
-    do k = 1, 2
-      call run_cylinder(cylinder(16*k, .true.), eu(k), err(k), ett(k))
-    end do
-    call run_cylinder(cylinder(16, .false.), eu0, err0, ett0)
+    call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+    call run_cylinder(cylinder(16, .true.), eu(1), err(1), ett(1))
     if (am_root) then
       print '(a,3es11.3)', '  16 cells: RMS u, sigma_rr, sigma_thth:', eu(1), err(1), ett(1)
-      print '(a,3es11.3)', '  32 cells:                             ', eu(2), err(2), ett(2)
-      print '(a,3es11.3)', '  plane, 16 cells (control):            ', eu0, err0, ett0
       call check(eu(1) <= 6.9e-4_wp .and. err(1) <= 9.6e-2_wp .and. ett(1) <= 4.1e-2_wp, &
                  'Lame at 16 cells')
+    end if
+    ! On more ranks the coarse cylinder alone (the sums over the ranks); the finer one
+    ! and the control take most of the test's steps.
+    if (nranks > 1) return
+    call run_cylinder(cylinder(32, .true.), eu(2), err(2), ett(2))
+    call run_cylinder(cylinder(16, .false.), eu0, err0, ett0)
+    if (am_root) then
+      print '(a,3es11.3)', '  32 cells:                             ', eu(2), err(2), ett(2)
+      print '(a,3es11.3)', '  plane, 16 cells (control):            ', eu0, err0, ett0
       call check(eu(2) <= 6.0e-4_wp .and. err(2) <= 4.8e-2_wp .and. ett(2) <= 2.1e-2_wp, &
                  'Lame at 32 cells')
       call check(err(1)/err(2) >= 1.8_wp .and. ett(1)/ett(2) >= 1.8_wp, 'stresses converge')

@@ -261,8 +261,8 @@ contains
       "= 'none' (the cell means do not carry the hoop strain rate)")
     if (any(cfg%regions%phase /= 'solid')) call add_raw(pb, head//'one phase only for now: '// &
       'every &region needs phase = ''solid''')
-    if (len_trim(cfg%benchmark) > 0) call add_raw(pb, head//'the benchmarks are plane or 1D: '// &
-      'leave &benchmark name empty')
+    if (cfg%benchmark /= 'none') call add_raw(pb, head//'the benchmarks are plane or 1D: '// &
+      "leave &benchmark name = 'none'")
     if (any(cfg%absorbing /= 0)) call add_raw(pb, head//'absorbing faces are not yet '// &
       'axisymmetric (their dashpots per area lack the radius)')
     if (allocated(cfg%loads)) then

@@ -171,8 +171,8 @@ contains
   !> Measured (doc/verification.md, "Axisymmetry"), debug and release, 1 and 2 ranks:
   !> linear grid functions (USL, MUSL) at most 6.1e-15 (round-off: the same sums in another
   !> order); quadratic and cubic B-splines (MUSL; quadratic with MLS velocities) v_r 4.9e-4,
-  !> v_z 6.0e-3, stress 8.3e-3 at most (the mirror at the outer roller x+, exact in the
-  !> plane, weighs its image rings as the points). Bounds: 1e-12 for the linear ones (160
+  !> v_z 6.0e-3, stress 8.3e-3 at most (next to the mirror walls, doc/theory.md 4.7).
+  !> Bounds: 1e-12 for the linear ones (160
   !> times the largest measured), 1.5 times the largest measured for the B-splines.
   subroutine test_column_without_radial_motion_is_plane()
     character(len=9), parameter :: kernels(5) = [character(len=9) :: 'linear', 'linear', &

@@ -29,6 +29,7 @@ module dpmpm_face_loads
     !> normal and tangential to the face, on the pore fluid normal to it
     real(wp) :: z_normal(6) = 0.0_wp, z_shear(6) = 0.0_wp, z_fluid(6) = 0.0_wp
     logical :: absorbing = .false.        !< some face absorbs
+    logical :: axisym = .false.           !< r-z (&grid axisymmetric): tractions per radian, times r
     type(region_cfg_t), allocatable :: regions(:) !< initial states (absorbing faces' static load)
   contains
     procedure :: init => face_loads_init
@@ -67,6 +68,7 @@ contains
     self%pore_pressure_ramp = cfg%pore_pressure_ramp
     self%pore_pressure_gradient = cfg%pore_pressure_gradient
     call absorbing_impedances(self, cfg)
+    self%axisym = cfg%axisymmetric
   end subroutine face_loads_init
 
   !> Dashpot coefficients of the absorbing faces (doc/theory.md 6.6), matched to a plane
@@ -183,6 +185,8 @@ contains
       fext(1:self%nd) = fext(1:self%nd) + w*load_factor(self%loads(l), time)* &
                         load_area(self, idx, self%loads(l))*self%loads(l)%traction(1:self%nd)
     end do
+    ! Axisymmetry: the ring's face area per radian is r times the plane's (the node's r).
+    if (self%axisym) fext = fext*max(0.0_wp, self%grid%origin(1) + idx(1)*self%grid%h(1))
   end function face_traction
 
   !> The factor of load ld at time t: ramp_factor over ramp_time (ramp); sin(2 pi f t)

@@ -6,7 +6,7 @@ module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, max_probes, optional_fields, field_listed, &
-                          face_names, &
+                          face_names, bc_roller, &
                           porosity_varies, region_levels, level_unset, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
@@ -235,7 +235,46 @@ contains
     ! &motion (its files are read by read_input once these values are good)
     call check_motion(pb, cfg)
     call check_tied(pb, cfg)
+    if (cfg%axisymmetric) call check_axisymmetric(pb, cfg)
   end subroutine check_config
+
+  !> An axisymmetric scene (&grid axisymmetric): r-z on a 2D grid whose x- face, at x = 0,
+  !> is the axis, held as a roller (v_r = 0); the parts of the code that do not yet carry
+  !> the ring's 2 pi r (per radian: r) factor are refused (doc/theory.md, "Axisymmetry").
+  subroutine check_axisymmetric(pb, cfg)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    character(len=*), parameter :: head = '&grid axisymmetric = .true.: '
+    integer :: k
+    if (cfg%ndim /= 2) then
+      call add_raw(pb, head//'needs ndim = 2 (r along x, z along y); ndim = '//itoa(cfg%ndim))
+      return
+    end if
+    if (cfg%origin(1) /= 0.0_wp) call add_raw(pb, head//'the axis is the grid''s x- face at '// &
+      'x = 0: origin(1) must be 0, not '//rtoa(cfg%origin(1)))
+    if (cfg%bc(1) /= bc_roller .or. cfg%tied(1) .or. cfg%absorbing(1) /= 0 .or. &
+        cfg%wall_friction(1) /= 0.0_wp) &
+      call add_raw(pb, head//"face x- is the axis: it needs &boundary face = 'x-', "// &
+                   "condition = 'roller' without friction (v_r = 0 on the axis)")
+    if (cfg%quadrature == 'gauss') call add_raw(pb, head//"needs quadrature = 'points' (the "// &
+      'hoop stress is not yet in the Gauss-point forces)')
+    if (cfg%volumetric_smoothing /= 'none') call add_raw(pb, head//"needs volumetric_smoothing "// &
+      "= 'none' (the cell means do not carry the hoop strain rate)")
+    if (any(cfg%regions%phase /= 'solid')) call add_raw(pb, head//'one phase only for now: '// &
+      'every &region needs phase = ''solid''')
+    if (cfg%benchmark /= 'none') call add_raw(pb, head//'the benchmarks are plane or 1D: '// &
+      "leave &benchmark name = 'none'")
+    if (any(cfg%absorbing /= 0)) call add_raw(pb, head//'absorbing faces are not yet '// &
+      'axisymmetric (their dashpots per area lack the radius)')
+    if (allocated(cfg%loads)) then
+      if (any(cfg%loads%surface)) call add_raw(pb, head//'&load surface = .true. is not yet '// &
+        'axisymmetric (its nodal forces lack the radius); load a grid face')
+    end if
+    do k = 1, size(cfg%materials)
+      if (cfg%materials(k)%model == 'rigid') call add_raw(pb, head//'rigid bodies (&material '// &
+        "model = 'rigid') are not yet axisymmetric")
+    end do
+  end subroutine check_axisymmetric
 
   !> Tied faces (&boundary condition = 'tied'): both faces of an axis, not along the only
   !> axis of a 1D grid, and linear grid functions (a wider kernel reaches beyond the faces,

@@ -26,6 +26,7 @@ module dpmpm_simulation
   use dpmpm_migrate, only: balance_by_points, balance_nested
   use dpmpm_error, only: fatal
   use dpmpm_phase, only: solid_phase, fluid_phase
+  use dpmpm_axisym, only: axisym_point_measures
   use dpmpm_state, only: state_t, exit_bad_input, exit_stopped
   use dpmpm_step, only: advance
   use dpmpm_probes, only: probes_t
@@ -144,6 +145,12 @@ contains
       fcounts = 0
       call generate_points(cfg, self%grid, self%dec%clo, self%dec%chi, self%mats, self%phase(1)%pts, &
                            counts=counts)
+      ! Axisymmetry: volumes and masses per radian (a restart reads them as they are).
+      if (cfg%axisymmetric) then
+        associate (ps => self%phase(1)%pts)
+          call axisym_point_measures(ps%n, ps%x, self%grid%h(1), ps%vol, ps%vol0, ps%mass)
+        end associate
+      end if
       call benchmark_setup(cfg, self%mats, self%phase(1)%pts)
       ! the models' state values from the initial stress (a restart reads them instead)
       do m = 1, size(self%mats)

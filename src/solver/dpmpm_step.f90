@@ -12,6 +12,7 @@ module dpmpm_step
   use dpmpm_config, only: bc_free, fbc_drained
   use dpmpm_mls_velocity, only: velocity_accumulate, velocity_solve, velocity_fold_signs
   use dpmpm_materials, only: stress_update, model_fluid
+  use dpmpm_axisym, only: hoop_force_p2g, hoop_rate
   use dpmpm_benchmarks, only: benchmark_body_force
   use dpmpm_migrate, only: migrate
   use dpmpm_energy, only: state_valid
@@ -155,6 +156,13 @@ contains
     if (self%plan%gauss) then
       call gauss_p2g(self, ggrav, gpf, gms, gmf)
       if (allocated(gpf)) gps = gpf
+    end if
+    ! Axisymmetry: the hoop stress's nodal force (dpmpm_axisym), from the stress of p2g.
+    if (self%cfg%axisymmetric) then
+      associate (s => self%phase(solid_phase))
+        call hoop_force_p2g(s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%pts%x, self%grid%h(1), &
+                            s%pts%vol, s%pts%stress, self%dec%alo, s%node)
+      end associate
     end if
     if (allocated(sheld)) call move_alloc(sheld, self%phase(solid_phase)%pts%stress)
     if (allocated(pheld)) then
@@ -400,6 +408,10 @@ contains
     ! change, then the pore pressure (eq. 10), the fluid volume and stress.
     call self%timers%tic(t_stress)
     associate (s => self%phase(solid_phase))
+      ! Axisymmetry: the hoop strain rate v_r / r as the third diagonal (dpmpm_axisym).
+      if (self%cfg%axisymmetric) &
+        call hoop_rate(s%st%nw, ns, s%st%i0, s%st%sw, s%pts%x, self%grid%h(1), self%dec%alo, &
+                       s%nvel, s%vgrad)
       if (allocated(scell)) call smooth_volumetric_rate(nd, ns, product(self%dec%chi - self%dec%clo + 1)* &
                                                         size(self%mats), scell, s%pts%vol, s%vgrad)
       if (coupled) volb = s%pts%vol(1:ns)
@@ -407,7 +419,8 @@ contains
       do m = 1, size(self%mats)
         if (coupled .and. self%mats(m)%model == model_fluid) cycle
         call stress_update(self%mats(m), m, dt, ns, s%pts%mat, s%vgrad, s%pts%stress, s%pts%vol, &
-                           s%pts%vol0, s%pts%defgrad, s%pts%state, wplastic, plane=nd == 2, &
+                           s%pts%vol0, s%pts%defgrad, s%pts%state, wplastic, &
+                           plane=nd == 2 .and. .not. self%cfg%axisymmetric, &
                            time=self%time, step=self%step, x=s%pts%x, ids=s%pts%id, &
                            celent=self%grid%cell_volume**(1.0_wp/nd))
       end do

@@ -33,6 +33,13 @@ def test_grid_defaults_and_elements():
     assert g.length.tolist() == [1.0, 1.0, 1.0]
 
 
+def test_axisymmetric_grid():
+    # &grid axisymmetric: per-radian volumes and masses (doc/theory.md 4.8).
+    g = Grid.from_input("&grid ndim = 2, ncells = 32, 2, axisymmetric = .true. /")
+    assert g.axisymmetric and "axisymmetric=True" in repr(g)
+    assert not Grid.from_input("&grid ndim = 2 /").axisymmetric
+
+
 def test_every_scene_has_its_grid():
     # Each scene of inputs/ gives a grid whose cell count matches its ndim.
     for name in os.listdir(os.path.join(ROOT, "inputs")):

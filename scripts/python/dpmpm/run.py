@@ -48,11 +48,14 @@ class Grid:
     """The background grid of the echoed ``&grid`` group (defaults of doc/input.md)."""
 
     def __init__(self, ndim=2, ncells=(1, 1, 1), origin=(0.0, 0.0, 0.0),
-                 length=(1.0, 1.0, 1.0)):
+                 length=(1.0, 1.0, 1.0), axisymmetric=False):
         self.ndim = int(ndim)
         self.ncells = np.array(ncells, dtype=int)[:self.ndim]
         self.origin = np.array(origin, dtype=float)[:self.ndim]
         self.length = np.array(length, dtype=float)[:self.ndim]
+        #: r-z about the axis x = 0 (``&grid axisymmetric``): x is r, y is z, and the
+        #: points' ``vol`` and ``mass`` are per radian (times 2 pi for the whole ring).
+        self.axisymmetric = bool(axisymmetric)
 
     @property
     def spacing(self):
@@ -70,11 +73,14 @@ class Grid:
             got = list(g.get(key, []))
             vals[key] = [got[k] if k < len(got) and got[k] is not None else dflt[k]
                          for k in range(len(dflt))]
-        return cls(vals["ndim"][0], vals["ncells"], vals["origin"], vals["length"])
+        axi = list(g.get("axisymmetric", [False]))
+        return cls(vals["ndim"][0], vals["ncells"], vals["origin"], vals["length"],
+                   bool(axi[0]) if axi else False)
 
     def __repr__(self):
+        extra = ", axisymmetric=True" if self.axisymmetric else ""
         return (f"Grid(ndim={self.ndim}, ncells={self.ncells.tolist()}, "
-                f"origin={self.origin.tolist()}, length={self.length.tolist()})")
+                f"origin={self.origin.tolist()}, length={self.length.tolist()}{extra})")
 
 
 class ClosedRunError(ValueError):

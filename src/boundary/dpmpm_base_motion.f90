@@ -12,7 +12,7 @@ module dpmpm_base_motion
   use dpmpm_motion, only: motion_velocity
   implicit none
   private
-  public :: base_face, base_velocity, shake_base
+  public :: base_face, compliant_face, base_velocity, shake_base
 
 contains
 
@@ -21,7 +21,24 @@ contains
     type(config_t), intent(in) :: cfg
     base_face = 0
     if (len_trim(cfg%motion_base) > 0) base_face = face_index(cfg%motion_base)
+    ! an absorbing base is compliant (compliant_face): its nodes are free
+    if (base_face > 0) then
+      if (cfg%absorbing(base_face) /= 0) base_face = 0
+    end if
   end function base_face
+
+  !> The face of the compliant base (&motion base on an absorbing face; index into
+  !> face_names), 0 without one: its dashpots take the rock's impedance and the motion
+  !> enters as the traction of the rock's dashpots at the outcrop velocity (doc/theory.md
+  !> 6.6).
+  pure integer function compliant_face(cfg)
+    type(config_t), intent(in) :: cfg
+    compliant_face = 0
+    if (len_trim(cfg%motion_base) > 0) compliant_face = face_index(cfg%motion_base)
+    if (compliant_face > 0) then
+      if (cfg%absorbing(compliant_face) == 0) compliant_face = 0
+    end if
+  end function compliant_face
 
   !> The base's velocity at run time t: the &motion histories at the motion time
   !> t - equilibrium_time; at rest before it.

@@ -1,12 +1,14 @@
 !> Face loads: the nodal forces of the &load tractions and of the prescribed pore
 !> pressure of drained faces (the boundary terms of the weak form, paper eq. 5),
 !> each ramped in time and shared among the nodes by their grid functions at the
-!> face, with the exterior share of a mirror wall given to its image; and the
-!> dashpots of absorbing faces.
+!> face, with the exterior share of a mirror wall given to its image; the
+!> dashpots of absorbing faces; and the incoming traction of a compliant base.
 module dpmpm_face_loads
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, load_cfg_t, region_cfg_t, table_length, bc_free, fbc_drained, &
-                          fbc_impermeable
+                          fbc_impermeable, motion_series_t
+  use dpmpm_motion, only: motion_velocity
+  use dpmpm_base_motion, only: compliant_face
   use dpmpm_generate, only: point_in_polygon
   use dpmpm_grid, only: grid_t
   use dpmpm_walls, only: walls_t
@@ -30,6 +32,11 @@ module dpmpm_face_loads
     real(wp) :: z_normal(6) = 0.0_wp, z_shear(6) = 0.0_wp, z_fluid(6) = 0.0_wp
     logical :: absorbing = .false.        !< some face absorbs
     logical :: axisym = .false.           !< r-z (&grid axisymmetric): tractions per radian, times r
+    !> The compliant base (&motion base on an absorbing face), 0 none: its face, the
+    !> motion's histories (the outcrop velocity) and the time they start at
+    integer :: inflow = 0
+    type(motion_series_t) :: motion(3)
+    real(wp) :: motion_start = 0.0_wp
     type(region_cfg_t), allocatable :: regions(:) !< initial states (absorbing faces' static load)
   contains
     procedure :: init => face_loads_init
@@ -39,6 +46,7 @@ module dpmpm_face_loads
     procedure :: pore_pressure_at
     procedure :: fluid_ties
     procedure :: dashpot
+    procedure :: incoming
     procedure :: absorbing_static
     procedure :: near_face
     procedure :: inner_nodes
@@ -69,6 +77,11 @@ contains
     self%pore_pressure_gradient = cfg%pore_pressure_gradient
     call absorbing_impedances(self, cfg)
     self%axisym = cfg%axisymmetric
+    self%inflow = compliant_face(cfg)
+    if (self%inflow > 0) then
+      self%motion = cfg%motion
+      self%motion_start = cfg%equilibrium_time
+    end if
   end subroutine face_loads_init
 
   !> Dashpot coefficients of the absorbing faces (doc/theory.md 6.6), matched to a plane
@@ -131,15 +144,19 @@ contains
   !> Dashpot coefficients (force per velocity, per component) of node idx on the
   !> skeleton (fluid = .false.) or the pore fluid: the face impedances times the node's
   !> share of the face area (face_weight, face_area); zero away from absorbing faces.
-  function dashpot(self, idx, fluid) result(cd)
+  function dashpot(self, idx, fluid, only) result(cd)
     class(face_loads_t), intent(in) :: self
     integer, intent(in) :: idx(3)
     logical, intent(in) :: fluid
+    integer, intent(in), optional :: only   !< this face's dashpots alone
     real(wp) :: cd(3), w, zn, zt
     integer :: f, d
     cd = 0.0_wp
     if (.not. self%absorbing) return
     do f = 1, 2*self%nd
+      if (present(only)) then
+        if (f /= only) cycle
+      end if
       zn = merge(self%z_fluid(f), self%z_normal(f), fluid)
       zt = merge(0.0_wp, self%z_shear(f), fluid)
       if (zn == 0.0_wp .and. zt == 0.0_wp) cycle
@@ -151,6 +168,25 @@ contains
       cd(d) = cd(d) + w*(zn - zt)
     end do
   end function dashpot
+
+  !> The incoming force of the compliant base on the skeleton at node idx at time t: the
+  !> base face's dashpots at the outcrop velocity, c_base v_out(t) (Joyner & Chen 1975; the
+  !> dashpots themselves, -c v, act with the other absorbing faces'); zero away from the
+  !> base and before the motion's start (the end of the equilibrium phase).
+  function incoming(self, t, idx) result(fin)
+    class(face_loads_t), intent(in) :: self
+    real(wp), intent(in) :: t
+    integer, intent(in) :: idx(3)
+    real(wp) :: fin(3), cb(3)
+    integer :: d
+    fin = 0.0_wp
+    if (self%inflow == 0 .or. t < self%motion_start) return
+    cb = dashpot(self, idx, .false., self%inflow)
+    if (all(cb == 0.0_wp)) return
+    do d = 1, self%nd
+      fin(d) = cb(d)*motion_velocity(self%motion(d), t - self%motion_start)
+    end do
+  end function incoming
 
   !> Release what init made; the faces carry no load afterwards.
   subroutine face_loads_free(self)

@@ -85,9 +85,17 @@ contains
                      'must be a face of the grid: x-, x+ (y-, y+ in 2D, z-, z+ in 3D)')
       return
     end if
-    if (cfg%bc(f) /= bc_fixed) call add_value(pb, g_motion, 1, 'base', quote(trim(cfg%motion_base)), &
-      'the base must be a fixed face: &boundary face = '''//trim(adjustl(cfg%motion_base))// &
-      ''', condition = ''fixed''')
+    if (cfg%absorbing(f) /= 0) then
+      ! a compliant base: the rock's dashpots and the incoming wave, one phase only so far
+      if (any(cfg%regions%phase /= 'solid')) call add_value(pb, g_motion, 1, 'base', &
+        quote(trim(cfg%motion_base)), 'a compliant base (an absorbing base face) takes one phase '// &
+        'only so far: every &region phase = ''solid'', or a fixed base face')
+    else if (cfg%bc(f) /= bc_fixed) then
+      call add_value(pb, g_motion, 1, 'base', quote(trim(cfg%motion_base)), &
+        'the base must be a fixed face (a rigid base: &boundary face = '''// &
+        trim(adjustl(cfg%motion_base))//''', condition = ''fixed'') or an absorbing one (a '// &
+        'compliant base: condition = ''absorbing'', material = the rock)')
+    end if
     if (cfg%kernel /= 'linear' .or. .not. any(cfg%velocity_kernel == [character(len=6) :: '', &
                                                                        'linear'])) &
       call add_value(pb, g_motion, 1, 'base', quote(trim(cfg%motion_base)), &

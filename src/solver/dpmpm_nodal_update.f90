@@ -33,7 +33,7 @@ contains
     real(wp), intent(inout) :: dissipated     !< energy taken by the local damping and wall friction
     real(wp), intent(in), optional :: rayleigh(4) !< Rayleigh's alpha and reference velocity (dpmpm_damping)
     integer :: i, j, k
-    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3), ffr(3), wf, vwall(3)
+    real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3), ffr(3), wf, vwall(3), fin(3)
     integer :: contact(3)
     logical :: fix(3), near, rough
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
@@ -64,8 +64,13 @@ contains
           if (present(rayleigh)) call rayleigh_mass(nd, m, dt, rayleigh, fix, vold, vnew, ext_work, dissipated)
           ! Dashpots of absorbing faces, at the new velocity (stable at any step).
           cd = 0.0_wp
+          fin = 0.0_wp
           if (near) cd = faces%dashpot([i, j, k], .false.)
-          if (any(cd(1:nd) > 0.0_wp)) vnew(1:nd) = vnew(1:nd)*m/(m + dt*cd(1:nd))
+          if (any(cd(1:nd) > 0.0_wp)) then
+            ! with the incoming force of a compliant base: m (v_new - v*) = dt (f_in - c v_new)
+            if (faces%inflow > 0) fin = faces%incoming(time + dt, [i, j, k])
+            vnew(1:nd) = (vnew(1:nd)*m + dt*fin(1:nd))/(m + dt*cd(1:nd))
+          end if
           rough = near .and. faces%walls%rough
           if (rough) then
             ! A rough wall pushes and rubs but does not pull (doc/theory.md 6.7): it holds
@@ -90,7 +95,7 @@ contains
           where (fix) vnew = 0.0_wp
           nvel(1:nd, i, j, k) = vold(1:nd)
           nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
-          ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd) - cd(1:nd)*vnew(1:nd), &
+          ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd) + fin(1:nd) - cd(1:nd)*vnew(1:nd), &
                                                       vold(1:nd) + vnew(1:nd))
           if (rough) then
             ! The wall's work (the friction's, and the normal force's where the node ran

@@ -15,6 +15,7 @@ ring-down, the largest surface velocity after 0.9 s, which the base's radiation 
 """
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -50,7 +51,8 @@ def main():
     if run.returncode != 0:
         print(run.stdout[-3000:], run.stderr[-3000:])
         return 1
-    with h5py.File(os.path.join(work, "site_response_1d_compliant.h5"), "r") as f:
+    name = re.search(r"name\s*=\s*'([^']+)'", open(scene).read()).group(1)
+    with h5py.File(os.path.join(work, name + ".h5"), "r") as f:
         t = f["probes/time"][...]
         v = f["probes/velocity"][:, 0]
     alpha = RHO * C / (RHO_R * C_R)

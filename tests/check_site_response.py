@@ -30,15 +30,22 @@ def read_at2(path):
     return dt * np.arange(npts), G * vals
 
 
-def main():
-    exe, mpiexec, nranks, scene, work = sys.argv[1:6]
-    contract = sys.argv[6] if len(sys.argv) > 6 else ""
+def run_scene(exe, mpiexec, nranks, scene, work):
+    """Run scene with dpmpm on nranks ranks in work (made if missing); True when it ends
+    well, else the ends of its output are printed."""
     os.makedirs(work, exist_ok=True)
     run = subprocess.run([mpiexec, "--oversubscribe", "-n", nranks, os.path.abspath(exe),
                           os.path.abspath(scene)],
                          cwd=work, capture_output=True, text=True, timeout=300)
     if run.returncode != 0:
         print(run.stdout[-3000:], run.stderr[-3000:])
+    return run.returncode == 0
+
+
+def main():
+    exe, mpiexec, nranks, scene, work = sys.argv[1:6]
+    contract = sys.argv[6] if len(sys.argv) > 6 else ""
+    if not run_scene(exe, mpiexec, nranks, scene, work):
         return 1
     out = os.path.join(work, "site_response_1d.h5")
     fails = []

@@ -13,16 +13,14 @@ ring-down, the largest surface velocity after 0.9 s, which the base's radiation 
 
     check_site_response_compliant.py <dpmpm> <mpiexec> <nranks> <scene.nml> <work dir>
 """
-import math
 import os
 import re
-import subprocess
 import sys
 
 import h5py
 import numpy as np
 
-from check_site_response import read_at2
+from check_site_response import read_at2, run_scene
 
 H, C = 10.0, 100.0
 RHO, RHO_R, C_R = 2000.0, 2500.0, 400.0
@@ -45,11 +43,7 @@ def surface_velocity(dt, vout, alpha):
 
 def main():
     exe, mpiexec, nranks, scene, work = sys.argv[1:6]
-    os.makedirs(work, exist_ok=True)
-    run = subprocess.run([mpiexec, "--oversubscribe", "-n", nranks, os.path.abspath(exe),
-                          os.path.abspath(scene)], cwd=work, capture_output=True, text=True, timeout=300)
-    if run.returncode != 0:
-        print(run.stdout[-3000:], run.stderr[-3000:])
+    if not run_scene(exe, mpiexec, nranks, scene, work):
         return 1
     name = re.search(r"name\s*=\s*'([^']+)'", open(scene).read()).group(1)
     with h5py.File(os.path.join(work, name + ".h5"), "r") as f:

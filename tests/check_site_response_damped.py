@@ -11,7 +11,6 @@ two surface accelerations (dpmpm.motion.response_spectrum). Bounds: doc/verifica
 """
 import math
 import os
-import subprocess
 import sys
 
 import h5py
@@ -20,7 +19,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts", "python"))
 from dpmpm.motion import response_spectrum  # noqa: E402
 
-from check_site_response import read_at2  # noqa: E402
+from check_site_response import read_at2, run_scene  # noqa: E402
 
 H, C = 10.0, 100.0
 XI, F1, F2 = 0.05, 2.5, 12.5
@@ -47,11 +46,7 @@ def damped_surface_velocity(dt, vb, alpha, beta):
 
 def main():
     exe, mpiexec, nranks, scene, work = sys.argv[1:6]
-    os.makedirs(work, exist_ok=True)
-    run = subprocess.run([mpiexec, "--oversubscribe", "-n", nranks, os.path.abspath(exe),
-                          os.path.abspath(scene)], cwd=work, capture_output=True, text=True, timeout=300)
-    if run.returncode != 0:
-        print(run.stdout[-3000:], run.stderr[-3000:])
+    if not run_scene(exe, mpiexec, nranks, scene, work):
         return 1
     with h5py.File(os.path.join(work, "site_response_1d_damped.h5"), "r") as f:
         t = f["probes/time"][...]

@@ -64,7 +64,12 @@ contains
       if (pmat(p) /= m) cycle
       call jaumann_strain(dt, vgrad(:, p), stress(:, p), flat, sr, de, jac)
       sn = sr
-      call mu_i_return(mat, dt, de, sn, gdot, inum, mat%mui_phi0*vol0(p)/vol(p))
+      ! (the volume fraction, phi0 V0/V, only where the return uses it: with dilatancy)
+      if (mat%mui_k > 0.0_wp) then
+        call mu_i_return(mat, dt, de, sn, gdot, inum, mat%mui_phi0*vol0(p)/vol(p))
+      else
+        call mu_i_return(mat, dt, de, sn, gdot, inum)
+      end if
       if (present(dissipation)) then
         dsig = sn - sr
         dep(1:3) = de(1:3) - ((1.0_wp + mat%poisson)*dsig(1:3) - mat%poisson*sum(dsig(1:3))) &

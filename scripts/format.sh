@@ -13,26 +13,26 @@ for tool in findent fprettify; do
   command -v "$tool" >/dev/null || { echo "format: $tool missing (pip install $DPMPM_PY_TOOLS)"; exit 2; }
 done
 
-# Lay out one file: $1 the source, $2 where the result goes.
-layout() {
-  findent -ifree -i2 -c2 -k- < "$1" > "$2.tmp"
-  fprettify -c "$DPMPM_ROOT/.fprettify.rc" --disable-indent --silent --stdout "$2.tmp" > "$2"
-  rm -f "$2.tmp"
-}
-
+# Lay out every file: findent one by one (it reads a stream), then fprettify once over the
+# whole copy, since starting its interpreter per file cost most of the time (164 files:
+# 34 s of CPU one by one).
 files=$(git ls-files 'src/*.f90' 'app/*.f90' 'tests/*.f90')
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+for f in $files; do
+  mkdir -p "$work/$(dirname "$f")"
+  findent -ifree -i2 -c2 -k- < "$f" > "$work/$f"
+done
+(cd "$work" && fprettify -c "$DPMPM_ROOT/.fprettify.rc" --disable-indent --silent $files)
 changed=0
 for f in $files; do
-  layout "$f" "$work/out.f90"
-  if ! cmp -s "$f" "$work/out.f90"; then
+  if ! cmp -s "$f" "$work/$f"; then
     changed=$((changed + 1))
     if [ "${1:-}" = --check ]; then
       echo "format: $f differs from its layout:"
-      diff -u "$f" "$work/out.f90" | sed -n '3,14p' || true
+      diff -u "$f" "$work/$f" | sed -n '3,14p' || true
     else
-      cp "$work/out.f90" "$f"
+      cp "$work/$f" "$f"
       echo "format: $f"
     fi
   fi

@@ -4,17 +4,19 @@ against the closed form of doc/theory.md 9.7.
 
 A quarter of a thick cylinder a0 < r < b0 with a free outer face; the cavity pressure p
 rises linearly over ramp_time and is then held. Each frame gives the cavity radius a from
-the innermost ring of points (the points whose initial radius r0 is within half a point
-spacing of a0): the plastic zone keeps its volume, so every ring keeps r^2 - r0^2, and
+a ring of points in the soil (initial radius 1.5 a0 <= r0 < 2 a0, away from the loaded
+nodes at the wall): the body keeps its volume, so every ring keeps r^2 - r0^2, and
 a^2 = a0^2 + mean(r^2 - r0^2). The pressure p(t) is the load's ramp. Compared:
 
-- before first yield (p < s_u (1 - a0^2/b0^2)), the radial displacement of those points
-  against Lame's thick cylinder (compressible, small strain): the relative error of the
-  mean over the ring;
+- before first yield (p < s_u (1 - a0^2/b0^2)), the radial displacement of the ring's
+  points against Lame's thick cylinder (compressible, small strain): the relative error
+  of its mean;
 - after it, p against the incompressible large-strain closed form
   p = s_u (1 - c^2/b^2) + 2 s_u ln(c/a),  c^2 = (G/s_u)(a^2 - a0^2),  b^2 = b0^2 + a^2 - a0^2
   (fully plastic, c >= b: p = 2 s_u ln(b/a)), evaluated at the measured a: the error in
-  units of s_u, and the radius a_ref(p) the closed form gives at the pressure reached.
+  units of s_u, and the radius a_ref(p) the closed form gives at the pressure reached;
+- the part of the resultant p a that the surface loads put on free nodes (the rest goes
+  to the roller faces: load_fraction), and the error against the pressure so taken.
 
 Runs the scene at the grid spacings h = a0/n for n in --cells-per-radius (the cylinder,
 material, points per cell and load kept), and prints a table; --plot draws p/s_u against

@@ -15,7 +15,7 @@ module dpmpm_input_check
   use dpmpm_input_problems, only: input_problems_t, g_run, g_grid, g_shape, g_material, &
                                   g_region, g_load, g_output, g_benchmark, add_value, add_warning, &
                                   real_ok, check_finite, add_raw
-  use dpmpm_input_check_material, only: check_material
+  use dpmpm_input_check_material, only: check_material, warn_weightless_cutoff
   use dpmpm_strings, only: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, next_word
   use mpi_f08, only: MPI_Dims_create
   use dpmpm_motion, only: check_motion
@@ -187,6 +187,8 @@ contains
     ! &material
     do k = 1, size(cfg%materials)
       call check_material(pb, cfg%materials, k)
+      call warn_weightless_cutoff(pb, k, cfg%materials(k), cfg%gravity, &
+                                  any(cfg%regions%material == cfg%materials(k)%id))
       if (cfg%materials(k)%model == 'rigid') call check_rigid(pb, cfg, k)
     end do
 

@@ -13,9 +13,30 @@ module dpmpm_input_check_material
   use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote
   implicit none
   private
-  public :: check_material
+  public :: check_material, warn_weightless_cutoff
 
 contains
+
+  !> A tension cut-off at zero (mohr_coulomb, drucker_prager) in a scene without gravity:
+  !> near a free surface the grid's swings of stress open points that nothing closes again,
+  !> and the surface keeps rising (doc/verification.md, "Tension cut-off: opening without
+  !> work"). used: some region is made of material k.
+  subroutine warn_weightless_cutoff(pb, k, m, gravity, used)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    real(wp), intent(in) :: gravity(:)
+    logical, intent(in) :: used
+    if (.not. used .or. any(gravity /= 0.0_wp) .or. m%tensile_strength /= 0.0_wp) return
+    if (m%model /= 'mohr_coulomb' .and. m%model /= 'drucker_prager') return
+    call add_warning(pb, g_material, k, 'tensile_strength', rtoa(m%tensile_strength), &
+                     'weightless soil without tension has no rest state at a free surface that '// &
+                     'is pushed: the grid''s swings of stress open points there that nothing closes '// &
+                     'again (beside a footing pushed past failure the kinetic energy grew to 35 J/m '// &
+                     'in 1.5 s; a tensile_strength of c/25 kept it at 1-2 J/m, gravity as well); give '// &
+                     'a small tensile_strength where no tension is not what the scene is about '// &
+                     '(doc/verification.md, "Tension cut-off: opening without work")')
+  end subroutine warn_weightless_cutoff
 
   !> Check &material k of mats: its model, density, velocity, the parameters its model reads,
   !> the variables it does not read (warnings), and its id against the groups before it.

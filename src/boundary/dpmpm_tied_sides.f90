@@ -11,7 +11,7 @@ module dpmpm_tied_sides
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_DOUBLE_PRECISION
   implicit none
   private
-  public :: tie_sides, tie_sums, join_pairs, copy_pairs
+  public :: tie_sides, tie_sums, join_pairs, unjoin_pairs, copy_pairs
 
 contains
 
@@ -120,17 +120,68 @@ contains
   !> For every tied axis: the node sums field(:, ...) of the pairs put together at the node
   !> of the lower face (the pair's total there, zero at the upper face's node), so that a
   !> nodal update sees each pair as one node, once. Axes in turn, so that the corner nodes
-  !> of two tied axes end as one node at the lowest corner.
-  subroutine join_pairs(nd, lo, olo, ohi, ncells, tied, field, comm)
+  !> of two tied axes end as one node at the lowest corner. kept: the values of the faces'
+  !> nodes before, for unjoin_pairs.
+  subroutine join_pairs(nd, lo, olo, ohi, ncells, tied, field, kept, comm)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
     logical, intent(in) :: tied(6)
     real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    real(wp), allocatable, intent(out) :: kept(:)
     type(MPI_Comm), intent(in) :: comm
     integer :: a
+    call face_values(nd, lo, olo, ohi, ncells, tied, field, kept, .false.)
     do a = 1, nd
       if (tied(2*a - 1) .and. tied(2*a)) call pair_exchange(a, lo, olo, ohi, ncells, field, .true., comm)
     end do
   end subroutine join_pairs
+
+  !> The values of the tied faces' nodes that join_pairs kept, back in field.
+  subroutine unjoin_pairs(nd, lo, olo, ohi, ncells, tied, field, kept)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
+    logical, intent(in) :: tied(6)
+    real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    real(wp), allocatable, intent(inout) :: kept(:)
+    call face_values(nd, lo, olo, ohi, ncells, tied, field, kept, .true.)
+  end subroutine unjoin_pairs
+
+  !> The owned nodes of the tied faces, axis by axis, lower face first, in field and in buf
+  !> (one node's components after another): back (.true.) puts buf's values into field,
+  !> else buf is made from field's. A corner node of two tied axes appears in both.
+  subroutine face_values(nd, lo, olo, ohi, ncells, tied, field, buf, back)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
+    logical, intent(in) :: tied(6)
+    real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    real(wp), allocatable, intent(inout) :: buf(:)
+    logical, intent(in) :: back
+    integer :: a, b, c, side, i(3), flo(3), fhi(3), jb, jc, n, nc, pass
+    nc = size(field, 1)
+    do pass = merge(2, 1, back), 2
+      n = 0
+      do a = 1, nd
+        if (.not. (tied(2*a - 1) .and. tied(2*a))) cycle
+        b = merge(2, 1, a == 1)
+        c = 6 - a - b
+        do side = 0, 1
+          call face_box(a, side, olo, ohi, ncells, flo, fhi)
+          do jc = flo(c), fhi(c)
+            do jb = flo(b), fhi(b)
+              i(a) = flo(a)
+              i(b) = jb
+              i(c) = jc
+              if (pass == 2 .and. back) then
+                field(:, i(1), i(2), i(3)) = buf(n + 1:n + nc)
+              else if (pass == 2) then
+                buf(n + 1:n + nc) = field(:, i(1), i(2), i(3))
+              end if
+              n = n + nc
+            end do
+          end do
+        end do
+      end do
+      ! (the first pass counts the values)
+      if (pass == 1) allocate (buf(n))
+    end do
+  end subroutine face_values
 
   !> For every tied axis, in the reverse order of join_pairs: the values field(:, ...) of
   !> the lower face's node given to the upper face's node of its pair (the velocities of

@@ -14,16 +14,16 @@ module dpmpm_remap
     momentum_project_p2g
   use dpmpm_boundary, only: remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
-  use dpmpm_tied_sides, only: join_pairs, copy_pairs
+  use dpmpm_tied_sides, only: join_pairs, unjoin_pairs, copy_pairs
   use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points, body_velocities
   implicit none
   private
   public :: musl_remap, remap_locks, tied_save_t, join_tied, split_tied
 
-  !> The node sums of both phases and the drag, kept while tied pairs are joined
-  !> (join_tied, split_tied).
+  !> The tied faces' node sums of both phases and of the drag, kept while the pairs are
+  !> joined (join_tied, split_tied).
   type :: tied_save_t
-    real(wp), allocatable :: s(:, :, :, :), f(:, :, :, :), d(:, :, :, :)
+    real(wp), allocatable :: s(:), f(:), d(:)
   end type tied_save_t
 
 contains
@@ -187,12 +187,12 @@ contains
     class(state_t), intent(inout) :: self
     type(tied_save_t), intent(out) :: save
     associate (s => self%phase(solid_phase), f => self%phase(fluid_phase), dec => self%dec)
-      save%s = s%node
-      save%f = f%node
-      save%d = self%ndrag
-      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, s%node, dec%comm)
-      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, dec%comm)
-      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, dec%comm)
+      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, s%node, save%s, &
+                      dec%comm)
+      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, save%f, &
+                      dec%comm)
+      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, save%d, &
+                      dec%comm)
     end associate
   end subroutine join_tied
 
@@ -204,9 +204,9 @@ contains
     type(tied_save_t), intent(inout) :: save
     real(wp), intent(inout), optional :: field(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     associate (s => self%phase(solid_phase), f => self%phase(fluid_phase), dec => self%dec)
-      call move_alloc(save%s, s%node)
-      call move_alloc(save%f, f%node)
-      call move_alloc(save%d, self%ndrag)
+      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, s%node, save%s)
+      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, save%f)
+      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, save%d)
       if (present(field)) then
         call copy_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, field, dec%comm)
         return

@@ -52,6 +52,7 @@ contains
     logical :: coupled, locked, tied
     real(wp) :: unused
     type(tied_save_t) :: tsave
+    integer :: a, flo(3), fhi(3)
     nd = self%nd
     coupled = self%nph == 2
     tied = coupled .and. any(self%bnd%tied)
@@ -83,12 +84,20 @@ contains
     if (coupled) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         if (tied) then
-          ! Tied faces: each pair's remapped sums at one node, its velocities from them.
+          ! Tied faces: each pair's remapped sums at one node (on the lower face), its
+          ! velocities from them.
           call join_tied(self, tsave)
-          do ip = 1, self%nph
-            call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), &
-                                      min(self%dec%ohi, self%zhi), self%phase(ip)%node, self%bnd%faces, &
-                                      self%phase(ip)%bc, self%phase(ip)%nvel, .false.)
+          do a = 1, nd
+            if (.not. (self%bnd%tied(2*a - 1) .and. self%bnd%tied(2*a))) cycle
+            flo = max(self%dec%olo, self%zlo)
+            fhi = min(self%dec%ohi, self%zhi)
+            if (flo(a) > 0 .or. fhi(a) < 0) cycle
+            flo(a) = 0
+            fhi(a) = 0
+            do ip = 1, self%nph
+              call remap_nodal_velocity(nd, self%dec%alo, flo, fhi, self%phase(ip)%node, self%bnd%faces, &
+                                        self%phase(ip)%bc, self%phase(ip)%nvel, .false.)
+            end do
           end do
         end if
         call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, s%node, f%node, &

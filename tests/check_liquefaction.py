@@ -61,9 +61,10 @@ def probes(path):
 
 def check_records(exe, mpiexec, scene, work, contract):
     # Roller sides instead of the tied ones and an elastic skeleton instead of SANISAND: the
-    # records are compared here, and the saturated column between tied sides under base
-    # motion is not rank-invariant beyond round-off, nor is SANISAND's adaptive integration
-    # (doc/verification.md, "Liquefaction of level ground").
+    # records are compared here, and SANISAND's adaptive integration is not rank-invariant
+    # beyond round-off (doc/verification.md, "Liquefaction of level ground"); the tied
+    # sides of the saturated column are, since the pairs were joined (ctest
+    # tied_saturated_np1_np2).
     text = scene_text(scene, 0.1, "frame_interval = 0.025, probe_every = 1")
     text = text.replace("condition = 'tied'", "condition = 'roller'")
     text = text.replace("model = 'sanisand'", "model = 'linear_elastic', youngs_modulus = 3.0e7")

@@ -59,11 +59,16 @@ contains
     self%ncells = grid%ncells
     self%fbc = 0
     if (two_phase) self%fbc = resolve_fluid_bc(cfg, cfg%bc)
+    ! The pore fluid of a tied face is tied with the skeleton: no condition of its own.
+    where (cfg%tied) self%fbc = 0
     call self%faces%init(cfg, grid, kernel, self%fbc)
     self%kind(:, 1) = self%faces%walls%bc
     self%kind(:, 2) = bc_free
     if (two_phase) self%kind(:, 2) = fluid_mirror_bc(self%nd, self%fbc, self%kind(:, 1))
     self%tied = cfg%tied
+    ! Two phases: the coupled update takes each tied pair as one node (join_pairs), and
+    ! the face loads give that node the pair's share.
+    if (two_phase) self%faces%joined = self%tied(1:5:2) .and. self%tied(2:6:2)
     self%base = base_face(cfg)
   end subroutine boundary_init
 

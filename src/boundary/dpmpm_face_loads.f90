@@ -38,6 +38,10 @@ module dpmpm_face_loads
     type(motion_series_t) :: motion(3)
     real(wp) :: motion_start = 0.0_wp
     type(region_cfg_t), allocatable :: regions(:) !< initial states (absorbing faces' static load)
+    !> axes whose tied pairs the coupled update takes as one node at the lower face
+    !> (join_pairs): there the lower node carries the pair's share of a face's area, the
+    !> upper none (edge_share)
+    logical :: joined(3) = .false.
   contains
     procedure :: init => face_loads_init
     procedure :: free => face_loads_free
@@ -193,6 +197,7 @@ contains
     class(face_loads_t), intent(inout) :: self
     if (allocated(self%loads)) deallocate (self%loads)
     self%fbc = 0
+    self%joined = .false.
     self%pore_pressure = 0.0_wp
     self%pore_pressure_ramp = 0.0_wp
     self%z_normal = 0.0_wp
@@ -266,7 +271,7 @@ contains
     integer, intent(in) :: idx(3)
     type(load_cfg_t), intent(in) :: ld
     integer :: t, d
-    real(wp) :: lo, hi, xi
+    real(wp) :: lo, hi, xi, share
     d = (ld%face + 1)/2
     if (all(ld%hi(1:self%nd) <= ld%lo(1:self%nd) .or. [(t == d, t=1, self%nd)])) then
       a = face_area(self, idx, d)
@@ -279,11 +284,17 @@ contains
         lo = max(ld%lo(t), self%grid%origin(t))
         hi = min(ld%hi(t), self%grid%origin(t) + real(self%grid%ncells(t), wp)*self%grid%h(t))
         xi = self%grid%origin(t) + real(idx(t), wp)*self%grid%h(t)
-        a = a*self%grid%h(t)*kernel_integral(self%kernel, (lo - xi)/self%grid%h(t), &
-                                             (hi - xi)/self%grid%h(t))
+        share = kernel_integral(self%kernel, (lo - xi)/self%grid%h(t), (hi - xi)/self%grid%h(t))
+        if (self%joined(t) .and. idx(t) == self%grid%ncells(t)) then
+          share = 0.0_wp
+        else if (self%joined(t) .and. idx(t) == 0) then
+          ! the pair's node: the upper face's node's share too
+          xi = self%grid%origin(t) + real(self%grid%ncells(t), wp)*self%grid%h(t)
+          share = share + kernel_integral(self%kernel, (lo - xi)/self%grid%h(t), (hi - xi)/self%grid%h(t))
+        end if
+        a = a*self%grid%h(t)*share
       else
-        a = a*self%grid%h(t)
-        if (idx(t) == 0 .or. idx(t) == self%grid%ncells(t)) a = 0.5_wp*a
+        a = a*self%grid%h(t)*edge_share(self, idx, t)
       end if
     end do
   end function load_area
@@ -488,6 +499,21 @@ contains
     if (t_ramp > 0.0_wp) r = min(1.0_wp, t/t_ramp)
   end function ramp_factor
 
+  !> The share of a cell's width along axis t of node idx in a face's area: 1 inside, 1/2
+  !> at the grid's edges; along an axis of joined tied pairs (joined) 1 at the lower face's
+  !> node (the pair's node) and 0 at the upper face's.
+  pure real(wp) function edge_share(self, idx, t) result(s)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3), t
+    s = 1.0_wp
+    if (idx(t) /= 0 .and. idx(t) /= self%grid%ncells(t)) return
+    if (self%joined(t)) then
+      s = merge(1.0_wp, 0.0_wp, idx(t) == 0)
+    else
+      s = 0.5_wp
+    end if
+  end function edge_share
+
   !> Share of the face area (normal to axis d) that node idx carries.
   real(wp) function face_area(self, idx, d)
     class(face_loads_t), intent(in) :: self
@@ -496,8 +522,7 @@ contains
     face_area = 1.0_wp
     do t = 1, self%nd
       if (t == d) cycle
-      face_area = face_area*self%grid%h(t)
-      if (idx(t) == 0 .or. idx(t) == self%grid%ncells(t)) face_area = 0.5_wp*face_area
+      face_area = face_area*self%grid%h(t)*edge_share(self, idx, t)
     end do
   end function face_area
 

@@ -11,7 +11,7 @@ module dpmpm_tied_sides
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_DOUBLE_PRECISION
   implicit none
   private
-  public :: tie_sides
+  public :: tie_sides, tie_sums, join_pairs, unjoin_pairs, copy_pairs
 
 contains
 
@@ -72,8 +72,182 @@ contains
     end do
   end subroutine tie_sides
 
+  !> For every tied axis: the node sums field(:, ...) of the owned nodes of the two faces
+  !> replaced, at both nodes of each pair, by the pair's total, as at one node.
+  subroutine tie_sums(nd, lo, olo, ohi, ncells, tied, field, comm)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
+    logical, intent(in) :: tied(6)
+    real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), allocatable :: sums(:, :, :)
+    integer :: a, b, c, side, i(3), flo(3), fhi(3), nb, nc, ncomp, jb, jc
+    ncomp = size(field, 1)
+    do a = 1, nd
+      if (.not. (tied(2*a - 1) .and. tied(2*a))) cycle
+      b = merge(2, 1, a == 1)
+      c = 6 - a - b
+      nb = merge(ncells(b), 0, b <= nd)
+      nc = merge(ncells(c), 0, c <= nd)
+      allocate (sums(ncomp, 0:nb, 0:nc))
+      sums = 0.0_wp
+      do side = 0, 1
+        call face_box(a, side, olo, ohi, ncells, flo, fhi)
+        do jc = flo(c), fhi(c)
+          do jb = flo(b), fhi(b)
+            i(a) = flo(a)
+            i(b) = jb
+            i(c) = jc
+            sums(:, jb, jc) = sums(:, jb, jc) + field(:, i(1), i(2), i(3))
+          end do
+        end do
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+      do side = 0, 1
+        call face_box(a, side, olo, ohi, ncells, flo, fhi)
+        do jc = flo(c), fhi(c)
+          do jb = flo(b), fhi(b)
+            i(a) = flo(a)
+            i(b) = jb
+            i(c) = jc
+            field(:, i(1), i(2), i(3)) = sums(:, jb, jc)
+          end do
+        end do
+      end do
+      deallocate (sums)
+    end do
+  end subroutine tie_sums
+
+  !> For every tied axis: the node sums field(:, ...) of the pairs put together at the node
+  !> of the lower face (the pair's total there, zero at the upper face's node), so that a
+  !> nodal update sees each pair as one node, once. Axes in turn, so that the corner nodes
+  !> of two tied axes end as one node at the lowest corner. kept: the values of the faces'
+  !> nodes before, for unjoin_pairs.
+  subroutine join_pairs(nd, lo, olo, ohi, ncells, tied, field, kept, comm)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
+    logical, intent(in) :: tied(6)
+    real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    real(wp), allocatable, intent(out) :: kept(:)
+    type(MPI_Comm), intent(in) :: comm
+    integer :: a
+    call face_values(nd, lo, olo, ohi, ncells, tied, field, kept, .false.)
+    do a = 1, nd
+      if (tied(2*a - 1) .and. tied(2*a)) call pair_exchange(a, lo, olo, ohi, ncells, field, .true., comm)
+    end do
+  end subroutine join_pairs
+
+  !> The values of the tied faces' nodes that join_pairs kept, back in field.
+  subroutine unjoin_pairs(nd, lo, olo, ohi, ncells, tied, field, kept)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
+    logical, intent(in) :: tied(6)
+    real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    real(wp), allocatable, intent(inout) :: kept(:)
+    call face_values(nd, lo, olo, ohi, ncells, tied, field, kept, .true.)
+  end subroutine unjoin_pairs
+
+  !> The owned nodes of the tied faces, axis by axis, lower face first, in field and in buf
+  !> (one node's components after another): back (.true.) puts buf's values into field,
+  !> else buf is made from field's. A corner node of two tied axes appears in both.
+  subroutine face_values(nd, lo, olo, ohi, ncells, tied, field, buf, back)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
+    logical, intent(in) :: tied(6)
+    real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    real(wp), allocatable, intent(inout) :: buf(:)
+    logical, intent(in) :: back
+    integer :: a, b, c, side, i(3), flo(3), fhi(3), jb, jc, n, nc, pass
+    nc = size(field, 1)
+    do pass = merge(2, 1, back), 2
+      n = 0
+      do a = 1, nd
+        if (.not. (tied(2*a - 1) .and. tied(2*a))) cycle
+        b = merge(2, 1, a == 1)
+        c = 6 - a - b
+        do side = 0, 1
+          call face_box(a, side, olo, ohi, ncells, flo, fhi)
+          do jc = flo(c), fhi(c)
+            do jb = flo(b), fhi(b)
+              i(a) = flo(a)
+              i(b) = jb
+              i(c) = jc
+              if (pass == 2 .and. back) then
+                field(:, i(1), i(2), i(3)) = buf(n + 1:n + nc)
+              else if (pass == 2) then
+                buf(n + 1:n + nc) = field(:, i(1), i(2), i(3))
+              end if
+              n = n + nc
+            end do
+          end do
+        end do
+      end do
+      ! (the first pass counts the values)
+      if (pass == 1) allocate (buf(n))
+    end do
+  end subroutine face_values
+
+  !> For every tied axis, in the reverse order of join_pairs: the values field(:, ...) of
+  !> the lower face's node given to the upper face's node of its pair (the velocities of
+  !> the joined node to both).
+  subroutine copy_pairs(nd, lo, olo, ohi, ncells, tied, field, comm)
+    integer, intent(in) :: nd, lo(3), olo(3), ohi(3), ncells(3)
+    logical, intent(in) :: tied(6)
+    real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    type(MPI_Comm), intent(in) :: comm
+    integer :: a
+    do a = nd, 1, -1
+      if (tied(2*a - 1) .and. tied(2*a)) call pair_exchange(a, lo, olo, ohi, ncells, field, .false., comm)
+    end do
+  end subroutine copy_pairs
+
+  !> The pairs of tied axis a, over the ranks (one reduction): join (.true.) puts the sum of
+  !> both nodes' values at the lower node and zero at the upper one; otherwise the upper
+  !> node takes the lower node's values.
+  subroutine pair_exchange(a, lo, olo, ohi, ncells, field, join, comm)
+    integer, intent(in) :: a, lo(3), olo(3), ohi(3), ncells(3)
+    real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
+    logical, intent(in) :: join
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), allocatable :: sums(:, :, :)
+    integer :: b, c, side, i(3), flo(3), fhi(3), nb, nc, jb, jc
+    ! (an unused axis has the one node 0: its extent here is merely larger)
+    b = merge(2, 1, a == 1)
+    c = 6 - a - b
+    nb = ncells(b)
+    nc = ncells(c)
+    allocate (sums(size(field, 1), 0:nb, 0:nc))
+    sums = 0.0_wp
+    do side = 0, merge(1, 0, join)
+      call face_box(a, side, olo, ohi, ncells, flo, fhi)
+      do jc = flo(c), fhi(c)
+        do jb = flo(b), fhi(b)
+          i(a) = flo(a)
+          i(b) = jb
+          i(c) = jc
+          sums(:, jb, jc) = sums(:, jb, jc) + field(:, i(1), i(2), i(3))
+        end do
+      end do
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+    do side = 0, 1
+      call face_box(a, side, olo, ohi, ncells, flo, fhi)
+      do jc = flo(c), fhi(c)
+        do jb = flo(b), fhi(b)
+          i(a) = flo(a)
+          i(b) = jb
+          i(c) = jc
+          if (side == 0 .and. join) then
+            field(:, i(1), i(2), i(3)) = sums(:, jb, jc)
+          else if (side == 1 .and. join) then
+            field(:, i(1), i(2), i(3)) = 0.0_wp
+          else if (side == 1) then
+            field(:, i(1), i(2), i(3)) = sums(:, jb, jc)
+          end if
+        end do
+      end do
+    end do
+  end subroutine pair_exchange
+
   !> The owned nodes of face side (0: the lower, 1: the upper) of axis a: flo..fhi, empty
-  !> (flo > fhi) where this rank owns none of them; along an unused axis the one node 0.
+  !> (flo > fhi along every axis) where this rank owns none of them; along an unused axis
+  !> the one node 0.
   pure subroutine face_box(a, side, olo, ohi, ncells, flo, fhi)
     integer, intent(in) :: a, side, olo(3), ohi(3), ncells(3)
     integer, intent(out) :: flo(3), fhi(3)
@@ -85,8 +259,9 @@ contains
       flo(a) = at
       fhi(a) = at
     else
-      flo(a) = 1
-      fhi(a) = 0
+      ! empty along every axis: the loops over the face run over the other two
+      flo = 1
+      fhi = 0
     end if
   end subroutine face_box
 

@@ -14,10 +14,17 @@ module dpmpm_remap
     momentum_project_p2g
   use dpmpm_boundary, only: remap_nodal_velocity, tie_fluid
   use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
+  use dpmpm_tied_sides, only: join_pairs, unjoin_pairs, copy_pairs
   use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points, body_velocities
   implicit none
   private
-  public :: musl_remap, remap_locks
+  public :: musl_remap, remap_locks, tied_save_t, join_tied, split_tied
+
+  !> The tied faces' node sums of both phases and of the drag, kept while the pairs are
+  !> joined (join_tied, split_tied).
+  type :: tied_save_t
+    real(wp), allocatable :: s(:), f(:), d(:)
+  end type tied_save_t
 
 contains
 
@@ -42,10 +49,13 @@ contains
     real(wp), intent(in) :: dt
     real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :)
     integer :: ip, nd
-    logical :: coupled, locked
+    logical :: coupled, locked, tied
     real(wp) :: unused
+    type(tied_save_t) :: tsave
+    integer :: a, flo(3), fhi(3)
     nd = self%nd
     coupled = self%nph == 2
+    tied = coupled .and. any(self%bnd%tied)
     locked = remap_locks(self)
     ! Relative velocity of the nodal update, before the remap overwrites it.
     if (coupled) wstep = self%phase(fluid_phase)%nvel(nd + 1:2*nd, :, :, :) - &
@@ -54,8 +64,11 @@ contains
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                         self%dec%alo(3):self%dec%ahi(3)))
+        ! (tied faces: at each pair as one node)
+        if (tied) call join_tied(self, tsave)
         call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, &
                              f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
+        if (tied) call split_tied(self, tsave, lockv)
       end associate
       call self%dec%halo_copy(lockv)
     end if
@@ -70,6 +83,23 @@ contains
                                                self%phase(solid_phase)%nvel)
     if (coupled) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+        if (tied) then
+          ! Tied faces: each pair's remapped sums at one node (on the lower face), its
+          ! velocities from them.
+          call join_tied(self, tsave)
+          do a = 1, nd
+            if (.not. (self%bnd%tied(2*a - 1) .and. self%bnd%tied(2*a))) cycle
+            flo = max(self%dec%olo, self%zlo)
+            fhi = min(self%dec%ohi, self%zhi)
+            if (flo(a) > 0 .or. fhi(a) < 0) cycle
+            flo(a) = 0
+            fhi(a) = 0
+            do ip = 1, self%nph
+              call remap_nodal_velocity(nd, self%dec%alo, flo, fhi, self%phase(ip)%node, self%bnd%faces, &
+                                        self%phase(ip)%bc, self%phase(ip)%nvel, .false.)
+            end do
+          end do
+        end if
         call tie_fluid(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, s%node, f%node, &
                        s%nvel, f%nvel)
         if (locked) then
@@ -81,6 +111,7 @@ contains
         ! the corrections keep the pair's momentum; the skeleton at rigid nodes keeps v_r
         if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, &
                                                    self%rnode, self%bnd%faces%walls, dt, s%nvel)
+        if (tied) call split_tied(self, tsave)
       end associate
     end if
     ! the kinematic conditions of whole faces (the rigid base, tied faces) on the remapped
@@ -158,5 +189,40 @@ contains
     call remap_nodal_velocity(nd, self%dec%alo, max(self%dec%olo, self%zlo), min(self%dec%ohi, self%zhi), &
                               ph%node, self%bnd%faces, ph%bc, ph%nvel, self%bnd%faces%walls%rough .and. self%nph == 1)
   end subroutine remap_velocities
+
+  !> The node sums of both phases and the drag of tied pairs put together at the lower
+  !> face's node for the coupled update (join_pairs), the sums as they were kept in save.
+  subroutine join_tied(self, save)
+    class(state_t), intent(inout) :: self
+    type(tied_save_t), intent(out) :: save
+    associate (s => self%phase(solid_phase), f => self%phase(fluid_phase), dec => self%dec)
+      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, s%node, save%s, &
+                      dec%comm)
+      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, save%f, &
+                      dec%comm)
+      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, save%d, &
+                      dec%comm)
+    end associate
+  end subroutine join_tied
+
+  !> After a pass over the joined pairs: the sums kept by join_tied back, and the joined
+  !> node's velocities (both slots, both phases; with field, field's values instead)
+  !> given to the upper face's node of each pair.
+  subroutine split_tied(self, save, field)
+    class(state_t), intent(inout) :: self
+    type(tied_save_t), intent(inout) :: save
+    real(wp), intent(inout), optional :: field(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    associate (s => self%phase(solid_phase), f => self%phase(fluid_phase), dec => self%dec)
+      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, s%node, save%s)
+      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, save%f)
+      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, save%d)
+      if (present(field)) then
+        call copy_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, field, dec%comm)
+        return
+      end if
+      call copy_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, s%nvel, dec%comm)
+      call copy_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%nvel, dec%comm)
+    end associate
+  end subroutine split_tied
 
 end module dpmpm_remap

@@ -601,7 +601,9 @@ contains
     end do
     line = '  pore fluid at the faces:'
     do f = 1, 2*self%nd
-      line = trim(line)//' '//face_names(f)//' '//trim(fbc_names(self%bnd%fbc(f)))
+      ! (a tied face's fluid is tied with the skeleton: no condition of its own)
+      line = trim(line)//' '//face_names(f)//' '// &
+             trim(merge('tied       ', fbc_names(self%bnd%fbc(f)), self%bnd%tied(f)))
     end do
     call self%log%info(trim(line))
   end subroutine init_two_phase

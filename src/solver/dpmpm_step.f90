@@ -26,7 +26,7 @@ module dpmpm_step
   use dpmpm_nodal_update, only: nodal_update, nodal_update_coupled
   use dpmpm_damping, only: viscous_forces, rayleigh_mass_args
   use dpmpm_drag, only: nodal_drag_limit
-  use dpmpm_remap, only: musl_remap, remap_locks
+  use dpmpm_remap, only: tied_save_t, join_tied, split_tied, musl_remap, remap_locks
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, &
                                  fluid_pressure_step, fluid_state
   use dpmpm_inflow, only: refill_inflow
@@ -35,6 +35,7 @@ module dpmpm_step
                               gauss_point_divergences, gauss_mixture_divergence, gauss_gravity, gauss_gravity_work
   use dpmpm_gauss_fields, only: thin_node_forces
   use dpmpm_time_step, only: report_governing
+  use dpmpm_tied_sides, only: tie_sums
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points, body_velocities
   use dpmpm_surface_loads, only: surface_forces
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_PROC_NULL, operator(/=)
@@ -58,6 +59,7 @@ contains
     real(wp), allocatable :: fvol(:, :, :, :), sheld(:, :), pheld(:), pforce(:)
     real(wp), allocatable :: volb(:), nval(:), nkinv(:), gnrel(:), skinv(:)
     real(wp), allocatable :: gpf(:, :, :, :), gps(:, :, :, :), gms(:, :, :, :), gmf(:, :, :, :)
+    type(tied_save_t) :: tsave
     logical :: ggrav
     coupled = self%nph == 2
     ! the free surface of the pore fluid is looked for (free_surface_points)
@@ -226,6 +228,8 @@ contains
     ! cells, and a thin node inside a scattered set is no surface.)
     if (surface) call free_surface_points(self, fvol, fsurf)
     ! Porosity and 1/k of the porous skeleton at the owned nodes (doc/theory.md 3.5).
+    if (coupled .and. any(self%bnd%tied)) call tie_sums(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
+      self%grid%ncells, self%bnd%tied, self%nporo, self%dec%comm)
     if (coupled) call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%nporo)
     if (allocated(gpf)) call gauss_pressure_forces(self, gpf, gps)
     ! Nodes that the Gauss points of a set reach but its points barely reach take no
@@ -313,12 +317,15 @@ contains
         ! free-surface test (unallocated, each is an absent argument).
         if (self%has_rigid) call rigid_node_sums(self, dt)
         rforce = 0.0_wp
+        ! Tied faces: each pair one node in the update (kept: the sums of the two nodes).
+        if (any(self%bnd%tied)) call join_tied(self, tsave)
         call nodal_update_coupled(nd, self%dec%alo, blo, bhi, s%node, f%node, &
                                   self%nporo, self%ndrag, gravity_now(self), self%bnd%faces, f%bc, &
                                   self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
                                   self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce, &
                                   fvol, self%cfg%free_surface_fraction)
         if (self%has_rigid) self%drive_impulse = self%drive_impulse + dt*rforce
+        if (any(self%bnd%tied)) call split_tied(self, tsave)
       end associate
       call self%timers%toc(t_nodal)
     end if

@@ -6,7 +6,7 @@ module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, max_probes, optional_fields, field_listed, &
-                          face_names, bc_roller, &
+                          face_names, bc_roller, fbc_drained, &
                           porosity_varies, region_levels, level_unset, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
@@ -252,18 +252,31 @@ contains
       call add_raw(pb, head//'needs ndim = 2 (r along x, z along y); ndim = '//itoa(cfg%ndim))
       return
     end if
-    if (cfg%origin(1) /= 0.0_wp) call add_raw(pb, head//'the axis is the grid''s x- face at '// &
-      'x = 0: origin(1) must be 0, not '//rtoa(cfg%origin(1)))
-    if (cfg%bc(1) /= bc_roller .or. cfg%tied(1) .or. cfg%absorbing(1) /= 0 .or. &
-        cfg%wall_friction(1) /= 0.0_wp) &
+    if (.not. cfg%origin(1) >= 0.0_wp) call add_raw(pb, head//'x is the radius from the axis '// &
+      'at x = 0: origin(1) must be >= 0, not '//rtoa(cfg%origin(1)))
+    if (cfg%origin(1) == 0.0_wp .and. (cfg%bc(1) /= bc_roller .or. cfg%tied(1) .or. &
+                                       cfg%absorbing(1) /= 0 .or. cfg%wall_friction(1) /= 0.0_wp)) &
       call add_raw(pb, head//"face x- is the axis: it needs &boundary face = 'x-', "// &
                    "condition = 'roller' without friction (v_r = 0 on the axis)")
+    ! (origin(1) > 0: the grid is a hollow cylinder, its x- face an inner wall at r = origin(1))
+    if (cfg%origin(1) > 0.0_wp .and. (cfg%tied(1) .or. cfg%wall_friction(1) /= 0.0_wp)) &
+      call add_raw(pb, head//"face x- at r = origin(1) > 0 is an inner wall: 'roller' (without "// &
+                   "friction), 'fixed' or 'free'")
     if (cfg%quadrature == 'gauss') call add_raw(pb, head//"needs quadrature = 'points' (the "// &
       'hoop stress is not yet in the Gauss-point forces)')
     if (cfg%volumetric_smoothing /= 'none') call add_raw(pb, head//"needs volumetric_smoothing "// &
       "= 'none' (the cell means do not carry the hoop strain rate)")
-    if (any(cfg%regions%phase /= 'solid')) call add_raw(pb, head//'one phase only for now: '// &
-      'every &region needs phase = ''solid''')
+    if (any(cfg%regions%phase /= 'solid')) then
+      if (cfg%pressure_smoothing /= 'cell') call add_raw(pb, head//"pore water needs "// &
+        "&run pressure_smoothing = 'cell' (v_r / r differs between the points of a cell, and "// &
+        'their pressures lock the drainage without it)')
+      if (cfg%porosity_gradient) call add_raw(pb, head//'&run porosity_gradient = .true. is not '// &
+        'yet axisymmetric (the mixture flux lacks its hoop part)')
+      if (any(cfg%fluid_bc(1:4) == fbc_drained .and. (cfg%pore_pressure(1:4) /= 0.0_wp .or. &
+                                                      any(cfg%pore_pressure_gradient(:, 1:4) /= 0.0_wp, 1)))) &
+        call add_raw(pb, head//'a drained face''s pore pressure is not yet axisymmetric (its '// &
+                     'nodal force lacks the radius): leave pore_pressure 0 on drained faces')
+    end if
     if (cfg%benchmark /= 'none') call add_raw(pb, head//'the benchmarks are plane or 1D: '// &
       "leave &benchmark name = 'none'")
     if (any(cfg%absorbing /= 0)) call add_raw(pb, head//'absorbing faces are not yet '// &

@@ -4,12 +4,17 @@
 !> the in-plane stress divergence) holds as it is; what the ring adds are the two terms
 !> here: the hoop strain rate v_r / r at the points and the hoop stress's nodal force
 !> -sigma_thth N_I V_p / r_p. Both run over the points of the solid in passes of their own,
-!> so that the plane kernels stay as they are when the flag is off.
+!> so that the plane kernels stay as they are when the flag is off. With pore water the
+!> same two terms for the pressure -p I of the fluid points: its hoop force on both phases
+!> (pressure_hoop_p2g) and v_r / r of both phases in the divergences of the pressure
+!> update (hoop_divergences); the free-surface test takes the points' areas in the r-z
+!> plane (fluid_area_p2g).
 module dpmpm_axisym
   use dpmpm_kinds, only: wp
   implicit none
   private
   public :: axisym_point_measures, hoop_force_p2g, hoop_rate, axis_radius, axis_guard
+  public :: pressure_hoop_p2g, hoop_divergences, fluid_area_p2g
 
   !> Points closer to the axis than axis_guard cells take this radius in v_r / r and V / r:
   !> the ring there is thinner than round-off of a cell, and both quotients stay finite.
@@ -92,5 +97,95 @@ contains
       vgrad(9, p) = vr/axis_radius(x(1, p), h1)
     end do
   end subroutine hoop_rate
+
+  !> The pore pressure's share of the hoop force at the nodes of each fluid point's stencil.
+  !> The fluid carries the partial stress -n p I and the skeleton -(1 - n) p I (the shares of
+  !> fluid_p2g's gradient term), whose theta-theta components give, as -sigma_thth N V / r
+  !> does for the skeleton's effective stress, f_I,r += n p N_I V / r on the fluid
+  !> (node_f(4)) and += (1 - n) p N_I V / r on the skeleton (node_s(4)). Added before the
+  !> mirror fold.
+  subroutine pressure_hoop_p2g(nw, n, i0, sw, x, h1, vol, poro, pres, lo, node_s, node_f)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
+    real(wp), intent(in) :: x(:, :), h1, vol(:), poro(:), pres(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: node_s(:, lo(1):, lo(2):, lo(3):), node_f(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, i, j, k
+    real(wp) :: fr, nn
+    do p = 1, n
+      fr = pres(p)*vol(p)/axis_radius(x(1, p), h1)
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = fr*sw(a, 1, p)*sw(b, 2, p)
+          node_f(4, i, j, k) = node_f(4, i, j, k) + poro(p)*nn
+          node_s(4, i, j, k) = node_s(4, i, j, k) + (1.0_wp - poro(p))*nn
+        end do
+      end do
+    end do
+  end subroutine pressure_hoop_p2g
+
+  !> The hoop parts of the divergences at the fluid points: v_f,r / r into divf and
+  !> v_s,r / r into divs, each phase's radial velocity interpolated from its new nodal
+  !> velocities (nvel(3, ...)) with the fluid point's stencil, r the point's radius after
+  !> its move (the divergence in cylindrical coordinates, dv_r/dr + v_r/r + dv_z/dz).
+  subroutine hoop_divergences(nw, n, i0, sw, x, h1, lo, nvel_f, nvel_s, divf, divs)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
+    real(wp), intent(in) :: x(:, :), h1
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(in) :: nvel_f(:, lo(1):, lo(2):, lo(3):), nvel_s(:, lo(1):, lo(2):, lo(3):)
+    real(wp), intent(inout) :: divf(:), divs(:)
+    integer :: p, a, b, i, j, k
+    real(wp) :: vf, vs, nn, r
+    do p = 1, n
+      vf = 0.0_wp
+      vs = 0.0_wp
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          nn = sw(a, 1, p)*sw(b, 2, p)
+          vf = vf + nn*nvel_f(3, i, j, k)
+          vs = vs + nn*nvel_s(3, i, j, k)
+        end do
+      end do
+      r = axis_radius(x(1, p), h1)
+      divf(p) = divf(p) + vf/r
+      divs(p) = divs(p) + vs/r
+    end do
+  end subroutine hoop_divergences
+
+  !> The fluid's area in the r-z plane at the nodes, sum_p N_I V_p / r_p, in place of the
+  !> per-radian volume sum_p N_I V_p that fluid_p2g gives the free-surface tests: those
+  !> compare it with a fraction of a cell's area h^2, which the per-radian volume next to
+  !> the axis (r << h) would never reach. fvol is set, not added to.
+  subroutine fluid_area_p2g(nw, n, i0, sw, x, h1, vol, lo, fvol)
+    integer, intent(in) :: nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :)
+    real(wp), intent(in) :: x(:, :), h1, vol(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: fvol(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, i, j, k
+    real(wp) :: ar
+    fvol = 0.0_wp
+    do p = 1, n
+      ar = vol(p)/axis_radius(x(1, p), h1)
+      k = i0(3, p)
+      do b = 1, nw(2)
+        j = i0(2, p) + b - 1
+        do a = 1, nw(1)
+          i = i0(1, p) + a - 1
+          fvol(1, i, j, k) = fvol(1, i, j, k) + ar*sw(a, 1, p)*sw(b, 2, p)
+        end do
+      end do
+    end do
+  end subroutine fluid_area_p2g
 
 end module dpmpm_axisym

@@ -162,6 +162,12 @@ contains
       if (self%two_phase) then
         call generate_points(cfg, self%grid, self%dec%clo, self%dec%chi, self%mats, self%phase(2)%pts, &
                              'fluid', fcounts)
+        ! (the pore water's volumes and masses per radian too)
+        if (cfg%axisymmetric) then
+          associate (ps => self%phase(2)%pts)
+            call axisym_point_measures(ps%n, ps%x, self%grid%h(1), ps%vol, ps%vol0, ps%mass)
+          end associate
+        end if
         call check_scene_points(cfg, self%grid, self%dec%comm, counts + fcounts, self%phase(1)%pts, &
                                 status, self%phase(2)%pts)
       else

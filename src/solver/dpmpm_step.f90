@@ -12,7 +12,7 @@ module dpmpm_step
   use dpmpm_config, only: bc_free, fbc_drained
   use dpmpm_mls_velocity, only: velocity_accumulate, velocity_solve, velocity_fold_signs
   use dpmpm_materials, only: stress_update, model_fluid
-  use dpmpm_axisym, only: hoop_force_p2g, hoop_rate
+  use dpmpm_axisym, only: hoop_force_p2g, hoop_rate, pressure_hoop_p2g, hoop_divergences, fluid_area_p2g
   use dpmpm_benchmarks, only: benchmark_body_force
   use dpmpm_migrate, only: migrate
   use dpmpm_energy, only: state_valid
@@ -159,12 +159,22 @@ contains
       call gauss_p2g(self, ggrav, gpf, gms, gmf)
       if (allocated(gpf)) gps = gpf
     end if
-    ! Axisymmetry: the hoop stress's nodal force (dpmpm_axisym), from the stress of p2g.
+    ! Axisymmetry: the hoop stress's nodal force (dpmpm_axisym), from the stress of p2g;
+    ! with pore water the pressure's on both phases (the pressures of fluid_p2g) and the
+    ! fluid's r-z areas for the free-surface tests.
     if (self%cfg%axisymmetric) then
       associate (s => self%phase(solid_phase))
         call hoop_force_p2g(s%st%nw, s%pts%n, s%st%i0, s%st%sw, s%pts%x, self%grid%h(1), &
                             s%pts%vol, s%pts%stress, self%dec%alo, s%node)
       end associate
+      if (coupled) then
+        associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
+          call pressure_hoop_p2g(f%st%nw, nf, f%st%i0, f%st%sw, f%pts%x, self%grid%h(1), f%pts%vol, &
+                                 f%pts%porosity, f%pts%pressure, self%dec%alo, s%node, f%node)
+          if (allocated(fvol)) call fluid_area_p2g(f%st%nw, nf, f%st%i0, f%st%sw, f%pts%x, self%grid%h(1), &
+                                                   f%pts%vol, self%dec%alo, fvol)
+        end associate
+      end if
     end if
     if (allocated(sheld)) call move_alloc(sheld, self%phase(solid_phase)%pts%stress)
     if (allocated(pheld)) then
@@ -416,9 +426,15 @@ contains
     call self%timers%tic(t_stress)
     associate (s => self%phase(solid_phase))
       ! Axisymmetry: the hoop strain rate v_r / r as the third diagonal (dpmpm_axisym).
-      if (self%cfg%axisymmetric) &
+      if (self%cfg%axisymmetric) then
         call hoop_rate(s%st%nw, ns, s%st%i0, s%st%sw, s%pts%x, self%grid%h(1), self%dec%alo, &
                        s%nvel, s%vgrad)
+        ! and v_r / r of both phases in the divergences at the fluid points
+        if (coupled) call hoop_divergences(self%phase(fluid_phase)%st%nw, nf, self%phase(fluid_phase)%st%i0, &
+                                           self%phase(fluid_phase)%st%sw, self%phase(fluid_phase)%pts%x, &
+                                           self%grid%h(1), self%dec%alo, self%phase(fluid_phase)%nvel, &
+                                           s%nvel, self%phase(fluid_phase)%divf, self%phase(fluid_phase)%divs)
+      end if
       if (allocated(scell)) call smooth_volumetric_rate(nd, ns, product(self%dec%chi - self%dec%clo + 1)* &
                                                         size(self%mats), scell, s%pts%vol, s%vgrad)
       if (coupled) volb = s%pts%vol(1:ns)

@@ -54,7 +54,9 @@ class Grid:
         self.origin = np.array(origin, dtype=float)[:self.ndim]
         self.length = np.array(length, dtype=float)[:self.ndim]
         #: r-z about the axis x = 0 (``&grid axisymmetric``): x is r, y is z, and the
-        #: points' ``vol`` and ``mass`` are per radian (times 2 pi for the whole ring).
+        #: points' ``vol`` and ``mass`` are per radian (times 2 pi for the whole ring), in
+        #: the pore water's set as in the skeleton's; with origin[0] > 0 the grid is a
+        #: hollow cylinder from r = origin[0].
         self.axisymmetric = bool(axisymmetric)
 
     @property

@@ -8,7 +8,7 @@
 !> "Long runs of the two-phase step").
 module dpmpm_load_path
   use dpmpm_kinds, only: wp, i8
-  use dpmpm_kernels, only: kernel_width, kernel_eval_1d, max_stencil
+  use dpmpm_kernels, only: kernel_width, kernel_linear, kernel_quadratic, kernel_cubic, refuse_kernel
   use dpmpm_state, only: state_t
   use dpmpm_config, only: face_names
   use dpmpm_strings, only: rtoa
@@ -20,13 +20,21 @@ module dpmpm_load_path
 contains
 
   !> First node (global index along the axis, node 0 at the origin) of the grid
-  !> functions of a point at xi cell widths from the origin: kernel_eval_1d's, so that a
-  !> grid kernel is wired in one place.
+  !> functions of a point at xi cell widths from the origin.
   integer function first_node(kernel, xi) result(i)
     integer, intent(in) :: kernel
     real(wp), intent(in) :: xi
-    real(wp) :: w(max_stencil), dw(max_stencil)
-    call kernel_eval_1d(kernel, xi, i, w, dw)
+    select case (kernel)
+    case (kernel_linear)
+      i = floor(xi)
+    case (kernel_quadratic)
+      i = floor(xi - 0.5_wp)
+    case (kernel_cubic)
+      i = floor(xi) - 1
+    case default
+      i = 0
+      call refuse_kernel(kernel, 'first_node')
+    end select
   end function first_node
 
   !> cover(e): points whose grid functions reach both nodes e and e + 1 (the edge e;

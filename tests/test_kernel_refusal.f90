@@ -7,6 +7,7 @@ program test_kernel_refusal
   use dpmpm_kernels, only: kernel_width, kernel_ghost_width, kernel_eval_1d, psi_stencils, &
                            kernel_reach, max_stencil
   use dpmpm_transfer, only: p2g
+  use dpmpm_stencil, only: stencil_t
   implicit none
   integer, parameter :: bad_kernel = 9
   character(len=32) :: which
@@ -15,6 +16,7 @@ program test_kernel_refusal
   real(wp) :: mass(0), v(2, 0), vol(0), stress(6, 0), node(5, 0:0, 0:0, 0:0)
   integer :: i0p(3, 0)
   real(wp) :: swp(5, 3, 0), sdwp(5, 3, 0)
+  type(stencil_t) :: st
   call get_command_argument(1, which)
   select case (trim(which))
   case ('kernel_width')
@@ -34,6 +36,9 @@ program test_kernel_refusal
   case ('kernel_reach')
     r = kernel_reach(bad_kernel, 0.0_wp, .false.)
     print '(a,es10.3)', 'went on after kernel_reach: ', r
+  case ('stencil_init')
+    call st%init(2, bad_kernel)
+    print '(a,i0)', 'went on after stencil_init: ', st%nw(1)
   case ('p2g_width')
     ! (no points: the dispatch by width comes before the loop over them)
     lo = 0

@@ -32,7 +32,7 @@ contains
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: nranks
     integer :: nd, d, k
-    logical :: grid_ok, ndim_ok, exists
+    logical :: grid_ok, ndim_ok, exists, shape_ok
 
     ! &run
     if (len_trim(cfg%name) == 0) then
@@ -166,7 +166,12 @@ contains
                      'half-width field_radius > 0 (field_radius = 0 is the tensor-product B-spline of '// &
                      'natural support already)')
 
-    if (grid_ok) call check_decomposition(pb, cfg, nranks)
+    ! (the ghost width of the decomposition needs known kernels: an unknown name is
+    ! reported above, not looked up)
+    shape_ok = is_grid_kernel(kernel_from_name(cfg%kernel)) .and. &
+               (len_trim(cfg%velocity_kernel) == 0 .or. kernel_from_name(cfg%velocity_kernel) > 0) .and. &
+               (cfg%quadrature /= 'gauss' .or. kernel_from_name(cfg%field_kernel) > 0)
+    if (grid_ok .and. shape_ok) call check_decomposition(pb, cfg, nranks)
     if (cfg%volumetric_smoothing == 'cell' .and. cfg%pressure_smoothing /= 'cell' .and. &
         any(cfg%regions%phase == 'saturated')) &
       call add_value(pb, g_run, 1, 'volumetric_smoothing', quote(cfg%volumetric_smoothing), 'with '// &

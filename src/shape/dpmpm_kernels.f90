@@ -18,6 +18,7 @@ module dpmpm_kernels
   public :: kernel_width, kernel_ghost_width, kernel_eval_1d, max_stencil, psi_stencil, psi_stencils
   public :: bspline_1d, kernel_radial, kernel_radial_values, kernel_weight, kernel_reach
   public :: refuse_kernel, refuse_width
+  public :: grid_kernel_t, grid_kernel_table, grid_kernel_lookup, bind_grid_kernel
 
   integer, parameter :: kernel_linear = 1, kernel_quadratic = 2, kernel_cubic = 3
   integer, parameter :: kernel_wendland_c2 = 4, kernel_wendland_c4 = 5
@@ -27,6 +28,22 @@ module dpmpm_kernels
                                                      'cubic       ', 'wendland_c2 ', 'wendland_c4 ']
   !> Largest number of nodes per axis of any grid kernel's stencil.
   integer, parameter :: max_stencil = 4
+
+  !> What the grid transfers need of a grid kernel, bound once from its code
+  !> (bind_grid_kernel) where the stencils of a phase are set up, so that no loop derives
+  !> it from the code again.
+  type :: grid_kernel_t
+    integer :: kernel = 0          !< kernel code (kernel_linear, ...); 0 while unbound
+    integer :: width = 0           !< nodes per axis of a point's stencil
+    integer :: ghost = 0           !< ghost layer (nodes) a stencil reaches beyond its cell
+    real(wp) :: reach = 0.0_wp     !< half-width of the natural support (cell units)
+  end type grid_kernel_t
+
+  !> The grid kernels, one line each (a B-spline of degree k: k + 1 nodes, reach (k + 1)/2).
+  type(grid_kernel_t), parameter :: grid_kernel_table(ngrid_kernels) = [ &
+                                    grid_kernel_t(kernel_linear, 2, 1, 1.0_wp), &
+                                    grid_kernel_t(kernel_quadratic, 3, 2, 1.5_wp), &
+                                    grid_kernel_t(kernel_cubic, 4, 2, 2.0_wp)]
 
 contains
 
@@ -68,35 +85,48 @@ contains
                ' (the widths are 2, 3 and 4 nodes per axis)', where)
   end subroutine refuse_width
 
+  !> The row of grid_kernel_table of a kernel code: stat 0, or 1 (gk unbound) for a code
+  !> that is no grid kernel (a kernel of MLS weights only, or unknown).
+  pure subroutine grid_kernel_lookup(kernel, gk, stat)
+    integer, intent(in) :: kernel
+    type(grid_kernel_t), intent(out) :: gk
+    integer, intent(out) :: stat
+    integer :: j
+    stat = 1
+    do j = 1, size(grid_kernel_table)
+      if (grid_kernel_table(j)%kernel == kernel) then
+        gk = grid_kernel_table(j)
+        stat = 0
+      end if
+    end do
+  end subroutine grid_kernel_lookup
+
+  !> A grid kernel bound from its code; a code that is no grid kernel stops the run
+  !> (where: the caller, named in the message).
+  function bind_grid_kernel(kernel, where) result(gk)
+    integer, intent(in) :: kernel
+    character(len=*), intent(in) :: where
+    type(grid_kernel_t) :: gk
+    integer :: stat
+    call grid_kernel_lookup(kernel, gk, stat)
+    if (stat /= 0) call refuse_kernel(kernel, where)
+  end function bind_grid_kernel
+
   !> Nodes per axis in a grid kernel's stencil.
   integer function kernel_width(kernel) result(n)
     integer, intent(in) :: kernel
-    select case (kernel)
-    case (kernel_linear)
-      n = 2
-    case (kernel_quadratic)
-      n = 3
-    case (kernel_cubic)
-      n = 4
-    case default
-      n = 0
-      call refuse_kernel(kernel, 'kernel_width')
-    end select
+    type(grid_kernel_t) :: gk
+    gk = bind_grid_kernel(kernel, 'kernel_width')
+    n = gk%width
   end function kernel_width
 
   !> Ghost layer (in nodes) that a point inside a rank's cells can reach beyond
   !> them with a grid kernel's stencil.
   integer function kernel_ghost_width(kernel) result(g)
     integer, intent(in) :: kernel
-    select case (kernel)
-    case (kernel_linear)
-      g = 1
-    case (kernel_quadratic, kernel_cubic)
-      g = 2
-    case default
-      g = 0
-      call refuse_kernel(kernel, 'kernel_ghost_width')
-    end select
+    type(grid_kernel_t) :: gk
+    gk = bind_grid_kernel(kernel, 'kernel_ghost_width')
+    g = gk%ghost
   end function kernel_ghost_width
 
   !> Evaluate a 1D grid kernel at s = (x - origin)/h (cell units). Returns the
@@ -378,19 +408,20 @@ contains
     integer, intent(in) :: kernel
     real(wp), intent(in) :: radius
     logical, intent(in) :: radial
+    type(grid_kernel_t) :: gk
+    integer :: stat
     if (radial .or. radius > 0.0_wp) then
       reach = radius
       return
     end if
-    ! (natural support: the B-splines' own; the Wendland kernels have none, and the
-    ! input refuses them without a radius)
+    ! (natural support: the grid kernels' own, from their table; the Wendland kernels have
+    ! none, and the input refuses them without a radius)
+    call grid_kernel_lookup(kernel, gk, stat)
+    if (stat == 0) then
+      reach = gk%reach
+      return
+    end if
     select case (kernel)
-    case (kernel_linear)
-      reach = 1.0_wp
-    case (kernel_quadratic)
-      reach = 1.5_wp
-    case (kernel_cubic)
-      reach = 2.0_wp
     case (kernel_wendland_c2, kernel_wendland_c4)
       reach = radius
     case default

@@ -11,7 +11,8 @@
 module dpmpm_shape_plan
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t
-  use dpmpm_kernels, only: kernel_from_name, kernel_ghost_width, kernel_reach
+  use dpmpm_kernels, only: kernel_from_name, kernel_reach, grid_kernel_t, grid_kernel_table, &
+                           bind_grid_kernel
   use dpmpm_mls, only: basis_from_name
   implicit none
   private
@@ -23,6 +24,8 @@ module dpmpm_shape_plan
   !> Resolved &shape settings.
   type :: shape_plan_t
     integer :: grid_kernel = 1
+    !> the grid kernel bound once per run (its width, ghost layer and reach)
+    type(grid_kernel_t) :: grid = grid_kernel_table(1)
     logical :: velocity_mls = .false.     !< nodal velocities by MLS instead of projection
     integer :: velocity_kernel = 1
     integer :: velocity_basis = 0
@@ -46,6 +49,7 @@ contains
     class(shape_plan_t), intent(out) :: self
     type(config_t), intent(in) :: cfg
     self%grid_kernel = kernel_from_name(cfg%kernel)
+    self%grid = bind_grid_kernel(self%grid_kernel, 'shape plan (&shape kernel)')
     self%velocity_mls = len_trim(cfg%velocity_kernel) > 0
     if (self%velocity_mls) then
       self%velocity_kernel = kernel_from_name(cfg%velocity_kernel)
@@ -68,7 +72,7 @@ contains
   !> grid kernel, and the reach of the MLS weights around a point.
   integer function plan_ghost_width(self) result(gw)
     class(shape_plan_t), intent(in) :: self
-    gw = kernel_ghost_width(self%grid_kernel)
+    gw = self%grid%ghost
     if (self%velocity_mls) gw = max(gw, ceiling(kernel_reach(self%velocity_kernel, &
                                     self%velocity_radius, self%velocity_radial)))
     if (self%gauss) gw = max(gw, ceiling(kernel_reach(self%field_kernel, self%field_radius, &

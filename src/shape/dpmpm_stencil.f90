@@ -4,7 +4,7 @@
 !> (dpmpm_transfer), which forms the products node by node.
 module dpmpm_stencil
   use dpmpm_kinds, only: wp
-  use dpmpm_kernels, only: psi_stencil, psi_stencils, kernel_width, max_stencil
+  use dpmpm_kernels, only: psi_stencil, psi_stencils, max_stencil, grid_kernel_t, bind_grid_kernel
   implicit none
   private
   public :: stencil_t, psi_stencil, stencil_offsets, tensor_weights
@@ -13,9 +13,11 @@ module dpmpm_stencil
   type :: stencil_t
     integer :: nd = 0                       !< dimension
     integer :: kernel = 0                   !< grid kernel id
+    !> the grid kernel bound once (stencil_init): its width, ghost layer and reach
+    type(grid_kernel_t) :: gk
     integer :: nw(3) = 1                    !< nodes per axis
     integer, allocatable :: i0(:, :)        !< (3, cap) first node of a point's stencil
-    !> (nw, 3, cap) weights per axis, one row of nw = kernel_width values per axis (the
+    !> (nw, 3, cap) weights per axis, one row of nw = gk%width values per axis (the
     !> axes beyond nd hold one node of weight 1 and derivative 0, set at allocation)
     real(wp), allocatable :: sw(:, :, :)
     real(wp), allocatable :: sdw(:, :, :)   !< (nw, 3, cap) derivatives per axis (per metre)
@@ -27,15 +29,17 @@ module dpmpm_stencil
 
 contains
 
-  !> Stencils of grid kernel `kernel` in nd dimensions, for no points yet.
+  !> Stencils of grid kernel `kernel` in nd dimensions, for no points yet. The kernel is
+  !> bound here, once: a code that is no grid kernel stops the run.
   subroutine stencil_init(self, nd, kernel)
     class(stencil_t), intent(inout) :: self
     integer, intent(in) :: nd, kernel
     call self%free()
     self%nd = nd
-    self%kernel = kernel
+    self%gk = bind_grid_kernel(kernel, 'stencil_init')
+    self%kernel = self%gk%kernel
     self%nw = 1
-    self%nw(1:nd) = kernel_width(kernel)
+    self%nw(1:nd) = self%gk%width
     allocate (self%i0(3, 0), self%sw(self%nw(1), 3, 0), self%sdw(self%nw(1), 3, 0))
   end subroutine stencil_init
 

@@ -8,63 +8,78 @@
 !> sdw(:, axis, p) per axis (tensor products), nodes are addressed from lo.
 !> In 2D, and in 3D for p2g, g2p, the point gradients and divergences, the momentum
 !> remap, the point volume and the two-phase sums, each public kernel calls its form of
-!> fixed stencil width (dpmpm_transfer_w2, _w3, _w4 by nw(1)); the loops here, with the
-!> width read at run time, serve 1D and the general form with a third axis of one node.
+!> fixed stencil width through the table of that dimension and width (fixed_forms: the
+!> procedures of dpmpm_transfer_w2, _w3, _w4, filled once; a width without a module is
+!> refused); the loops here, with the width read at run time, serve 1D and the general
+!> form with a third axis of one node.
 module dpmpm_transfer
   use dpmpm_kinds, only: wp
   use dpmpm_tensor, only: voigt_to_tensor
   use dpmpm_drag, only: gravity_drag
-  use dpmpm_kernels, only: refuse_width
-  use dpmpm_transfer_w2, only: p2g_2d_w2 => p2g_2d, p2g_3d_w2 => p2g_3d, porous_p2g_2d_w2 => porous_p2g_2d, &
-    porous_p2g_3d_w2 => porous_p2g_3d, p2g_body_2d_w2 => p2g_body_2d, p2g_body_3d_w2 => p2g_body_3d, g2p_2d_w2 => g2p_2d, &
-    g2p_3d_w2 => g2p_3d, point_gradient_2d_w2 => point_gradient_2d, &
-    point_divergences_2d_w2 => point_divergences_2d, momentum_project_p2g_2d_w2 => momentum_project_p2g_2d, &
-    momentum_p2g_2d_w2 => momentum_p2g_2d, interp_two_values_2d_w2 => interp_two_values_2d, &
-    interp_two_values_3d_w2 => interp_two_values_3d, &
-    fluid_p2g_2d_w2 => fluid_p2g_2d, solid_porosity_p2g_2d_w2 => solid_porosity_p2g_2d, &
-    reaches_thin_node_2d_w2 => reaches_thin_node_2d, point_gradient_3d_w2 => point_gradient_3d, &
-    point_divergences_3d_w2 => point_divergences_3d, momentum_project_p2g_3d_w2 => momentum_project_p2g_3d, &
-    momentum_p2g_3d_w2 => momentum_p2g_3d, fluid_p2g_3d_w2 => fluid_p2g_3d, &
-    solid_porosity_p2g_3d_w2 => solid_porosity_p2g_3d, g2p_remap_2d_w2 => g2p_remap_2d, &
-    g2p_remap_3d_w2 => g2p_remap_3d, g2p_remap_project_2d_w2 => g2p_remap_project_2d, &
-    g2p_remap_project_3d_w2 => g2p_remap_project_3d, volume_p2g_2d_w2 => volume_p2g_2d, &
-    volume_p2g_3d_w2 => volume_p2g_3d
-  use dpmpm_transfer_w3, only: p2g_2d_w3 => p2g_2d, p2g_3d_w3 => p2g_3d, porous_p2g_2d_w3 => porous_p2g_2d, &
-    porous_p2g_3d_w3 => porous_p2g_3d, p2g_body_2d_w3 => p2g_body_2d, p2g_body_3d_w3 => p2g_body_3d, g2p_2d_w3 => g2p_2d, &
-    g2p_3d_w3 => g2p_3d, point_gradient_2d_w3 => point_gradient_2d, &
-    point_divergences_2d_w3 => point_divergences_2d, momentum_project_p2g_2d_w3 => momentum_project_p2g_2d, &
-    momentum_p2g_2d_w3 => momentum_p2g_2d, interp_two_values_2d_w3 => interp_two_values_2d, &
-    interp_two_values_3d_w3 => interp_two_values_3d, &
-    fluid_p2g_2d_w3 => fluid_p2g_2d, solid_porosity_p2g_2d_w3 => solid_porosity_p2g_2d, &
-    reaches_thin_node_2d_w3 => reaches_thin_node_2d, point_gradient_3d_w3 => point_gradient_3d, &
-    point_divergences_3d_w3 => point_divergences_3d, momentum_project_p2g_3d_w3 => momentum_project_p2g_3d, &
-    momentum_p2g_3d_w3 => momentum_p2g_3d, fluid_p2g_3d_w3 => fluid_p2g_3d, &
-    solid_porosity_p2g_3d_w3 => solid_porosity_p2g_3d, g2p_remap_2d_w3 => g2p_remap_2d, &
-    g2p_remap_3d_w3 => g2p_remap_3d, g2p_remap_project_2d_w3 => g2p_remap_project_2d, &
-    g2p_remap_project_3d_w3 => g2p_remap_project_3d, volume_p2g_2d_w3 => volume_p2g_2d, &
-    volume_p2g_3d_w3 => volume_p2g_3d
-  use dpmpm_transfer_w4, only: p2g_2d_w4 => p2g_2d, p2g_3d_w4 => p2g_3d, porous_p2g_2d_w4 => porous_p2g_2d, &
-    porous_p2g_3d_w4 => porous_p2g_3d, p2g_body_2d_w4 => p2g_body_2d, p2g_body_3d_w4 => p2g_body_3d, g2p_2d_w4 => g2p_2d, &
-    g2p_3d_w4 => g2p_3d, point_gradient_2d_w4 => point_gradient_2d, &
-    point_divergences_2d_w4 => point_divergences_2d, momentum_project_p2g_2d_w4 => momentum_project_p2g_2d, &
-    momentum_p2g_2d_w4 => momentum_p2g_2d, interp_two_values_2d_w4 => interp_two_values_2d, &
-    interp_two_values_3d_w4 => interp_two_values_3d, &
-    fluid_p2g_2d_w4 => fluid_p2g_2d, solid_porosity_p2g_2d_w4 => solid_porosity_p2g_2d, &
-    reaches_thin_node_2d_w4 => reaches_thin_node_2d, point_gradient_3d_w4 => point_gradient_3d, &
-    point_divergences_3d_w4 => point_divergences_3d, momentum_project_p2g_3d_w4 => momentum_project_p2g_3d, &
-    momentum_p2g_3d_w4 => momentum_p2g_3d, fluid_p2g_3d_w4 => fluid_p2g_3d, &
-    solid_porosity_p2g_3d_w4 => solid_porosity_p2g_3d, g2p_remap_2d_w4 => g2p_remap_2d, &
-    g2p_remap_3d_w4 => g2p_remap_3d, g2p_remap_project_2d_w4 => g2p_remap_project_2d, &
-    g2p_remap_project_3d_w4 => g2p_remap_project_3d, volume_p2g_2d_w4 => volume_p2g_2d, &
-    volume_p2g_3d_w4 => volume_p2g_3d
+  use dpmpm_kernels, only: refuse_width, max_stencil
+  use dpmpm_transfer_set, only: transfer_set_t
+  use dpmpm_transfer_w2, only: sets_w2 => fixed_width_sets
+  use dpmpm_transfer_w3, only: sets_w3 => fixed_width_sets
+  use dpmpm_transfer_w4, only: sets_w4 => fixed_width_sets
   implicit none
   private
   public :: p2g, g2p, g2p_remap, point_gradient, point_divergences, momentum_p2g, momentum_project_p2g
   public :: interp_two_values
   public :: fluid_p2g, interphase_p2g, solid_porosity_p2g, porous_p2g, mixture_flux, reaches_thin_node
   public :: body_force_work, volume_p2g
+  public :: fixed_width_status
+
+  !> The forms of fixed width by dimension (2, 3) and stencil width, each a table of
+  !> procedures that its module dpmpm_transfer_wN fills (fill_fixed, on the first lookup);
+  !> a width without a module keeps width 0 and is refused.
+  type(transfer_set_t), target :: fixed(2:3, max_stencil)
+  logical :: fixed_filled = .false.
 
 contains
+
+  !> The table of the forms of fixed width: one line per module of a width.
+  subroutine fill_fixed()
+    call sets_w2(fixed(2, 2), fixed(3, 2))
+    call sets_w3(fixed(2, 3), fixed(3, 3))
+    call sets_w4(fixed(2, 4), fixed(3, 4))
+    fixed_filled = .true.
+  end subroutine fill_fixed
+
+  !> 0 when a module of fixed width has filled the forms of dimension nd (2 or 3) and
+  !> stencil width nw (nodes per axis); 1 when no module has that width, 2 when nd is
+  !> neither 2 nor 3.
+  integer function fixed_width_status(nd, nw) result(stat)
+    integer, intent(in) :: nd, nw
+    if (.not. fixed_filled) call fill_fixed()
+    stat = 0
+    if (nd < 2 .or. nd > 3) then
+      stat = 2
+    else if (nw < 1 .or. nw > max_stencil) then
+      stat = 1
+    else if (fixed(nd, nw)%width /= nw) then
+      stat = 1
+    end if
+  end function fixed_width_status
+
+  !> Whether the forms of fixed width take stencils of nw nodes per axis in nd
+  !> dimensions: 2D (the third axis of one node), and 3D with one width on every axis.
+  pure logical function has_fixed_forms(nd, nw)
+    integer, intent(in) :: nd, nw(3)
+    has_fixed_forms = nd == 2 .or. (nd == 3 .and. all(nw == nw(1)))
+  end function has_fixed_forms
+
+  !> The forms of fixed width for dimension nd and stencil width nw; a width that no
+  !> module has stops the run.
+  function fixed_forms(nd, nw) result(fs)
+    integer, intent(in) :: nd, nw
+    type(transfer_set_t), pointer :: fs
+    fs => null()
+    if (fixed_width_status(nd, nw) /= 0) then
+      call refuse_width(nw, 'dpmpm_transfer')
+      return
+    end if
+    fs => fixed(nd, nw)
+  end function fixed_forms
 
   !> Particle to grid: mass, momentum and internal force -sum_p V_p sigma_p grad N_I.
   !> Point quadrature of the stress (point_forces) is skipped when the forces
@@ -80,55 +95,14 @@ contains
     real(wp), contiguous, intent(in), optional :: bacc(:, :)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), s(3, 3), mv(3), fs(3), mb(3)
-    if (nd == 2) then
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
       ! (An absent optional array cannot be passed on to a contiguous dummy.)
       if (present(bacc)) then
-        select case (nw(1))
-        case (2)
-          call p2g_body_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-        case (3)
-          call p2g_body_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-        case (4)
-          call p2g_body_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-        case default
-          call refuse_width(nw(1), 'dpmpm_transfer')
-        end select
+        call fw%p2g_body(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
       else
-        select case (nw(1))
-        case (2)
-          call p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
-        case (3)
-          call p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
-        case (4)
-          call p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
-        case default
-          call refuse_width(nw(1), 'dpmpm_transfer')
-        end select
-      end if
-      return
-    else if (nd == 3 .and. all(nw == nw(1))) then
-      if (present(bacc)) then
-        select case (nw(1))
-        case (2)
-          call p2g_body_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-        case (3)
-          call p2g_body_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-        case (4)
-          call p2g_body_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, bacc)
-        case default
-          call refuse_width(nw(1), 'dpmpm_transfer')
-        end select
-      else
-        select case (nw(1))
-        case (2)
-          call p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
-        case (3)
-          call p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
-        case (4)
-          call p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
-        case default
-          call refuse_width(nw(1), 'dpmpm_transfer')
-        end select
+        call fw%p2g(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
       end if
       return
     end if
@@ -161,28 +135,10 @@ contains
     real(wp), contiguous, intent(in) :: mass(:), v(:, :), vol(:), stress(:, :), poro(:), kinv(:)
     integer, intent(in) :: lo(3)
     real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):), sporo(:, lo(1):, lo(2):, lo(3):)
-    if (nd == 2) then
-      select case (nw(1))
-      case (2)
-        call porous_p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
-      case (3)
-        call porous_p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
-      case (4)
-        call porous_p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
-    else if (nd == 3 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call porous_p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
-      case (3)
-        call porous_p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
-      case (4)
-        call porous_p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
+      call fw%porous_p2g(n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node, poro, kinv, sporo)
     else
       call p2g(nd, nw, n, i0, sw, sdw, mass, v, vol, stress, point_forces, lo, node)
       call solid_porosity_p2g(nw, n, i0, sw, mass, poro, kinv, lo, sporo)
@@ -216,7 +172,7 @@ contains
     grad = present(vgrad)
     if (present(gradient)) grad = grad .and. gradient
     gather = present(gf) .and. present(gv)
-    if (nd == 2 .or. (nd == 3 .and. all(nw == nw(1)))) then
+    if (has_fixed_forms(nd, nw)) then
       ! (An absent optional array cannot be passed on to a contiguous dummy: without vgrad
       ! the kernels get a stand-in they do not touch.)
       if (present(vgrad)) then
@@ -265,29 +221,9 @@ contains
       real(wp), contiguous, intent(inout) :: vg(:, :)
       real(wp), contiguous, intent(in) :: gfa(:, lo(1):, lo(2):, lo(3):)
       real(wp), contiguous, intent(inout) :: gva(:, :)
-      if (nd == 2) then
-        select case (nw(1))
-        case (2)
-          call g2p_2d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
-        case (3)
-          call g2p_2d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
-        case (4)
-          call g2p_2d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
-        case default
-          call refuse_width(nw(1), 'dpmpm_transfer')
-        end select
-      else
-        select case (nw(1))
-        case (2)
-          call g2p_3d_w2(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
-        case (3)
-          call g2p_3d_w3(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
-        case (4)
-          call g2p_3d_w4(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
-        case default
-          call refuse_width(nw(1), 'dpmpm_transfer')
-        end select
-      end if
+      type(transfer_set_t), pointer :: fw
+      fw => fixed_forms(nd, nw(1))
+      call fw%g2p(n, i0, sw, sdw, lo, nvel, flip, dt, v, x, vg, grad, gfa, gva, gather)
     end subroutine g2p_by_width
 
   end subroutine g2p
@@ -308,53 +244,13 @@ contains
     real(wp), contiguous, intent(inout) :: v(:, :), x(:, :), node(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(in), optional :: gf(:, lo(1):, lo(2):, lo(3):)
     real(wp), contiguous, intent(inout), optional :: gv(:, :)
-    if (nd == 2 .or. (nd == 3 .and. all(nw == nw(1)))) then
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
       if (present(gf) .and. present(gv)) then
-        if (nd == 2) then
-          select case (nw(1))
-          case (2)
-            call g2p_remap_project_2d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
-          case (3)
-            call g2p_remap_project_2d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
-          case (4)
-            call g2p_remap_project_2d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
-          case default
-            call refuse_width(nw(1), 'dpmpm_transfer')
-          end select
-        else
-          select case (nw(1))
-          case (2)
-            call g2p_remap_project_3d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
-          case (3)
-            call g2p_remap_project_3d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
-          case (4)
-            call g2p_remap_project_3d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
-          case default
-            call refuse_width(nw(1), 'dpmpm_transfer')
-          end select
-        end if
-      else if (nd == 2) then
-        select case (nw(1))
-        case (2)
-          call g2p_remap_2d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
-        case (3)
-          call g2p_remap_2d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
-        case (4)
-          call g2p_remap_2d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
-        case default
-          call refuse_width(nw(1), 'dpmpm_transfer')
-        end select
+        call fw%g2p_remap_project(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node, gf, gv)
       else
-        select case (nw(1))
-        case (2)
-          call g2p_remap_3d_w2(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
-        case (3)
-          call g2p_remap_3d_w3(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
-        case (4)
-          call g2p_remap_3d_w4(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
-        case default
-          call refuse_width(nw(1), 'dpmpm_transfer')
-        end select
+        call fw%g2p_remap(n, i0, sw, lo, nvel, flip, dt, mass, v, x, node)
       end if
     else if (present(gf) .and. present(gv)) then
       call g2p(nd, nw, n, i0, sw, sdw, lo, nvel, flip, dt, v, x, gradient=.false., gf=gf, gv=gv)
@@ -399,30 +295,10 @@ contains
     real(wp), contiguous, intent(inout) :: vgrad(:, :)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), lg(3, 3)
-    if (nd == 2) then
-      select case (nw(1))
-      case (2)
-        call point_gradient_2d_w2(n, i0, sw, sdw, lo, nvel, vgrad)
-      case (3)
-        call point_gradient_2d_w3(n, i0, sw, sdw, lo, nvel, vgrad)
-      case (4)
-        call point_gradient_2d_w4(n, i0, sw, sdw, lo, nvel, vgrad)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
-      return
-    end if
-    if (nd == 3 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call point_gradient_3d_w2(n, i0, sw, sdw, lo, nvel, vgrad)
-      case (3)
-        call point_gradient_3d_w3(n, i0, sw, sdw, lo, nvel, vgrad)
-      case (4)
-        call point_gradient_3d_w4(n, i0, sw, sdw, lo, nvel, vgrad)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
+      call fw%point_gradient(n, i0, sw, sdw, lo, nvel, vgrad)
       return
     end if
     do p = 1, n
@@ -453,30 +329,10 @@ contains
     real(wp), contiguous, intent(inout) :: div(:), div2(:)
     integer :: p, a, b, c, i, j, k, d
     real(wp) :: nn, g(3), ld(3), ld2(3)
-    if (nd == 2) then
-      select case (nw(1))
-      case (2)
-        call point_divergences_2d_w2(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
-      case (3)
-        call point_divergences_2d_w3(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
-      case (4)
-        call point_divergences_2d_w4(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
-      return
-    end if
-    if (nd == 3 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call point_divergences_3d_w2(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
-      case (3)
-        call point_divergences_3d_w3(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
-      case (4)
-        call point_divergences_3d_w4(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
+      call fw%point_divergences(n, i0, sw, sdw, lo, nvel, nvel2, div, div2)
       return
     end if
     do p = 1, n
@@ -507,30 +363,10 @@ contains
     real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, vc(3)
-    if (nd == 2) then
-      select case (nw(1))
-      case (2)
-        call momentum_project_p2g_2d_w2(n, i0, sw, mass, v, lo, fp, node)
-      case (3)
-        call momentum_project_p2g_2d_w3(n, i0, sw, mass, v, lo, fp, node)
-      case (4)
-        call momentum_project_p2g_2d_w4(n, i0, sw, mass, v, lo, fp, node)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
-      return
-    end if
-    if (nd == 3 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call momentum_project_p2g_3d_w2(n, i0, sw, mass, v, lo, fp, node)
-      case (3)
-        call momentum_project_p2g_3d_w3(n, i0, sw, mass, v, lo, fp, node)
-      case (4)
-        call momentum_project_p2g_3d_w4(n, i0, sw, mass, v, lo, fp, node)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
+      call fw%momentum_project_p2g(n, i0, sw, mass, v, lo, fp, node)
       return
     end if
     do p = 1, n
@@ -552,30 +388,10 @@ contains
     real(wp), contiguous, intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn
-    if (nd == 2) then
-      select case (nw(1))
-      case (2)
-        call momentum_p2g_2d_w2(n, i0, sw, mass, v, lo, node)
-      case (3)
-        call momentum_p2g_2d_w3(n, i0, sw, mass, v, lo, node)
-      case (4)
-        call momentum_p2g_2d_w4(n, i0, sw, mass, v, lo, node)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
-      return
-    end if
-    if (nd == 3 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call momentum_p2g_3d_w2(n, i0, sw, mass, v, lo, node)
-      case (3)
-        call momentum_p2g_3d_w3(n, i0, sw, mass, v, lo, node)
-      case (4)
-        call momentum_p2g_3d_w4(n, i0, sw, mass, v, lo, node)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
+      call fw%momentum_p2g(n, i0, sw, mass, v, lo, node)
       return
     end if
     do p = 1, n
@@ -597,20 +413,10 @@ contains
     real(wp) :: nn
     ! (2D: a third axis of one node; 3D: the same width on every axis; 1D takes the loop
     ! below)
+    type(transfer_set_t), pointer :: fw
     if (nw(1) > 1 .and. nw(2) == nw(1) .and. (nw(3) == 1 .or. nw(3) == nw(1))) then
-      select case (nw(1))
-      case (2)
-        if (nw(3) == 1) call volume_p2g_2d_w2(n, i0, sw, vol, lo, nvol)
-        if (nw(3) > 1) call volume_p2g_3d_w2(n, i0, sw, vol, lo, nvol)
-      case (3)
-        if (nw(3) == 1) call volume_p2g_2d_w3(n, i0, sw, vol, lo, nvol)
-        if (nw(3) > 1) call volume_p2g_3d_w3(n, i0, sw, vol, lo, nvol)
-      case (4)
-        if (nw(3) == 1) call volume_p2g_2d_w4(n, i0, sw, vol, lo, nvol)
-        if (nw(3) > 1) call volume_p2g_3d_w4(n, i0, sw, vol, lo, nvol)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+      fw => fixed_forms(merge(2, 3, nw(3) == 1), nw(1))
+      call fw%volume_p2g(n, i0, sw, vol, lo, nvol)
       return
     end if
     do p = 1, n
@@ -661,30 +467,10 @@ contains
     real(wp), contiguous, intent(out) :: val(:), val2(:)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn
-    if (nd == 2) then
-      select case (nw(1))
-      case (2)
-        call interp_two_values_2d_w2(n, i0, sw, lo, f, comp, val, val2)
-      case (3)
-        call interp_two_values_2d_w3(n, i0, sw, lo, f, comp, val, val2)
-      case (4)
-        call interp_two_values_2d_w4(n, i0, sw, lo, f, comp, val, val2)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
-      return
-    end if
-    if (nd == 3 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call interp_two_values_3d_w2(n, i0, sw, lo, f, comp, val, val2)
-      case (3)
-        call interp_two_values_3d_w3(n, i0, sw, lo, f, comp, val, val2)
-      case (4)
-        call interp_two_values_3d_w4(n, i0, sw, lo, f, comp, val, val2)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
+      call fw%interp_two_values(n, i0, sw, lo, f, comp, val, val2)
       return
     end if
     do p = 1, n
@@ -718,36 +504,11 @@ contains
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, g(3), pv, dp, mv(3)
     logical :: vols
-    if (nd == 2) then
-      select case (nw(1))
-      case (2)
-        call fluid_p2g_2d_w2(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
-                                node_s, node_f, drag, fvol)
-      case (3)
-        call fluid_p2g_2d_w3(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
-                                node_s, node_f, drag, fvol)
-      case (4)
-        call fluid_p2g_2d_w4(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
-                                node_s, node_f, drag, fvol)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
-      return
-    end if
-    if (nd == 3 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call fluid_p2g_3d_w2(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
-                            node_s, node_f, drag, fvol)
-      case (3)
-        call fluid_p2g_3d_w3(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
-                            node_s, node_f, drag, fvol)
-      case (4)
-        call fluid_p2g_3d_w4(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
-                            node_s, node_f, drag, fvol)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+    type(transfer_set_t), pointer :: fw
+    if (has_fixed_forms(nd, nw)) then
+      fw => fixed_forms(nd, nw(1))
+      call fw%fluid_p2g(n, i0, sw, sdw, mass, v, vol, poro, pres, kinv, momentum, point_forces, lo, &
+        node_s, node_f, drag, fvol)
       return
     end if
     vols = present(fvol)
@@ -812,30 +573,15 @@ contains
     real(wp), contiguous, intent(inout) :: sporo(:, lo(1):, lo(2):, lo(3):)
     integer :: p, a, b, c, i, j, k
     real(wp) :: nn, nm
+    type(transfer_set_t), pointer :: fw
     if (nw(3) == 1 .and. nw(2) > 1) then
-      select case (nw(1))
-      case (2)
-        call solid_porosity_p2g_2d_w2(n, i0, sw, mass, poro, kinv, lo, sporo)
-      case (3)
-        call solid_porosity_p2g_2d_w3(n, i0, sw, mass, poro, kinv, lo, sporo)
-      case (4)
-        call solid_porosity_p2g_2d_w4(n, i0, sw, mass, poro, kinv, lo, sporo)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+      fw => fixed_forms(2, nw(1))
+      call fw%solid_porosity_p2g(n, i0, sw, mass, poro, kinv, lo, sporo)
       return
     end if
     if (nw(3) > 1 .and. all(nw == nw(1))) then
-      select case (nw(1))
-      case (2)
-        call solid_porosity_p2g_3d_w2(n, i0, sw, mass, poro, kinv, lo, sporo)
-      case (3)
-        call solid_porosity_p2g_3d_w3(n, i0, sw, mass, poro, kinv, lo, sporo)
-      case (4)
-        call solid_porosity_p2g_3d_w4(n, i0, sw, mass, poro, kinv, lo, sporo)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+      fw => fixed_forms(3, nw(1))
+      call fw%solid_porosity_p2g(n, i0, sw, mass, poro, kinv, lo, sporo)
       return
     end if
     do p = 1, n
@@ -862,6 +608,7 @@ contains
     logical, intent(out) :: flag(:)
     integer :: p, a, b, c, i, j, k, hi(3)
     real(wp) :: nn
+    type(transfer_set_t), pointer :: fw
     hi = huge(1)
     hi(1:nd) = ncells(1:nd)
     ! Where the fluid fills every node inside the grid that this rank stores (a
@@ -871,16 +618,8 @@ contains
       return
     end if
     if (nd == 2) then
-      select case (nw(1))
-      case (2)
-        call reaches_thin_node_2d_w2(n, i0, sw, lo, f, hi, vmin, flag)
-      case (3)
-        call reaches_thin_node_2d_w3(n, i0, sw, lo, f, hi, vmin, flag)
-      case (4)
-        call reaches_thin_node_2d_w4(n, i0, sw, lo, f, hi, vmin, flag)
-      case default
-        call refuse_width(nw(1), 'dpmpm_transfer')
-      end select
+      fw => fixed_forms(2, nw(1))
+      call fw%reaches_thin_node(n, i0, sw, lo, f, hi, vmin, flag)
       return
     end if
     do p = 1, n

@@ -3,6 +3,7 @@
 module dpmpm_transfer_w4
   use dpmpm_kinds, only: wp
   use dpmpm_drag, only: gravity_drag
+  use dpmpm_transfer_set, only: transfer_set_t
   implicit none
   private
   !> Nodes per axis of the stencils (the 2D kernels read the first two).

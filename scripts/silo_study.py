@@ -148,7 +148,7 @@ def log_values(log):
     m = re.search(r"\(work \+ initial\)\s+(\S+), largest balance error\s+(\S+)", text)
     out["mon_ratio"], out["mon_balance"] = (float(m.group(1)), float(m.group(2))) if m else (
         float("nan"), float("nan"))
-    m = re.search(r"points that left through openings \(since this run or restart began\): (\d+)", text)
+    m = re.search(r"points that left through openings(?: \(since this run or restart began\))?: (\d+)", text)
     out["left"] = int(m.group(1)) if m else 0
     out["warnings"] = len(re.findall(r"warning", text, flags=re.IGNORECASE))
     out["done"] = "dpmpm: done" in text

@@ -2,10 +2,12 @@
 !> 0.2 m only, with an orifice of 40 mm (4 cells): the grains leave through the opening of
 !> the base, and the
 !> points that leave are removed with their mass counted (/diagnostics/outflow_mass).
-!> Checked: the discharge rate against Beverloo's law with the constants fitted by
-!> scripts/silo_study.py on the finer grids (doc/verification.md, "Discharge of a silo"),
-!> the removed points' ids and mass (no id twice, every removed point counted with its
-!> mass), and a restart from a checkpoint written after points had left.
+!> Checked: the discharge rate against its value measured on 1 and 2 ranks and both builds,
+!> and steady while the fill drops (Beverloo: the rate does not depend on the height of
+!> the fill; doc/verification.md, "Discharge of a silo", has the numbers and where this
+!> coarse grid stands against the law fitted on finer ones), the removed points' ids and
+!> mass (no id twice, every removed point counted with its mass), and a restart from a
+!> checkpoint written after points had left.
 program test_silo
   use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, &
                      MPI_INTEGER8, MPI_SUM
@@ -18,23 +20,28 @@ program test_silo
   implicit none
   character(len=*), parameter :: dir = 'out/test_silo'
   real(wp), parameter :: cell = 0.01_wp, width = 0.04_wp
-  !> Beverloo's law fitted on cells of 5 and 2.5 mm (doc/verification.md, "Discharge of a
-  !> silo"): Q = c_bev rho_b sqrt(g) (W - k_bev d)^(3/2)
-  real(wp), parameter :: c_bev = 0.0_wp, k_bev = 0.0_wp
-  !> the rate of this coarse silo measured against that law, and the bound: the measured
-  !> deviation and a margin
-  real(wp), parameter :: rate_bound = 0.0_wp
+  !> the rate from 0.1 to 0.3 s measured (kg/s per metre of depth), and the bound: the
+  !> measured spread over ranks and builds and a margin (doc/verification.md)
+  !> (18.375 on 1 and 2 ranks, debug and release alike: 147 points of 0.0375 kg in 0.2 s;
+  !> the bound, 5 %, is about 7 points)
+  real(wp), parameter :: rate_measured = 18.375_wp, rate_bound = 0.05_wp
+  !> the rates from 0.1 to 0.2 s and from 0.2 to 0.3 s: their measured difference is
+  !> below steady_bound of the rate (the measured difference and a margin)
+  !> (19.50 and 17.25 kg/s/m on 1 and 2 ranks, both builds: 12 % of the rate, single points
+  !> leaving; the bound twice that)
+  real(wp), parameter :: steady_bound = 0.25_wp
   character(len=512) :: path
   !> the run of the first two tests: mass out at 0.1 and 0.3 s, the points at the start and
   !> that left, the ids and heights of those in the grid at 0.3 s
-  real(wp) :: m1 = 0.0_wp, m2 = 0.0_wp
+  real(wp) :: m1 = 0.0_wp, mmid = 0.0_wp, m2 = 0.0_wp
   integer(i8) :: n0 = 0, nleft = 0
   integer(i8), allocatable :: ids(:)
   real(wp), allocatable :: x(:, :)
   call start_tests()
   call get_command_argument(1, path)
   call run_discharge()
-  call test_discharge_rate_near_beverloo()
+  call test_discharge_rate_within_measured_bound()
+  call test_discharge_rate_steady_as_the_fill_drops()
   call test_removed_points_counted_and_ids_unique()
   call test_restart_after_points_left_continues_exactly()
   call end_tests()
@@ -78,6 +85,9 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, n0, 1, MPI_INTEGER8, MPI_SUM, MPI_COMM_WORLD)
     call sim%run()
     m1 = mass_out(sim)
+    sim%cfg%t_end = 0.2_wp
+    call sim%run()
+    mmid = mass_out(sim)
     sim%cfg%t_end = 0.3_wp
     call sim%run()
     m2 = mass_out(sim)
@@ -88,15 +98,25 @@ contains
   end subroutine run_discharge
 
   !> The discharge rate from 0.1 to 0.3 s (the flow is steady after the first 0.1 s)
-  !> within rate_bound of Beverloo's law with the constants of the finer grids.
-  subroutine test_discharge_rate_near_beverloo()
-    real(wp) :: q, qb
-    call begin_test('discharge_rate_near_beverloo')
+  !> within rate_bound of its measured value.
+  subroutine test_discharge_rate_within_measured_bound()
+    real(wp) :: q
+    call begin_test('discharge_rate_within_measured_bound')
     q = (m2 - m1)/0.2_wp
-    qb = c_bev*1500.0_wp*sqrt(9.81_wp)*(width - k_bev*1.0e-3_wp)**1.5_wp
-    if (am_root) print '(a,2f9.3)', '  discharge rate, Beverloo (kg/s/m):', q, qb
-    call check(abs(q - qb) < rate_bound*qb, 'the rate within the measured bound of Beverloo''s law')
-  end subroutine test_discharge_rate_near_beverloo
+    if (am_root) print '(a,2f10.4)', '  discharge rate, measured before (kg/s/m):', q, rate_measured
+    call check(abs(q - rate_measured) <= rate_bound*rate_measured, 'the rate within the measured bound')
+  end subroutine test_discharge_rate_within_measured_bound
+
+  !> The rates from 0.1 to 0.2 s and from 0.2 to 0.3 s agree within steady_bound of the
+  !> rate: the fill drops (by 9 % of the silo's mass over the two) and the rate stays.
+  subroutine test_discharge_rate_steady_as_the_fill_drops()
+    real(wp) :: qa, qb
+    call begin_test('discharge_rate_steady_as_the_fill_drops')
+    qa = (mmid - m1)/0.1_wp
+    qb = (m2 - mmid)/0.1_wp
+    if (am_root) print '(a,2f10.4)', '  rates from 0.1 to 0.2 s and 0.2 to 0.3 s (kg/s/m):', qa, qb
+    call check(abs(qb - qa) <= steady_bound*0.5_wp*(qa + qb), 'the rate steady while the fill drops')
+  end subroutine test_discharge_rate_steady_as_the_fill_drops
 
   !> At 0.3 s: the points that left are gone from the ranks (no id twice, every id one
   !> of the start's), the count that left plus those in the grid is the start's count,

@@ -22,8 +22,8 @@ program test_silo
   real(wp), parameter :: cell = 0.01_wp, width = 0.04_wp
   !> the rate from 0.1 to 0.3 s measured (kg/s per metre of depth), and the bound: the
   !> measured spread over ranks and builds and a margin (doc/verification.md)
-  !> (18.375 on 1 and 2 ranks, debug and release alike: 147 points of 0.0375 kg in 0.2 s;
-  !> the bound, 5 %, is about 7 points)
+  !> (18.375 on 1 and 2 ranks, debug and release alike: 98 points of 0.0375 kg in 0.2 s;
+  !> the bound, 5 %, is about 5 points)
   real(wp), parameter :: rate_measured = 18.375_wp, rate_bound = 0.05_wp
   !> the rates from 0.1 to 0.2 s and from 0.2 to 0.3 s: their measured difference is
   !> below steady_bound of the rate (the measured difference and a margin)

@@ -101,6 +101,12 @@ module dpmpm_config
     !> a rough wall lets go of nodes that move away from it (scenes of one phase); .false.
     !> holds them, so that the wall also pulls
     logical :: wall_lift_off(6) = .true.
+    !> an opening in a fixed or roller face (&boundary opening_lo, opening_hi): the face
+    !> does not hold its nodes strictly inside the box opening_lo..opening_hi (the
+    !> components along the face; the normal one is not used), and points that cross the
+    !> face there leave the model (dpmpm_walls, doc/input.md "Openings")
+    logical :: has_opening(6) = .false.
+    real(wp) :: opening_lo(3, 6) = 0.0_wp, opening_hi(3, 6) = 0.0_wp
   end type config_t
 
   !> Datasets of a point set that &output solid_fields / fluid_fields may leave out (id, x, v,

@@ -6,7 +6,7 @@ module dpmpm_input_check
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, max_poly, max_probes, optional_fields, field_listed, &
-                          face_names, bc_roller, fbc_drained, &
+                          face_names, bc_roller, bc_free, fbc_drained, &
                           porosity_varies, region_levels, level_unset, &
                           table_length
   use dpmpm_kernels, only: kernel_from_name, kernel_names, ngrid_kernels, is_grid_kernel
@@ -242,6 +242,7 @@ contains
     ! &motion (its files are read by read_input once these values are good)
     call check_motion(pb, cfg)
     call check_tied(pb, cfg)
+    call check_openings(pb, cfg)
     if (cfg%axisymmetric) call check_axisymmetric(pb, cfg)
   end subroutine check_config
 
@@ -321,6 +322,63 @@ contains
                      'functions reach beyond the faces, where the ties do not carry them)')
     end do
   end subroutine check_tied
+
+  !> Openings of faces (&boundary opening_lo, opening_hi): in a fixed or roller face of a
+  !> 2D or 3D grid, inside the face, lower corner below the upper one along the face, wide
+  !> enough to free a node; linear grid functions with nodal velocities by projection (a
+  !> wider kernel, or an MLS weight, reaches the mirror images behind the face, which the
+  !> opening would have to leave out); scenes of one phase, not axisymmetric.
+  subroutine check_openings(pb, cfg)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    character(len=:), allocatable :: head
+    integer :: f, d, n
+    real(wp) :: lo, hi, h
+    do f = 1, 2*cfg%ndim
+      if (.not. cfg%has_opening(f)) cycle
+      head = "&boundary face = '"//face_names(f)//"', opening_lo = "//rtoa_list(cfg%opening_lo(1:cfg%ndim, f))// &
+             ', opening_hi = '//rtoa_list(cfg%opening_hi(1:cfg%ndim, f))//': '
+      if (cfg%ndim == 1) then
+        call add_raw(pb, head//'a 1D grid''s face is a point and has no opening; leave a '// &
+                     "free face (condition = 'free') for the points to leave")
+        cycle
+      end if
+      if (cfg%bc(f) == bc_free) then
+        call add_raw(pb, head//"only a fixed or roller face takes an opening (a free, "// &
+                     'absorbing or tied face holds no node to open)')
+        cycle
+      end if
+      if (cfg%kernel /= 'linear' .or. cfg%velocity_kernel /= '') &
+        call add_raw(pb, head//"an opening needs &shape kernel = 'linear' and velocity_kernel "// &
+                     "= '' (wider grid functions and MLS weights reach the mirror images behind "// &
+                     'the face, which are not left out at the opening)')
+      if (any(cfg%regions%phase /= 'solid')) &
+        call add_raw(pb, head//'an opening is for scenes of one phase (every &region phase '// &
+                     "= 'solid'); pore fluid leaves through a drained face")
+      if (cfg%axisymmetric) &
+        call add_raw(pb, head//'an opening is not yet axisymmetric')
+      do d = 1, cfg%ndim
+        if (d == (f + 1)/2) cycle
+        lo = cfg%opening_lo(d, f)
+        hi = cfg%opening_hi(d, f)
+        if (.not. (lo < hi)) then
+          call add_raw(pb, head//'opening_lo('//itoa(d)//') must be below opening_hi('// &
+                       itoa(d)//')')
+        else if (lo < cfg%origin(d) .or. hi > cfg%origin(d) + cfg%length(d)) then
+          call add_raw(pb, head//'the opening must lie inside the face: along axis '// &
+                       itoa(d)//' the grid spans '//rtoa(cfg%origin(d))//' .. '// &
+                       rtoa(cfg%origin(d) + cfg%length(d)))
+        else
+          ! the nodes strictly inside lo..hi (as dpmpm_walls counts them)
+          h = cfg%length(d)/real(cfg%ncells(d), wp)
+          n = ceiling((hi - cfg%origin(d))/h - 1.0e-9_wp) - floor((lo - cfg%origin(d))/h + 1.0e-9_wp) - 1
+          if (n < 1) call add_raw(pb, head//'no node of the grid lies strictly inside the '// &
+                                  'opening along axis '//itoa(d)//' (node spacing '//rtoa(h)// &
+                                  '): the face would stay closed; widen it')
+        end if
+      end do
+    end do
+  end subroutine check_openings
 
   !> The probes of &output: at most max_probes, each inside the grid, a positive interval.
   subroutine check_probes(pb, cfg)

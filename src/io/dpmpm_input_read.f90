@@ -620,6 +620,9 @@ contains
         call add_value(pb, g_boundary, k, 'pore_pressure_ramp', rtoa(pore_pressure_ramp), &
                        'must be a finite time >= 0 (s); 0 applies pore_pressure at once')
       end if
+      if (.not. all([(real_ok(opening_lo(j)) .and. real_ok(opening_hi(j)), j=1, 3)])) &
+        call add_value(pb, g_boundary, k, 'opening_lo', rtoa_list(opening_lo)//' .. '// &
+                       rtoa_list(opening_hi), 'the corners of an opening must be finite numbers (m)')
       if (f == 0) then
         call add_value(pb, g_boundary, k, 'face', quote(face), 'the faces are '//all_faces())
       else if (.not. face_in_grid(f, cfg%ndim)) then
@@ -639,6 +642,9 @@ contains
         cfg%wall_friction(f) = friction
         cfg%wall_lift_off(f) = lift_off
         cfg%tied(f) = trim(adjustl(condition)) == 'tied'
+        cfg%has_opening(f) = any(opening_lo /= 0.0_wp) .or. any(opening_hi /= 0.0_wp)
+        cfg%opening_lo(:, f) = opening_lo
+        cfg%opening_hi(:, f) = opening_hi
       end if
     end do
   end subroutine read_boundaries

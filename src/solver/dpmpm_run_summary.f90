@@ -53,9 +53,15 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
     mout = self%outflow_mass
     call MPI_Allreduce(MPI_IN_PLACE, mout, 1, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
-    if (nwall > 0) call self%log%info('  fluid points that left through drained faces: '// &
+    if (nwall > 0 .and. any(self%bnd%faces%walls%opened)) then
+      call self%log%info('  points that left through openings (since this run or restart '// &
+                         'began): '//i8toa(nwall)//'; mass out since the run''s start '//trim(rtoa(mout))// &
+                         ' (/diagnostics/outflow_mass)')
+    else if (nwall > 0) then
+      call self%log%info('  fluid points that left through drained faces: '// &
                                       i8toa(nwall)//'; mass out since the run''s start '// &
                                       trim(rtoa(mout))//' (/diagnostics/outflow_mass)')
+    end if
     nwall = self%ncavitated
     call MPI_Allreduce(MPI_IN_PLACE, nwall, 1, MPI_INTEGER8, MPI_SUM, self%dec%comm)
     if (nwall > 0) call self%log%info('  pore pressure cut at the cavitation pressure '// &

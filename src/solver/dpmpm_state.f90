@@ -66,7 +66,9 @@ module dpmpm_state
     integer(i8) :: nwall = 0                  !< points put back inside a wall they had crossed
     integer(i8) :: ncavitated = 0             !< fluid point-steps cut at the cavitation pressure
     integer(i8) :: nfree_surface = 0          !< fluid point-steps at the free surface (p = 0)
-    integer(i8) :: noutflow = 0               !< fluid points that left through drained faces
+    !> points that left: fluid points through drained faces, or points through openings
+    !> (a scene has one or the other: openings are for scenes of one phase)
+    integer(i8) :: noutflow = 0
     real(wp) :: outflow_mass = 0.0_wp         !< and their mass (kg, or kg/m^(3-ndim))
     real(wp) :: inflow_mass = 0.0_wp          !< mass of the fluid points added at drained faces
     integer(i8) :: inflow_id0 = 0             !< largest fluid point id of the run's start

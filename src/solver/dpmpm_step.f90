@@ -30,6 +30,7 @@ module dpmpm_step
   use dpmpm_pore_pressure, only: nodal_porosity, skeleton_porosity, skeleton_kinv, point_cells, &
                                  fluid_pressure_step, fluid_state
   use dpmpm_inflow, only: refill_inflow
+  use dpmpm_outflow, only: left_through_opening, carried_energy
   use dpmpm_cell_smoothing, only: smooth_volumetric_rate, smoothed_mean_stress, cell_mean
   use dpmpm_quadrature, only: gauss_p2g, gauss_point_gradients, gauss_pressure_forces, &
                               gauss_point_divergences, gauss_mixture_divergence, gauss_gravity, gauss_gravity_work
@@ -705,7 +706,9 @@ contains
   !> back just inside it and counted; wide kernels interpolate a small normal
   !> velocity next to a wall. Fluid points (outflow) that crossed a face drained for
   !> the pore fluid have left the model through it: they are removed and counted with
-  !> their mass. A point beyond a free face stops the run with its id.
+  !> their mass; so are points that crossed a face through its opening (dpmpm_outflow),
+  !> whose energy leaves the balance as negative external work. A point beyond a free
+  !> face stops the run with its id.
   subroutine check_inside(self, ps, outflow)
     class(state_t), intent(inout) :: self
     type(particle_set_t), intent(inout) :: ps
@@ -720,6 +723,14 @@ contains
     gone = .false.
     do p = 1, ps%n
       if (self%grid%inside(ps%x(:, p))) cycle
+      if (any(self%bnd%faces%walls%opened)) then
+        if (left_through_opening(self%bnd%faces%walls, self%grid, ps%x(:, p))) then
+          gone(p) = .true.
+          self%noutflow = self%noutflow + 1
+          self%outflow_mass = self%outflow_mass + ps%mass(p)
+          cycle
+        end if
+      end if
       if (outflow) then
         do d = 1, self%nd
           wall = [self%grid%origin(d), self%grid%origin(d) + self%grid%ncells(d)*self%grid%h(d)]
@@ -756,6 +767,8 @@ contains
         call fatal(trim(msg)//'; enlarge the grid or add a boundary condition', 'step')
       end if
     end do
+    if (any(gone) .and. any(self%bnd%faces%walls%opened)) &
+      self%ext_work = self%ext_work - carried_energy(self%mats, ps, gone)
     if (any(gone)) call ps%remove(gone)
   end subroutine check_inside
 

@@ -6,10 +6,12 @@ with each shape choice of the list (a choice that the input refuses is listed wi
 reason) on each rank count. Reports how each run ended, the monitor's warnings, its largest
 (kinetic + stored) / (work + initial) and balance error, and from /diagnostics the largest
 speed during the shaking and over the last second, the kinetic + stored energy at the end of
-the shaking and at 20 s, and the smallest and largest time step.
+the shaking and at 20 s, and the smallest and largest time step (the last, shortened step
+left out); with --series also the largest speed in each 2.5 s and the energy at its end.
 
 usage: scripts/site_response_hard_cases.py [--bin build/release/dpmpm] [--out DIR]
        [--scenes a,b] [--shapes standard,linear_gauss,...] [--np 1,2] [--t-end 20]
+       [--flip F] [--series] [--reuse]
 """
 import argparse
 import os
@@ -19,6 +21,7 @@ import sys
 import time
 
 import h5py
+import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
@@ -82,6 +85,10 @@ def summary(rc, log, h5, t_shaking):
         out.update(t=t[-1], vshake=vmax[shake].max(), vlate=vmax[t >= t[-1] - 1.0].max(),
                    eshake=e[shake][-1], eend=e[-1], emax=e.max(), dtmin=dt[:-1].min(),
                    dtmax=dt[:-1].max())
+        # over time: the largest speed in each window of 2.5 s and the energy at its end
+        edges = np.arange(2.5, t[-1] + 1e-9, 2.5)
+        out["series"] = [(b, vmax[(t > b - 2.5) & (t <= b)].max(), e[min(np.searchsorted(t, b), len(t) - 1)])
+                         for b in edges]
     m = re.search(r"done, (\d+) steps to t", log)
     out["steps"] = int(m.group(1)) if m else -1
     return out
@@ -97,6 +104,9 @@ def main():
     ap.add_argument("--np", default="1,2")
     ap.add_argument("--t-end", type=float, default=20.0)
     ap.add_argument("--shaking", type=float, default=15.0)
+    ap.add_argument("--series", action="store_true", help="print the monitor over time too")
+    ap.add_argument("--reuse", action="store_true",
+                    help="summarize the runs already in --out (their logs and outputs) instead of running")
     ap.add_argument("--flip", type=float, default=None, help="&run flip (default: the scene's)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -119,27 +129,38 @@ def main():
                     name += f"_flip{args.flip:g}"
                 nml = make(path, shape, name, record, args.t_end, args.flip).write(
                     os.path.join(args.out, name + ".nml"))
-                t0 = time.time()
-                # ranks that wait yield the core (more ranks than cores on small machines)
-                env = dict(os.environ, OMPI_MCA_mpi_yield_when_idle="1")
-                p = subprocess.run([args.mpiexec, "--oversubscribe", "-n", str(np_), args.bin, nml],
-                                   cwd=args.out, capture_output=True, text=True, env=env)
-                wall = time.time() - t0
-                log = p.stdout + p.stderr
-                with open(os.path.join(args.out, name + ".log"), "w") as f:
-                    f.write(log)
-                if p.returncode == 2 and "input error" in log:
+                logfile = os.path.join(args.out, name + ".log")
+                if args.reuse and os.path.exists(logfile):
+                    # the run made before: its log and output summarized again
+                    log = open(logfile).read()
+                    rc = 2 if "input error" in log else 4 if "the run is unstable" in log else \
+                        0 if "dpmpm: done," in log else 1
+                    wall = float("nan")
+                else:
+                    t0 = time.time()
+                    # ranks that wait yield the core (more ranks than cores on small machines)
+                    env = dict(os.environ, OMPI_MCA_mpi_yield_when_idle="1")
+                    p = subprocess.run([args.mpiexec, "--oversubscribe", "-n", str(np_), args.bin, nml],
+                                       cwd=args.out, capture_output=True, text=True, env=env)
+                    wall = time.time() - t0
+                    log, rc = p.stdout + p.stderr, p.returncode
+                    with open(logfile, "w") as f:
+                        f.write(log)
+                if rc == 2 and "input error" in log:
                     why = re.search(r"input error: (.*)", log).group(1).strip()
                     print(f"| {scene} | {shape}{label} | {np_} | refused by the input: "
                           f"{why.replace('|', '/')[:200]} | | | | | | | | | | |", flush=True)
                     continue
-                s = summary(p.returncode, log, os.path.join(args.out, name + ".h5"), args.shaking)
+                s = summary(rc, log, os.path.join(args.out, name + ".h5"), args.shaking)
                 if "t" in s:
                     print(f"| {scene} | {shape}{label} | {np_} | {s['how']} (t = {s['t']:.3g} s) | "
                           f"{s['steps']} | {s['dtmin']:.3e}-{s['dtmax']:.3e} | {s['warns']} | "
                           f"{s['ratio']:.3g} | {s['bal']:.3g} | {s['vshake']:.3e} | "
                           f"{s['vlate']:.3e} | {s['eshake']:.3e} | {s['eend']:.3e} | {wall:.0f} |",
                           flush=True)
+                    if args.series:
+                        print("    over time (t, largest speed over the 2.5 s before, kinetic + stored): "
+                              + "; ".join(f"{b:g} s {v:.2e} m/s {e:.2e} J" for b, v, e in s["series"]))
                 else:
                     print(f"| {scene} | {shape}{label} | {np_} | {s['how']}: {log[-200:]!r} | | | | | | | "
                           f"| | | {wall:.0f} |", flush=True)

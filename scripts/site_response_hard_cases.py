@@ -106,14 +106,15 @@ def main():
     ap.add_argument("--shaking", type=float, default=15.0)
     ap.add_argument("--series", action="store_true", help="print the monitor over time too")
     ap.add_argument("--reuse", action="store_true",
-                    help="summarize the runs already in --out (their logs and outputs) instead of running")
+                    help="summarize the runs already in --out (their logs and outputs); run nothing")
     ap.add_argument("--flip", type=float, default=None, help="&run flip (default: the scene's)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     record = os.path.join(args.out, "long_motion.AT2")
-    subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "long_motion.py"), record,
-                    "--shaking", str(args.shaking), "--silence", str(args.t_end - args.shaking)],
-                   check=True)
+    if not args.reuse:
+        subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "long_motion.py"), record,
+                        "--shaking", str(args.shaking), "--silence", str(args.t_end - args.shaking)],
+                       check=True)
     print("| scene | shape | ranks | how it ended | steps | dt min-max [s] | monitor warnings "
           "| (KE + stored) / (work + initial) | balance error | largest speed while shaking "
           "[m/s] | over the last second | KE + stored at the end of shaking [J] | at the end "
@@ -130,7 +131,10 @@ def main():
                 nml = make(path, shape, name, record, args.t_end, args.flip).write(
                     os.path.join(args.out, name + ".nml"))
                 logfile = os.path.join(args.out, name + ".log")
-                if args.reuse and os.path.exists(logfile):
+                if args.reuse and not os.path.exists(logfile):
+                    print(f"| {scene} | {shape}{label} | {np_} | not run | | | | | | | | | | |")
+                    continue
+                if args.reuse:
                     # the run made before: its log and output summarized again
                     log = open(logfile).read()
                     rc = 2 if "input error" in log else 4 if "the run is unstable" in log else \
@@ -153,10 +157,12 @@ def main():
                     continue
                 s = summary(rc, log, os.path.join(args.out, name + ".h5"), args.shaking)
                 if "t" in s:
+                    def num(x, f):
+                        return "-" if x != x or x < 0 else format(x, f)
                     print(f"| {scene} | {shape}{label} | {np_} | {s['how']} (t = {s['t']:.3g} s) | "
-                          f"{s['steps']} | {s['dtmin']:.3e}-{s['dtmax']:.3e} | {s['warns']} | "
-                          f"{s['ratio']:.3g} | {s['bal']:.3g} | {s['vshake']:.3e} | "
-                          f"{s['vlate']:.3e} | {s['eshake']:.3e} | {s['eend']:.3e} | {wall:.0f} |",
+                          f"{num(s['steps'], 'd')} | {s['dtmin']:.3e}-{s['dtmax']:.3e} | {s['warns']} | "
+                          f"{num(s['ratio'], '.3g')} | {num(s['bal'], '.3g')} | {s['vshake']:.3e} | "
+                          f"{s['vlate']:.3e} | {s['eshake']:.3e} | {s['eend']:.3e} | {num(wall, '.0f')} |",
                           flush=True)
                     if args.series:
                         print("    over time (t, largest speed over the 2.5 s before, kinetic + stored): "

@@ -80,28 +80,12 @@ contains
     real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
     type(MPI_Comm), intent(in) :: comm
     real(wp), allocatable :: sums(:, :, :)
-    integer :: a, b, c, side, i(3), flo(3), fhi(3), nb, nc, ncomp, jb, jc
-    ncomp = size(field, 1)
+    integer :: a, b, c, side, i(3), flo(3), fhi(3), jb, jc
     do a = 1, nd
       if (.not. (tied(2*a - 1) .and. tied(2*a))) cycle
+      call face_sums(a, lo, olo, ohi, ncells, field, 1, comm, sums)
       b = merge(2, 1, a == 1)
       c = 6 - a - b
-      nb = merge(ncells(b), 0, b <= nd)
-      nc = merge(ncells(c), 0, c <= nd)
-      allocate (sums(ncomp, 0:nb, 0:nc))
-      sums = 0.0_wp
-      do side = 0, 1
-        call face_box(a, side, olo, ohi, ncells, flo, fhi)
-        do jc = flo(c), fhi(c)
-          do jb = flo(b), fhi(b)
-            i(a) = flo(a)
-            i(b) = jb
-            i(c) = jc
-            sums(:, jb, jc) = sums(:, jb, jc) + field(:, i(1), i(2), i(3))
-          end do
-        end do
-      end do
-      call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_DOUBLE_PRECISION, MPI_SUM, comm)
       do side = 0, 1
         call face_box(a, side, olo, ohi, ncells, flo, fhi)
         do jc = flo(c), fhi(c)
@@ -206,26 +190,10 @@ contains
     logical, intent(in) :: join
     type(MPI_Comm), intent(in) :: comm
     real(wp), allocatable :: sums(:, :, :)
-    integer :: b, c, side, i(3), flo(3), fhi(3), nb, nc, jb, jc
-    ! (an unused axis has the one node 0: its extent here is merely larger)
+    integer :: b, c, side, i(3), flo(3), fhi(3), jb, jc
+    call face_sums(a, lo, olo, ohi, ncells, field, merge(1, 0, join), comm, sums)
     b = merge(2, 1, a == 1)
     c = 6 - a - b
-    nb = ncells(b)
-    nc = ncells(c)
-    allocate (sums(size(field, 1), 0:nb, 0:nc))
-    sums = 0.0_wp
-    do side = 0, merge(1, 0, join)
-      call face_box(a, side, olo, ohi, ncells, flo, fhi)
-      do jc = flo(c), fhi(c)
-        do jb = flo(b), fhi(b)
-          i(a) = flo(a)
-          i(b) = jb
-          i(c) = jc
-          sums(:, jb, jc) = sums(:, jb, jc) + field(:, i(1), i(2), i(3))
-        end do
-      end do
-    end do
-    call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_DOUBLE_PRECISION, MPI_SUM, comm)
     do side = 0, 1
       call face_box(a, side, olo, ohi, ncells, flo, fhi)
       do jc = flo(c), fhi(c)
@@ -244,6 +212,34 @@ contains
       end do
     end do
   end subroutine pair_exchange
+
+  !> The values of field at the owned nodes of faces 0..last_side of axis a, summed per
+  !> pair (indexed by the node's place along the other two axes) over the faces and the
+  !> ranks (one reduction). An unused axis has the one node 0: its extent here is merely
+  !> larger.
+  subroutine face_sums(a, lo, olo, ohi, ncells, field, last_side, comm, sums)
+    integer, intent(in) :: a, lo(3), olo(3), ohi(3), ncells(3), last_side
+    real(wp), intent(in) :: field(:, lo(1):, lo(2):, lo(3):)
+    type(MPI_Comm), intent(in) :: comm
+    real(wp), allocatable, intent(out) :: sums(:, :, :)
+    integer :: b, c, side, i(3), flo(3), fhi(3), jb, jc
+    b = merge(2, 1, a == 1)
+    c = 6 - a - b
+    allocate (sums(size(field, 1), 0:ncells(b), 0:ncells(c)))
+    sums = 0.0_wp
+    do side = 0, last_side
+      call face_box(a, side, olo, ohi, ncells, flo, fhi)
+      do jc = flo(c), fhi(c)
+        do jb = flo(b), fhi(b)
+          i(a) = flo(a)
+          i(b) = jb
+          i(c) = jc
+          sums(:, jb, jc) = sums(:, jb, jc) + field(:, i(1), i(2), i(3))
+        end do
+      end do
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+  end subroutine face_sums
 
   !> The owned nodes of face side (0: the lower, 1: the upper) of axis a: flo..fhi, empty
   !> (flo > fhi along every axis) where this rank owns none of them; along an unused axis

@@ -47,7 +47,7 @@ contains
   subroutine musl_remap(self, dt)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
-    real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :)
+    real(wp), allocatable :: wstep(:, :, :, :), lockv(:, :, :, :), vdash(:, :, :, :)
     integer :: ip, nd
     logical :: coupled, locked, tied
     real(wp) :: unused
@@ -72,11 +72,15 @@ contains
       end associate
       call self%dec%halo_copy(lockv)
     end if
+    ! One phase on absorbing faces: the velocities the dashpots acted on, before the remap
+    ! overwrites them (kept at their nodes below).
+    if (self%nph == 1 .and. self%bnd%faces%absorbing) vdash = self%phase(solid_phase)%nvel(nd + 1:2*nd, :, :, :)
     ! (Not locked, lockv is unallocated: an absent argument.)
     do ip = 1, self%nph
       if (locked) call self%mirror%unfold(lockv, 0, self%phase(ip)%bc)
       call remap_velocities(self, self%phase(ip), dt, ip == solid_phase, lockv)
     end do
+    if (allocated(vdash)) call keep_dashpot_velocities(self, vdash, self%phase(solid_phase)%nvel)
     ! the nodes of rigid bodies move with them in the remapped field too
     if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
                                                self%phase(solid_phase)%node, self%rnode, self%bnd%faces%walls, dt, &
@@ -137,6 +141,33 @@ contains
       end associate
     end if
   end subroutine musl_remap
+
+  !> The nodes of absorbing faces keep, in each component that a dashpot damps, the new
+  !> velocity of the nodal update, which the dashpot acted on (vdash), in place of the
+  !> remapped one, as the kinematic conditions of other faces hold theirs (boundary_t%hold).
+  !> The remapped velocity there is the points' FLIP velocity projected back, not the one
+  !> the dashpot acted on; with flip = 1, strain rates next to the face taken from it let a
+  !> mode grow once the waves have left (doc/verification.md, "Site response: 20 s of
+  !> shaking and after"; doc/theory.md 6.6). One phase only (two phases: not examined).
+  subroutine keep_dashpot_velocities(self, vdash, nvel)
+    class(state_t), intent(in) :: self
+    real(wp), intent(in) :: vdash(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    real(wp), intent(inout) :: nvel(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
+    integer :: i, j, k, nd, lo(3), hi(3)
+    real(wp) :: cd(3)
+    nd = self%nd
+    lo = max(self%dec%olo, self%zlo)
+    hi = min(self%dec%ohi, self%zhi)
+    do k = lo(3), hi(3)
+      do j = lo(2), hi(2)
+        do i = lo(1), hi(1)
+          if (.not. self%bnd%faces%near_face([i, j, k])) cycle
+          cd = self%bnd%faces%dashpot([i, j, k], .false.)
+          where (cd(1:nd) > 0.0_wp) nvel(nd + 1:2*nd, i, j, k) = vdash(1:nd, i, j, k)
+        end do
+      end do
+    end do
+  end subroutine keep_dashpot_velocities
 
   !> Two phases with the MUSL remap and implicit drag: the remap carries the velocity the
   !> drag locks both phases to through each point set (g2p gathers it).

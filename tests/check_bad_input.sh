@@ -13,7 +13,14 @@ mpiexec=$1 exe=$2 nranks=$3 file=$4 expected=$5
 out=$(mktemp) err=$(mktemp)
 trap 'rm -f "$out" "$err"' EXIT
 
-timeout 60 "$mpiexec" --oversubscribe -n "$nranks" "$exe" "$file" >"$out" 2>"$err"
+# One rank runs the binary itself, as a plain `dpmpm file.nml` does (MPI as a singleton):
+# Open MPI's mpiexec holds a single process that ends with an error code for 2 s before it
+# returns (0.36 s against 2.4 s a case, half the input tests' time).
+if [ "$nranks" -eq 1 ]; then
+  timeout 60 "$exe" "$file" >"$out" 2>"$err"
+else
+  timeout 60 "$mpiexec" --oversubscribe -n "$nranks" "$exe" "$file" >"$out" 2>"$err"
+fi
 rc=$?
 echo "--- exit code $rc; stdout:"; cat "$out"
 echo "--- stderr:"; cat "$err"

@@ -28,7 +28,8 @@ contains
     logical, intent(in) :: both
     type(MPI_Comm), intent(in) :: comm
     real(wp), allocatable :: sums(:, :, :)
-    integer :: a, b, c, side, i(3), flo(3), fhi(3), nb, nc, ncomp, jb, jc
+    integer, allocatable :: fn(:, :)
+    integer :: a, b, c, side, nb, nc, ncomp, q
     real(wp) :: m
     ncomp = 1 + 2*nd
     do a = 1, nd
@@ -41,31 +42,25 @@ contains
       allocate (sums(ncomp, 0:nb, 0:nc))
       sums = 0.0_wp
       do side = 0, 1
-        call face_box(a, side, olo, ohi, ncells, flo, fhi)
-        do jc = flo(c), fhi(c)
-          do jb = flo(b), fhi(b)
-            i(a) = flo(a)
-            i(b) = jb
-            i(c) = jc
+        call face_nodes(a, side, olo, ohi, ncells, fn)
+        do q = 1, size(fn, 2)
+          associate (i => fn(1:3, q), jb => fn(4, q), jc => fn(5, q))
             m = node(1, i(1), i(2), i(3))
             if (m <= 0.0_wp) cycle
             sums(1, jb, jc) = sums(1, jb, jc) + m
             sums(2:ncomp, jb, jc) = sums(2:ncomp, jb, jc) + m*nvel(1:2*nd, i(1), i(2), i(3))
-          end do
+          end associate
         end do
       end do
       call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_DOUBLE_PRECISION, MPI_SUM, comm)
       do side = 0, 1
-        call face_box(a, side, olo, ohi, ncells, flo, fhi)
-        do jc = flo(c), fhi(c)
-          do jb = flo(b), fhi(b)
-            i(a) = flo(a)
-            i(b) = jb
-            i(c) = jc
+        call face_nodes(a, side, olo, ohi, ncells, fn)
+        do q = 1, size(fn, 2)
+          associate (i => fn(1:3, q), jb => fn(4, q), jc => fn(5, q))
             if (node(1, i(1), i(2), i(3)) <= 0.0_wp .or. sums(1, jb, jc) <= 0.0_wp) cycle
             nvel(nd + 1:2*nd, i(1), i(2), i(3)) = sums(2 + nd:ncomp, jb, jc)/sums(1, jb, jc)
             if (both) nvel(1:nd, i(1), i(2), i(3)) = sums(2:1 + nd, jb, jc)/sums(1, jb, jc)
-          end do
+          end associate
         end do
       end do
       deallocate (sums)
@@ -80,21 +75,15 @@ contains
     real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
     type(MPI_Comm), intent(in) :: comm
     real(wp), allocatable :: sums(:, :, :)
-    integer :: a, b, c, side, i(3), flo(3), fhi(3), jb, jc
+    integer, allocatable :: fn(:, :)
+    integer :: a, side, q
     do a = 1, nd
       if (.not. (tied(2*a - 1) .and. tied(2*a))) cycle
       call face_sums(a, lo, olo, ohi, ncells, field, 1, comm, sums)
-      b = merge(2, 1, a == 1)
-      c = 6 - a - b
       do side = 0, 1
-        call face_box(a, side, olo, ohi, ncells, flo, fhi)
-        do jc = flo(c), fhi(c)
-          do jb = flo(b), fhi(b)
-            i(a) = flo(a)
-            i(b) = jb
-            i(c) = jc
-            field(:, i(1), i(2), i(3)) = sums(:, jb, jc)
-          end do
+        call face_nodes(a, side, olo, ohi, ncells, fn)
+        do q = 1, size(fn, 2)
+          field(:, fn(1, q), fn(2, q), fn(3, q)) = sums(:, fn(4, q), fn(5, q))
         end do
       end do
       deallocate (sums)
@@ -137,28 +126,22 @@ contains
     real(wp), intent(inout) :: field(:, lo(1):, lo(2):, lo(3):)
     real(wp), allocatable, intent(inout) :: buf(:)
     logical, intent(in) :: back
-    integer :: a, b, c, side, i(3), flo(3), fhi(3), jb, jc, n, nc, pass
+    integer, allocatable :: fn(:, :)
+    integer :: a, side, n, nc, pass, q
     nc = size(field, 1)
     do pass = merge(2, 1, back), 2
       n = 0
       do a = 1, nd
         if (.not. (tied(2*a - 1) .and. tied(2*a))) cycle
-        b = merge(2, 1, a == 1)
-        c = 6 - a - b
         do side = 0, 1
-          call face_box(a, side, olo, ohi, ncells, flo, fhi)
-          do jc = flo(c), fhi(c)
-            do jb = flo(b), fhi(b)
-              i(a) = flo(a)
-              i(b) = jb
-              i(c) = jc
-              if (pass == 2 .and. back) then
-                field(:, i(1), i(2), i(3)) = buf(n + 1:n + nc)
-              else if (pass == 2) then
-                buf(n + 1:n + nc) = field(:, i(1), i(2), i(3))
-              end if
-              n = n + nc
-            end do
+          call face_nodes(a, side, olo, ohi, ncells, fn)
+          do q = 1, size(fn, 2)
+            if (pass == 2 .and. back) then
+              field(:, fn(1, q), fn(2, q), fn(3, q)) = buf(n + 1:n + nc)
+            else if (pass == 2) then
+              buf(n + 1:n + nc) = field(:, fn(1, q), fn(2, q), fn(3, q))
+            end if
+            n = n + nc
           end do
         end do
       end do
@@ -190,17 +173,13 @@ contains
     logical, intent(in) :: join
     type(MPI_Comm), intent(in) :: comm
     real(wp), allocatable :: sums(:, :, :)
-    integer :: b, c, side, i(3), flo(3), fhi(3), jb, jc
+    integer, allocatable :: fn(:, :)
+    integer :: side, q
     call face_sums(a, lo, olo, ohi, ncells, field, merge(1, 0, join), comm, sums)
-    b = merge(2, 1, a == 1)
-    c = 6 - a - b
     do side = 0, 1
-      call face_box(a, side, olo, ohi, ncells, flo, fhi)
-      do jc = flo(c), fhi(c)
-        do jb = flo(b), fhi(b)
-          i(a) = flo(a)
-          i(b) = jb
-          i(c) = jc
+      call face_nodes(a, side, olo, ohi, ncells, fn)
+      do q = 1, size(fn, 2)
+        associate (i => fn(1:3, q), jb => fn(4, q), jc => fn(5, q))
           if (side == 0 .and. join) then
             field(:, i(1), i(2), i(3)) = sums(:, jb, jc)
           else if (side == 1 .and. join) then
@@ -208,7 +187,7 @@ contains
           else if (side == 1) then
             field(:, i(1), i(2), i(3)) = sums(:, jb, jc)
           end if
-        end do
+        end associate
       end do
     end do
   end subroutine pair_exchange
@@ -222,24 +201,44 @@ contains
     real(wp), intent(in) :: field(:, lo(1):, lo(2):, lo(3):)
     type(MPI_Comm), intent(in) :: comm
     real(wp), allocatable, intent(out) :: sums(:, :, :)
-    integer :: b, c, side, i(3), flo(3), fhi(3), jb, jc
+    integer, allocatable :: fn(:, :)
+    integer :: b, c, side, q
     b = merge(2, 1, a == 1)
     c = 6 - a - b
     allocate (sums(size(field, 1), 0:ncells(b), 0:ncells(c)))
     sums = 0.0_wp
     do side = 0, last_side
-      call face_box(a, side, olo, ohi, ncells, flo, fhi)
-      do jc = flo(c), fhi(c)
-        do jb = flo(b), fhi(b)
-          i(a) = flo(a)
-          i(b) = jb
-          i(c) = jc
-          sums(:, jb, jc) = sums(:, jb, jc) + field(:, i(1), i(2), i(3))
-        end do
+      call face_nodes(a, side, olo, ohi, ncells, fn)
+      do q = 1, size(fn, 2)
+        sums(:, fn(4, q), fn(5, q)) = sums(:, fn(4, q), fn(5, q)) + field(:, fn(1, q), fn(2, q), fn(3, q))
       end do
     end do
     call MPI_Allreduce(MPI_IN_PLACE, sums, size(sums), MPI_DOUBLE_PRECISION, MPI_SUM, comm)
   end subroutine face_sums
+
+  !> The owned nodes of face side (0: the lower, 1: the upper) of axis a, along the other
+  !> two axes b, c (b the lower) with c the outer: node(1:3, q) the node's index, node(4:5,
+  !> q) its place (jb, jc) along b and c, which it shares with its pair on the other face.
+  !> None where this rank owns no node of the face.
+  pure subroutine face_nodes(a, side, olo, ohi, ncells, node)
+    integer, intent(in) :: a, side, olo(3), ohi(3), ncells(3)
+    integer, allocatable, intent(out) :: node(:, :)
+    integer :: b, c, flo(3), fhi(3), jb, jc, q
+    b = merge(2, 1, a == 1)
+    c = 6 - a - b
+    call face_box(a, side, olo, ohi, ncells, flo, fhi)
+    allocate (node(5, max(0, fhi(b) - flo(b) + 1)*max(0, fhi(c) - flo(c) + 1)))
+    q = 0
+    do jc = flo(c), fhi(c)
+      do jb = flo(b), fhi(b)
+        q = q + 1
+        node(a, q) = flo(a)
+        node(b, q) = jb
+        node(c, q) = jc
+        node(4:5, q) = [jb, jc]
+      end do
+    end do
+  end subroutine face_nodes
 
   !> The owned nodes of face side (0: the lower, 1: the upper) of axis a: flo..fhi, empty
   !> (flo > fhi along every axis) where this rank owns none of them; along an unused axis

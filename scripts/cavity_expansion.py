@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Cylindrical cavity expansion in Tresca soil, plane strain (inputs/cavity_cylindrical_2d.nml)
-against the closed form of doc/theory.md 9.7.
+"""Cavity expansion in Tresca soil against the closed forms of doc/theory.md: cylindrical,
+plane strain (inputs/cavity_cylindrical_2d.nml, 9.7), or spherical, axisymmetric
+(--geometry spherical: inputs/cavity_spherical_2d.nml, 9.9).
 
 A quarter of a thick cylinder a0 < r < b0 with a free outer face; the cavity pressure p
 rises linearly over ramp_time and is then held. Each frame gives the cavity radius a from
@@ -17,6 +18,14 @@ a^2 = a0^2 + mean(r^2 - r0^2). The pressure p(t) is the load's ramp. Compared:
   units of s_u, and the radius a_ref(p) the closed form gives at the pressure reached;
 - the part of the resultant p a that the surface loads put on free nodes (the rest goes
   to the roller faces: load_fraction), and the error against the pressure so taken.
+
+The sphere alike, with the sphere's closed forms: every shell keeps R^3 - R0^3, so
+a^3 = a0^3 + mean(R^3 - R0^3) over the ring; Lame's thick sphere before first yield
+((4/3) s_u (1 - a0^3/b0^3)); after it
+  p = (4/3) s_u (1 - c^3/b^3) + 4 s_u ln(c/a),  c^3 = (G/s_u)(a^3 - a0^3),  b^3 = b0^3 + a^3 - a0^3
+(fully plastic: 4 s_u ln(b/a); infinite medium (4/3) s_u [1 + ln((G/s_u)(1 - a0^3/a^3))], limit
+(4/3) s_u (1 + ln(G/s_u))); the load on free nodes is that of the axial component (the
+radial one of the lines past the cavity ends on the axis, where r = 0).
 
 Runs the scene at the grid spacings h = a0/n for n in --cells-per-radius (the cylinder,
 material, points per cell and load kept), and prints a table; --plot draws p/s_u against
@@ -38,10 +47,13 @@ sys.path.insert(0, os.path.join(ROOT, "scripts", "python"))
 import dpmpm  # noqa: E402
 
 SCENE = os.path.join(ROOT, "inputs", "cavity_cylindrical_2d.nml")
+SCENES = {"cylindrical": SCENE, "spherical": os.path.join(ROOT, "inputs", "cavity_spherical_2d.nml")}
 
 
 class Cylinder:
     """The cylinder, soil and load of a cavity scene (read from its groups)."""
+
+    shape = "cylindrical"
 
     def __init__(self, s, a0, b0):
         mat = s.find("material", id=1)[0]
@@ -87,6 +99,18 @@ class Cylinder:
         a = np.asarray(a, dtype=float)
         return self.su * (1.0 + np.log((self.G / self.su) * (1.0 - (self.a0 / a) ** 2)))
 
+    def limit(self):
+        """The infinite medium's limit pressure over s_u."""
+        return 1.0 + math.log(self.G / self.su)
+
+    def cavity_radius(self, r, r0):
+        """The cavity radius from a ring's radii now and at the start (the body keeps its
+        volume: every ring keeps r^2 - r0^2)."""
+        return math.sqrt(self.a0 ** 2 + float(np.mean(r ** 2 - r0 ** 2)))
+
+    def load_fraction(self, x, h, a):
+        return load_fraction(x, h, a)
+
     def curve(self, n=4000, a_max=None):
         """The closed form on a fine set of radii from first yield to a_max (default: the
         fully plastic end at 3 a0)."""
@@ -105,6 +129,68 @@ class Cylinder:
         if i == 0:
             return float(a[0])
         return float(np.interp(p, pr[i - 1:i + 1], a[i - 1:i + 1]))
+
+
+class Sphere(Cylinder):
+    """The thick sphere a0 < R < b0 of an axisymmetric cavity scene (doc/theory.md 9.8, 9.9)."""
+
+    shape = "spherical"
+
+    def first_yield(self):
+        """Cavity pressure at first yield (Tresca at the wall of the elastic sphere,
+        incompressible: sigma_theta - sigma_R = 3 p b^3/(2 (b^3 - a^3)) (a/R)^3)."""
+        return 4.0 / 3.0 * self.su * (1.0 - (self.a0 / self.b0) ** 3)
+
+    def lame_u(self, p, r):
+        """Radial displacement at R of the elastic thick sphere under an internal pressure
+        p, free outside, small strain (doc/theory.md 9.8)."""
+        a3, b3 = self.a0 ** 3, self.b0 ** 3
+        nu = self.lam / (2.0 * (self.lam + self.G))
+        e = 2.0 * self.G * (1.0 + nu)
+        return p * a3 * r / (e * (b3 - a3)) * ((1.0 - 2.0 * nu) + 0.5 * (1.0 + nu) * b3 / r ** 3)
+
+    def p_ref(self, a):
+        a = np.asarray(a, dtype=float)
+        da = np.maximum(a ** 3 - self.a0 ** 3, 1e-300)
+        c3 = (self.G / self.su) * da
+        b3 = self.b0 ** 3 + da
+        part = 4.0 / 3.0 * self.su * (1.0 - c3 / b3) + 4.0 / 3.0 * self.su * np.log(c3 / a ** 3)
+        full = 4.0 / 3.0 * self.su * np.log(b3 / a ** 3)
+        p = np.where(c3 < b3, part, full)
+        return np.where(p > self.first_yield(), p, np.nan)
+
+    def p_infinite(self, a):
+        a = np.asarray(a, dtype=float)
+        return 4.0 / 3.0 * self.su * (1.0 + np.log((self.G / self.su) * (1.0 - (self.a0 / a) ** 3)))
+
+    def limit(self):
+        return 4.0 / 3.0 * (1.0 + math.log(self.G / self.su))
+
+    def curve(self, n=4000, a_max=None):
+        # first yield: c = a, i.e. a^3 - a0^3 = (s_u/G) a^3
+        a_y = self.a0 / (1.0 - self.su / self.G) ** (1.0 / 3.0)
+        a = np.linspace(a_y * (1.0 + 1e-9), a_max or 3.0 * self.a0, n)
+        return a, self.p_ref(a)
+
+    def cavity_radius(self, r, r0):
+        """The cavity radius from a shell's radii now and at the start (every shell keeps
+        R^3 - R0^3)."""
+        return (self.a0 ** 3 + float(np.mean(r ** 3 - r0 ** 3))) ** (1.0 / 3.0)
+
+    def load_fraction(self, x, h, a):
+        """The part of the axial resultant p a^2/2 (per radian) that the surface load puts on
+        free nodes: along each line r = i h (i h < a + h) the load's ring share (h^2/6 at
+        i = 0, h r_i inside) goes to the roller z = 0 whenever the node (i h, 0) has mass."""
+        near = x[x[:, 1] < h, 0]
+        lost = 0.0
+        for i in range(int((a + h) / h) + 1):
+            r = i * h
+            if r >= a:
+                break
+            share = h * h / 6.0 if i == 0 else h * r
+            if np.any(np.abs(near - r) < h):
+                lost += share
+        return 1.0 - lost / (0.5 * a * a)
 
 
 def polygon(a0, b0, n_in=16, n_out=45):
@@ -183,10 +269,10 @@ def measure(h5, cyl, ring_r0=(1.5, 2.0)):
             t = fr.time
             p = float(cyl.pressure(t))
             ts.append(t)
-            a = math.sqrt(cyl.a0 ** 2 + np.mean(r[ring] ** 2 - r0[ring] ** 2))
+            a = cyl.cavity_radius(r[ring], r0[ring])
             aa.append(a)
             ps.append(p)
-            fx.append(load_fraction(x, h, a))
+            fx.append(cyl.load_fraction(x, h, a))
             um.append(np.mean(r[ring] - r0[ring]))
             ul.append(np.mean(cyl.lame_u(p, r0[ring])))
     return tuple(np.array(v) for v in (ts, ps, aa, um, ul, fx))
@@ -219,6 +305,7 @@ def main():
     ap.add_argument("--bin", default=os.path.join(ROOT, "build", "release", "dpmpm"))
     ap.add_argument("--cells-per-radius", type=int, nargs="+", default=[4, 8])
     ap.add_argument("--b0", type=float, default=8.0, help="outer radius over a0")
+    ap.add_argument("--geometry", choices=["cylindrical", "spherical"], default="cylindrical")
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--workdir", default="out/cavity")
     ap.add_argument("--rerun", action="store_true")
@@ -227,7 +314,8 @@ def main():
     os.makedirs(args.workdir, exist_ok=True)
     rows = []
     for n in args.cells_per_radius:
-        sc = scene(SCENE, n, args.workdir, b0=args.b0)
+        sc = scene(SCENES[args.geometry], n, args.workdir, b0=args.b0,
+                   name=f"cavity_sph_n{n}_b{args.b0:g}" if args.geometry == "spherical" else None)
         try:
             r = dpmpm.simulate(sc, ranks=args.ranks, binary=args.bin, reuse=not args.rerun,
                                progress=sys.stderr.isatty())
@@ -235,7 +323,7 @@ def main():
                 print(f"{sc.name}: exit code 0, {r.wall:.0f} s", flush=True)
         except dpmpm.RunError as e:
             print(f"{sc.name}: exit code {e.status}: {e}", flush=True)
-        cyl = Cylinder(sc, 1.0, args.b0)
+        cyl = (Sphere if args.geometry == "spherical" else Cylinder)(sc, 1.0, args.b0)
         data = measure(sc.output_file(), cyl)
         rows.append((n, cyl, data, compare(cyl, *data)))
     cyl = rows[0][1]
@@ -243,7 +331,7 @@ def main():
     k = int(np.nanargmax(p_pk))
     print(f"G/s_u = {cyl.G / cyl.su:.3g}, b0/a0 = {args.b0:g}: first yield p/s_u = "
           f"{cyl.first_yield() / cyl.su:.4f}, peak {p_pk[k] / cyl.su:.4f} at a/a0 = {a_pk[k]:.3f}; "
-          f"infinite medium limit {1 + math.log(cyl.G / cyl.su):.4f}")
+          f"infinite medium limit {cyl.limit():.4f}")
     print("| h/a0 | elastic ring displacement vs Lame | max abs(p - p_ref(a))/s_u on the ramp "
           "after yield | at the end | a/a0 at the end | closed form a_ref(p_end)/a0 | "
           "load on free nodes / p a at the end | (p taken - p_ref(a))/s_u at the end |")
@@ -261,13 +349,13 @@ def main():
             ax.plot(a, p / cyl.su, ".-", ms=3, lw=0.8, label=f"dpmpm, h = a0/{n}")
         ax.plot(a_pk, p_pk / cyl.su, "k-", lw=1.0, label=f"closed form, b0 = {args.b0:g} a0")
         ax.plot(a_pk, cyl.p_infinite(a_pk) / cyl.su, "k--", lw=0.8, label="infinite medium")
-        ax.axhline(1 + math.log(cyl.G / cyl.su), color="0.5", ls=":", lw=0.8,
-                   label="limit 1 + ln(G/s_u)")
+        ax.axhline(cyl.limit(), color="0.5", ls=":", lw=0.8,
+                   label="limit (4/3)(1 + ln(G/s_u))" if cyl.shape == "spherical" else "limit 1 + ln(G/s_u)")
         ax.set_xlim(1.0, max(2.0, max(r[3]["a_end"] for r in rows) + 0.2))
-        ax.set_ylim(0.0, 1.1 * (1 + math.log(cyl.G / cyl.su)))
+        ax.set_ylim(0.0, 1.1 * cyl.limit())
         ax.set_xlabel("a / a0")
         ax.set_ylabel("p / s_u")
-        ax.set_title(f"Cylindrical cavity in Tresca soil, G/s_u = {cyl.G / cyl.su:.3g}")
+        ax.set_title(f"{cyl.shape.capitalize()} cavity in Tresca soil, G/s_u = {cyl.G / cyl.su:.3g}")
         ax.legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(args.plot, dpi=120)

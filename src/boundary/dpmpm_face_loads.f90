@@ -31,7 +31,7 @@ module dpmpm_face_loads
     !> normal and tangential to the face, on the pore fluid normal to it
     real(wp) :: z_normal(6) = 0.0_wp, z_shear(6) = 0.0_wp, z_fluid(6) = 0.0_wp
     logical :: absorbing = .false.        !< some face absorbs
-    logical :: axisym = .false.           !< r-z (&grid axisymmetric): tractions per radian, times r
+    logical :: axisym = .false.           !< r-z (&grid axisymmetric): tractions on rings per radian
     !> The compliant base (&motion base on an absorbing face), 0 none: its face, the
     !> motion's histories (the outcrop velocity) and the time they start at
     integer :: inflow = 0
@@ -226,8 +226,6 @@ contains
       fext(1:self%nd) = fext(1:self%nd) + w*load_factor(self%loads(l), time)* &
                         load_area(self, idx, self%loads(l))*self%loads(l)%traction(1:self%nd)
     end do
-    ! Axisymmetry: the ring's face area per radian is r times the plane's (the node's r).
-    if (self%axisym) fext = fext*max(0.0_wp, self%grid%origin(1) + idx(1)*self%grid%h(1))
   end function face_traction
 
   !> The factor of load ld at time t: ramp_factor over ramp_time (ramp); sin(2 pi f t)
@@ -266,7 +264,20 @@ contains
   !> axes of the face where the load covers the whole face; along an axis where it acts
   !> on lo..hi only, h times the integral of the node's grid function over lo..hi (within
   !> the grid), so that a uniform traction on part of a face gives its exact resultant.
+  !> Axisymmetry: the ring's face area per radian (ring_area).
   real(wp) function load_area(self, idx, ld) result(a)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    type(load_cfg_t), intent(in) :: ld
+    if (self%axisym) then
+      a = ring_area(self, idx, ld)
+    else
+      a = plane_area(self, idx, ld)
+    end if
+  end function load_area
+
+  !> The plane share of load_area.
+  real(wp) function plane_area(self, idx, ld) result(a)
     class(face_loads_t), intent(in) :: self
     integer, intent(in) :: idx(3)
     type(load_cfg_t), intent(in) :: ld
@@ -297,14 +308,49 @@ contains
         a = a*self%grid%h(t)*edge_share(self, idx, t)
       end if
     end do
-  end function load_area
+  end function plane_area
 
-  !> The integral of the 1D B-spline grid function of kernel over a..b (cell units):
-  !> three Gauss points on each piece between the half-integers (exact for the cubic
-  !> pieces); 0 where b <= a.
-  real(wp) function kernel_integral(kernel, a, b) result(s)
+  !> Axisymmetry (doc/theory.md 4.8): node idx's share of load ld's face area per radian,
+  !> the integral of its function along the face times r. On a face of constant r (x-, x+)
+  !> r is the face's, and the share is the plane one (plane_area) times the node's r. On a
+  !> face of constant z (y-, y+) the share is the integral of N_I(r) r dr along the face:
+  !> over the whole face with the linear hats of the plane share (h r_I inside, h (r_I/2 +
+  !> h/6) at the face's first node, h (r_I/2 - h/6) at its last: h^2/6 on the axis, where
+  !> r_I times the plane share is 0); over lo..hi with the node's grid function (Gauss
+  !> points, exact). The shares sum to the ring's area per radian, (r_hi^2 - r_lo^2)/2.
+  real(wp) function ring_area(self, idx, ld) result(a)
+    class(face_loads_t), intent(in) :: self
+    integer, intent(in) :: idx(3)
+    type(load_cfg_t), intent(in) :: ld
+    real(wp) :: h, ri, lo, hi
+    integer :: n
+    h = self%grid%h(1)
+    n = self%grid%ncells(1)
+    ri = self%grid%origin(1) + real(idx(1), wp)*h
+    if ((ld%face + 1)/2 == 1) then
+      a = plane_area(self, idx, ld)*max(0.0_wp, ri)
+      return
+    end if
+    a = 0.0_wp
+    if (idx(1) < 0 .or. idx(1) > n) return
+    if (ld%hi(1) > ld%lo(1)) then
+      lo = max(ld%lo(1), self%grid%origin(1))
+      hi = min(ld%hi(1), self%grid%origin(1) + real(n, wp)*h)
+      a = h*h*kernel_integral(self%kernel, (lo - ri)/h, (hi - ri)/h, ri/h)
+    else
+      if (idx(1) > 0) a = a + h*(0.5_wp*ri - h/6.0_wp)
+      if (idx(1) < n) a = a + h*(0.5_wp*ri + h/6.0_wp)
+    end if
+  end function ring_area
+
+  !> The integral of the 1D B-spline grid function of kernel over a..b (cell units), or
+  !> with c given of the function times (c + x), its first moment about -c: three Gauss
+  !> points on each piece between the half-integers (exact for the cubic pieces times a
+  !> line); 0 where b <= a.
+  real(wp) function kernel_integral(kernel, a, b, c) result(s)
     integer, intent(in) :: kernel
     real(wp), intent(in) :: a, b
+    real(wp), intent(in), optional :: c
     real(wp), parameter :: gx(3) = [-0.774596669241483377035853079956_wp, 0.0_wp, &
                                     0.774596669241483377035853079956_wp]
     real(wp), parameter :: gw(3) = [5.0_wp/9.0_wp, 8.0_wp/9.0_wp, 5.0_wp/9.0_wp]
@@ -314,6 +360,7 @@ contains
     do while (x0 < min(b, 2.0_wp))
       x1 = min(b, 2.0_wp, (floor(2.0_wp*x0 + 1.0e-12_wp) + 1)*0.5_wp)
       call bspline_1d(kernel, 0.5_wp*(x0 + x1) + 0.5_wp*(x1 - x0)*gx, w, dw)
+      if (present(c)) w = w*(c + 0.5_wp*(x0 + x1) + 0.5_wp*(x1 - x0)*gx)
       s = s + 0.5_wp*(x1 - x0)*sum(gw*w)
       x0 = x1
     end do

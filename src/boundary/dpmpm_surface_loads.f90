@@ -3,7 +3,9 @@
 !> part of it (lo..hi) and with the time functions of face loads. Along every grid line
 !> normal to the load's face, the outermost node seen from that face where the body has
 !> mass (over all ranks) takes the traction times its share of the face area: the nodes
-!> a face load would load if the body filled the grid up to that face.
+!> a face load would load if the body filled the grid up to that face. In axisymmetry the
+!> share is the ring's per radian (load_area): on a line of constant z (faces x-, x+) the
+!> node's r times its plane share, on a line of constant r its integral of N_I r dr.
 module dpmpm_surface_loads
   use dpmpm_kinds, only: wp
   use dpmpm_face_loads, only: face_loads_t, load_factor, load_area

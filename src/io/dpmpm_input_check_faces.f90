@@ -136,10 +136,6 @@ contains
       "leave &benchmark name = 'none'")
     if (any(cfg%absorbing /= 0)) call add_raw(pb, head//'absorbing faces are not yet '// &
       'axisymmetric (their dashpots per area lack the radius)')
-    if (allocated(cfg%loads)) then
-      if (any(cfg%loads%surface)) call add_raw(pb, head//'&load surface = .true. is not yet '// &
-        'axisymmetric (its nodal forces lack the radius); load a grid face')
-    end if
     do k = 1, size(cfg%materials)
       if (cfg%materials(k)%model == 'rigid') call add_raw(pb, head//'rigid bodies (&material '// &
         "model = 'rigid') are not yet axisymmetric")

@@ -2,8 +2,9 @@
 !> doc/verification.md, "Saturated column shaken vertically"): the Laplace-domain reference
 !> biot_column_base_solve checked apart from the code (the undrained limit against
 !> d'Alembert's sum, a coupled column against a fine finite-difference integration of the
-!> same 1D equations written here), then the code's column against it. Every bound is a
-!> measured error (debug build) times a stated margin.
+!> same 1D equations written here), then the code's column against it; and the energy balance
+!> of the 2D saturated column shaken at its base (doc/verification.md, "Energy of the shaken
+!> saturated column"). Every bound is a measured error (debug build) times a stated margin.
 program test_biot_base
   use mpi_f08, only: MPI_COMM_WORLD
   use dpmpm_kinds, only: wp, i8
@@ -27,8 +28,9 @@ program test_biot_base
   !> inputs/tied_saturated_2d.nml (the argument)
   character(len=512) :: scene
   !> Frequencies of the inversion, without the Lanczos factors (the record has no jumps, and
-  !> the factors would damp its 60 Hz by 3.5e-4 with 2^12): 2^12, up to 4 kHz, where the
-  !> pulse's spectrum is long below round-off.
+  !> the factors would damp its 60 Hz by 3.5e-4 with 2^12): 2^12, up to 4 kHz; what is left is
+  !> the inversion's error at the kinks of the piecewise linear record, 1e-5 of the peak
+  !> (test a; 3.9e-6 with 2^14).
   integer, parameter :: NFREQ = 2**12
   !> Bounds of the shaken column's energy balance (test d)
   real(wp), parameter :: BAL_TIED = 2.4e-3_wp, DRIFT_TIED = 2.4e-3_wp, BAL_ROLLER = 4.0e-4_wp, DRIFT_ROLLER = 2.3e-4_wp

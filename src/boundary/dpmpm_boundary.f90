@@ -30,7 +30,7 @@ module dpmpm_boundary
     !> each phase's face conditions at the mirror walls and in its constraints
     !> (bc_free, bc_fixed, bc_roller): phase 1 the skeleton (or the one point set), phase
     !> 2 the pore fluid (fluid_mirror_bc: roller at an impermeable face that holds the
-    !> skeleton, free elsewhere)
+    !> skeleton, free elsewhere; fixed at a rigid base, which moves both phases)
     integer :: kind(6, 2) = bc_free
     !> the pore fluid's condition per face, resolved (fbc_drained or fbc_impermeable;
     !> 0 in scenes of one phase)

@@ -57,8 +57,10 @@ contains
   !> The nodes of face (index into face_names; the grid has ncells cells) among olo..ohi that
   !> hold mass take the base's velocity: vb1 in the new-velocity slots of nvel, and with
   !> both vb0 in the old ones (the nodal update; the remap sets only the new ones). With
-  !> both, the work of the base's force on them over the step, the momentum change that
-  !> their own forces node(2+nd:1+2nd) and gravity do not make, is added to work.
+  !> both, the work over the step of the base's force on them (the momentum change that
+  !> their own forces node(2+nd:1+2nd) and gravity do not make) and of gravity on them is
+  !> added to work: the nodal update held these nodes at rest, so it booked neither; a
+  !> vertical motion lifts and lowers their mass.
   subroutine shake_base(nd, lo, olo, ohi, face, ncells, vb0, vb1, node, nvel, both, gravity, &
                         dt, work)
     integer, intent(in) :: nd, lo(3), olo(3), ohi(3), face, ncells(3)
@@ -86,7 +88,7 @@ contains
           if (.not. both) cycle
           nvel(1:nd, i, j, k) = vb0(1:nd)
           fb(1:nd) = m*(vb1(1:nd) - vb0(1:nd))/dt - node(2 + nd:1 + 2*nd, i, j, k) - m*gravity(1:nd)
-          work = work + 0.5_wp*dt*dot_product(fb(1:nd), vb0(1:nd) + vb1(1:nd))
+          work = work + 0.5_wp*dt*dot_product(fb(1:nd) + m*gravity(1:nd), vb0(1:nd) + vb1(1:nd))
         end do
       end do
     end do

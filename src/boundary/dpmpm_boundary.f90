@@ -11,7 +11,7 @@
 !> decided and applied.
 module dpmpm_boundary
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, bc_free, fbc_default, fbc_drained, fbc_impermeable
+  use dpmpm_config, only: config_t, bc_free, bc_fixed, fbc_default, fbc_drained, fbc_impermeable
   use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
   use dpmpm_mirror, only: fluid_mirror_bc
@@ -30,7 +30,7 @@ module dpmpm_boundary
     !> each phase's face conditions at the mirror walls and in its constraints
     !> (bc_free, bc_fixed, bc_roller): phase 1 the skeleton (or the one point set), phase
     !> 2 the pore fluid (fluid_mirror_bc: roller at an impermeable face that holds the
-    !> skeleton, free elsewhere)
+    !> skeleton, free elsewhere; fixed at a rigid base, which moves both phases)
     integer :: kind(6, 2) = bc_free
     !> the pore fluid's condition per face, resolved (fbc_drained or fbc_impermeable;
     !> 0 in scenes of one phase)
@@ -70,6 +70,10 @@ contains
     ! the face loads give that node the pair's share.
     if (two_phase) self%faces%joined = self%tied(1:5:2) .and. self%tied(2:6:2)
     self%base = base_face(cfg)
+    ! A rigid base moves both phases (shake_base), so its pore water is held in every
+    ! component in the coupled update as its skeleton is: no drag of water sliding along a
+    ! held skeleton is booked at nodes whose velocities the base then sets.
+    if (two_phase .and. self%base > 0) self%kind(self%base, 2) = bc_fixed
   end subroutine boundary_init
 
   !> Release what init made; no face holds a condition afterwards.

@@ -3,7 +3,7 @@
 !> Called by check_config (dpmpm_input_check) once the groups they read are known.
 module dpmpm_input_check_faces
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, face_names, bc_roller, bc_free, fbc_drained
+  use dpmpm_config, only: config_t, face_names, bc_roller, bc_free, fbc_drained, fbc_default
   use dpmpm_input_problems, only: input_problems_t, add_raw
   use dpmpm_strings, only: itoa, rtoa, rtoa_list
   implicit none
@@ -13,8 +13,8 @@ module dpmpm_input_check_faces
 contains
 
   !> Tied faces (&boundary condition = 'tied'): both faces of an axis, not along the only
-  !> axis of a 1D grid, and linear grid functions (a wider kernel reaches beyond the faces,
-  !> where the ties do not carry it).
+  !> axis of a 1D grid, linear grid functions (a wider kernel reaches beyond the faces,
+  !> where the ties do not carry it), and no fluid condition or pore pressure of their own.
   subroutine check_tied(pb, cfg)
     type(input_problems_t), intent(inout) :: pb
     type(config_t), intent(in) :: cfg
@@ -35,6 +35,18 @@ contains
         call add_raw(pb, "&boundary face = '"//face_names(f)//"', condition = 'tied' needs "// &
                      "&shape kernel = 'linear' and velocity_kernel '' or 'linear' (wider grid "// &
                      'functions reach beyond the faces, where the ties do not carry them)')
+      ! The water of a tied pair is one node with the skeleton's (doc/theory.md 6.9): the face
+      ! is neither drained nor impermeable, so a fluid condition or a pore pressure there
+      ! would be ignored.
+      if (cfg%fluid_bc(f) /= fbc_default) &
+        call add_raw(pb, "&boundary face = '"//face_names(f)//"', condition = 'tied' takes no "// &
+                     "fluid condition: the pore water of a tied pair flows through the tie as "// &
+                     "through the column (neither drained nor impermeable); leave fluid out")
+      if (cfg%pore_pressure(f) /= 0.0_wp .or. cfg%pore_pressure_ramp(f) /= 0.0_wp .or. &
+          any(cfg%pore_pressure_gradient(:, f) /= 0.0_wp)) &
+        call add_raw(pb, "&boundary face = '"//face_names(f)//"', condition = 'tied' takes no "// &
+                     'pore_pressure, pore_pressure_ramp or pore_pressure_gradient: a tied face '// &
+                     'is not drained (the water of the pair is one node); leave them out')
     end do
   end subroutine check_tied
 

@@ -1,4 +1,6 @@
-!> Analytical reference for the finite 1D saturated column under a step load (doc/theory.md 2.7 and 9.2).
+!> Analytical reference for the finite 1D saturated column under a step load (doc/theory.md 2.7 and 9.2),
+!> and for the same column shaken along its axis at its base (biot_column_base_solve; doc/theory.md
+!> 9.2, "Base motion": the modes from the base reflect on their own at the free drained top).
 !>
 !> Column 0 <= z <= L, z measured down from the loaded top. Top: total stress step
 !> sigma(0,t) = sigma' - p = -q H(t), drained, p(0,t) = 0, so sigma'(0,t) = -q. Bottom: fixed and
@@ -43,7 +45,7 @@ module dpmpm_biot_column
   include 'fftw3.f03'
 
   public :: biot_column_solve, biot_undrained_split, biot_wave_speeds, biot_drag
-  public :: biot_incompressible_sigma, biot_default_nfreq
+  public :: biot_incompressible_sigma, biot_default_nfreq, biot_column_base_solve
 
   !> Material and geometry of the saturated column (SI units).
   type, public :: biot_column_t
@@ -143,17 +145,10 @@ contains
     real(wp), intent(in), optional :: period, alpha
     ! Per frequency k: lambda_j and the amplitudes of the four fields per mode (j = 1, 2).
     complex(wp), allocatable :: lam(:, :), amp(:, :, :)
-    complex(C_DOUBLE_COMPLEX), allocatable :: spec(:)
-    real(C_DOUBLE), allocatable :: sig(:)
-    real(wp), allocatable :: sigma_k(:)
-    complex(wp), allocatable :: gm(:, :), gp(:, :)
-    complex(wp) :: s, e_down(2), e_up(2)
-    complex(wp), allocatable :: tw(:, :, :)
-    real(wp) :: tp, alph, omega0, dt, f(0:3), u, w(0:3), sn
-    integer :: nf, nfft, k, iz, it, ifield, j0, i
-    integer, allocatable :: jt(:)
-    type(C_PTR) :: plan
-    logical :: use_window, direct
+    complex(wp) :: s
+    real(wp) :: tp, alph, omega0
+    integer :: nf, k
+    logical :: use_window
 
     call check_inputs(col, t_end, z, times)
     use_window = .true.
@@ -167,14 +162,46 @@ contains
     if (nf < 16 .or. tp < t_end .or. alph <= 0.0_wp) &
       call fatal('needs nfreq >= 16, period >= t_end and alpha > 0', 'biot_column_solve')
     omega0 = 2.0_wp*pi/tp
-    nfft = 2*time_oversampling*nf
-    dt = tp/real(nfft, wp)
 
     ! Laplace-domain modes at every frequency of the Durbin grid.
-    allocate (lam(2, 0:nf - 1), amp(4, 2, 0:nf - 1), sigma_k(0:nf - 1))
+    allocate (lam(2, 0:nf - 1), amp(4, 2, 0:nf - 1))
     do k = 0, nf - 1
       s = cmplx(alph, real(k, wp)*omega0, wp)
       call column_modes(col, s, lam(:, k), amp(:, :, k))
+    end do
+    call invert_modes(col, .false., nf, tp, alph, use_window, lam, amp, nz, z, nt, times, &
+                      p, sigma_eff, v_s, v_f)
+  end subroutine biot_column_solve
+
+  !> The Durbin inversion of the module header for the mode amplitudes amp(field, j, k) and
+  !> wavenumbers lam(j, k) at s_k = alph + i k 2 pi/tp (k = 0 .. nf - 1): the fields at depths
+  !> z and times. base selects the depth dependence: .false. the top load's (modes from the
+  !> top, reflected at the rigid bottom), .true. the base motion's (modes from the base,
+  !> reflected at the free drained top).
+  subroutine invert_modes(col, base, nf, tp, alph, use_window, lam, amp, nz, z, nt, times, &
+                          p, sigma_eff, v_s, v_f)
+    type(biot_column_t), intent(in) :: col
+    logical, intent(in) :: base, use_window
+    integer, intent(in) :: nf, nz, nt
+    real(wp), intent(in) :: tp, alph, z(nz), times(nt)
+    complex(wp), intent(in) :: lam(2, 0:nf - 1), amp(4, 2, 0:nf - 1)
+    real(wp), intent(out) :: p(nz, nt), sigma_eff(nz, nt), v_s(nz, nt), v_f(nz, nt)
+    complex(C_DOUBLE_COMPLEX), allocatable :: spec(:)
+    real(C_DOUBLE), allocatable :: sig(:)
+    real(wp), allocatable :: sigma_k(:)
+    complex(wp), allocatable :: gm(:, :), gp(:, :)
+    complex(wp) :: e_down(2), e_up(2)
+    complex(wp), allocatable :: tw(:, :, :)
+    real(wp) :: dt, f(0:3), u, w(0:3), sn
+    integer :: nfft, k, iz, it, ifield, j0, i
+    integer, allocatable :: jt(:)
+    type(C_PTR) :: plan
+    logical :: direct
+
+    nfft = 2*time_oversampling*nf
+    dt = tp/real(nfft, wp)
+    allocate (sigma_k(0:nf - 1))
+    do k = 0, nf - 1
       sigma_k(k) = 1.0_wp
       if (use_window .and. k > 0) sigma_k(k) = sin(pi*k/nf)/(pi*k/nf)
     end do
@@ -209,13 +236,22 @@ contains
     if (.not. direct) plan = fftw_plan_dft_c2r_1d(int(nfft, C_INT), spec, sig, FFTW_ESTIMATE)
     allocate (gm(2, 0:nf - 1), gp(2, 0:nf - 1))
     do iz = 1, nz
-      ! Downward term e^{-lambda z}, upward term (already reflected) e^{-lambda (2L - z)};
-      ! velocities use their difference, stresses their sum.
       do k = 0, nf - 1
-        e_down = decay(lam(:, k)*z(iz))
-        e_up = decay(lam(:, k)*(2.0_wp*col%length - z(iz)))
-        gm(:, k) = sigma_k(k)*(e_down - e_up)
-        gp(:, k) = sigma_k(k)*(e_down + e_up)
+        if (base) then
+          ! Base motion: e^{-lambda (L - z)} from the base and its reflection at the top,
+          ! e^{-lambda (L + z)}; velocities use their sum, stresses their difference.
+          e_up = decay(lam(:, k)*(col%length - z(iz)))
+          e_down = decay(lam(:, k)*(col%length + z(iz)))
+          gm(:, k) = sigma_k(k)*(e_up + e_down)
+          gp(:, k) = sigma_k(k)*(e_down - e_up)
+        else
+          ! Top load: downward term e^{-lambda z}, upward term (already reflected)
+          ! e^{-lambda (2L - z)}; velocities use their difference, stresses their sum.
+          e_down = decay(lam(:, k)*z(iz))
+          e_up = decay(lam(:, k)*(2.0_wp*col%length - z(iz)))
+          gm(:, k) = sigma_k(k)*(e_down - e_up)
+          gp(:, k) = sigma_k(k)*(e_down + e_up)
+        end if
       end do
       do ifield = 1, 4
         if (.not. direct) spec = (0.0_wp, 0.0_wp)
@@ -257,7 +293,85 @@ contains
       end do
     end do
     if (.not. direct) call fftw_destroy_plan(plan)
-  end subroutine biot_column_solve
+  end subroutine invert_modes
+
+  !> The column of biot_column_solve with its base moving instead of its top loaded: both
+  !> phases at the base z = L follow the base's velocity V_b(t) (positive downwards), the top
+  !> z = 0 drained and free of traction (sigma'(0,t) = p(0,t) = 0), zero initial state
+  !> (doc/theory.md 9.2, "Base motion"). V_b is the piecewise linear function through the
+  !> samples vb(1:nb) at t = (i - 1) dtb, held at vb(nb) after the last; vb(1) must be 0 (the
+  !> base starts from rest). Its Laplace transform is taken exactly (hat functions), so the
+  !> fields are those of the code's base motion, which interpolates its record the same way.
+  !> Fields, options and accuracy as biot_column_solve (col%load is not used). The Lanczos
+  !> factors (window) smooth fronts but damp a smooth record's content at frequency f by
+  !> about (pi f T_p/N)^2/6 (2e-5 at 60 Hz with T_p = 1 s, N = 2^14): leave them out for a
+  !> record without jumps (window = .false.).
+  subroutine biot_column_base_solve(col, nb, dtb, vb, t_end, nz, z, nt, times, p, sigma_eff, &
+                                    v_s, v_f, window, nfreq, period, alpha)
+    type(biot_column_t), intent(in) :: col
+    integer, intent(in) :: nb, nz, nt
+    real(wp), intent(in) :: dtb, vb(nb), t_end
+    real(wp), intent(in) :: z(nz), times(nt)
+    real(wp), intent(out) :: p(nz, nt), sigma_eff(nz, nt), v_s(nz, nt), v_f(nz, nt)
+    logical, intent(in), optional :: window
+    integer, intent(in), optional :: nfreq
+    real(wp), intent(in), optional :: period, alpha
+    complex(wp), allocatable :: lam(:, :), amp(:, :, :)
+    complex(wp) :: s
+    real(wp) :: tp, alph, omega0
+    integer :: nf, k
+    logical :: use_window
+
+    call check_inputs(col, t_end, z, times)
+    use_window = .true.
+    if (present(window)) use_window = window
+    if (nb < 2 .or. .not. dtb > 0.0_wp) call fatal('needs nb >= 2 samples and dtb > 0', &
+                                                   'biot_column_base_solve')
+    if (vb(1) /= 0.0_wp) call fatal('the base must start from rest: vb(1) = 0', &
+                                    'biot_column_base_solve')
+    nf = biot_default_nfreq
+    if (present(nfreq)) nf = nfreq
+    tp = default_period_factor*t_end
+    if (present(period)) tp = period
+    alph = default_alpha_period/tp
+    if (present(alpha)) alph = alpha
+    if (nf < 16 .or. tp < t_end .or. alph <= 0.0_wp) &
+      call fatal('needs nfreq >= 16, period >= t_end and alpha > 0', 'biot_column_base_solve')
+    omega0 = 2.0_wp*pi/tp
+    allocate (lam(2, 0:nf - 1), amp(4, 2, 0:nf - 1))
+    do k = 0, nf - 1
+      s = cmplx(alph, real(k, wp)*omega0, wp)
+      call base_modes(col, s, lam(:, k), amp(:, :, k))
+      amp(:, :, k) = amp(:, :, k)*piecewise_linear_transform(nb, dtb, vb, s)
+    end do
+    call invert_modes(col, .true., nf, tp, alph, use_window, lam, amp, nz, z, nt, times, &
+                      p, sigma_eff, v_s, v_f)
+  end subroutine biot_column_base_solve
+
+  !> Laplace transform at s of the piecewise linear function through v(1:n) at t = (i - 1) h,
+  !> zero at t = 0 (v(1) = 0 is not used) and held at v(n) after t_n: the sum of the hats
+  !> e^{-s t_i} (e^{sh} - 2 + e^{-sh})/(s^2 h) = e^{-s t_i} 4 sinh^2(sh/2)/(s^2 h) of the
+  !> inner samples, and for the last its left half with the step after it,
+  !> e^{-s t_n} (e^{sh} - 1)/(s^2 h) = e^{-s t_n} 2 e^{sh/2} sinh(sh/2)/(s^2 h) (sinh keeps
+  !> both free of cancellation when |s h| is small).
+  pure function piecewise_linear_transform(n, h, v, s) result(f)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: h, v(n)
+    complex(wp), intent(in) :: s
+    complex(wp) :: f, zh, e, acc, sh
+    integer :: i
+    zh = exp(-s*h)
+    sh = sinh(0.5_wp*s*h)
+    ! sum_{i=2}^{n-1} v(i) e^{-s (i-1) h}, e^{-s (i-1) h} by recurrence (|zh| < 1)
+    acc = (0.0_wp, 0.0_wp)
+    e = (1.0_wp, 0.0_wp)
+    do i = 2, n - 1
+      e = e*zh
+      acc = acc + v(i)*e
+    end do
+    e = e*zh
+    f = (4.0_wp*sh*sh*acc + v(n)*e*2.0_wp*exp(0.5_wp*s*h)*sh)/(s*s*h)
+  end function piecewise_linear_transform
 
   !> Algorithm B of doc/theory.md 9.2: sigma'(z,t) of the finite column with incompressible
   !> constituents (telegraph equation rho~ u_tt = E_c u_zz - (rho_f g/k) u_t), as the image sum
@@ -365,8 +479,53 @@ contains
     type(biot_column_t), intent(in) :: col
     complex(wp), intent(in) :: s
     complex(wp), intent(out) :: lam(2), amp(4, 2)
+    complex(wp) :: phi(2, 2), sig(2), pre(2), det, d(2), e2
+    integer :: j
+    call mode_shapes(col, s, lam, phi, sig, pre)
+    ! Top: sum_j Sigma'_j d_j = -q/s, sum_j P_j d_j = 0 (Cramer).
+    det = sig(1)*pre(2) - sig(2)*pre(1)
+    d(1) = -col%load/s*pre(2)/det
+    d(2) = col%load/s*pre(1)/det
+    do j = 1, 2
+      e2 = decay(2.0_wp*lam(j)*col%length)
+      amp(1:2, j) = phi(:, j)*d(j)/(1.0_wp + e2)
+      amp(3, j) = sig(j)*d(j)/(1.0_wp + e2)
+      amp(4, j) = pre(j)*d(j)/(1.0_wp + e2)
+    end do
+  end subroutine column_modes
+
+  !> The two modes at s for a base velocity of unit transform (doc/theory.md 9.2, "Base
+  !> motion"): each mode's wave from the base, b_j e^{-lambda_j (L - z)}, reflects on its own
+  !> at the free drained top into a_j e^{-lambda_j z}, a_j = b_j e^{-lambda_j L}; the base
+  !> condition V_s(L) = V_f(L) = 1 leaves sum_j phi_j d_j = (1, 1), d_j = b_j (1 + e^{-2
+  !> lambda_j L}). amp(:, j) = (phi_s, phi_f, Sigma', P)_j d_j / (1 + e^{-2 lambda_j L}).
+  pure subroutine base_modes(col, s, lam, amp)
+    type(biot_column_t), intent(in) :: col
+    complex(wp), intent(in) :: s
+    complex(wp), intent(out) :: lam(2), amp(4, 2)
+    complex(wp) :: phi(2, 2), sig(2), pre(2), det, d(2), e2
+    integer :: j
+    call mode_shapes(col, s, lam, phi, sig, pre)
+    det = phi(1, 1)*phi(2, 2) - phi(1, 2)*phi(2, 1)
+    d(1) = (phi(2, 2) - phi(1, 2))/det
+    d(2) = (phi(1, 1) - phi(2, 1))/det
+    do j = 1, 2
+      e2 = decay(2.0_wp*lam(j)*col%length)
+      amp(1:2, j) = phi(:, j)*d(j)/(1.0_wp + e2)
+      amp(3, j) = sig(j)*d(j)/(1.0_wp + e2)
+      amp(4, j) = pre(j)*d(j)/(1.0_wp + e2)
+    end do
+  end subroutine base_modes
+
+  !> The wavenumbers lam(j) (Re > 0) and shapes of the two modes at s: velocities phi(:, j)
+  !> (solid, fluid; scaled to a largest component of 1), and the effective stress sig(j) and
+  !> pore pressure pre(j) of the downward wave e^{-lambda_j z} with that velocity.
+  pure subroutine mode_shapes(col, s, lam, phi, sig, pre)
+    type(biot_column_t), intent(in) :: col
+    complex(wp), intent(in) :: s
+    complex(wp), intent(out) :: lam(2), phi(2, 2), sig(2), pre(2)
     real(wp) :: nf, ns, m, ms, mf, q_drag
-    complex(wp) :: a, b, c, disc, mu(2), phi(2, 2), vol(2), sig(2), pre(2), det, d(2), e2
+    complex(wp) :: a, b, c, disc, mu(2), vol(2)
     real(wp) :: nrm
     integer :: j
     nf = col%porosity
@@ -401,17 +560,7 @@ contains
       sig(j) = -col%e_c*lam(j)/s*phi(1, j)
       pre(j) = m*lam(j)/s*vol(j)
     end do
-    ! Top: sum_j Sigma'_j d_j = -q/s, sum_j P_j d_j = 0 (Cramer).
-    det = sig(1)*pre(2) - sig(2)*pre(1)
-    d(1) = -col%load/s*pre(2)/det
-    d(2) = col%load/s*pre(1)/det
-    do j = 1, 2
-      e2 = decay(2.0_wp*lam(j)*col%length)
-      amp(1:2, j) = phi(:, j)*d(j)/(1.0_wp + e2)
-      amp(3, j) = sig(j)*d(j)/(1.0_wp + e2)
-      amp(4, j) = pre(j)*d(j)/(1.0_wp + e2)
-    end do
-  end subroutine column_modes
+  end subroutine mode_shapes
 
   !> e^{-x} for Re x >= 0, set to zero where it would underflow.
   elemental function decay(x) result(y)

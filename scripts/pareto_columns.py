@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Speed against error of the shape choices on saturated columns of other physics: W1, W2,
-W3 (doc/theory.md 9.1: strong drag, weak drag, stiff water) and W4 (a softer, more porous
-and more permeable column with softer water, where linear grid functions with one Gauss
-point per cell lost), each in 2D (100 x 2 cells of 0.1 m, rollers on the sides, 2 x 2
+W3 (doc/theory.md 9.1: strong drag, weak drag, stiff water) and W4 (a more porous and more
+permeable column with a stiffer skeleton and water than W1's: n_f 0.4, E 20 MPa, K_f 30 MPa,
+k 1e-3 m/s; where linear grid functions with one Gauss point per cell lost), each in 2D (100 x 2 cells of 0.1 m, rollers on the sides, 2 x 2
 points per cell and phase) with the placements regular, random (per cell), uniform (over
 the whole column; seed 1, and seed 7 whose fluid points leave two cells empty) and stirred
 (the regular points after shears, as after a large deformation).

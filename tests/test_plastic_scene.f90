@@ -14,12 +14,13 @@ program test_plastic_scene
   use dpmpm_plasticity, only: plastic_setup, softening_limit, surface_mohr_coulomb, &
                               dp_plane_strain
   use dpmpm_assert, only: begin_test, check, am_root
-  use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_main, only: start_tests, end_tests, test_dir
   implicit none
-  character(len=*), parameter :: dir = 'out/test_plastic_scene'
+  character(len=:), allocatable :: dir   !< out/test_plastic_scene_np<ranks>
   real(wp), parameter :: rho = 2000.0_wp, g = 9.81_wp, height = 0.375_wp, k0 = 0.3_wp
   integer :: rank
   call start_tests(rank)
+  dir = test_dir('test_plastic_scene')
   call test_elastic_scene_has_no_plastic_history()
   call test_softening_column_restarts_exactly()
   call test_kicked_box_without_tension_gains_no_energy()

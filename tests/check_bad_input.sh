@@ -5,23 +5,9 @@
 # expected text, every input error line appears once (printed by rank 0 only), and there
 # is no Fortran runtime error (traceback, "Error termination", "At line").
 set -u
-if [ $# -ne 5 ]; then
-  echo "usage: $0 <mpiexec> <dpmpm> <nranks> <file.nml> <expected-substring>" >&2
-  exit 2
-fi
-mpiexec=$1 exe=$2 nranks=$3 file=$4 expected=$5
-out=$(mktemp) err=$(mktemp)
-trap 'rm -f "$out" "$err"' EXIT
-
-# One rank runs the binary itself, as a plain `dpmpm file.nml` does (MPI as a singleton):
-# Open MPI's mpiexec holds a single process that ends with an error code for 2 s before it
-# returns (0.36 s against 2.4 s a case, half the input tests' time).
-if [ "$nranks" -eq 1 ]; then
-  timeout 60 "$exe" "$file" >"$out" 2>"$err"
-else
-  timeout 60 "$mpiexec" --oversubscribe -n "$nranks" "$exe" "$file" >"$out" 2>"$err"
-fi
-rc=$?
+. "$(dirname "$0")/input_run.sh"
+input_args expected-substring "$@"
+input_run "$file"
 echo "--- exit code $rc; stdout:"; cat "$out"
 echo "--- stderr:"; cat "$err"
 echo "---"
@@ -35,11 +21,7 @@ fi
 if ! grep -qF -- "$expected" "$err"; then
   echo "FAIL: stderr does not contain: $expected"; fail=1
 fi
-for bad in "Backtrace" "Error termination" "At line"; do
-  if grep -qF -- "$bad" "$out" "$err"; then
-    echo "FAIL: Fortran runtime error in the output ($bad)"; fail=1
-  fi
-done
+runtime_errors
 dups=$(grep -F 'dpmpm: input error' "$err" | sort | uniq -d)
 if [ -n "$dups" ]; then
   echo "FAIL: input errors printed more than once:"; echo "$dups"; fail=1

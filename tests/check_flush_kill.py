@@ -20,7 +20,6 @@ scripts/check_output.py passes on it. Exit code 77 (a skip) where the stop is no
 """
 import os
 import pathlib
-import signal
 import subprocess
 import sys
 import time
@@ -31,7 +30,7 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from frames_by_id import compare  # noqa: E402
-from kill_scene import KillCheck  # noqa: E402
+from kill_scene import KillCheck, kill_run  # noqa: E402
 
 mpiexec, dpmpm, shim = sys.argv[1], sys.argv[2], sys.argv[3]
 K = KillCheck(mpiexec, dpmpm, sys.argv[4])
@@ -61,14 +60,7 @@ if not flag.exists():
           f"code {p.returncode}): this MPI-IO layer or HDF5 writes otherwise")
     sys.exit(77)
 time.sleep(1.0)
-ranks = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True, text=True).stdout.split()
-for pid in ranks:
-    try:
-        os.kill(int(pid), signal.SIGKILL)
-    except ProcessLookupError:
-        pass
-p.kill()
-p.wait()
+kill_run(p)
 h5 = work / "out" / "kill.h5"
 try:
     with h5py.File(h5, "r") as f:

@@ -41,10 +41,8 @@ rebuilds its file leaves the mark and a torn <name>.h5.tmp: that is made on purp
 finished run, and the run continued from there must rebuild the file again from the
 original, every frame equal.
 """
-import os
 import pathlib
 import random
-import signal
 import subprocess
 import sys
 import time
@@ -55,7 +53,7 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from frames_by_id import compare  # noqa: E402
-from kill_scene import MAX_STEPS, KillCheck  # noqa: E402
+from kill_scene import MAX_STEPS, KillCheck, kill_run  # noqa: E402
 
 mpiexec, dpmpm = sys.argv[1], sys.argv[2]
 K = KillCheck(mpiexec, dpmpm, sys.argv[3])
@@ -117,15 +115,7 @@ while True:
         time.sleep(0.002)
     time.sleep(delay)
     after = time.monotonic() - begin
-    ranks = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True,
-                           text=True).stdout.split()
-    for pid in ranks:
-        try:
-            os.kill(int(pid), signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-    p.kill()
-    p.wait()
+    kill_run(p)
     if not h5.exists():
         print(f"{name}: killed after {after:.1f} s before the file was made")
         continue

@@ -6,16 +6,9 @@
 # Fortran runtime error, and stderr holds the expected warning exactly once (printed by
 # rank 0 only); with "-", when stderr holds no input warning at all.
 set -u
-if [ $# -ne 5 ]; then
-  echo "usage: $0 <mpiexec> <dpmpm> <nranks> <file.nml> <expected-warning | ->" >&2
-  exit 2
-fi
-mpiexec=$1 exe=$2 nranks=$3 file=$4 expected=$5
-out=$(mktemp) err=$(mktemp)
-trap 'rm -f "$out" "$err"' EXIT
-
-timeout 60 "$mpiexec" --oversubscribe -n "$nranks" "$exe" --check "$file" >"$out" 2>"$err"
-rc=$?
+. "$(dirname "$0")/input_run.sh"
+input_args "expected-warning | -" "$@"
+input_run --check "$file"
 echo "--- exit code $rc; stderr:"; cat "$err"
 echo "---"
 
@@ -26,11 +19,7 @@ fi
 if grep -qF -- "dpmpm: input error" "$err"; then
   echo "FAIL: an input error for a valid input"; fail=1
 fi
-for bad in "Backtrace" "Error termination" "At line"; do
-  if grep -qF -- "$bad" "$out" "$err"; then
-    echo "FAIL: Fortran runtime error in the output ($bad)"; fail=1
-  fi
-done
+runtime_errors
 if [ "$expected" = "-" ]; then
   if grep -qF -- "dpmpm: input warning" "$err"; then
     echo "FAIL: a warning where none was expected"; fail=1

@@ -24,6 +24,9 @@ import sys
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_site_response import finish, run_text  # noqa: E402
+
 G = 9.81
 RHO_S, RHO_F, N_F, Q = 2650.0, 1000.0, 0.4594594594594595, 1.0e4
 
@@ -41,17 +44,7 @@ def scene_text(scene, t_end, extra_output):
 
 
 def run(exe, mpiexec, ranks, text, work):
-    os.makedirs(work, exist_ok=True)
-    with open(os.path.join(work, "scene.nml"), "w") as f:
-        f.write(text)
-    cmd = [os.path.abspath(exe), "scene.nml"]
-    if ranks > 1:
-        cmd = [mpiexec, "--oversubscribe", "-n", str(ranks)] + cmd
-    r = subprocess.run(cmd, cwd=work, capture_output=True, text=True, timeout=600)
-    if r.returncode != 0:
-        print(r.stdout[-3000:], r.stderr[-3000:])
-        raise SystemExit(1)
-    return os.path.join(work, "liquefaction_1d.h5")
+    return run_text(exe, mpiexec, ranks, text, work, "liquefaction_1d.h5", timeout=600)
 
 
 def probes(path):
@@ -188,9 +181,7 @@ def main():
     else:
         print(f"unknown mode {mode}")
         return 2
-    for msg in fails:
-        print("FAIL: " + msg)
-    return 1 if fails else 0
+    return finish(fails)
 
 
 if __name__ == "__main__":

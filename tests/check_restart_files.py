@@ -14,7 +14,6 @@ format_version, no checksums) still continues, with a note. `--restart` where th
 holds a finished run and there is no checkpoint stops with exit code 2, and `--restart
 --start-over` runs it again.
 """
-import os
 import pathlib
 import shutil
 import sys

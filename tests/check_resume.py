@@ -13,7 +13,6 @@ to 1e-12 of each dataset's largest value: the same ranks do the same arithmetic)
 diagnostics must hold the unbroken run's steps, each once, and the step it restarted
 from, and scripts/check_output.py must pass.
 """
-import argparse
 import os
 import shutil
 import subprocess
@@ -24,7 +23,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from frames_by_id import compare, scene_text  # noqa: E402
+from frames_by_id import compare, scene_arguments, scene_text  # noqa: E402
 
 
 def run_scene(args, name, nml_name, sets):
@@ -76,11 +75,7 @@ def wall_clock_checkpoints(args, failed):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--dpmpm", required=True)
-    ap.add_argument("--mpiexec", required=True)
-    ap.add_argument("--scene", required=True)
-    ap.add_argument("--workdir", required=True)
+    ap = scene_arguments(__doc__)
     ap.add_argument("--ranks", type=int, default=2)
     args = ap.parse_args()
     os.makedirs(args.workdir, exist_ok=True)

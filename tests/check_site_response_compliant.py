@@ -20,7 +20,7 @@ import sys
 import h5py
 import numpy as np
 
-from check_site_response import read_at2, run_scene
+from check_site_response import finish, read_at2, run_scene
 
 H, C = 10.0, 100.0
 RHO, RHO_R, C_R = 2000.0, 2500.0, 400.0
@@ -75,9 +75,7 @@ def main():
             fails.append(f"{name} error {val:.3e} above {bound:.1e}")
     if not abs(left / left_ref - 1.0) <= BOUND_LATE:
         fails.append(f"late surface velocity {left:.4f} against {left_ref:.4f}")
-    for msg in fails:
-        print("FAIL:", msg)
-    return 1 if fails else 0
+    return finish(fails)
 
 
 BOUND_V, BOUND_PEAK, BOUND_LATE = 1.7e-3, 1.0e-3, 1.0e-2

@@ -19,7 +19,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts", "python"))
 from dpmpm.motion import response_spectrum  # noqa: E402
 
-from check_site_response import read_at2, run_scene  # noqa: E402
+from check_site_response import finish, read_at2, run_scene  # noqa: E402
 
 H, C = 10.0, 100.0
 XI, F1, F2 = 0.05, 2.5, 12.5
@@ -80,9 +80,7 @@ def main():
                              ("spectrum", e_s, 1.9e-3)):
         if not val <= bound:
             fails.append(f"{name} error {val:.3e} above {bound:.1e}")
-    for msg in fails:
-        print("FAIL:", msg)
-    return 1 if fails else 0
+    return finish(fails)
 
 
 if __name__ == "__main__":

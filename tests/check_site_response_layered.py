@@ -34,7 +34,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "scripts", "python"))
 from dpmpm.motion import response_spectrum  # noqa: E402
 from dpmpm.scene import Scene  # noqa: E402
 
-from check_site_response import read_at2, run_scene  # noqa: E402
+from check_site_response import finish, read_at2, run_scene  # noqa: E402
 
 DT = 1.0e-4                              # the reference's sampling (s)
 PERIODS = np.geomspace(0.02, 2.0, 60)    # of the response spectra (s)
@@ -381,9 +381,7 @@ def main():
         col = column(scene)
         tin, vin = record(scene, os.path.dirname(os.path.abspath(argv[1])))
         fails = self_checks(col, tin, vin)
-        for msg in fails:
-            print("FAIL:", msg)
-        return 1 if fails else 0
+        return finish(fails)
     exe, mpiexec, nranks, path, work = argv[:5]
     cells = int(argv[argv.index("--cells") + 1]) if "--cells" in argv else None
     scene_dir = os.path.dirname(os.path.abspath(path))
@@ -408,9 +406,7 @@ def main():
                 fails.append(f"no bound for {what} of {scene.name}")
             elif not val <= bound:
                 fails.append(f"{what} error {val:.3e} above {bound:.1e}")
-    for msg in fails:
-        print("FAIL:", msg)
-    return 1 if fails else 0
+    return finish(fails)
 
 
 if __name__ == "__main__":

@@ -19,11 +19,13 @@ tied face):
 """
 import os
 import re
-import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_site_response import finish, run_text  # noqa: E402
 
 E, NU, RHO_S, RHO_F, N_F, H = 2.0e7, 0.3, 2650.0, 1000.0, 0.4594594594594595, 6.0
 ROUND_OFF = 1e-10
@@ -42,17 +44,7 @@ def scene_text(scene, t_end, probe):
 
 
 def run(exe, mpiexec, ranks, text, work):
-    os.makedirs(work, exist_ok=True)
-    with open(os.path.join(work, "scene.nml"), "w") as f:
-        f.write(text)
-    cmd = [os.path.abspath(exe), "scene.nml"]
-    if ranks > 1:
-        cmd = [mpiexec, "--oversubscribe", "-n", str(ranks)] + cmd
-    r = subprocess.run(cmd, cwd=work, capture_output=True, text=True, timeout=300)
-    if r.returncode != 0:
-        print(r.stdout[-3000:], r.stderr[-3000:])
-        raise SystemExit(1)
-    return os.path.join(work, "tied_saturated_2d.h5")
+    return run_text(exe, mpiexec, ranks, text, work, "tied_saturated_2d.h5", timeout=300)
 
 
 def frames(path):
@@ -149,9 +141,7 @@ def main():
     vmax = max(np.abs(s["solid"]["v"]).max() for s in f1.values())
     if not vmax > 0.1:
         fails.append(f"the column hardly moves (largest speed {vmax} m/s)")
-    for msg in fails:
-        print("FAIL:", msg)
-    return 1 if fails else 0
+    return finish(fails)
 
 
 if __name__ == "__main__":

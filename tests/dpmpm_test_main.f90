@@ -2,12 +2,12 @@
 !> passes printed by rank 0 only, and at the end the failures of all ranks counted, MPI
 !> finalized and the exit code that ctest reads (1 when a check failed).
 module dpmpm_test_main
-  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank
+  use mpi_f08, only: MPI_Finalize, MPI_COMM_WORLD, MPI_Comm_rank, MPI_Comm_size
   use dpmpm_mpi_start, only: start_mpi
   use dpmpm_assert, only: finish_tests, am_root
   implicit none
   private
-  public :: start_tests, end_tests
+  public :: start_tests, end_tests, test_dir
 
 contains
 
@@ -30,5 +30,18 @@ contains
     call MPI_Finalize()
     if (status /= 0) stop 1, quiet = .true.
   end subroutine end_tests
+
+  !> The directory a test program writes its runs into: out/<name>_np<ranks>, so that
+  !> ctest -j may run the program on 1 and on 2 ranks at once without either writing into
+  !> the other's files.
+  function test_dir(name) result(dir)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: dir
+    character(len=12) :: n
+    integer :: nranks
+    call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+    write (n, '(i0)') nranks
+    dir = 'out/'//name//'_np'//trim(n)
+  end function test_dir
 
 end module dpmpm_test_main

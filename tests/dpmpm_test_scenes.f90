@@ -1,10 +1,10 @@
 !> Scenes shared by the test programs.
 module dpmpm_test_scenes
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed
+  use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
   implicit none
   private
-  public :: grid_scene, column_scene
+  public :: grid_scene, column_scene, released_column
 
 contains
 
@@ -74,5 +74,23 @@ contains
     cfg%loads(1) = load_cfg_t(face=1, traction=[1.0_wp, 0.0_wp, 0.0_wp], ramp_time=0.0_wp)
     cfg%bc(2) = bc_fixed
   end function column_scene
+
+  !> Region 1 of cfg (material 1) the column of width 0.25 m and the given height (m) and
+  !> depth along z (m) at the origin, against a smooth wall (x-) on a rough floor (y-),
+  !> free on its right side, from sigma_yy = -rho g (H - y) and sigma_xx = sigma_zz =
+  !> K0 sigma_yy (rho in kg/m^3, g in m/s^2).
+  subroutine released_column(cfg, rho, g, height, depth, k0)
+    type(config_t), intent(inout) :: cfg
+    real(wp), intent(in) :: rho, g, height, depth, k0
+    real(wp) :: syy
+    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
+    cfg%regions(1)%hi = [0.25_wp, height, depth]
+    cfg%regions(1)%material = 1
+    syy = -rho*g*height
+    cfg%regions(1)%stress = [k0*syy, syy, k0*syy, 0.0_wp, 0.0_wp, 0.0_wp]
+    cfg%regions(1)%stress_gradient(:, 2) = -[k0*syy, syy, k0*syy, 0.0_wp, 0.0_wp, 0.0_wp]/height
+    cfg%bc(1) = bc_roller
+    cfg%bc(3) = bc_fixed
+  end subroutine released_column
 
 end module dpmpm_test_scenes

@@ -122,12 +122,17 @@ def compare(ref, other, rtol):
     return bad, worst
 
 
+def scene_arguments(doc):
+    """The options of a check that runs a scene (--dpmpm, --mpiexec, --scene, --workdir),
+    described by the first line of doc; the caller adds its own."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    for name in ("--dpmpm", "--mpiexec", "--scene", "--workdir"):
+        ap.add_argument(name, required=True)
+    return ap
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--dpmpm", required=True)
-    ap.add_argument("--mpiexec", required=True)
-    ap.add_argument("--scene", required=True)
-    ap.add_argument("--workdir", required=True)
+    ap = scene_arguments(__doc__)
     ap.add_argument("--set", action="append", default=[], type=lambda s: s.split("=", 1),
                     help="[GROUP.]KEY=VALUE (namelist syntax; the group defaults to run, "
                          "or output for dir and frame_interval)")

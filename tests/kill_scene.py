@@ -2,8 +2,10 @@
 a saturated column on a fixed floor under gravity (the two-phase part of the scene of
 check_stop_signal.py) with a frame at every step and a checkpoint every 25 steps, run on
 2 ranks."""
+import os
 import pathlib
 import shutil
+import signal
 import subprocess
 import sys
 
@@ -36,6 +38,20 @@ def run_two_ranks(mpiexec, dpmpm, work, args):
     r = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", dpmpm] + args, cwd=work,
                        capture_output=True, text=True, timeout=600)
     return r.returncode, r.stdout + r.stderr
+
+
+def kill_run(p):
+    """SIGKILL to the ranks of the run p (the children of its mpiexec), then to p itself;
+    waits for p."""
+    ranks = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True,
+                           text=True).stdout.split()
+    for pid in ranks:
+        try:
+            os.kill(int(pid), signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    p.kill()
+    p.wait()
 
 
 class KillCheck:

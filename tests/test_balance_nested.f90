@@ -12,6 +12,7 @@ program test_balance_nested
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_equal_int
   use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_compare, only: reldiff
   implicit none
   integer :: rank
   character(len=512) :: path
@@ -48,12 +49,6 @@ contains
     steps = sim%step
     call sim%free()
   end subroutine run_with
-
-  !> Normwise relative difference max|a - b| / max|b|.
-  real(wp) function reldiff(a, b)
-    real(wp), intent(in) :: a(:, :), b(:, :)
-    reldiff = maxval(abs(a - b))/max(maxval(abs(b)), tiny(1.0_wp))
-  end function reldiff
 
   subroutine test_nested_split_runs_the_column_as_the_even_one()
     integer(i8), allocatable :: ida(:), idb(:)

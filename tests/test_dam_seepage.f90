@@ -43,7 +43,7 @@ contains
   !> The dam of 10 x 12 cells of 0.1 m with the scene's choices (linear grid functions with
   !> the fields reconstructed at one Gauss point per cell, 2 x 2 points per cell and phase,
   !> flip 0.9, cell smoothing of the pore pressure, no tension in the water) from the
-  !> saturated start to 6 s, and to 4 s for the count of the fluid points. Measured (1 and
+  !> saturated start to 6 s, counting the fluid points at 4 s on the way. Measured (1 and
   !> 2 ranks alike): free surface (the highest water point of each column of cells plus a
   !> quarter cell) minus the reference at the column's centre 0.021 mean and 0.084 largest;
   !> pore pressure of the water points more than a cell below the reference surface minus
@@ -57,8 +57,9 @@ contains
     call baiocchi(w, h)
     call run_dam(4.0_wp, .true., sim)
     nf4 = fluid_count(sim)
-    call sim%free()
-    call run_dam(6.0_wp, .true., sim)
+    ! the same run on to 6 s (its step at 4 s shortened to end there)
+    sim%cfg%t_end = 6.0_wp
+    call sim%run()
     nf6 = fluid_count(sim)
     call surface_and_pressure(sim, w, h, err, rms)
     call sim%free()

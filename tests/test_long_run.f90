@@ -102,16 +102,25 @@ contains
     call sim%free()
   end subroutine run
 
+  !> cfg run over 20 transits: it gets there, its largest kinetic energy at most ke_bound
+  !> and its largest energy against the work done and the initial energy at most
+  !> ratio_bound.
+  subroutine check_bounded(cfg, ke_bound, ratio_bound)
+    type(config_t), intent(in) :: cfg
+    real(wp), intent(in) :: ke_bound, ratio_bound
+    real(wp) :: ke, ratio, t
+    call run(cfg, ke, ratio, t)
+    call check(t >= TRANSITS*(1.0_wp - 1.0e-12_wp), 'ran 20 transits')
+    call check(ke <= ke_bound, 'largest kinetic energy within bound')
+    call check(ratio <= ratio_bound, 'energy / (work done + initial energy) within bound')
+  end subroutine check_bounded
+
   !> Standard MPM on 2 + 2 points scattered in each cell (the points of
   !> tests/test_two_phase.f90), 20 transits at cfl 0.5: the energy stays at the
   !> physical level.
   subroutine test_w1_standard_bounded_over_20_transits()
-    real(wp) :: ke, ratio, t
     call begin_test('w1_standard_bounded_over_20_transits')
-    call run(w1_scene('random', 5, .false.), ke, ratio, t)
-    call check(t >= TRANSITS*(1.0_wp - 1.0e-12_wp), 'ran 20 transits')
-    call check(ke <= STD_KE, 'largest kinetic energy within bound')
-    call check(ratio <= STD_RATIO, 'energy / (work done + initial energy) within bound')
+    call check_bounded(w1_scene('random', 5, .false.), STD_KE, STD_RATIO)
   end subroutine test_w1_standard_bounded_over_20_transits
 
   !> The same without the remap correction (remap_drag = .false., the monitor off):
@@ -130,22 +139,14 @@ contains
   !> The MLS pair (doc/theory.md 3.6) on the uniform scatter of inputs/w1.nml (seed 1),
   !> 20 transits at cfl 0.5.
   subroutine test_w1_pair_uniform_scatter_bounded_over_20_transits()
-    real(wp) :: ke, ratio, t
     call begin_test('w1_pair_uniform_scatter_bounded_over_20_transits')
-    call run(w1_scene('uniform', 1, .true.), ke, ratio, t)
-    call check(t >= TRANSITS*(1.0_wp - 1.0e-12_wp), 'ran 20 transits')
-    call check(ke <= PAIR_KE, 'largest kinetic energy within bound')
-    call check(ratio <= PAIR_RATIO, 'energy / (work done + initial energy) within bound')
+    call check_bounded(w1_scene('uniform', 1, .true.), PAIR_KE, PAIR_RATIO)
   end subroutine test_w1_pair_uniform_scatter_bounded_over_20_transits
 
   !> The 2D column of inputs/w1_2d.nml with Standard MPM over 20 transits at cfl 0.5.
   subroutine test_w1_2d_standard_bounded_over_20_transits()
-    real(wp) :: ke, ratio, t
     call begin_test('w1_2d_standard_bounded_over_20_transits')
-    call run(w1_scene('uniform', 1, .false., dims=2), ke, ratio, t)
-    call check(t >= TRANSITS*(1.0_wp - 1.0e-12_wp), 'ran 20 transits')
-    call check(ke <= STD2_KE, 'largest kinetic energy within bound')
-    call check(ratio <= STD2_RATIO, 'energy / (work done + initial energy) within bound')
+    call check_bounded(w1_scene('uniform', 1, .false., dims=2), STD2_KE, STD2_RATIO)
   end subroutine test_w1_2d_standard_bounded_over_20_transits
 
   !> W3 with quadratic B-splines over 100 transits: ends without a monitor stop.

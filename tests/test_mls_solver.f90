@@ -18,6 +18,7 @@ program test_mls_solver
   use dpmpm_benchmarks, only: benchmark_errors
   use dpmpm_assert, only: begin_test, check
   use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_compare, only: reldiff
   implicit none
   call start_tests()
   call test_standard_mpm_is_linear_constant_mls()
@@ -89,11 +90,6 @@ contains
     drift = sim%energy_drift
     call sim%free()
   end subroutine run
-
-  real(wp) function reldiff(a, b)
-    real(wp), intent(in) :: a(:, :), b(:, :)
-    reldiff = maxval(abs(a - b))/max(maxval(abs(b)), tiny(1.0_wp))
-  end function reldiff
 
   !> The projection v_I = sum N m v / sum N m of Standard MPM and the MLS path with
   !> the linear tensor weight, constant basis and mass weights give the same run.

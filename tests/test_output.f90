@@ -658,17 +658,8 @@ contains
     character(len=*), intent(in) :: path
     integer, intent(in) :: n
     real(wp), allocatable, target :: buf(:)
-    integer(hid_t) :: dset
-    integer :: err
-    type(c_ptr) :: ptr
     allocate (buf(max(n, 1)))
-    call h5dopen_f(fid, path, dset, err)
-    call ok(err, 'h5dopen_f('//path//')')
-    ptr = c_loc(buf)
-    call h5dread_f(dset, h5kind_to_type(wp, H5_REAL_KIND), ptr, err)
-    call ok(err, 'h5dread_f('//path//')')
-    call h5dclose_f(dset, err)
-    call ok(err, 'h5dclose_f')
+    call read_into(fid, path, h5kind_to_type(wp, H5_REAL_KIND), c_loc(buf))
     buf = buf(1:n)
   end function read_real
 
@@ -677,17 +668,8 @@ contains
     character(len=*), intent(in) :: path
     integer, intent(in) :: n
     integer(i8), allocatable, target :: buf(:)
-    integer(hid_t) :: dset
-    integer :: err
-    type(c_ptr) :: ptr
     allocate (buf(max(n, 1)))
-    call h5dopen_f(fid, path, dset, err)
-    call ok(err, 'h5dopen_f('//path//')')
-    ptr = c_loc(buf)
-    call h5dread_f(dset, h5kind_to_type(i8, H5_INTEGER_KIND), ptr, err)
-    call ok(err, 'h5dread_f('//path//')')
-    call h5dclose_f(dset, err)
-    call ok(err, 'h5dclose_f')
+    call read_into(fid, path, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(buf))
     buf = buf(1:n)
   end function read_i8
 
@@ -696,19 +678,28 @@ contains
     character(len=*), intent(in) :: path
     integer, intent(in) :: n
     integer(i4), allocatable, target :: buf(:)
+    allocate (buf(max(n, 1)))
+    call read_into(fid, path, h5kind_to_type(i4, H5_INTEGER_KIND), c_loc(buf))
+    buf = buf(1:n)
+  end function read_i4
+
+  !> The whole dataset path of fid, read as memory type mtype into the buffer at ptr
+  !> (large enough for it: read_real, read_i8, read_i4).
+  subroutine read_into(fid, path, mtype, ptr)
+    integer(hid_t), intent(in) :: fid, mtype
+    character(len=*), intent(in) :: path
+    type(c_ptr), intent(in) :: ptr
+    type(c_ptr) :: buf
     integer(hid_t) :: dset
     integer :: err
-    type(c_ptr) :: ptr
-    allocate (buf(max(n, 1)))
+    buf = ptr
     call h5dopen_f(fid, path, dset, err)
     call ok(err, 'h5dopen_f('//path//')')
-    ptr = c_loc(buf)
-    call h5dread_f(dset, h5kind_to_type(i4, H5_INTEGER_KIND), ptr, err)
+    call h5dread_f(dset, mtype, buf, err)
     call ok(err, 'h5dread_f('//path//')')
     call h5dclose_f(dset, err)
     call ok(err, 'h5dclose_f')
-    buf = buf(1:n)
-  end function read_i4
+  end subroutine read_into
 
   !> A scalar fixed-length string dataset, trailing NULs removed.
   function read_string_dataset(fid, path) result(s)

@@ -9,17 +9,18 @@ program test_plastic_scene
   use dpmpm_kinds, only: wp, i8, mpi_wp
   use dpmpm_config, only: config_t, material_cfg_t, region_cfg_t, bc_fixed, bc_roller, &
                           resolve_geostatic
-  use dpmpm_test_scenes, only: grid_scene
+  use dpmpm_test_scenes, only: grid_scene, released_column
   use dpmpm_simulation, only: simulation_t
   use dpmpm_plasticity, only: plastic_setup, softening_limit, surface_mohr_coulomb, &
                               dp_plane_strain
   use dpmpm_assert, only: begin_test, check, am_root
-  use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_main, only: start_tests, end_tests, test_dir
   implicit none
-  character(len=*), parameter :: dir = 'out/test_plastic_scene'
+  character(len=:), allocatable :: dir   !< out/test_plastic_scene_np<ranks>
   real(wp), parameter :: rho = 2000.0_wp, g = 9.81_wp, height = 0.375_wp, k0 = 0.3_wp
   integer :: rank
   call start_tests(rank)
+  dir = test_dir('test_plastic_scene')
   call test_elastic_scene_has_no_plastic_history()
   call test_softening_column_restarts_exactly()
   call test_kicked_box_without_tension_gains_no_energy()
@@ -36,7 +37,6 @@ contains
     character(len=*), intent(in) :: model
     integer, intent(in) :: max_steps
     type(config_t) :: cfg
-    real(wp) :: syy
     cfg = grid_scene('plastic', [16, 8], [1.0_wp, 0.5_wp], 1.0_wp, cfl=0.4_wp, &
                      max_steps=max_steps, gravity=[0.0_wp, -g])
     cfg%output_dir = dir
@@ -46,14 +46,7 @@ contains
                                       poisson_ratio=0.3_wp, friction_angle=25.0_wp, &
                                       dilatancy_angle=10.0_wp, cohesion=500.0_wp, &
                                       cohesion_softening=3.0e4_wp, residual_cohesion=100.0_wp)
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [0.25_wp, height, 1.0_wp]
-    cfg%regions(1)%material = 1
-    syy = -rho*g*height
-    cfg%regions(1)%stress = [k0*syy, syy, k0*syy, 0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%stress_gradient(:, 2) = -[k0*syy, syy, k0*syy, 0.0_wp, 0.0_wp, 0.0_wp]/height
-    cfg%bc(1) = bc_roller
-    cfg%bc(3) = bc_fixed
+    call released_column(cfg, rho, g, height, 1.0_wp, k0)
   end function scene
 
   subroutine test_elastic_scene_has_no_plastic_history()

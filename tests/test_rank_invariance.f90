@@ -10,6 +10,7 @@ program test_rank_invariance
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check
   use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_compare, only: reldiff
   implicit none
   integer :: rank, nworld
   call start_tests(rank)
@@ -152,12 +153,6 @@ contains
       call MPI_Comm_free(sub)
     end if
   end subroutine run_on
-
-  !> Normwise relative difference max|a - b| / max|b|.
-  real(wp) function reldiff(a, b)
-    real(wp), intent(in) :: a(:, :), b(:, :)
-    reldiff = maxval(abs(a - b))/max(maxval(abs(b)), tiny(1.0_wp))
-  end function reldiff
 
   subroutine test_same_fields_on_1_2_4_ranks(kernel, scheme, mls)
     character(len=*), intent(in) :: kernel, scheme

@@ -8,9 +8,9 @@ program test_restart
   use dpmpm_test_scenes, only: grid_scene
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check
-  use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_main, only: start_tests, end_tests, test_dir
   implicit none
-  character(len=*), parameter :: dir = 'out/test_restart'
+  character(len=:), allocatable :: dir   !< out/test_restart_np<ranks>
   integer :: rank, nranks
   !> &run sort_every of the scene (0: the points are never sorted)
   integer :: sort_interval = 0
@@ -19,6 +19,7 @@ program test_restart
   !> steps of the run in one go (the checkpoint at half of them)
   integer :: nsteps = 40
   call start_tests(rank)
+  dir = test_dir('test_restart')
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   call test_restart_continues_the_run_exactly()
   call test_restart_with_sorted_points_continues_exactly()

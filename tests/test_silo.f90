@@ -15,9 +15,9 @@ program test_silo
   use dpmpm_input, only: read_input
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, check_equal_int, am_root
-  use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_main, only: start_tests, end_tests, test_dir
   implicit none
-  character(len=*), parameter :: dir = 'out/test_silo'
+  character(len=:), allocatable :: dir   !< out/test_silo_np<ranks>
   real(wp), parameter :: cell = 0.01_wp, width = 0.04_wp
   !> the rates from 0.1 to 0.2 s and from 0.2 to 0.3 s: their measured difference is
   !> below steady_bound of the rate (the measured difference and a margin)
@@ -32,6 +32,7 @@ program test_silo
   integer(i8), allocatable :: ids(:)
   real(wp), allocatable :: x(:, :)
   call start_tests()
+  dir = test_dir('test_silo')
   call get_command_argument(1, path)
   call run_discharge()
   call test_discharge_rate_steady_as_the_fill_drops()

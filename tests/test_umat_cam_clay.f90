@@ -104,18 +104,23 @@ contains
                'the paths harden the soil')
   end subroutine random_paths
 
-  subroutine test_cam_clay_umat_matches_cam_clay_in_3d()
+  !> The random paths (plane strain where plane) give both materials the same stress,
+  !> p_c, e, volume, dissipation and stored energy to round-off.
+  subroutine check_random_paths(plane)
+    logical, intent(in) :: plane
     real(wp) :: d(6)
-    call begin_test('cam_clay_umat_matches_cam_clay_in_3d')
-    call random_paths(.false., d)
+    call random_paths(plane, d)
     call check(all(d <= tol), 'stress, p_c, e, volume, dissipation, energy within round-off')
+  end subroutine check_random_paths
+
+  subroutine test_cam_clay_umat_matches_cam_clay_in_3d()
+    call begin_test('cam_clay_umat_matches_cam_clay_in_3d')
+    call check_random_paths(.false.)
   end subroutine test_cam_clay_umat_matches_cam_clay_in_3d
 
   subroutine test_cam_clay_umat_matches_cam_clay_in_plane_strain()
-    real(wp) :: d(6)
     call begin_test('cam_clay_umat_matches_cam_clay_in_plane_strain')
-    call random_paths(.true., d)
-    call check(all(d <= tol), 'stress, p_c, e, volume, dissipation, energy within round-off')
+    call check_random_paths(.true.)
   end subroutine test_cam_clay_umat_matches_cam_clay_in_plane_strain
 
   !> STATEV zero: the UMAT's first call takes p_c = OCR (p + q^2/(M^2 p)) from the stress

@@ -93,22 +93,25 @@ contains
     call check(w == 0.0_wp, 'no dissipation')
   end subroutine random_paths
 
-  subroutine test_elastic_umat_matches_linear_elastic_in_3d()
+  !> The random paths (plane strain where plane) give both materials the same stress,
+  !> volume and stored energy to round-off.
+  subroutine check_random_paths(plane)
+    logical, intent(in) :: plane
     real(wp) :: ds, dv, de
-    call begin_test('elastic_umat_matches_linear_elastic_in_3d')
-    call random_paths(.false., ds, dv, de)
+    call random_paths(plane, ds, dv, de)
     call check_close(ds, 0.0_wp, 0.0_wp, tol, 'stress')
     call check_close(dv, 0.0_wp, 0.0_wp, tol, 'volume')
     call check_close(de, 0.0_wp, 0.0_wp, tol, 'stored energy')
+  end subroutine check_random_paths
+
+  subroutine test_elastic_umat_matches_linear_elastic_in_3d()
+    call begin_test('elastic_umat_matches_linear_elastic_in_3d')
+    call check_random_paths(.false.)
   end subroutine test_elastic_umat_matches_linear_elastic_in_3d
 
   subroutine test_elastic_umat_matches_linear_elastic_in_plane_strain()
-    real(wp) :: ds, dv, de
     call begin_test('elastic_umat_matches_linear_elastic_in_plane_strain')
-    call random_paths(.true., ds, dv, de)
-    call check_close(ds, 0.0_wp, 0.0_wp, tol, 'stress')
-    call check_close(dv, 0.0_wp, 0.0_wp, tol, 'volume')
-    call check_close(de, 0.0_wp, 0.0_wp, tol, 'stored energy')
+    call check_random_paths(.true.)
   end subroutine test_elastic_umat_matches_linear_elastic_in_plane_strain
 
   !> Without spin, STRAN (state 1:6, dpmpm's order, engineering shears) is the sum of the

@@ -9,7 +9,8 @@
 program test_umat_scene
   use mpi_f08, only: MPI_COMM_WORLD, MPI_Allreduce, MPI_IN_PLACE, MPI_MAX
   use dpmpm_kinds, only: wp, i8, mpi_wp
-  use dpmpm_config, only: config_t, material_cfg_t, bc_fixed, bc_roller, max_props
+  use dpmpm_config, only: config_t, material_cfg_t, bc_roller, max_props
+  use dpmpm_test_scenes, only: grid_scene, released_column
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check
   use dpmpm_test_main, only: start_tests, end_tests
@@ -41,15 +42,11 @@ contains
     character(len=*), intent(in) :: model
     integer, intent(in) :: ndim, nsteps
     type(config_t) :: cfg
-    real(wp) :: syy, props(max_props)
-    cfg%name = 'umat_scene'
-    cfg%ndim = ndim
-    cfg%ncells = [16, 8, merge(4, 1, ndim == 3)]
-    cfg%length = [1.0_wp, 0.5_wp, merge(0.25_wp, 1.0_wp, ndim == 3)]
-    cfg%t_end = 1.0_wp
-    cfg%max_steps = nsteps
-    cfg%cfl = 0.4_wp
-    cfg%gravity = [0.0_wp, -g, 0.0_wp]
+    integer, parameter :: cells(3) = [16, 8, 4]
+    real(wp), parameter :: lengths(3) = [1.0_wp, 0.5_wp, 0.25_wp]
+    real(wp) :: props(max_props)
+    cfg = grid_scene('umat_scene', cells(1:ndim), lengths(1:ndim), 1.0_wp, cfl=0.4_wp, &
+                     max_steps=nsteps, gravity=[0.0_wp, -g])
     cfg%dims = [1, 0, 1]   ! ranks along y: on 2 ranks the column spans both
     props = 0.0_wp
     props(1:2) = [1.0e6_wp, 0.3_wp]
@@ -61,14 +58,7 @@ contains
       cfg%materials(1)%umat_nprops = 2
       cfg%materials(1)%umat_nstatev = 2
     end if
-    cfg%regions(1)%lo = [0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%hi = [0.25_wp, height, merge(0.25_wp, 1.0_wp, ndim == 3)]
-    cfg%regions(1)%material = 1
-    syy = -rho*g*height
-    cfg%regions(1)%stress = [k0*syy, syy, k0*syy, 0.0_wp, 0.0_wp, 0.0_wp]
-    cfg%regions(1)%stress_gradient(:, 2) = -[k0*syy, syy, k0*syy, 0.0_wp, 0.0_wp, 0.0_wp]/height
-    cfg%bc(1) = bc_roller
-    cfg%bc(3) = bc_fixed
+    call released_column(cfg, rho, g, height, merge(0.25_wp, 1.0_wp, ndim == 3), k0)
     if (ndim == 3) cfg%bc(5:6) = bc_roller
   end function scene
 

@@ -16,14 +16,15 @@ program test_write_check
   use dpmpm_kinds, only: wp, i8, mpi_i8
   use dpmpm_h5, only: h5check, make_dir, write_columns, write_check_t
   use dpmpm_assert, only: begin_test, check, check_equal_int
-  use dpmpm_test_main, only: start_tests, end_tests
+  use dpmpm_test_main, only: start_tests, end_tests, test_dir
   implicit none
-  character(len=*), parameter :: dir = 'out/test_write_check'
+  character(len=:), allocatable :: dir   !< out/test_write_check_np<ranks>
   integer, parameter :: m = 3
   integer :: rank, nranks, err
   integer(i8) :: nloc, offset, nglob
   integer(hid_t) :: file, dxpl, fapl
   call start_tests(rank)
+  dir = test_dir('test_write_check')
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   ! Rank r holds 4 + r points (the last rank none when there are 3 or more).
   nloc = merge(0_i8, int(4 + rank, i8), nranks >= 3 .and. rank == nranks - 1)

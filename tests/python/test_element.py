@@ -92,15 +92,22 @@ def test_element_cli_refuses_a_scene_file(tmp_path):
     assert r.returncode == 2 and "not an element-test file" in r.stderr
 
 
-def test_example_element_test_runs_and_plots(workdir):
+def element_run(workdir, name):
+    """The dpmpm_element executable (the test skipped without one) and a fresh directory
+    workdir/name to run it in."""
     exe = os.environ.get("DPMPM_ELEMENT_BIN")
     if not exe:
         pytest.skip("DPMPM_ELEMENT_BIN not set: no dpmpm_element executable to run")
-    d = os.path.join(workdir, "element")
+    d = os.path.join(workdir, name)
     shutil.rmtree(d, ignore_errors=True)
     os.makedirs(d)
+    return os.path.abspath(exe), d
+
+
+def test_example_element_test_runs_and_plots(workdir):
+    exe, d = element_run(workdir, "element")
     nml = os.path.join(ROOT, "inputs", "element", "triaxial_drained.nml")
-    r = subprocess.run([os.path.abspath(exe), nml], capture_output=True, text=True, cwd=d)
+    r = subprocess.run([exe, nml], capture_output=True, text=True, cwd=d)
     assert r.returncode == 0, r.stdout + r.stderr
     h5 = os.path.join(d, "out", "element_triaxial_drained.h5")
     t = dpmpm.read_element(h5)
@@ -116,14 +123,9 @@ def test_example_element_test_runs_and_plots(workdir):
 
 
 def test_element_check_prints_parameters_that_read_back(workdir):
-    exe = os.environ.get("DPMPM_ELEMENT_BIN")
-    if not exe:
-        pytest.skip("DPMPM_ELEMENT_BIN not set: no dpmpm_element executable to run")
-    d = os.path.join(workdir, "element_check")
-    shutil.rmtree(d, ignore_errors=True)
-    os.makedirs(d)
+    exe, d = element_run(workdir, "element_check")
     nml = os.path.join(ROOT, "inputs", "element", "triaxial_drained.nml")
-    first = subprocess.run([os.path.abspath(exe), "--check", nml], capture_output=True,
+    first = subprocess.run([exe, "--check", nml], capture_output=True,
                            text=True, cwd=d)
     assert first.returncode == 0, first.stderr
     assert "&material" in first.stdout and "&element" in first.stdout

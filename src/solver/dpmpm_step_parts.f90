@@ -5,6 +5,7 @@
 !> the step's time.
 module dpmpm_step_parts
   use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: node_slots_t, node_slots
   use dpmpm_error, only: fatal
   use dpmpm_config, only: bc_free, fbc_drained
   use dpmpm_mls_velocity, only: velocity_fold_signs
@@ -78,11 +79,13 @@ contains
   subroutine add_surface_forces(self)
     class(state_t), intent(inout) :: self
     integer :: nd
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     associate (s => self%phase(solid_phase)%node, olo => self%dec%olo, ohi => self%dec%ohi)
       call surface_forces(self%bnd%faces, self%time, nd, self%dec%alo, olo, ohi, s, self%dec%comm, self%sforce)
-      s(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = &
-        s(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) + &
+      s(sl%force_lo:sl%force_hi, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = &
+        s(sl%force_lo:sl%force_hi, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) + &
         self%sforce(1:nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3))
     end associate
   end subroutine add_surface_forces
@@ -93,14 +96,17 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     integer :: i, j, k, nd
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     associate (v => self%phase(solid_phase)%nvel, olo => self%dec%olo, ohi => self%dec%ohi)
       do k = olo(3), ohi(3)
         do j = olo(2), ohi(2)
           do i = olo(1), ohi(1)
             if (all(self%sforce(1:nd, i, j, k) == 0.0_wp)) cycle
             self%ext_work = self%ext_work + 0.5_wp*dt*dot_product(self%sforce(1:nd, i, j, k), &
-                                                                  v(1:nd, i, j, k) + v(nd + 1:2*nd, i, j, k))
+                                                                  v(sl%old_lo:sl%old_hi, i, j, k) + &
+                                                                  v(sl%new_lo:sl%new_hi, i, j, k))
           end do
         end do
       end do
@@ -358,7 +364,9 @@ contains
     real(wp), intent(in) :: pf(:)
     real(wp), allocatable :: ff(:, :, :, :), fs(:, :, :, :)
     integer :: nd
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     allocate (ff(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                  self%dec%alo(3):self%dec%ahi(3)))
     ff = 0.0_wp
@@ -371,8 +379,8 @@ contains
     call self%mirror%fold(fs, 0, self%phase(1)%bc)
     call self%dec%halo_sum(ff)
     call self%dec%halo_sum(fs)
-    self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(2)%node(2 + nd:1 + 2*nd, :, :, :) + ff
-    self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) = self%phase(1)%node(2 + nd:1 + 2*nd, :, :, :) + fs
+    self%phase(2)%node(sl%force_lo:sl%force_hi, :, :, :) = self%phase(2)%node(sl%force_lo:sl%force_hi, :, :, :) + ff
+    self%phase(1)%node(sl%force_lo:sl%force_hi, :, :, :) = self%phase(1)%node(sl%force_lo:sl%force_hi, :, :, :) + fs
   end subroutine add_interphase_force
 
   !> Gravity at the start of the step: ramped linearly over the first half of the

@@ -354,7 +354,7 @@ contains
       do k = olo(3), ohi(3)
         do j = olo(2), ohi(2)
           do i = olo(1), ohi(1)
-            nI = self%nporo(1, i, j, k)
+            nI = self%cpl%nporo(1, i, j, k)
             fn(sl%force_lo:sl%force_hi, i, j, k) = fn(sl%force_lo:sl%force_hi, i, j, k) + nI*gpf(1:nd, i, j, k)
             sn(sl%force_lo:sl%force_hi, i, j, k) = sn(sl%force_lo:sl%force_hi, i, j, k) + (1.0_wp - nI)*gps(1:nd, i, j, k)
           end do
@@ -447,8 +447,8 @@ contains
       uf = f%nvel
       us = s%nvel
       do c = nd + 1, 2*nd
-        uf(c, :, :, :) = self%nporo(1, :, :, :)*uf(c, :, :, :)
-        us(c, :, :, :) = (1.0_wp - self%nporo(1, :, :, :))*us(c, :, :, :)
+        uf(c, :, :, :) = self%cpl%nporo(1, :, :, :)*uf(c, :, :, :)
+        us(c, :, :, :) = (1.0_wp - self%cpl%nporo(1, :, :, :))*us(c, :, :, :)
       end do
       f%divf(1:nf) = f%pts%porosity(1:nf)*f%divf(1:nf) + mix(1:nf)
       f%divs(1:nf) = (1.0_wp - f%pts%porosity(1:nf))*f%divs(1:nf)

@@ -70,7 +70,7 @@ contains
         ! (tied faces: at each pair as one node)
         if (tied) call join_tied(self, tsave)
         call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, &
-                             f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
+                             f%node, self%cpl%ndrag, dt, s%nvel, f%nvel, lockv)
         if (tied) call split_tied(self, tsave, lockv)
       end associate
       call self%dec%halo_copy(lockv)
@@ -113,7 +113,7 @@ contains
           call remove_split(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, f%node, &
                             s%node(sl%force_lo:sl%force_hi, :, :, :), f%node(sl%force_lo:sl%force_hi, :, :, :), s%nvel, f%nvel)
           call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, &
-                              f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
+                              f%node, self%cpl%ndrag, dt, wstep, s%nvel, f%nvel)
         end if
         ! the corrections keep the pair's momentum; the skeleton at rigid nodes keeps v_r
         if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, &
@@ -236,7 +236,7 @@ contains
                       dec%comm)
       call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, save%f, &
                       dec%comm)
-      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, save%d, &
+      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%cpl%ndrag, save%d, &
                       dec%comm)
     end associate
   end subroutine join_tied
@@ -251,7 +251,7 @@ contains
     associate (s => self%phase(solid_phase), f => self%phase(fluid_phase), dec => self%dec)
       call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, s%node, save%s)
       call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, save%f)
-      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, save%d)
+      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%cpl%ndrag, save%d)
       if (present(field)) then
         call copy_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, field, dec%comm)
         return

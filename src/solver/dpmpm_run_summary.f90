@@ -131,7 +131,7 @@ contains
                field_bytes(self%phase(ip)%glg) + field_bytes(self%phase(ip)%gacc2) + &
                field_bytes(self%phase(ip)%glg2) + field_bytes(self%phase(ip)%nvol)
     end do
-    gbytes = gbytes + field_bytes(self%nporo) + field_bytes(self%ndrag)
+    gbytes = gbytes + field_bytes(self%cpl%nporo) + field_bytes(self%cpl%ndrag)
     nodes = product(int(self%dec%ahi - self%dec%alo + 1, i8))
     kib = peak_resident_kib()
     npts = 0

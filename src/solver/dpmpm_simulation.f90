@@ -368,8 +368,7 @@ contains
     end do
     if (allocated(self%occ)) deallocate (self%occ)
     if (allocated(self%occ2)) deallocate (self%occ2)
-    if (allocated(self%nporo)) deallocate (self%nporo)
-    if (allocated(self%ndrag)) deallocate (self%ndrag)
+    call self%cpl%free()
     if (allocated(self%sforce)) deallocate (self%sforce)
     if (allocated(self%rnode)) deallocate (self%rnode)
     associate (lo => self%dec%alo, hi => self%dec%ahi)
@@ -405,8 +404,8 @@ contains
       if (self%two_phase) then
         allocate (self%phase(2)%node, mold=self%phase(1)%node)
         allocate (self%phase(2)%nvel, mold=self%phase(1)%nvel)
-        allocate (self%nporo(3, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        allocate (self%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (self%cpl%nporo(3, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (self%cpl%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         if (self%plan%gauss) then
           ! The fluid's fields are the pore pressure's shares, isotropic: one per Gauss point.
           self%phase(2)%giso = .true.
@@ -798,13 +797,12 @@ contains
     end do
     self%nph = 1
     call self%dec%free()
-    if (allocated(self%nporo)) deallocate (self%nporo)
+    call self%cpl%free()
     if (allocated(self%rnode)) deallocate (self%rnode)
     if (allocated(self%sforce)) deallocate (self%sforce)
     self%has_surface_loads = .false.
     if (allocated(self%drive_hist)) deallocate (self%drive_hist)
     self%has_rigid = .false.
-    if (allocated(self%ndrag)) deallocate (self%ndrag)
     if (allocated(self%occ)) deallocate (self%occ)
     if (allocated(self%occ2)) deallocate (self%occ2)
     call self%bnd%free()

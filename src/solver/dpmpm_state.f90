@@ -16,7 +16,7 @@ module dpmpm_state
   use dpmpm_two_phase_verify, only: error_name_len
   use dpmpm_mirror, only: mirror_t
   use dpmpm_boundary, only: boundary_t
-  use dpmpm_phase, only: phase_t
+  use dpmpm_phase, only: phase_t, coupling_t
   implicit none
   private
   public :: state_t, exit_bad_input, exit_stopped, exit_monitor
@@ -47,10 +47,8 @@ module dpmpm_state
     !> the faces' conditions (dpmpm_boundary): each phase's kinds, the pore fluid's, tied
     !> faces, the rigid base, the face loads
     type(boundary_t) :: bnd
-    ! Two-phase node fields of the porous solid points (dpmpm_pore_pressure): nodal
-    ! porosity (1 where there is no porous solid), porous mass, 1/k (0 there); and the
-    ! drag coefficient D (kg/s).
-    real(wp), allocatable :: nporo(:, :, :, :), ndrag(:, :, :, :)
+    !> the node fields that couple the two phases: nodal porosity, porous mass, 1/k, drag
+    type(coupling_t) :: cpl
     real(wp) :: kf_max = 0.0_wp, rhof_min = 0.0_wp !< stiffest, lightest pore fluid (CFL)
     real(wp) :: dt_wave = 0.0_wp, dt_drag = huge(1.0_wp) !< the two limits of the last step
     integer :: governing = 0                  !< limit that set the last step: 1 wave, 2 drag

@@ -171,8 +171,8 @@ contains
     w%fluid_mom = w%coupled
     if (w%coupled) then
       w%fluid_mom = .not. allocated(self%phase(fluid_phase)%bacc)
-      self%nporo = 0.0_wp
-      self%ndrag = 0.0_wp
+      self%cpl%nporo = 0.0_wp
+      self%cpl%ndrag = 0.0_wp
       associate (s => self%phase(solid_phase)%pts)
         allocate (w%skinv(w%ns))
         call skeleton_kinv(w%ns, self%mats, s%mat, s%porosity, s%vol, s%vol0, w%skinv)
@@ -189,10 +189,10 @@ contains
                    ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node, ph%bacc)
           if (w%coupled .and. ip == solid_phase) &
             call solid_porosity_p2g(ph%st%nw, w%ns, ph%st%i0, ph%st%sw, ps%mass, ps%porosity, w%skinv, &
-                                    self%dec%alo, self%nporo)
+                                    self%dec%alo, self%cpl%nporo)
         else if (w%coupled .and. ip == solid_phase) then
           call porous_p2g(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
-                          .not. self%plan%gauss, self%dec%alo, ph%node, ps%porosity, w%skinv, self%nporo)
+                          .not. self%plan%gauss, self%dec%alo, ph%node, ps%porosity, w%skinv, self%cpl%nporo)
         else
           call p2g(nd, ph%st%nw, ps%n, ph%st%i0, ph%st%sw, ph%st%sdw, ps%mass, ps%v, ps%vol, ps%stress, &
                    ip == solid_phase .and. .not. self%plan%gauss, self%dec%alo, ph%node)
@@ -210,7 +210,7 @@ contains
         end if
         call fluid_p2g(nd, f%st%nw, w%nf, f%st%i0, f%st%sw, f%st%sdw, f%pts%mass, f%pts%v, f%pts%vol, &
                        f%pts%porosity, f%pts%pressure, f%pts%kinv, w%fluid_mom, &
-                       (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%ndrag, w%fvol)
+                       (.not. self%plan%gauss), self%dec%alo, s%node, f%node, self%cpl%ndrag, w%fvol)
       end associate
     end if
   end subroutine phases_p2g
@@ -256,8 +256,8 @@ contains
       if (self%plan%gauss) call self%mirror%fold(self%phase(ip)%nvol, 2, self%phase(ip)%bc)
     end do
     if (w%coupled) then
-      call self%mirror%fold(self%nporo, 3, self%bnd%kind(:, 1))
-      call self%mirror%fold(self%ndrag, 1, self%phase(fluid_phase)%bc)
+      call self%mirror%fold(self%cpl%nporo, 3, self%bnd%kind(:, 1))
+      call self%mirror%fold(self%cpl%ndrag, 1, self%phase(fluid_phase)%bc)
     end if
     if (allocated(w%gpf)) then
       call self%mirror%fold(w%gpf, 0, self%phase(fluid_phase)%bc)
@@ -294,8 +294,8 @@ contains
       if (self%plan%gauss) call self%dec%halo_sum(self%phase(ip)%nvol)
     end do
     if (w%coupled) then
-      call self%dec%halo_sum(self%nporo)
-      call self%dec%halo_sum(self%ndrag)
+      call self%dec%halo_sum(self%cpl%nporo)
+      call self%dec%halo_sum(self%cpl%ndrag)
     end if
     if (allocated(w%gpf)) then
       call self%dec%halo_sum(w%gpf)
@@ -327,7 +327,7 @@ contains
     self%dt_drag = huge(1.0_wp)
     if (self%cfg%drag == 'explicit') then
       self%dt_drag = nodal_drag_limit(self%dec%alo, self%dec%olo, self%dec%ohi, &
-                                      self%phase(solid_phase)%node, self%phase(fluid_phase)%node, self%ndrag)
+                                      self%phase(solid_phase)%node, self%phase(fluid_phase)%node, self%cpl%ndrag)
       call MPI_Allreduce(MPI_IN_PLACE, self%dt_drag, 1, MPI_DOUBLE_PRECISION, MPI_MIN, self%dec%comm)
       self%dt_drag = self%cfg%drag_safety*self%dt_drag
       dt = min(dt, self%dt_drag)
@@ -350,8 +350,8 @@ contains
     integer :: ip
     if (w%surface) call free_surface_points(self, w%fvol, w%fsurf)
     if (w%coupled .and. any(self%bnd%tied)) call tie_sums(w%nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
-                                                          self%grid%ncells, self%bnd%tied, self%nporo, self%dec%comm)
-    if (w%coupled) call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%nporo)
+                                                          self%grid%ncells, self%bnd%tied, self%cpl%nporo, self%dec%comm)
+    if (w%coupled) call nodal_porosity(self%dec%alo, self%dec%olo, self%dec%ohi, self%cpl%nporo)
     if (allocated(w%gpf)) call gauss_pressure_forces(self, w%gpf, w%gps)
     ! Nodes that the Gauss points of a set reach but its points barely reach take no
     ! internal force (thin_node_forces).
@@ -361,7 +361,7 @@ contains
                               self%nthin)
       end do
       if (allocated(w%gmf)) then
-        call gauss_gravity(self, self%phase(fluid_phase), gravity_now(self), w%gmf, self%nporo)
+        call gauss_gravity(self, self%phase(fluid_phase), gravity_now(self), w%gmf, self%cpl%nporo)
         call gauss_gravity(self, self%phase(solid_phase), gravity_now(self), w%gms, transfer=w%gmf)
       else if (allocated(w%gms)) then
         call gauss_gravity(self, self%phase(solid_phase), gravity_now(self), w%gms)
@@ -419,13 +419,13 @@ contains
     type(step_work_t), intent(inout) :: w
     real(wp), allocatable :: nval(:), nkinv(:)
     call self%timers%tic(t_halo)
-    call self%dec%halo_copy(self%nporo)
-    call self%mirror%unfold(self%nporo, 3, self%bnd%kind(:, 1))
+    call self%dec%halo_copy(self%cpl%nporo)
+    call self%mirror%unfold(self%cpl%nporo, 3, self%bnd%kind(:, 1))
     call self%timers%toc(t_halo)
     call self%timers%tic(t_g2p)
     allocate (nval(w%nf), nkinv(w%nf))
     associate (f => self%phase(fluid_phase))
-      call interp_two_values(w%nd, f%st%nw, w%nf, f%st%i0, f%st%sw, self%dec%alo, self%nporo, 3, nval, nkinv)
+      call interp_two_values(w%nd, f%st%nw, w%nf, f%st%i0, f%st%sw, self%dec%alo, self%cpl%nporo, 3, nval, nkinv)
       call self%timers%toc(t_g2p)
       if (self%cfg%porosity_gradient .and. .not. self%plan%gauss) then
         if (allocated(w%pforce)) then
@@ -457,7 +457,7 @@ contains
       rforce = 0.0_wp
       if (any(self%bnd%tied)) call join_tied(self, tsave)
       call nodal_update_coupled(w%nd, self%dec%alo, w%blo, w%bhi, s%node, f%node, &
-                                self%nporo, self%ndrag, gravity_now(self), self%bnd%faces, f%bc, &
+                                self%cpl%nporo, self%cpl%ndrag, gravity_now(self), self%bnd%faces, f%bc, &
                                 self%cfg%drag == 'implicit', self%time, dt, s%nvel, f%nvel, &
                                 self%ext_work, self%drag_loss, damping_now(self), self%rnode, rforce, &
                                 w%fvol, self%cfg%free_surface_fraction)
@@ -510,7 +510,7 @@ contains
       if (self%cfg%porosity_gradient) then
         associate (f => self%phase(fluid_phase))
           call mixture_flux(w%nd, f%st%nw, w%nf, f%st%i0, f%st%sw, f%st%sdw, self%dec%alo, f%pts%porosity, &
-                            self%nporo, f%nvel, self%phase(solid_phase)%nvel, w%gnrel)
+                            self%cpl%nporo, f%nvel, self%phase(solid_phase)%nvel, w%gnrel)
         end associate
       end if
     end if

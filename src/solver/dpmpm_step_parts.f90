@@ -372,7 +372,7 @@ contains
     ff = 0.0_wp
     associate (f => self%phase(fluid_phase))
       call interphase_p2g(nd, f%st%nw, f%pts%n, f%st%i0, f%st%sw, f%st%sdw, f%pts%vol, pf, &
-                          f%pts%porosity, self%dec%alo, self%nporo, ff)
+                          f%pts%porosity, self%dec%alo, self%cpl%nporo, ff)
     end associate
     fs = -ff
     call self%mirror%fold(ff, 0, self%phase(2)%bc)

@@ -88,22 +88,22 @@ contains
     self%kib_start = peak_resident_kib()
     self%cfg = cfg
     self%exit_code = 0
-    self%growth_stop = .false.
+    self%mon%growth_stop = .false.
     self%write_output = .true.
     if (present(write_output)) self%write_output = write_output
     self%ext_work = 0.0_wp
     self%drag_loss = 0.0_wp
-    self%monitor_started = .false.
-    self%mon_ratio = 0.0_wp
-    self%mon_ke_max = 0.0_wp
-    self%mon_balance = 0.0_wp
-    self%mon_warned = .false.
+    self%mon%started = .false.
+    self%mon%ratio = 0.0_wp
+    self%mon%ke_max = 0.0_wp
+    self%mon%balance = 0.0_wp
+    self%mon%warned = .false.
     self%box_known = .false.
     self%drive_impulse = 0.0_wp
     self%drive_t0 = 0.0_wp
     self%ndrive = 0
     self%cut_time = -1.0_wp
-    self%mon_prev = 0.0_wp
+    self%mon%prev = 0.0_wp
     self%energy0 = 0.0_wp
     self%energy_scale = 0.0_wp
     self%energy_error = 0.0_wp
@@ -726,7 +726,7 @@ contains
     class(simulation_t), intent(inout) :: self
     call diagnostics(self)
     call check_load_path(self)
-    if (.not. self%growth_stop) return
+    if (.not. self%mon%growth_stop) return
     call self%write_frame()
     call write_verification(self)
     if (self%write_output) call self%probes%write(self%out, self%grid)

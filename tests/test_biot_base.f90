@@ -478,7 +478,7 @@ contains
     end if
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
-    bal = sim%mon_balance
+    bal = sim%mon%balance
     drift = sim%energy_drift
     call sim%free()
   end subroutine shaken_run

@@ -86,7 +86,7 @@ contains
     call baiocchi(w, h)
     call run_dam(6.0_wp, .false., sim)
     call surface_and_pressure(sim, w, h, err, rms)
-    bal = sim%mon_balance
+    bal = sim%mon%balance
     call sim%free()
     call check(bal < 0.15_wp, say('energy balance error, t =', 6.0_wp, bal, 0.15_wp))
     call check(abs(sum(err)/ncol) < 0.035_wp, say('free surface - reference, mean (m), t =', &

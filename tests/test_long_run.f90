@@ -94,8 +94,8 @@ contains
     call sim%run()
     m = sum(sim%phase(1)%pts%mass(1:sim%phase(1)%pts%n)) + sum(sim%phase(2)%pts%mass(1:sim%phase(2)%pts%n))
     call MPI_Allreduce(MPI_IN_PLACE, m, 1, MPI_DOUBLE_PRECISION, MPI_SUM, MPI_COMM_WORLD)
-    ke = sim%mon_ke_max/(0.5_wp*m*VU**2)
-    ratio = sim%mon_ratio
+    ke = sim%mon%ke_max/(0.5_wp*m*VU**2)
+    ratio = sim%mon%ratio
     t = sim%time
     if (rank == 0) print '(a,es11.3,a,es11.3,a,es11.4)', '  largest KE / (0.5 M v_u^2) ', ke, &
       ', largest (KE + stored) / (work + initial) ', ratio, ', end time ', t

@@ -149,9 +149,9 @@ contains
     cfg%t_end = 0.1_wp
     call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
     call sim%run()
-    print '(a,2es11.4)', '  largest energy / (work + initial), balance error: ', sim%mon_ratio, sim%mon_balance
-    call check(sim%mon_ratio < 1.2_wp .and. sim%mon_ratio > 0.8_wp, 'energy within 20 % of what the body was given')
-    call check(sim%mon_balance < 0.1_wp, 'balance error below 0.1')
+    print '(a,2es11.4)', '  largest energy / (work + initial), balance error: ', sim%mon%ratio, sim%mon%balance
+    call check(sim%mon%ratio < 1.2_wp .and. sim%mon%ratio > 0.8_wp, 'energy within 20 % of what the body was given')
+    call check(sim%mon%balance < 0.1_wp, 'balance error below 0.1')
     call sim%free()
   end subroutine test_mms_body_force_work_is_booked
 
@@ -209,7 +209,7 @@ contains
     end associate
     lmax = max(ls, lff, ldiv)
     print '(a,3es10.3,a,es10.3)', '  largest |L| dt after one step (solid, fluid), |div v| dt at the fluid points: ', &
-      ls, lff, ldiv, '; energy ratio ', sim%mon_ratio
+      ls, lff, ldiv, '; energy ratio ', sim%mon%ratio
     call check(sim%exit_code == 0, 'the run takes its step')
     call check(lmax < 1.0e-3_wp, 'no point takes a velocity gradient from a node it barely reaches')
     call sim%free()

@@ -105,7 +105,7 @@ contains
     t = sim%time
     steps = sim%step
     drift = sim%energy_drift
-    mon = [sim%mon_ratio, sim%mon_balance]
+    mon = [sim%mon%ratio, sim%mon%balance]
     call sim%free()
   end subroutine run
 

@@ -8,6 +8,7 @@
 !> the base moves by the record's displacement, which must stay well within a cell).
 module dpmpm_base_motion
   use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: node_slots_t, node_slots
   use dpmpm_config, only: config_t, face_index
   use dpmpm_motion, only: motion_velocity
   implicit none
@@ -72,6 +73,8 @@ contains
     real(wp), intent(inout) :: work
     integer :: a, i, j, k, flo(3), fhi(3)
     real(wp) :: m, fb(3)
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     a = (face + 1)/2
     flo = olo
     fhi = ohi
@@ -84,10 +87,10 @@ contains
         do i = flo(1), fhi(1)
           m = node(1, i, j, k)
           if (m <= 0.0_wp) cycle
-          nvel(nd + 1:2*nd, i, j, k) = vb1(1:nd)
+          nvel(sl%new_lo:sl%new_hi, i, j, k) = vb1(1:nd)
           if (.not. both) cycle
-          nvel(1:nd, i, j, k) = vb0(1:nd)
-          fb(1:nd) = m*(vb1(1:nd) - vb0(1:nd))/dt - node(2 + nd:1 + 2*nd, i, j, k) - m*gravity(1:nd)
+          nvel(sl%old_lo:sl%old_hi, i, j, k) = vb0(1:nd)
+          fb(1:nd) = m*(vb1(1:nd) - vb0(1:nd))/dt - node(sl%force_lo:sl%force_hi, i, j, k) - m*gravity(1:nd)
           work = work + 0.5_wp*dt*dot_product(fb(1:nd) + m*gravity(1:nd), vb0(1:nd) + vb1(1:nd))
         end do
       end do

@@ -12,7 +12,7 @@
 module dpmpm_boundary
   use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, bc_free, bc_fixed, fbc_default, fbc_drained, fbc_impermeable
-  use dpmpm_grid, only: grid_t
+  use dpmpm_grid, only: grid_t, node_slots_t, node_slots
   use dpmpm_face_loads, only: face_loads_t
   use dpmpm_mirror, only: fluid_mirror_bc
   use dpmpm_base_motion, only: base_face, base_velocity, shake_base
@@ -140,6 +140,8 @@ contains
     integer :: i, j, k, ilo(3), ihi(3)
     real(wp) :: m, v(3)
     logical :: fix(3), row_free
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     ! Inside the box of free nodes no component is held.
     call faces%grid%interior_nodes(1, ilo, ihi)
@@ -149,16 +151,16 @@ contains
         do i = olo(1), ohi(1)
           m = node(1, i, j, k)
           if (m <= 0.0_wp) cycle
-          nvel(nd + 1:2*nd, i, j, k) = node(2:1 + nd, i, j, k)/m
+          nvel(sl%new_lo:sl%new_hi, i, j, k) = node(sl%mom_lo:sl%mom_hi, i, j, k)/m
           if (row_free .and. i >= ilo(1) .and. i <= ihi(1)) cycle
           fix = faces%walls%constrained([i, j, k], bc)
           if (walls .and. any(fix)) then
             ! As in the update: a rough wall holds only a node that runs into it.
             v = 0.0_wp
-            v(1:nd) = nvel(nd + 1:2*nd, i, j, k)
+            v(1:nd) = nvel(sl%new_lo:sl%new_hi, i, j, k)
             where (faces%walls%wall_contact([i, j, k], nd, v) == 2) fix = .false.
           end if
-          where (fix(1:nd)) nvel(nd + 1:2*nd, i, j, k) = 0.0_wp
+          where (fix(1:nd)) nvel(sl%new_lo:sl%new_hi, i, j, k) = 0.0_wp
         end do
       end do
     end do
@@ -174,6 +176,8 @@ contains
     real(wp), intent(inout) :: nvel_f(:, lo(1):, lo(2):, lo(3):)
     integer :: i, j, k, ilo(3), ihi(3)
     logical :: tie(3), row_near
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     ! Only nodes near a face are tied.
     call faces%inner_nodes(ilo, ihi)
     do k = olo(3), ohi(3)
@@ -184,7 +188,7 @@ contains
           tie = faces%fluid_ties([i, j, k])
           if (.not. any(tie)) cycle
           if (node_s(1, i, j, k) <= 0.0_wp .or. node_f(1, i, j, k) <= 0.0_wp) cycle
-          where (tie(1:nd)) nvel_f(nd + 1:2*nd, i, j, k) = nvel_s(nd + 1:2*nd, i, j, k)
+          where (tie(1:nd)) nvel_f(sl%new_lo:sl%new_hi, i, j, k) = nvel_s(sl%new_lo:sl%new_hi, i, j, k)
         end do
       end do
     end do

@@ -8,6 +8,7 @@
 !> momenta are summed over the ranks, one reduction per call.
 module dpmpm_tied_sides
   use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: node_slots_t, node_slots
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_SUM, MPI_DOUBLE_PRECISION
   implicit none
   private
@@ -31,6 +32,8 @@ contains
     integer, allocatable :: fn(:, :)
     integer :: a, b, c, side, nb, nc, ncomp, q
     real(wp) :: m
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     ncomp = 1 + 2*nd
     do a = 1, nd
       if (.not. (tied(2*a - 1) .and. tied(2*a))) cycle
@@ -58,8 +61,8 @@ contains
         do q = 1, size(fn, 2)
           associate (i => fn(1:3, q), jb => fn(4, q), jc => fn(5, q))
             if (node(1, i(1), i(2), i(3)) <= 0.0_wp .or. sums(1, jb, jc) <= 0.0_wp) cycle
-            nvel(nd + 1:2*nd, i(1), i(2), i(3)) = sums(2 + nd:ncomp, jb, jc)/sums(1, jb, jc)
-            if (both) nvel(1:nd, i(1), i(2), i(3)) = sums(2:1 + nd, jb, jc)/sums(1, jb, jc)
+            nvel(sl%new_lo:sl%new_hi, i(1), i(2), i(3)) = sums(2 + nd:ncomp, jb, jc)/sums(1, jb, jc)
+            if (both) nvel(sl%old_lo:sl%old_hi, i(1), i(2), i(3)) = sums(2:1 + nd, jb, jc)/sums(1, jb, jc)
           end associate
         end do
       end do

@@ -9,6 +9,7 @@ module dpmpm_grid
   implicit none
   private
   public :: grid_t, cell_of, cells_of, axis_cells_of, count_cells_outside
+  public :: node_slots_t, node_slots
 
   !> Cell indices are clamped to +-cell_clamp so that a point far away (or at a
   !> NaN position) still gets a valid integer cell, outside the grid.
@@ -28,7 +29,34 @@ module dpmpm_grid
     procedure :: all_inside => grid_all_inside
   end type grid_t
 
+  !> The slots of the node fields of nd dimensions (node_slots): a phase's
+  !> node(:, i, j, k) holds the mass (slot mass), the momentum (mom_lo:mom_hi) and the
+  !> force (force_lo:force_hi); its nvel(:, i, j, k) the velocity before the nodal update
+  !> (old_lo:old_hi) and after it (new_lo:new_hi).
+  type :: node_slots_t
+    integer :: mass = 1
+    integer :: mom_lo = 2, mom_hi = 1
+    integer :: force_lo = 2, force_hi = 1
+    integer :: old_lo = 1, old_hi = 0
+    integer :: new_lo = 1, new_hi = 0
+  end type node_slots_t
+
 contains
+
+  !> The slots of the node fields (node_slots_t) for nd dimensions.
+  pure function node_slots(nd) result(sl)
+    integer, intent(in) :: nd
+    type(node_slots_t) :: sl
+    sl%mass = 1
+    sl%mom_lo = 2
+    sl%mom_hi = 1 + nd
+    sl%force_lo = 2 + nd
+    sl%force_hi = 1 + 2*nd
+    sl%old_lo = 1
+    sl%old_hi = nd
+    sl%new_lo = nd + 1
+    sl%new_hi = 2*nd
+  end function node_slots
 
   !> Geometry from the input.
   subroutine grid_init(self, cfg)

@@ -28,6 +28,7 @@
 !> the same storage bounds and the same halo_sum / halo_copy.
 module dpmpm_gauss_fields
   use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: node_slots_t, node_slots
   use dpmpm_kernels, only: kernel_weight, kernel_reach, kernel_radial, kernel_radial_values, &
                            is_grid_kernel, max_stencil, kernel_width, bspline_1d
   use dpmpm_stencil, only: psi_stencil, stencil_offsets, tensor_weights
@@ -524,6 +525,8 @@ contains
     real(wp), allocatable :: gr(:, :, :), psi(:, :)
     real(wp) :: yg(3, max_gauss_cell), wg(max_gauss_cell), vv(6), s(3, 3), fs(3), wq, sv
     logical :: iso
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     nb = basis_size(basis, nd)
     nf = fields_of(nd, isotropic)
     call gauss_points_of_cell(nd, ng, yg, wg)
@@ -553,8 +556,8 @@ contains
               else
                 fs = -wq*matmul(s, gr(:, m, g))
               end if
-              node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) = &
-                node(2 + nd:1 + 2*nd, idx(1), idx(2), idx(3)) + fs(1:nd)
+              node(sl%force_lo:sl%force_hi, idx(1), idx(2), idx(3)) = &
+                node(sl%force_lo:sl%force_hi, idx(1), idx(2), idx(3)) + fs(1:nd)
               if (present(qvol)) qvol(1, idx(1), idx(2), idx(3)) = &
                 qvol(1, idx(1), idx(2), idx(3)) + wq*psi(m, g)
             end do
@@ -615,12 +618,14 @@ contains
     real(wp), intent(inout) :: node(:, lo(1):, lo(2):, lo(3):)
     integer(kind=8), intent(inout) :: nthin
     integer :: i, j, k
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
         do i = olo(1), ohi(1)
           if (nvol(1, i, j, k) >= thin_fraction*nvol(2, i, j, k)) cycle
           if (node(1, i, j, k) <= 0.0_wp) cycle
-          node(2 + nd:1 + 2*nd, i, j, k) = 0.0_wp
+          node(sl%force_lo:sl%force_hi, i, j, k) = 0.0_wp
           nthin = nthin + 1
         end do
       end do
@@ -639,6 +644,8 @@ contains
     integer, allocatable :: off(:, :, :)
     real(wp), allocatable :: gr(:, :, :)
     real(wp) :: l(3, 3), v(3)
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     call gauss_psi_table(nd, ng, kernel, h, nn, off, gr)
     do k = clo(3), chi(3)
       do j = clo(2), chi(2)
@@ -669,7 +676,7 @@ contains
               do m = 1, nn
                 idx = [i, j, k] + off(:, m, g)
                 do d = 1, nd
-                  l(1:nd, d) = l(1:nd, d) + nvel(nd + 1:2*nd, idx(1), idx(2), idx(3))*gr(d, m, g)
+                  l(1:nd, d) = l(1:nd, d) + nvel(sl%new_lo:sl%new_hi, idx(1), idx(2), idx(3))*gr(d, m, g)
                 end do
               end do
             end select

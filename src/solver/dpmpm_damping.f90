@@ -10,6 +10,7 @@
 !> (damped_step_factor, applied in dpmpm_time_step).
 module dpmpm_damping
   use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: node_slots_t, node_slots
   use dpmpm_config, only: config_t
   use dpmpm_state, only: state_t
   use dpmpm_phase, only: solid_phase
@@ -99,9 +100,11 @@ contains
     real(wp) :: alpha, beta, m, d(6), tr, power, dummy
     integer :: nd, n, i, j, k, p
     logical :: fix(3)
+    type(node_slots_t) :: sl
     call rayleigh_coefficients(self%cfg, alpha, beta)
     if (beta <= 0.0_wp) return
     nd = self%nd
+    sl = node_slots(nd)
     associate (ph => self%phase(solid_phase), ps => self%phase(solid_phase)%pts, lo => self%dec%alo, &
                olo => self%dec%olo, ohi => self%dec%ohi)
       n = ps%n
@@ -112,12 +115,12 @@ contains
           do i = blo(1), bhi(1)
             m = ph%node(1, i, j, k)
             if (m <= 0.0_wp) cycle
-            vn(nd + 1:2*nd, i, j, k) = ph%node(2:1 + nd, i, j, k)/m
+            vn(sl%new_lo:sl%new_hi, i, j, k) = ph%node(sl%mom_lo:sl%mom_hi, i, j, k)/m
             if (self%bnd%faces%near_face([i, j, k])) then
               fix = self%bnd%faces%walls%constrained([i, j, k])
-              where (fix(1:nd)) vn(nd + 1:2*nd, i, j, k) = 0.0_wp
+              where (fix(1:nd)) vn(sl%new_lo:sl%new_hi, i, j, k) = 0.0_wp
             end if
-            vn(1:nd, i, j, k) = vn(nd + 1:2*nd, i, j, k)
+            vn(sl%old_lo:sl%old_hi, i, j, k) = vn(sl%new_lo:sl%new_hi, i, j, k)
           end do
         end do
       end do
@@ -152,9 +155,9 @@ contains
       call p2g(nd, ph%st%nw, n, ph%st%i0, ph%st%sw, ph%st%sdw, zm, zv, ps%vol, sv, .true., lo, fn)
       call self%mirror%fold(fn, 1, ph%bc)
       call self%dec%halo_sum(fn)
-      ph%node(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = &
-        ph%node(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) + &
-        fn(2 + nd:1 + 2*nd, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3))
+      ph%node(sl%force_lo:sl%force_hi, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = &
+        ph%node(sl%force_lo:sl%force_hi, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) + &
+        fn(sl%force_lo:sl%force_hi, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3))
       self%ext_work = self%ext_work - dt*power
       self%drag_loss = self%drag_loss + dt*power
     end associate

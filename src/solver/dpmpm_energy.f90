@@ -131,39 +131,39 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: ke, se, w, d, fm(4)
     real(wp) :: ratio, wl, dl
-    self%mon_ke_max = max(self%mon_ke_max, ke)
-    if (.not. self%monitor_started) then
-      self%monitor_started = .true.
-      self%mon_e0 = ke + se
-      self%mon_w0 = w
-      self%mon_d0 = d
-      self%mon_input = ke + se
-      self%mon_prev = fm
-      self%mon_prev_time = self%time
+    self%mon%ke_max = max(self%mon%ke_max, ke)
+    if (.not. self%mon%started) then
+      self%mon%started = .true.
+      self%mon%e0 = ke + se
+      self%mon%w0 = w
+      self%mon%d0 = d
+      self%mon%input = ke + se
+      self%mon%prev = fm
+      self%mon%prev_time = self%time
       return
     end if
-    wl = w - self%mon_w0
-    dl = d - self%mon_d0
-    self%mon_input = max(self%mon_input, self%mon_e0 + abs(wl))
-    if (self%mon_input <= 0.0_wp) then
-      self%mon_prev = fm
-      self%mon_prev_time = self%time
+    wl = w - self%mon%w0
+    dl = d - self%mon%d0
+    self%mon%input = max(self%mon%input, self%mon%e0 + abs(wl))
+    if (self%mon%input <= 0.0_wp) then
+      self%mon%prev = fm
+      self%mon%prev_time = self%time
       return
     end if
-    ratio = (ke + se)/self%mon_input
-    self%mon_ratio = max(self%mon_ratio, ratio)
-    self%mon_balance = max(self%mon_balance, abs(ke + se + dl - wl - self%mon_e0)/(self%mon_input + dl))
+    ratio = (ke + se)/self%mon%input
+    self%mon%ratio = max(self%mon%ratio, ratio)
+    self%mon%balance = max(self%mon%balance, abs(ke + se + dl - wl - self%mon%e0)/(self%mon%input + dl))
     if (self%cfg%growth_limit > 0.0_wp) then
       if (ratio > self%cfg%growth_limit) then
         call report_growth(self, fm, ratio, .true.)
         return
-      else if (ratio > 0.2_wp*self%cfg%growth_limit .and. .not. self%mon_warned) then
-        self%mon_warned = .true.
+      else if (ratio > 0.2_wp*self%cfg%growth_limit .and. .not. self%mon%warned) then
+        self%mon%warned = .true.
         call report_growth(self, fm, ratio, .false.)
       end if
     end if
-    self%mon_prev = fm
-    self%mon_prev_time = self%time
+    self%mon%prev = fm
+    self%mon%prev_time = self%time
   end subroutine monitor_energy
 
   !> The end of the equilibrium phase (&run equilibrium_time; collective): report what
@@ -199,25 +199,25 @@ contains
   pure function monitor_state(self) result(a)
     class(state_t), intent(in) :: self
     real(wp) :: a(14)
-    a = [merge(1.0_wp, 0.0_wp, self%monitor_started), self%mon_e0, self%mon_w0, self%mon_d0, &
-         self%mon_input, self%mon_ratio, self%mon_ke_max, self%mon_balance, &
-         merge(1.0_wp, 0.0_wp, self%mon_warned), self%mon_prev, self%mon_prev_time]
+    a = [merge(1.0_wp, 0.0_wp, self%mon%started), self%mon%e0, self%mon%w0, self%mon%d0, &
+         self%mon%input, self%mon%ratio, self%mon%ke_max, self%mon%balance, &
+         merge(1.0_wp, 0.0_wp, self%mon%warned), self%mon%prev, self%mon%prev_time]
   end function monitor_state
 
   pure subroutine set_monitor_state(self, a)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: a(14)
-    self%monitor_started = a(1) > 0.5_wp
-    self%mon_e0 = a(2)
-    self%mon_w0 = a(3)
-    self%mon_d0 = a(4)
-    self%mon_input = a(5)
-    self%mon_ratio = a(6)
-    self%mon_ke_max = a(7)
-    self%mon_balance = a(8)
-    self%mon_warned = a(9) > 0.5_wp
-    self%mon_prev = a(10:13)
-    self%mon_prev_time = a(14)
+    self%mon%started = a(1) > 0.5_wp
+    self%mon%e0 = a(2)
+    self%mon%w0 = a(3)
+    self%mon%d0 = a(4)
+    self%mon%input = a(5)
+    self%mon%ratio = a(6)
+    self%mon%ke_max = a(7)
+    self%mon%balance = a(8)
+    self%mon%warned = a(9) > 0.5_wp
+    self%mon%prev = a(10:13)
+    self%mon%prev_time = a(14)
   end subroutine set_monitor_state
 
   !> Name the growing field (the monitored field whose maximum grew most since
@@ -236,7 +236,7 @@ contains
     character(len=40) :: cells
     do m = 1, 4
       growth(m) = 0.0_wp
-      if (fm(m) > 0.0_wp) growth(m) = fm(m)/max(self%mon_prev(m), fm(m)*1.0e-30_wp)
+      if (fm(m) > 0.0_wp) growth(m) = fm(m)/max(self%mon%prev(m), fm(m)*1.0e-30_wp)
     end do
     m = maxloc(growth, 1)
     ! The largest value of field m on this rank, then the rank that holds it.
@@ -269,7 +269,7 @@ contains
       'monitor: at t = ', self%time, ' s (step ', self%step, ') kinetic + stored energy is ', ratio, &
       ' times the work done + initial energy; growing field: ', trim(fnames(m)), ' of the ', &
       trim(merge('solid', 'fluid', m == 1 .or. m == 3)), ' points, largest ', best(1), ' (', &
-      min(growth(m), huge(1.0_wp)), ' times its value at t = ', self%mon_prev_time, ') at point id ', &
+      min(growth(m), huge(1.0_wp)), ' times its value at t = ', self%mon%prev_time, ') at point id ', &
       nint(info(1), i8), ', x =', info(2:4), ', cell'
     line = trim(line)//trim(cells)//' (from 0 at the grid origin)'
     call self%log%error(trim(line))
@@ -280,7 +280,7 @@ contains
     end if
     ! The last frame, the output closed and the final message: monitor_stopped, by the run.
     self%exit_code = exit_monitor
-    self%growth_stop = .true.
+    self%mon%growth_stop = .true.
   end subroutine report_growth
 
   !> The end of a run the monitor stopped for growth: the output closed after the

@@ -7,6 +7,7 @@
 !> forces and the drag dissipation are booked here for the energy balance.
 module dpmpm_nodal_update
   use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: node_slots_t, node_slots
   use dpmpm_face_loads, only: face_loads_t
   use dpmpm_drag, only: sliver_node
   use dpmpm_damping, only: rayleigh_mass
@@ -36,6 +37,8 @@ contains
     real(wp) :: m, vold(3), vnew(3), fext(3), cd(3), fd(3), ffr(3), wf, vwall(3), fin(3)
     integer :: contact(3)
     logical :: fix(3), near, rough
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     nvel(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     do k = olo(3), ohi(3)
       do j = olo(2), ohi(2)
@@ -46,7 +49,7 @@ contains
           fix = .false.
           if (near) fix = faces%walls%constrained([i, j, k])
           vold = 0.0_wp
-          vold(1:nd) = node(2:1 + nd, i, j, k)/m
+          vold(1:nd) = node(sl%mom_lo:sl%mom_hi, i, j, k)/m
           if (near) then
             fext = m*gravity + faces%traction(time, [i, j, k]) + faces%absorbing_static([i, j, k], .false.)
           else
@@ -56,11 +59,11 @@ contains
           if (damping > 0.0_wp) then
             ! Local damping: a force against the motion of each component, a fraction of
             ! the unbalanced force (doc/theory.md 6.5).
-            fd(1:nd) = -damping*abs(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))*sign(1.0_wp, vold(1:nd))
+            fd(1:nd) = -damping*abs(node(sl%force_lo:sl%force_hi, i, j, k) + fext(1:nd))*sign(1.0_wp, vold(1:nd))
             where (vold(1:nd) == 0.0_wp) fd(1:nd) = 0.0_wp
             fext(1:nd) = fext(1:nd) + fd(1:nd)
           end if
-          vnew(1:nd) = vold(1:nd) + dt*(node(2 + nd:1 + 2*nd, i, j, k) + fext(1:nd))/m
+          vnew(1:nd) = vold(1:nd) + dt*(node(sl%force_lo:sl%force_hi, i, j, k) + fext(1:nd))/m
           if (present(rayleigh)) call rayleigh_mass(nd, m, dt, rayleigh, fix, vold, vnew, ext_work, dissipated)
           ! Dashpots of absorbing faces, at the new velocity (stable at any step).
           cd = 0.0_wp
@@ -93,8 +96,8 @@ contains
           end if
           where (fix) vold = 0.0_wp
           where (fix) vnew = 0.0_wp
-          nvel(1:nd, i, j, k) = vold(1:nd)
-          nvel(nd + 1:2*nd, i, j, k) = vnew(1:nd)
+          nvel(sl%old_lo:sl%old_hi, i, j, k) = vold(1:nd)
+          nvel(sl%new_lo:sl%new_hi, i, j, k) = vnew(1:nd)
           ext_work = ext_work + 0.5_wp*dt*dot_product(fext(1:nd) + fin(1:nd) - cd(1:nd)*vnew(1:nd), &
                                                       vold(1:nd) + vnew(1:nd))
           if (rough) then
@@ -152,6 +155,8 @@ contains
     real(wp) :: pushs(3), pushf(3), dve(3), vt(3), rp, meff, ffr(3), vs0(3), vf0(3)
     logical :: sfix(3), ffix(3), tie(3), near, rigid(3), imp, rough, row_near, plain
     integer :: ilo(3), ihi(3)
+    type(node_slots_t) :: sl
+    sl = node_slots(nd)
     nvel_s(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     nvel_f(:, olo(1):ohi(1), olo(2):ohi(2), olo(3):ohi(3)) = 0.0_wp
     call faces%inner_nodes(ilo, ihi)
@@ -193,13 +198,13 @@ contains
             end if
           end if
           if (ms > 0.0_wp) then
-            vs(1:nd) = node_s(2:1 + nd, i, j, k)/ms
-            fs(1:nd) = node_s(2 + nd:1 + 2*nd, i, j, k)
+            vs(1:nd) = node_s(sl%mom_lo:sl%mom_hi, i, j, k)/ms
+            fs(1:nd) = node_s(sl%force_lo:sl%force_hi, i, j, k)
             fs = fs + ms*gravity + tr + nporo(1, i, j, k)*fps + ts
           end if
           if (mf > 0.0_wp) then
-            vf(1:nd) = node_f(2:1 + nd, i, j, k)/mf
-            ff(1:nd) = node_f(2 + nd:1 + 2*nd, i, j, k)
+            vf(1:nd) = node_f(sl%mom_lo:sl%mom_hi, i, j, k)/mf
+            ff(1:nd) = node_f(sl%force_lo:sl%force_hi, i, j, k)
             ff = ff + mf*gravity - nporo(1, i, j, k)*fpf + tf
             ! Where there is no solid the traction (a total stress) loads the water, unless
             ! a drained face's pore pressure already does: for water alone both are the
@@ -220,7 +225,7 @@ contains
           if (present(rnode)) then
             if (rnode(1, i, j, k) > 0.0_wp) then
               vr = 0.0_wp
-              vr(1:nd) = rnode(2:1 + nd, i, j, k)/rnode(1, i, j, k)
+              vr(1:nd) = rnode(sl%mom_lo:sl%mom_hi, i, j, k)/rnode(1, i, j, k)
               rigid(1:nd) = .not. sfix(1:nd)
             end if
           end if
@@ -293,10 +298,10 @@ contains
             ext_work = ext_work + v
             drag_loss = drag_loss - v
           end do
-          nvel_s(1:nd, i, j, k) = vs(1:nd)
-          nvel_s(nd + 1:2*nd, i, j, k) = vsn(1:nd)
-          nvel_f(1:nd, i, j, k) = vf(1:nd)
-          nvel_f(nd + 1:2*nd, i, j, k) = vfn(1:nd)
+          nvel_s(sl%old_lo:sl%old_hi, i, j, k) = vs(1:nd)
+          nvel_s(sl%new_lo:sl%new_hi, i, j, k) = vsn(1:nd)
+          nvel_f(sl%old_lo:sl%old_hi, i, j, k) = vf(1:nd)
+          nvel_f(sl%new_lo:sl%new_hi, i, j, k) = vfn(1:nd)
           ! Work of the external forces (gravity, tractions, boundary pore pressure).
           if (ms > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product( &
             ms*gravity(1:nd) + tr(1:nd) + nporo(1, i, j, k)*fps(1:nd) + ts(1:nd), vs(1:nd) + vsn(1:nd))
@@ -320,22 +325,22 @@ contains
       us = 0.0_wp; uf = 0.0_wp; usn = 0.0_wp; ufn = 0.0_wp
       if (ms > 0.0_wp .and. mf > 0.0_wp) then
         do c = 1, nd
-          us(c) = node_s(1 + c, i, j, k)/ms
-          uf(c) = node_f(1 + c, i, j, k)/mf
-          call drag_solve(ms, mf, dn, node_s(1 + nd + c, i, j, k) + ms*gravity(c) + 0.0_wp, &
-                          node_f(1 + nd + c, i, j, k) + mf*gravity(c) + 0.0_wp, us(c), uf(c), dt, imp, as, af)
+          us(c) = node_s(sl%mom_lo - 1 + c, i, j, k)/ms
+          uf(c) = node_f(sl%mom_lo - 1 + c, i, j, k)/mf
+          call drag_solve(ms, mf, dn, node_s(sl%force_lo - 1 + c, i, j, k) + ms*gravity(c) + 0.0_wp, &
+                          node_f(sl%force_lo - 1 + c, i, j, k) + mf*gravity(c) + 0.0_wp, us(c), uf(c), dt, imp, as, af)
           usn(c) = us(c) + dt*as
           ufn(c) = uf(c) + dt*af
         end do
       else if (ms > 0.0_wp) then
         do c = 1, nd
-          us(c) = node_s(1 + c, i, j, k)/ms
-          usn(c) = us(c) + dt*(node_s(1 + nd + c, i, j, k) + ms*gravity(c) + 0.0_wp)/ms
+          us(c) = node_s(sl%mom_lo - 1 + c, i, j, k)/ms
+          usn(c) = us(c) + dt*(node_s(sl%force_lo - 1 + c, i, j, k) + ms*gravity(c) + 0.0_wp)/ms
         end do
       else
         do c = 1, nd
-          uf(c) = node_f(1 + c, i, j, k)/mf
-          ufn(c) = uf(c) + dt*(node_f(1 + nd + c, i, j, k) + mf*gravity(c) + 0.0_wp)/mf
+          uf(c) = node_f(sl%mom_lo - 1 + c, i, j, k)/mf
+          ufn(c) = uf(c) + dt*(node_f(sl%force_lo - 1 + c, i, j, k) + mf*gravity(c) + 0.0_wp)/mf
         end do
       end if
       do c = 1, nd
@@ -343,10 +348,10 @@ contains
         ext_work = ext_work - w
         drag_loss = drag_loss + w
       end do
-      nvel_s(1:nd, i, j, k) = us(1:nd)
-      nvel_s(nd + 1:2*nd, i, j, k) = usn(1:nd)
-      nvel_f(1:nd, i, j, k) = uf(1:nd)
-      nvel_f(nd + 1:2*nd, i, j, k) = ufn(1:nd)
+      nvel_s(sl%old_lo:sl%old_hi, i, j, k) = us(1:nd)
+      nvel_s(sl%new_lo:sl%new_hi, i, j, k) = usn(1:nd)
+      nvel_f(sl%old_lo:sl%old_hi, i, j, k) = uf(1:nd)
+      nvel_f(sl%new_lo:sl%new_hi, i, j, k) = ufn(1:nd)
       if (ms > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product(ms*gravity(1:nd), us(1:nd) + usn(1:nd))
       if (mf > 0.0_wp) ext_work = ext_work + 0.5_wp*dt*dot_product(mf*gravity(1:nd), uf(1:nd) + ufn(1:nd))
     end subroutine update_plain

@@ -1,6 +1,7 @@
 !> A phase of the step: one point set (solid skeleton or pore fluid) with its
 !> grid-transfer work arrays and node fields. The step runs over a list of one or
-!> two phases; what couples two (nodal porosity, drag) is not a phase's own.
+!> two phases; what couples two (nodal porosity, drag) is not a phase's own but the
+!> coupling's (coupling_t).
 module dpmpm_phase
   use dpmpm_kinds, only: wp
   use dpmpm_particles, only: particle_set_t
@@ -8,7 +9,7 @@ module dpmpm_phase
   use dpmpm_gauss_fields, only: reach_cache_t, reach_cache_bytes
   implicit none
   private
-  public :: phase_t, solid_phase, fluid_phase
+  public :: phase_t, coupling_t, solid_phase, fluid_phase
 
   integer, parameter :: solid_phase = 1     !< index of the solid phase in the list
   integer, parameter :: fluid_phase = 2     !< index of the fluid phase (two-phase scenes)
@@ -49,7 +50,25 @@ module dpmpm_phase
     procedure :: bytes_per_point => phase_bytes_per_point
   end type phase_t
 
+  !> The node fields that couple the two phases (doc/theory.md 3.5): what the porous
+  !> skeleton's points sum at the nodes, nodal porosity (1 where there is no porous solid),
+  !> porous mass and 1/k (0 there) in nporo, and the drag coefficient D (kg/s) of the
+  !> fluid's points in ndrag. Allocated in two-phase scenes only, over the stored nodes.
+  type :: coupling_t
+    real(wp), allocatable :: nporo(:, :, :, :) !< porosity, porous mass, 1/k (3 slots)
+    real(wp), allocatable :: ndrag(:, :, :, :) !< drag coefficient (1 slot)
+  contains
+    procedure :: free => coupling_free
+  end type coupling_t
+
 contains
+
+  !> Release the coupling's node fields.
+  subroutine coupling_free(self)
+    class(coupling_t), intent(inout) :: self
+    if (allocated(self%nporo)) deallocate (self%nporo)
+    if (allocated(self%ndrag)) deallocate (self%ndrag)
+  end subroutine coupling_free
 
   !> Bytes per point of the phase: the point set's fields, its stencil (first node,
   !> weights and derivatives) and the per-point work arrays of the step.

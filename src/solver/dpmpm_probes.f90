@@ -12,7 +12,7 @@
 module dpmpm_probes
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t
-  use dpmpm_grid, only: grid_t
+  use dpmpm_grid, only: grid_t, node_slots_t, node_slots
   use dpmpm_output, only: output_t
   use dpmpm_particles, only: particle_set_t
   use mpi_f08, only: MPI_Comm, MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM, &
@@ -163,11 +163,13 @@ contains
     real(wp) :: v(self%nd*self%n)
     real(wp) :: pv((self%nd + 7)*self%n)
     integer :: k, nd, j, r
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     v = 0.0_wp
     do k = 1, self%n
       associate (i => self%node(:, k))
-        if (all(i >= olo .and. i <= ohi)) v(nd*(k - 1) + 1:nd*k) = nvel(nd + 1:2*nd, i(1), i(2), i(3))
+        if (all(i >= olo .and. i <= ohi)) v(nd*(k - 1) + 1:nd*k) = nvel(sl%new_lo:sl%new_hi, i(1), i(2), i(3))
       end associate
     end do
     call MPI_Allreduce(MPI_IN_PLACE, v, size(v), MPI_DOUBLE_PRECISION, MPI_SUM, comm)

@@ -7,6 +7,7 @@
 !> dpmpm_gauss_fields; here are its passes with their halo exchanges.
 module dpmpm_quadrature
   use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: node_slots_t, node_slots
   use dpmpm_timer, only: t_halo
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER, MPI_MAX
   use dpmpm_gauss_fields, only: occupancy_pass, gauss_accumulate, gauss_solve, gauss_forces, gauss_masses, &
@@ -281,7 +282,9 @@ contains
     real(wp), allocatable, intent(out) :: gpf(:, :, :, :), gms(:, :, :, :), gmf(:, :, :, :)
     real(wp), allocatable :: pseudo(:, :), pseudo2(:, :), fnode(:, :, :, :)
     integer :: ip, nd, ns, nf
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     do ip = 1, self%nph
       associate (ph => self%phase(ip))
         ph%nvol = 0.0_wp
@@ -320,7 +323,7 @@ contains
         end if
         allocate (gpf(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
                       self%dec%alo(3):self%dec%ahi(3)))
-        gpf = fnode(2 + nd:1 + 2*nd, :, :, :)
+        gpf = fnode(sl%force_lo:sl%force_hi, :, :, :)
       else
         ! (isotropic fields: one value per point, f%giso)
         pseudo(1, :) = -f%pts%porosity(1:nf)*f%pts%pressure(1:nf)
@@ -343,15 +346,17 @@ contains
     real(wp), intent(in) :: gps(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     integer :: i, j, k, nd
     real(wp) :: nI
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     associate (olo => self%dec%olo, ohi => self%dec%ohi, fn => self%phase(fluid_phase)%node, &
                sn => self%phase(solid_phase)%node)
       do k = olo(3), ohi(3)
         do j = olo(2), ohi(2)
           do i = olo(1), ohi(1)
-            nI = self%nporo(1, i, j, k)
-            fn(2 + nd:1 + 2*nd, i, j, k) = fn(2 + nd:1 + 2*nd, i, j, k) + nI*gpf(1:nd, i, j, k)
-            sn(2 + nd:1 + 2*nd, i, j, k) = sn(2 + nd:1 + 2*nd, i, j, k) + (1.0_wp - nI)*gps(1:nd, i, j, k)
+            nI = self%cpl%nporo(1, i, j, k)
+            fn(sl%force_lo:sl%force_hi, i, j, k) = fn(sl%force_lo:sl%force_hi, i, j, k) + nI*gpf(1:nd, i, j, k)
+            sn(sl%force_lo:sl%force_hi, i, j, k) = sn(sl%force_lo:sl%force_hi, i, j, k) + (1.0_wp - nI)*gps(1:nd, i, j, k)
           end do
         end do
       end do
@@ -380,7 +385,9 @@ contains
     real(wp), intent(in), optional :: transfer(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     integer :: i, j, k, nd
     real(wp) :: mg
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     associate (olo => self%dec%olo, ohi => self%dec%ohi, node => ph%node)
       do k = olo(3), ohi(3)
         do j = olo(2), ohi(2)
@@ -392,7 +399,7 @@ contains
             if (present(nporo)) mg = nporo(1, i, j, k)*mg
             gm(2:1 + nd, i, j, k) = (mg - node(1, i, j, k))*g(1:nd)
             if (present(transfer)) gm(2:1 + nd, i, j, k) = gm(2:1 + nd, i, j, k) - transfer(2:1 + nd, i, j, k)
-            node(2 + nd:1 + 2*nd, i, j, k) = node(2 + nd:1 + 2*nd, i, j, k) + gm(2:1 + nd, i, j, k)
+            node(sl%force_lo:sl%force_hi, i, j, k) = node(sl%force_lo:sl%force_hi, i, j, k) + gm(2:1 + nd, i, j, k)
           end do
         end do
       end do
@@ -407,13 +414,16 @@ contains
     real(wp), intent(in) :: gm(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     real(wp), intent(in) :: dt
     integer :: i, j, k, nd
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     associate (olo => self%dec%olo, ohi => self%dec%ohi)
       do k = olo(3), ohi(3)
         do j = olo(2), ohi(2)
           do i = olo(1), ohi(1)
             self%ext_work = self%ext_work + 0.5_wp*dt*dot_product(gm(2:1 + nd, i, j, k), &
-                                                                  nvel(1:nd, i, j, k) + nvel(nd + 1:2*nd, i, j, k))
+                                                                  nvel(sl%old_lo:sl%old_hi, i, j, k) + &
+                                                                  nvel(sl%new_lo:sl%new_hi, i, j, k))
           end do
         end do
       end do
@@ -437,8 +447,8 @@ contains
       uf = f%nvel
       us = s%nvel
       do c = nd + 1, 2*nd
-        uf(c, :, :, :) = self%nporo(1, :, :, :)*uf(c, :, :, :)
-        us(c, :, :, :) = (1.0_wp - self%nporo(1, :, :, :))*us(c, :, :, :)
+        uf(c, :, :, :) = self%cpl%nporo(1, :, :, :)*uf(c, :, :, :)
+        us(c, :, :, :) = (1.0_wp - self%cpl%nporo(1, :, :, :))*us(c, :, :, :)
       end do
       f%divf(1:nf) = f%pts%porosity(1:nf)*f%divf(1:nf) + mix(1:nf)
       f%divs(1:nf) = (1.0_wp - f%pts%porosity(1:nf))*f%divs(1:nf)

@@ -8,6 +8,7 @@
 !> step's drag would.
 module dpmpm_remap
   use dpmpm_kinds, only: wp
+  use dpmpm_grid, only: node_slots_t, node_slots
   use dpmpm_phase, only: phase_t, solid_phase, fluid_phase
   use dpmpm_state, only: state_t
   use dpmpm_transfer, only: g2p, g2p_remap, point_gradient, point_divergences, momentum_p2g, &
@@ -53,13 +54,15 @@ contains
     real(wp) :: unused
     type(tied_save_t) :: tsave
     integer :: a, flo(3), fhi(3)
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     coupled = self%nph == 2
     tied = coupled .and. any(self%bnd%tied)
     locked = remap_locks(self)
     ! Relative velocity of the nodal update, before the remap overwrites it.
-    if (coupled) wstep = self%phase(fluid_phase)%nvel(nd + 1:2*nd, :, :, :) - &
-                         self%phase(solid_phase)%nvel(nd + 1:2*nd, :, :, :)
+    if (coupled) wstep = self%phase(fluid_phase)%nvel(sl%new_lo:sl%new_hi, :, :, :) - &
+                         self%phase(solid_phase)%nvel(sl%new_lo:sl%new_hi, :, :, :)
     if (locked) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         allocate (lockv(nd, self%dec%alo(1):self%dec%ahi(1), self%dec%alo(2):self%dec%ahi(2), &
@@ -67,14 +70,14 @@ contains
         ! (tied faces: at each pair as one node)
         if (tied) call join_tied(self, tsave)
         call locked_velocity(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, &
-                             f%node, self%ndrag, dt, s%nvel, f%nvel, lockv)
+                             f%node, self%cpl%ndrag, dt, s%nvel, f%nvel, lockv)
         if (tied) call split_tied(self, tsave, lockv)
       end associate
       call self%dec%halo_copy(lockv)
     end if
     ! One phase on absorbing faces: the velocities the dashpots acted on, before the remap
     ! overwrites them (kept at their nodes below).
-    if (self%nph == 1 .and. self%bnd%faces%absorbing) vdash = self%phase(solid_phase)%nvel(nd + 1:2*nd, :, :, :)
+    if (self%nph == 1 .and. self%bnd%faces%absorbing) vdash = self%phase(solid_phase)%nvel(sl%new_lo:sl%new_hi, :, :, :)
     ! (Not locked, lockv is unallocated: an absent argument.)
     do ip = 1, self%nph
       if (locked) call self%mirror%unfold(lockv, 0, self%phase(ip)%bc)
@@ -108,9 +111,9 @@ contains
                        s%nvel, f%nvel)
         if (locked) then
           call remove_split(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, f%node, &
-                            s%node(nd + 2:1 + 2*nd, :, :, :), f%node(nd + 2:1 + 2*nd, :, :, :), s%nvel, f%nvel)
+                            s%node(sl%force_lo:sl%force_hi, :, :, :), f%node(sl%force_lo:sl%force_hi, :, :, :), s%nvel, f%nvel)
           call relax_remapped(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%bnd%faces, f%bc, s%node, &
-                              f%node, self%ndrag, dt, wstep, s%nvel, f%nvel)
+                              f%node, self%cpl%ndrag, dt, wstep, s%nvel, f%nvel)
         end if
         ! the corrections keep the pair's momentum; the skeleton at rigid nodes keeps v_r
         if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, s%node, &
@@ -155,7 +158,9 @@ contains
     real(wp), intent(inout) :: nvel(:, self%dec%alo(1):, self%dec%alo(2):, self%dec%alo(3):)
     integer :: i, j, k, nd, lo(3), hi(3)
     real(wp) :: cd(3)
+    type(node_slots_t) :: sl
     nd = self%nd
+    sl = node_slots(nd)
     lo = max(self%dec%olo, self%zlo)
     hi = min(self%dec%ohi, self%zhi)
     do k = lo(3), hi(3)
@@ -163,7 +168,7 @@ contains
         do i = lo(1), hi(1)
           if (.not. self%bnd%faces%near_face([i, j, k])) cycle
           cd = self%bnd%faces%dashpot([i, j, k], .false.)
-          where (cd(1:nd) > 0.0_wp) nvel(nd + 1:2*nd, i, j, k) = vdash(1:nd, i, j, k)
+          where (cd(1:nd) > 0.0_wp) nvel(sl%new_lo:sl%new_hi, i, j, k) = vdash(1:nd, i, j, k)
         end do
       end do
     end do
@@ -231,7 +236,7 @@ contains
                       dec%comm)
       call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, save%f, &
                       dec%comm)
-      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, save%d, &
+      call join_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%cpl%ndrag, save%d, &
                       dec%comm)
     end associate
   end subroutine join_tied
@@ -246,7 +251,7 @@ contains
     associate (s => self%phase(solid_phase), f => self%phase(fluid_phase), dec => self%dec)
       call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, s%node, save%s)
       call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, f%node, save%f)
-      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%ndrag, save%d)
+      call unjoin_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, self%cpl%ndrag, save%d)
       if (present(field)) then
         call copy_pairs(self%nd, dec%alo, dec%olo, dec%ohi, self%grid%ncells, self%bnd%tied, field, dec%comm)
         return

@@ -36,8 +36,8 @@ contains
       self%energy_drift
     call self%log%info(line)
     write (line, '(a,es10.3,a,es10.3,a)') '  energy against the work done + initial energy: '// &
-      'largest (kinetic + stored) / (work + initial) ', self%mon_ratio, ', largest balance error ', &
-      self%mon_balance, ' (doc/verification.md, "Long runs")'
+      'largest (kinetic + stored) / (work + initial) ', self%mon%ratio, ', largest balance error ', &
+      self%mon%balance, ' (doc/verification.md, "Long runs")'
     call self%log%info(line)
     if (self%has_rigid .and. self%ndrive > 0) then
       write (line, '(a,es11.4,a,3es12.4,a)') '  rigid drive: mean force over the last record (t = ', &
@@ -131,7 +131,7 @@ contains
                field_bytes(self%phase(ip)%glg) + field_bytes(self%phase(ip)%gacc2) + &
                field_bytes(self%phase(ip)%glg2) + field_bytes(self%phase(ip)%nvol)
     end do
-    gbytes = gbytes + field_bytes(self%nporo) + field_bytes(self%ndrag)
+    gbytes = gbytes + field_bytes(self%cpl%nporo) + field_bytes(self%cpl%ndrag)
     nodes = product(int(self%dec%ahi - self%dec%alo + 1, i8))
     kib = peak_resident_kib()
     npts = 0

@@ -88,22 +88,22 @@ contains
     self%kib_start = peak_resident_kib()
     self%cfg = cfg
     self%exit_code = 0
-    self%growth_stop = .false.
+    self%mon%growth_stop = .false.
     self%write_output = .true.
     if (present(write_output)) self%write_output = write_output
     self%ext_work = 0.0_wp
     self%drag_loss = 0.0_wp
-    self%monitor_started = .false.
-    self%mon_ratio = 0.0_wp
-    self%mon_ke_max = 0.0_wp
-    self%mon_balance = 0.0_wp
-    self%mon_warned = .false.
+    self%mon%started = .false.
+    self%mon%ratio = 0.0_wp
+    self%mon%ke_max = 0.0_wp
+    self%mon%balance = 0.0_wp
+    self%mon%warned = .false.
     self%box_known = .false.
     self%drive_impulse = 0.0_wp
     self%drive_t0 = 0.0_wp
     self%ndrive = 0
     self%cut_time = -1.0_wp
-    self%mon_prev = 0.0_wp
+    self%mon%prev = 0.0_wp
     self%energy0 = 0.0_wp
     self%energy_scale = 0.0_wp
     self%energy_error = 0.0_wp
@@ -368,8 +368,7 @@ contains
     end do
     if (allocated(self%occ)) deallocate (self%occ)
     if (allocated(self%occ2)) deallocate (self%occ2)
-    if (allocated(self%nporo)) deallocate (self%nporo)
-    if (allocated(self%ndrag)) deallocate (self%ndrag)
+    call self%cpl%free()
     if (allocated(self%sforce)) deallocate (self%sforce)
     if (allocated(self%rnode)) deallocate (self%rnode)
     associate (lo => self%dec%alo, hi => self%dec%ahi)
@@ -405,8 +404,8 @@ contains
       if (self%two_phase) then
         allocate (self%phase(2)%node, mold=self%phase(1)%node)
         allocate (self%phase(2)%nvel, mold=self%phase(1)%nvel)
-        allocate (self%nporo(3, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-        allocate (self%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (self%cpl%nporo(3, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        allocate (self%cpl%ndrag(1, lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         if (self%plan%gauss) then
           ! The fluid's fields are the pore pressure's shares, isotropic: one per Gauss point.
           self%phase(2)%giso = .true.
@@ -727,7 +726,7 @@ contains
     class(simulation_t), intent(inout) :: self
     call diagnostics(self)
     call check_load_path(self)
-    if (.not. self%growth_stop) return
+    if (.not. self%mon%growth_stop) return
     call self%write_frame()
     call write_verification(self)
     if (self%write_output) call self%probes%write(self%out, self%grid)
@@ -798,13 +797,12 @@ contains
     end do
     self%nph = 1
     call self%dec%free()
-    if (allocated(self%nporo)) deallocate (self%nporo)
+    call self%cpl%free()
     if (allocated(self%rnode)) deallocate (self%rnode)
     if (allocated(self%sforce)) deallocate (self%sforce)
     self%has_surface_loads = .false.
     if (allocated(self%drive_hist)) deallocate (self%drive_hist)
     self%has_rigid = .false.
-    if (allocated(self%ndrag)) deallocate (self%ndrag)
     if (allocated(self%occ)) deallocate (self%occ)
     if (allocated(self%occ2)) deallocate (self%occ2)
     call self%bnd%free()

@@ -16,14 +16,31 @@ module dpmpm_state
   use dpmpm_two_phase_verify, only: error_name_len
   use dpmpm_mirror, only: mirror_t
   use dpmpm_boundary, only: boundary_t
-  use dpmpm_phase, only: phase_t
+  use dpmpm_phase, only: phase_t, coupling_t
   implicit none
   private
-  public :: state_t, exit_bad_input, exit_stopped, exit_monitor
+  public :: state_t, monitor_t, exit_bad_input, exit_stopped, exit_monitor
 
   integer, parameter :: exit_bad_input = 2  !< exit status: bad input, restart or time step
   integer, parameter :: exit_stopped = 3    !< exit status: stopped early with a checkpoint
   integer, parameter :: exit_monitor = 4    !< exit status: stopped by the run monitor
+
+  !> The run monitor (doc/verification.md, "Long runs"): energies against the work done
+  !> on the body and the energy it started with, not against the run's own maximum.
+  type :: monitor_t
+    logical :: started = .false.              !< the first record of this run was taken
+    real(wp) :: e0 = 0.0_wp                   !< kinetic + stored energy at the first record
+    real(wp) :: w0 = 0.0_wp                   !< work of the loads at the first record
+    real(wp) :: d0 = 0.0_wp                   !< drag dissipation at the first record
+    real(wp) :: input = 0.0_wp                !< e0 + largest |work of the loads| so far
+    real(wp) :: ratio = 0.0_wp                !< largest (kinetic + stored) / input so far
+    real(wp) :: ke_max = 0.0_wp               !< largest kinetic energy at a record so far
+    real(wp) :: balance = 0.0_wp              !< largest |E + D - W - E0| / (input + D) so far
+    logical :: warned = .false.               !< the growth warning was given
+    real(wp) :: prev(4) = 0.0_wp              !< field maxima at the previous record
+    real(wp) :: prev_time = 0.0_wp            !< time of the previous record
+    logical :: growth_stop = .false.          !< the monitor stopped the run for growth
+  end type monitor_t
 
   !> The state of a run: the scene, its phases, the step's bookkeeping, the run's
   !> schedules and records (what init makes and free releases).
@@ -47,10 +64,8 @@ module dpmpm_state
     !> the faces' conditions (dpmpm_boundary): each phase's kinds, the pore fluid's, tied
     !> faces, the rigid base, the face loads
     type(boundary_t) :: bnd
-    ! Two-phase node fields of the porous solid points (dpmpm_pore_pressure): nodal
-    ! porosity (1 where there is no porous solid), porous mass, 1/k (0 there); and the
-    ! drag coefficient D (kg/s).
-    real(wp), allocatable :: nporo(:, :, :, :), ndrag(:, :, :, :)
+    !> the node fields that couple the two phases: nodal porosity, porous mass, 1/k, drag
+    type(coupling_t) :: cpl
     real(wp) :: kf_max = 0.0_wp, rhof_min = 0.0_wp !< stiffest, lightest pore fluid (CFL)
     real(wp) :: dt_wave = 0.0_wp, dt_drag = huge(1.0_wp) !< the two limits of the last step
     integer :: governing = 0                  !< limit that set the last step: 1 wave, 2 drag
@@ -126,21 +141,8 @@ module dpmpm_state
     !> early with a checkpoint, 4 stopped by the run monitor (collective conditions: every
     !> rank sets the same status and returns)
     integer :: exit_code = 0
-    logical :: growth_stop = .false.          !< the monitor stopped the run for growth
-    ! Run monitor (doc/verification.md, "Long runs"): energies against the work done
-    ! on the body and the energy it started with, not against the run's own maximum.
     real(wp) :: drag_loss = 0.0_wp            !< energy dissipated by drag on this rank
-    logical :: monitor_started = .false.      !< the first record of this run was taken
-    real(wp) :: mon_e0 = 0.0_wp               !< kinetic + stored energy at the first record
-    real(wp) :: mon_w0 = 0.0_wp               !< work of the loads at the first record
-    real(wp) :: mon_d0 = 0.0_wp               !< drag dissipation at the first record
-    real(wp) :: mon_input = 0.0_wp            !< mon_e0 + largest |work of the loads| so far
-    real(wp) :: mon_ratio = 0.0_wp            !< largest (kinetic + stored) / mon_input so far
-    real(wp) :: mon_ke_max = 0.0_wp           !< largest kinetic energy at a record so far
-    real(wp) :: mon_balance = 0.0_wp          !< largest |E + D - W - E0| / (input + D) so far
-    logical :: mon_warned = .false.           !< the growth warning was given
-    real(wp) :: mon_prev(4) = 0.0_wp          !< field maxima at the previous record
-    real(wp) :: mon_prev_time = 0.0_wp        !< time of the previous record
+    type(monitor_t) :: mon                    !< the run monitor's state
     !> time at which the body loaded on each face was found cut (dpmpm_load_path), -1 never
     real(wp) :: cut_time(6) = -1.0_wp
   end type state_t

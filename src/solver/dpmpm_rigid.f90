@@ -3,7 +3,9 @@
 !> (a vibration added to the constant velocity, body_velocities). The points of a rigid
 !> material carry mass but no stress; every node their grid functions reach moves with
 !> the body (the soil there sticks to it), and the force that takes is the drive's
-!> reaction, summed over the owned nodes.
+!> reaction, summed over the owned nodes. A body with a frictional contact (bodies_t,
+!> doc/theory.md 6.8.1) meets the soil at those nodes by Coulomb friction and adhesion
+!> instead (contact_node; the steps around it: dpmpm_contact).
 module dpmpm_rigid
   use dpmpm_kinds, only: wp
   use dpmpm_walls, only: walls_t
@@ -11,6 +13,31 @@ module dpmpm_rigid
   implicit none
   private
   public :: rigid_p2g, drive_rigid_nodes, hold_rigid_points, body_velocities
+  public :: bodies_t, body_p2g, contact_node
+
+  !> The rigid body of a scene with a frictional contact (doc/theory.md 6.8.1; the input
+  !> allows one such body, the scene's only rigid one). Without one, on stays .false. and
+  !> the scene keeps the stick contact of drive_rigid_nodes.
+  type :: bodies_t
+    logical :: known = .false.       !< the materials have been looked at (contact_setup)
+    logical :: on = .false.          !< the scene's rigid body has a frictional contact
+    logical :: free = .false.        !< it moves by its own equation (body_motion = 'free')
+    integer :: mat = 0               !< its material
+    real(wp) :: mu = 0.0_wp          !< friction coefficient of the contact
+    real(wp) :: adhesion = 0.0_wp    !< Pa, shear strength of the contact at no normal stress
+    real(wp) :: density = 0.0_wp     !< kg/m^3, of the body (its surface area from its mass gradient)
+    real(wp) :: mass = 0.0_wp        !< kg (kg/m in 2D), its points' mass on all ranks
+    real(wp) :: load(3) = 0.0_wp     !< N (N/m), the constant force on a free body
+    real(wp) :: v(3) = 0.0_wp        !< velocity at the start of the step
+    real(wp) :: vstep(3) = 0.0_wp    !< velocity of the step: the body moves by dt vstep
+    real(wp) :: force(3) = 0.0_wp    !< the contact's force on the body over the last step
+    integer :: iterations = 0        !< passes of the last step's contact solve (free body)
+    !> the body points' masses and positions while the body is kept out of the soil's
+    !> node fields (contact_hide, contact_move)
+    real(wp), allocatable :: msave(:), xsave(:, :)
+    !> the soil's share of the node fields as body_p2g forms the body's (the soil's normal)
+    real(wp), allocatable :: snode(:, :, :, :)
+  end type bodies_t
 
 contains
 
@@ -103,5 +130,58 @@ contains
       if (mats(pmat(p))%model == model_rigid) v(1:nd, p) = vb(1:nd, pmat(p))
     end do
   end subroutine hold_rigid_points
+
+  !> The share of the node fields of the points with masses bm (body_p2g(..., bm = the
+  !> body's points' masses, the others' 0) gives the body's): rnode(1) = sum N m and rnode(2:1+nd) = sum m grad N (grad N_I at
+  !> the points points toward node I: at a node on the body's surface the sum points out
+  !> of the body; added to, the caller clears rnode).
+  subroutine body_p2g(nd, nw, n, i0, sw, sdw, bm, lo, rnode)
+    integer, intent(in) :: nd, nw(3), n
+    integer, contiguous, intent(in) :: i0(:, :)
+    real(wp), contiguous, intent(in) :: sw(:, :, :), sdw(:, :, :), bm(:)
+    integer, intent(in) :: lo(3)
+    real(wp), contiguous, intent(inout) :: rnode(:, lo(1):, lo(2):, lo(3):)
+    integer :: p, a, b, c, i, j, k
+    real(wp) :: nn, g(3)
+    do p = 1, n
+      if (bm(p) <= 0.0_wp) cycle
+#include "dpmpm_stencil_do_3d.inc"
+#include "dpmpm_stencil_grad_3d.inc"
+      if (nn <= 0.0_wp .and. all(g(1:nd) == 0.0_wp)) cycle
+      rnode(1, i, j, k) = rnode(1, i, j, k) + nn*bm(p)
+      rnode(2:1 + nd, i, j, k) = rnode(2:1 + nd, i, j, k) + bm(p)*g(1:nd)
+#include "dpmpm_stencil_end_3d.inc"
+    end do
+  end subroutine body_p2g
+
+  !> The frictional contact at one node (doc/theory.md 6.8.1): the soil's new velocity vs
+  !> (mass ms) against the body's velocity vb, with the body's outward normal n (a unit
+  !> vector; zero where the body's mass has no gradient: the soil there moves with it).
+  !> Where the soil approaches the body, (vs - vb) . n < 0, its normal relative velocity is
+  !> removed, and its tangential one as far as the friction mu times that normal change plus
+  !> the adhesion's share ca/ms allows (ca: the adhesion's impulse on the node, a A dt);
+  !> where it moves away, vs stays.
+  pure subroutine contact_node(nd, ms, vb, n, mu, ca, vs)
+    integer, intent(in) :: nd
+    real(wp), intent(in) :: ms, vb(3), n(3), mu, ca
+    real(wp), intent(inout) :: vs(3)
+    real(wp) :: dv(3), vn, vt(3), st, lim
+    if (all(n(1:nd) == 0.0_wp)) then
+      vs(1:nd) = vb(1:nd)
+      return
+    end if
+    dv = 0.0_wp
+    dv(1:nd) = vs(1:nd) - vb(1:nd)
+    vn = dot_product(dv(1:nd), n(1:nd))
+    if (vn >= 0.0_wp) return
+    vt = dv - vn*n
+    st = norm2(vt(1:nd))
+    lim = -mu*vn + ca/ms
+    if (st <= lim) then
+      vs(1:nd) = vb(1:nd)
+    else
+      vs(1:nd) = vs(1:nd) - vn*n(1:nd) - lim*vt(1:nd)/st
+    end if
+  end subroutine contact_node
 
 end module dpmpm_rigid

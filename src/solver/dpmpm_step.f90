@@ -38,6 +38,7 @@ module dpmpm_step
   use dpmpm_time_step, only: report_governing
   use dpmpm_tied_sides, only: tie_sums
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, hold_rigid_points, body_velocities
+  use dpmpm_contact, only: contact_hide, contact_nodes, contact_move
   use dpmpm_surface_loads, only: surface_forces
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_PROC_NULL, operator(/=)
   implicit none
@@ -101,6 +102,9 @@ contains
     ! 2. p2g of every phase; the solid's internal force by point quadrature unless
     ! Gauss quadrature gives it; the fluid's pore-pressure forces come with the coupling.
     call self%timers%tic(t_p2g)
+    ! A rigid body with a frictional contact stays out of the soil's node fields up to g2p
+    ! (dpmpm_contact).
+    if (self%has_rigid) call contact_hide(self, dt, gravity_now(self))
     ! With cell smoothing the forces take each cell's mean stress of the skeleton
     ! (volumetric_smoothing) and mean pore pressure (pressure_smoothing): these stand in
     ! the points' place up to the end of the forces (doc/theory.md 4.5).
@@ -420,6 +424,8 @@ contains
         end associate
       end if
     end if
+    ! (the frictional contact's body back in the point set, moved by its velocity)
+    if (self%has_rigid) call contact_move(self, dt)
     call self%timers%toc(t_g2p)
 
     ! Stress of the skeleton; with a fluid, the skeleton's porosity from its volume
@@ -559,6 +565,11 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     real(wp) :: force(3)
+    ! (a frictional contact instead, doc/theory.md 6.8.1)
+    if (self%bodies%on) then
+      call contact_nodes(self, dt, gravity_now(self))
+      return
+    end if
     call rigid_node_sums(self, dt)
     associate (s => self%phase(solid_phase))
       force = 0.0_wp

@@ -4,7 +4,7 @@
 !> need the regions and the shape choice, stay in dpmpm_input_check.
 module dpmpm_input_check_material
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: material_cfg_t, config_t
+  use dpmpm_config, only: material_cfg_t, config_t, table_length
   use dpmpm_model_table, only: model_from_name, model_names
   use dpmpm_plasticity, only: plastic_params_t, plastic_setup, softening_limit, dp_match_names, &
                               dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
@@ -558,11 +558,13 @@ contains
     call check_finite(pb, g_material, k, 'body_load', m%body_load)
     if (.not. rigid) then
       if (m%contact /= d%contact .or. m%body_motion /= d%body_motion .or. any(m%body_load /= 0.0_wp) &
-          .or. m%contact_friction /= 0.0_wp .or. m%contact_adhesion /= 0.0_wp) call add_value(pb, &
-        g_material, k, 'model', quote(m%model), "contact, contact_friction, contact_adhesion, "// &
-        "body_motion and body_load belong to a rigid body (model = 'rigid')")
+          .or. m%contact_friction /= 0.0_wp .or. m%contact_adhesion /= 0.0_wp .or. &
+          any(m%motion_times /= d%motion_times)) call add_value(pb, g_material, k, 'model', &
+        quote(m%model), "contact, contact_friction, contact_adhesion, body_motion, body_load "// &
+        "and motion_times belong to a rigid body (model = 'rigid')")
       return
     end if
+    call check_motion_table(pb, k, m)
     if (.not. frictional .and. m%contact_friction /= 0.0_wp) call add_value(pb, g_material, k, &
       'contact_friction', rtoa(m%contact_friction), "needs contact = 'frictional' (a stick "// &
       'contact holds the soil whatever the force)')
@@ -580,6 +582,36 @@ contains
         "(body_motion = 'free') takes a load; a prescribed one moves at its velocity")
     end if
   end subroutine check_contact
+
+  !> A rigid body's time table (motion_times, motion_factors): times >= 0 increasing from the
+  !> first entry, then only unused entries < 0, finite factors; a free body's factors act
+  !> on its body_load, which then must be given.
+  subroutine check_motion_table(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    integer :: n, i
+    n = table_length(m%motion_times)
+    if (n == 0 .and. any(m%motion_times >= 0.0_wp)) call add_value(pb, g_material, k, &
+      'motion_times', rtoa_list(pack(m%motion_times, m%motion_times /= -1.0_wp)), &
+      'the table starts at its first entry (a time >= 0)')
+    if (n == 0) return
+    if (any(m%motion_times(n + 1:) >= 0.0_wp)) call add_value(pb, g_material, k, 'motion_times', &
+      rtoa(m%motion_times(n + 1)), 'the table ends at its first negative entry (entry '// &
+      itoa(n + 1)//'); give the times in order')
+    do i = 2, n
+      if (m%motion_times(i) <= m%motion_times(i - 1)) then
+        call add_value(pb, g_material, k, 'motion_times', rtoa(m%motion_times(i)), &
+                       'must increase (entry '//itoa(i)//' is not after entry '//itoa(i - 1)//')')
+        exit
+      end if
+    end do
+    call check_finite(pb, g_material, k, 'motion_times', m%motion_times(1:n))
+    call check_finite(pb, g_material, k, 'motion_factors', m%motion_factors(1:n))
+    if (m%body_motion == 'free' .and. all(m%body_load == 0.0_wp)) call add_value(pb, &
+      g_material, k, 'motion_times', rtoa_list(m%motion_times(1:n)), 'the table of a free '// &
+      'body scales its body_load, which is not given')
+  end subroutine check_motion_table
 
   !> The scene around frictional contacts (doc/theory.md 6.8.1): a frictional or free body is
   !> the only rigid body of its scene, dry (no pore water: its contact with the water is

@@ -13,8 +13,9 @@ module dpmpm_contact
   use dpmpm_materials, only: model_rigid
   use dpmpm_phase, only: solid_phase
   use dpmpm_state, only: state_t
-  use dpmpm_rigid, only: body_p2g, contact_node, body_velocities
-  use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_DOUBLE_PRECISION, MPI_SUM
+  use dpmpm_rigid, only: body_p2g, contact_node, body_velocities, motion_factor
+  use mpi_f08, only: MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_Comm_size, MPI_IN_PLACE, MPI_INTEGER, &
+                     MPI_DOUBLE_PRECISION, MPI_SUM
   implicit none
   private
   public :: contact_hide, contact_nodes, contact_remap, contact_move
@@ -22,6 +23,8 @@ module dpmpm_contact
   !> passes of the free body's contact solve at most, and its relative tolerance
   integer, parameter :: max_passes = 60
   real(wp), parameter :: pass_tol = 1.0e-12_wp
+  !> values of a contact node in the free body's solve: m_s, v_s*(3), n(3), a A dt, held(3)
+  integer, parameter :: nrow_vals = 11
 
 contains
 
@@ -73,7 +76,8 @@ contains
   !> the node fields in self%rnode (mass, mass gradient: body_p2g) folded at mirror walls
   !> (the gradient as a geometric vector: fixed walls reflect it as rollers do) and summed
   !> over the ranks, and the body's velocity for the step: the prescribed one at its middle,
-  !> or for a free body its velocity with gravity's and the load's change (the contact's
+  !> or for a free body its velocity with gravity's and the load's change (the load at the
+  !> step's middle, its time table's factor on body_load; the contact's
   !> follows in contact_nodes).
   subroutine contact_hide(self, dt, gravity)
     class(state_t), intent(inout) :: self
@@ -105,7 +109,8 @@ contains
       call self%mirror%fold(b%snode, 1, bc)
       call self%dec%halo_sum(b%snode)
       if (b%free) then
-        b%vstep = b%v + dt*(gravity + b%load/b%mass)
+        b%lstep = motion_factor(self%mats(b%mat), self%time + 0.5_wp*dt)*b%load
+        b%vstep = b%v + dt*(gravity + b%lstep/b%mass)
       else
         vb = body_velocities(self%mats, self%time + 0.5_wp*dt)
         b%vstep = vb(:, b%mat)
@@ -126,20 +131,25 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt, gravity(3)
     real(wp) :: sums(4), vstar(3), v(3), vn(3), tol, wsoil, wbody, vmean(3)
+    real(wp), allocatable :: rows(:, :)
     integer :: pass
     associate (b => self%bodies)
       vstar = b%vstep
       v = vstar
       b%iterations = 0
       if (b%free) then
-        call contact_pass(self, dt, v, .false., sums, wsoil)
+        ! the contact nodes of every rank on every rank, so that the passes need no
+        ! messages (a body's surface has few nodes)
+        call contact_pass(self, dt, v, .false., sums, wsoil, rows)
+        call gather_rows(self, rows)
+        sums = row_sums(self%nd, rows, v, b%mu)
         tol = pass_tol*(norm2(vstar) + dt*norm2(gravity) + tiny(1.0_wp))
         do pass = 1, max_passes
           b%iterations = pass
           vn = (b%mass*vstar - sums(1:3) + sums(4)*v)/(b%mass + sums(4))
           if (norm2(vn - v) <= tol) exit
           v = vn
-          call contact_pass(self, dt, v, .false., sums, wsoil)
+          sums = row_sums(self%nd, rows, v, b%mu)
         end do
         v = vn
       end if
@@ -152,7 +162,7 @@ contains
         b%vstep = vstar - sums(1:3)/b%mass
         vmean = 0.5_wp*(b%v + b%vstep)
         wbody = -dot_product(sums(1:3), vmean)
-        self%ext_work = self%ext_work + wbody + dt*dot_product(b%mass*gravity + b%load, vmean)
+        self%ext_work = self%ext_work + wbody + dt*dot_product(b%mass*gravity + b%lstep, vmean)
         self%drag_loss = self%drag_loss - (wsoil + wbody)
         b%v = b%vstep
       else
@@ -165,17 +175,21 @@ contains
   !> the impulse it gives the soil, sums(4) the soil's mass at the contact nodes (both over
   !> all ranks), wsoil (this rank) the contact's work on the soil over the step's mean
   !> velocity; with apply, the soil's new velocities corrected (else left as they are).
-  subroutine contact_pass(self, dt, vb, apply, sums, wsoil)
+  !> With rows, this rank's contact nodes listed instead (row_sums reads them), no sums.
+  subroutine contact_pass(self, dt, vb, apply, sums, wsoil, rows)
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt, vb(3)
     logical, intent(in) :: apply
     real(wp), intent(out) :: sums(4), wsoil
-    integer :: i, j, k, nd
-    real(wp) :: ms, g, n(3), vs(3), dv(3), ca
+    real(wp), allocatable, intent(out), optional :: rows(:, :)
+    integer :: i, j, k, nd, nrow
+    real(wp) :: ms, g, gs, n(3), ns(3), vs(3), dv(3), ca
     logical :: fix(3)
     nd = self%nd
     sums = 0.0_wp
     wsoil = 0.0_wp
+    nrow = 0
+    if (present(rows)) allocate (rows(nrow_vals, 16))
     associate (node => self%phase(solid_phase)%node, nvel => self%phase(solid_phase)%nvel, &
                rn => self%rnode, olo => self%dec%olo, ohi => self%dec%ohi, b => self%bodies)
       do k = olo(3), ohi(3)
@@ -184,23 +198,31 @@ contains
             if (rn(1, i, j, k) <= 0.0_wp) cycle
             ms = node(1, i, j, k)
             if (ms <= 0.0_wp) cycle
-            ! the normal of the soil's surface, out of the body (the body's own where the
-            ! soil's mass has no gradient): a box's normals at its corners, halfway round
-            ! them, would push the soil ahead of a sliding body at its front corner
+            ! the normal of the soil's surface, out of the body, where it points away from
+            ! the body as the body's own does (a box's normals at its corners, halfway round
+            ! them, would push the soil ahead of a sliding body at its front corner); the
+            ! body's elsewhere (a node within the soil, whose mass gradient says little)
             n = 0.0_wp
-            g = norm2(b%snode(2:1 + nd, i, j, k))
-            if (g > 0.0_wp) then
-              n(1:nd) = -b%snode(2:1 + nd, i, j, k)/g
-            else if (norm2(rn(2:1 + nd, i, j, k)) > 0.0_wp) then
-              n(1:nd) = rn(2:1 + nd, i, j, k)/norm2(rn(2:1 + nd, i, j, k))
-            end if
             g = norm2(rn(2:1 + nd, i, j, k))
+            if (g > 0.0_wp) n(1:nd) = rn(2:1 + nd, i, j, k)/g
+            gs = norm2(b%snode(2:1 + nd, i, j, k))
+            if (gs > 0.0_wp) then
+              ns = 0.0_wp
+              ns(1:nd) = -b%snode(2:1 + nd, i, j, k)/gs
+              if (g <= 0.0_wp .or. dot_product(ns, n) > 0.0_wp) n = ns
+            end if
             ! the adhesion's impulse on the node's share of the surface, |grad m_b| / rho_b
             ca = b%adhesion*g/b%density*dt
             vs = 0.0_wp
             vs(1:nd) = nvel(nd + 1:2*nd, i, j, k)
-            call contact_node(nd, ms, vb, n, b%mu, ca, vs)
             fix = self%bnd%faces%walls%constrained([i, j, k])
+            if (present(rows)) then
+              nrow = nrow + 1
+              if (nrow > size(rows, 2)) call grow(rows)
+              rows(:, nrow) = [ms, vs, n, ca, merge(1.0_wp, 0.0_wp, fix)]
+              cycle
+            end if
+            call contact_node(nd, ms, vb, n, b%mu, ca, vs)
             where (fix) vs = 0.0_wp
             dv = 0.0_wp
             dv(1:nd) = vs(1:nd) - nvel(nd + 1:2*nd, i, j, k)
@@ -214,8 +236,59 @@ contains
         end do
       end do
     end associate
+    if (present(rows)) then
+      rows = rows(:, 1:nrow)
+      return
+    end if
     call MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
   end subroutine contact_pass
+
+  !> rows with twice the columns, the first kept.
+  subroutine grow(rows)
+    real(wp), allocatable, intent(inout) :: rows(:, :)
+    real(wp), allocatable :: more(:, :)
+    allocate (more(size(rows, 1), 2*size(rows, 2)))
+    more(:, 1:size(rows, 2)) = rows
+    call move_alloc(more, rows)
+  end subroutine grow
+
+  !> The rows of every rank on every rank, in the order of the ranks.
+  subroutine gather_rows(self, rows)
+    class(state_t), intent(in) :: self
+    real(wp), allocatable, intent(inout) :: rows(:, :)
+    real(wp), allocatable :: all(:, :)
+    integer, allocatable :: counts(:), displs(:)
+    integer :: nranks, r
+    call MPI_Comm_size(self%dec%comm, nranks)
+    allocate (counts(nranks), displs(nranks))
+    call MPI_Allgather(size(rows), 1, MPI_INTEGER, counts, 1, MPI_INTEGER, self%dec%comm)
+    displs(1) = 0
+    do r = 2, nranks
+      displs(r) = displs(r - 1) + counts(r - 1)
+    end do
+    allocate (all(nrow_vals, sum(counts)/nrow_vals))
+    call MPI_Allgatherv(rows, size(rows), MPI_DOUBLE_PRECISION, all, counts, displs, &
+                        MPI_DOUBLE_PRECISION, self%dec%comm)
+    call move_alloc(all, rows)
+  end subroutine gather_rows
+
+  !> contact_pass's sums over the listed contact nodes (contact_pass's rows, gathered)
+  !> against the body's velocity vb, without changing them.
+  pure function row_sums(nd, rows, vb, mu) result(sums)
+    integer, intent(in) :: nd
+    real(wp), intent(in) :: rows(:, :), vb(3), mu
+    real(wp) :: sums(4)
+    real(wp) :: vs(3)
+    integer :: r
+    sums = 0.0_wp
+    do r = 1, size(rows, 2)
+      vs = rows(2:4, r)
+      call contact_node(nd, rows(1, r), vb, rows(5:7, r), mu, rows(8, r), vs)
+      where (rows(9:11, r) > 0.5_wp) vs = 0.0_wp
+      sums(1:3) = sums(1:3) + rows(1, r)*(vs - rows(2:4, r))
+      sums(4) = sums(4) + rows(1, r)
+    end do
+  end function row_sums
 
   !> MUSL: the remapped velocities of the soil at the contact nodes corrected against the
   !> body's velocity of the step as in contact_nodes, the adhesion's impulse over the step dt

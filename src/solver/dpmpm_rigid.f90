@@ -13,7 +13,7 @@ module dpmpm_rigid
   implicit none
   private
   public :: rigid_p2g, drive_rigid_nodes, hold_rigid_points, body_velocities
-  public :: bodies_t, body_p2g, contact_node
+  public :: bodies_t, body_p2g, contact_node, motion_factor
 
   !> The rigid body of a scene with a frictional contact (doc/theory.md 6.8.1; the input
   !> allows one such body, the scene's only rigid one). Without one, on stays .false. and
@@ -27,7 +27,8 @@ module dpmpm_rigid
     real(wp) :: adhesion = 0.0_wp    !< Pa, shear strength of the contact at no normal stress
     real(wp) :: density = 0.0_wp     !< kg/m^3, of the body (its surface area from its mass gradient)
     real(wp) :: mass = 0.0_wp        !< kg (kg/m in 2D), its points' mass on all ranks
-    real(wp) :: load(3) = 0.0_wp     !< N (N/m), the constant force on a free body
+    real(wp) :: load(3) = 0.0_wp     !< N (N/m), the force on a free body (body_load)
+    real(wp) :: lstep(3) = 0.0_wp    !< that force in this step (times its table's factor)
     real(wp) :: v(3) = 0.0_wp        !< velocity at the start of the step
     real(wp) :: vstep(3) = 0.0_wp    !< velocity of the step: the body moves by dt vstep
     real(wp) :: force(3) = 0.0_wp    !< the contact's force on the body over the last step
@@ -42,7 +43,8 @@ module dpmpm_rigid
 contains
 
   !> The velocity of each material's body at time t (columns of vb, one per material):
-  !> velocity + A omega cos(omega t) with the vibration's amplitude A and angular frequency
+  !> velocity f(t) + A omega cos(omega t) with the factor f of its time table (motion_factor;
+  !> velocity itself without one) and the vibration's amplitude A and angular frequency
   !> omega (0 for the materials that are not rigid). A step from t to t + dt moves a body by
   !> dt vb(t + dt/2), the midpoint rule of its displacement velocity t + A sin(omega t).
   pure function body_velocities(mats, t) result(vb)
@@ -53,10 +55,43 @@ contains
     do m = 1, size(mats)
       vb(:, m) = 0.0_wp
       if (mats(m)%model /= model_rigid) cycle
-      vb(:, m) = mats(m)%velocity + mats(m)%vibration_amplitude*mats(m)%vibration_omega* &
+      if (mats(m)%motion_times(1) < 0.0_wp) then
+        vb(:, m) = mats(m)%velocity
+      else
+        vb(:, m) = mats(m)%velocity*motion_factor(mats(m), t)
+      end if
+      vb(:, m) = vb(:, m) + mats(m)%vibration_amplitude*mats(m)%vibration_omega* &
                  cos(mats(m)%vibration_omega*t)
     end do
   end function body_velocities
+
+  !> The factor of a rigid body's time table at time t (&material motion_times,
+  !> motion_factors): linear between its entries, the first before its first time and the
+  !> last after its last; 1 without a table.
+  pure real(wp) function motion_factor(mat, t) result(f)
+    type(material_t), intent(in) :: mat
+    real(wp), intent(in) :: t
+    integer :: n, i
+    f = 1.0_wp
+    n = 0
+    do while (n < size(mat%motion_times))
+      if (mat%motion_times(n + 1) < 0.0_wp) exit
+      n = n + 1
+    end do
+    if (n == 0) return
+    if (t <= mat%motion_times(1)) then
+      f = mat%motion_factors(1)
+    else if (t >= mat%motion_times(n)) then
+      f = mat%motion_factors(n)
+    else
+      i = 1
+      do while (mat%motion_times(i + 1) < t)
+        i = i + 1
+      end do
+      f = mat%motion_factors(i) + (mat%motion_factors(i + 1) - mat%motion_factors(i))* &
+          (t - mat%motion_times(i))/(mat%motion_times(i + 1) - mat%motion_times(i))
+    end if
+  end function motion_factor
 
   !> The rigid points' share of the node fields: rnode(1) = sum N m and
   !> rnode(2:1+nd) = sum N m v_r over the points of rigid materials (v_r = vb(:, material),

@@ -18,7 +18,7 @@ module dpmpm_contact
                      MPI_DOUBLE_PRECISION, MPI_SUM
   implicit none
   private
-  public :: contact_hide, contact_nodes, contact_remap, contact_move
+  public :: contact_hide, contact_nodes, contact_remap, contact_move, record_body, write_body
 
   !> passes of the free body's contact solve at most, and its relative tolerance
   integer, parameter :: max_passes = 60
@@ -34,6 +34,7 @@ contains
     class(state_t), intent(inout) :: self
     integer :: m
     self%bodies%known = .true.
+    self%bodies%t0 = self%time
     do m = 1, size(self%mats)
       if (self%mats(m)%model /= model_rigid) cycle
       if (self%cfg%materials(m)%contact /= 'frictional') cycle
@@ -156,6 +157,7 @@ contains
       ! the pass that corrects the soil against the body's velocity v
       call contact_pass(self, dt, v, .true., sums, wsoil)
       self%drive_impulse = self%drive_impulse + sums(1:3)
+      b%impulse = b%impulse - sums(1:3)
       b%force = -sums(1:3)/dt
       self%ext_work = self%ext_work + wsoil
       if (b%free) then
@@ -317,5 +319,54 @@ contains
       end do
     end associate
   end subroutine contact_move
+
+  !> A record of the body (collective; at each diagnostics record, after the step): the
+  !> time, the position of its mass centre, its velocity and the mean force of the contact
+  !> on it since the record before (impulse over time; 0 at the first).
+  subroutine record_body(self)
+    class(state_t), intent(inout) :: self
+    real(wp) :: s(3), f(3), rec(10)
+    real(wp), allocatable :: more(:, :)
+    integer :: p
+    if (.not. self%bodies%on) return
+    s = 0.0_wp
+    associate (b => self%bodies, ps => self%phase(solid_phase)%pts)
+      do p = 1, ps%n
+        if (ps%mat(p) == b%mat) s(1:self%nd) = s(1:self%nd) + ps%mass(p)*ps%x(1:self%nd, p)
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, s, 3, MPI_DOUBLE_PRECISION, MPI_SUM, self%dec%comm)
+      f = 0.0_wp
+      if (self%time > b%t0) f = b%impulse/(self%time - b%t0)
+      rec = [self%time, s/b%mass, b%v, f]
+      if (.not. allocated(b%hist)) allocate (b%hist(10, 64))
+      if (b%nhist == size(b%hist, 2)) then
+        allocate (more(10, 2*b%nhist))
+        more(:, 1:b%nhist) = b%hist(:, 1:b%nhist)
+        call move_alloc(more, b%hist)
+      end if
+      b%nhist = b%nhist + 1
+      b%hist(:, b%nhist) = rec
+      b%impulse = 0.0_wp
+      b%t0 = self%time
+    end associate
+  end subroutine record_body
+
+  !> The body's records in /verification: body_time, body_x|y|z (the mass centre),
+  !> body_vx|vy|vz, body_force_x|y|z (the contact's mean force on the body), per axis of
+  !> the grid.
+  subroutine write_body(self)
+    class(state_t), intent(inout) :: self
+    character(len=1), parameter :: ax(3) = ['x', 'y', 'z']
+    integer :: d
+    if (.not. self%bodies%on .or. self%bodies%nhist == 0) return
+    associate (h => self%bodies%hist, n => self%bodies%nhist)
+      call self%out%write_verification('body_time', h(1, 1:n))
+      do d = 1, self%nd
+        call self%out%write_verification('body_'//ax(d), h(1 + d, 1:n))
+        call self%out%write_verification('body_v'//ax(d), h(4 + d, 1:n))
+        call self%out%write_verification('body_force_'//ax(d), h(7 + d, 1:n))
+      end do
+    end associate
+  end subroutine write_body
 
 end module dpmpm_contact

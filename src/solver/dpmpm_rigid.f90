@@ -38,6 +38,11 @@ module dpmpm_rigid
     real(wp), allocatable :: msave(:), xsave(:, :)
     !> the soil's share of the node fields as body_p2g forms the body's (the soil's normal)
     real(wp), allocatable :: snode(:, :, :, :)
+    !> the contact's impulse on the body since the last record, that record's time, and the
+    !> records (time, position of the mass centre (3), velocity (3), mean contact force (3))
+    real(wp) :: impulse(3) = 0.0_wp, t0 = 0.0_wp
+    real(wp), allocatable :: hist(:, :)
+    integer :: nhist = 0
   end type bodies_t
 
 contains

@@ -8,7 +8,7 @@
 !> applies here as it stands.
 module dpmpm_element_input
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, material_cfg_t, name_len, max_props
+  use dpmpm_config, only: config_t, material_cfg_t, name_len, max_props, max_table
   use dpmpm_element_config, only: element_cfg_t, element_paths, element_controls, &
                                   element_senses, path_from_name, target_names, ntargets, &
                                   target_of, initial_effective_stress, path_isotropic, &

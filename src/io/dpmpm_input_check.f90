@@ -15,7 +15,7 @@ module dpmpm_input_check
   use dpmpm_input_problems, only: input_problems_t, g_run, g_grid, g_shape, g_material, &
                                   g_region, g_load, g_output, g_benchmark, add_value, add_warning, &
                                   real_ok, check_finite, add_raw
-  use dpmpm_input_check_material, only: check_material, warn_weightless_cutoff
+  use dpmpm_input_check_material, only: check_material, warn_weightless_cutoff, check_contact_scene
   use dpmpm_input_check_faces, only: check_tied, check_openings, check_axisymmetric
   use dpmpm_strings, only: itoa, i8toa, rtoa, itoa_list, rtoa_list, quote, next_word
   use mpi_f08, only: MPI_Dims_create
@@ -197,6 +197,7 @@ contains
                                   any(cfg%regions%material == cfg%materials(k)%id))
       if (cfg%materials(k)%model == 'rigid') call check_rigid(pb, cfg, k)
     end do
+    call check_contact_scene(pb, cfg)
 
     ! &region
     do k = 1, size(cfg%regions)

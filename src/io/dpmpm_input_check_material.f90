@@ -4,7 +4,7 @@
 !> need the regions and the shape choice, stay in dpmpm_input_check.
 module dpmpm_input_check_material
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: material_cfg_t
+  use dpmpm_config, only: material_cfg_t, config_t, table_length
   use dpmpm_model_table, only: model_from_name, model_names
   use dpmpm_plasticity, only: plastic_params_t, plastic_setup, softening_limit, dp_match_names, &
                               dp_plane_strain, surface_mohr_coulomb, surface_drucker_prager
@@ -13,7 +13,7 @@ module dpmpm_input_check_material
   use dpmpm_strings, only: itoa, rtoa, rtoa_list, quote
   implicit none
   private
-  public :: check_material, warn_weightless_cutoff
+  public :: check_material, warn_weightless_cutoff, check_contact_scene
 
 contains
 
@@ -55,6 +55,7 @@ contains
       k, 'velocity', rtoa_list(m%velocity), "only a rigid body (model = 'rigid') has a "// &
       'prescribed velocity; give a moving body its initial velocity in &region velocity')
       call check_vibration(pb, k, m)
+      call check_contact(pb, k, m)
       ! (a rigid body: only density and velocity matter; the scene checks it, check_rigid)
       if (m%model == 'fluid') then
         ! A linear compressible fluid: only density and bulk_modulus matter.
@@ -528,5 +529,123 @@ contains
       'vibration_frequency', rtoa(m%vibration_frequency), 'does nothing without a '// &
       'vibration_amplitude (m)')
   end subroutine check_vibration
+
+  !> The contact and motion of a rigid body (doc/theory.md 6.8.1): contact stick or
+  !> frictional, a friction coefficient and an adhesion >= 0 that only a frictional contact
+  !> reads, a motion prescribed or free, a load only on a free body, which moves by its own
+  !> equation and so meets the soil through a frictional contact and has no vibration;
+  !> none of these on a material that is not rigid.
+  subroutine check_contact(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    type(material_cfg_t) :: d
+    logical :: rigid, frictional
+    rigid = m%model == 'rigid'
+    frictional = m%contact == 'frictional'
+    if (.not. any(m%contact == [character(len=10) :: 'stick', 'frictional'])) call add_value(pb, &
+      g_material, k, 'contact', quote(m%contact), 'the contacts are stick (the soil at the '// &
+      'body''s nodes moves with it) and frictional (Coulomb friction and adhesion, separation)')
+    if (.not. any(m%body_motion == [character(len=10) :: 'prescribed', 'free'])) call add_value(pb, &
+      g_material, k, 'body_motion', quote(m%body_motion), 'the motions are prescribed (at '// &
+      'velocity, with its vibration) and free (moved by gravity, body_load and the contact)')
+    if (.not. real_ok(m%contact_friction, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'contact_friction', rtoa(m%contact_friction), 'must be >= 0 (a friction coefficient, '// &
+      'e.g. a roughness factor times tan phi)')
+    if (.not. real_ok(m%contact_adhesion, ge=0.0_wp)) call add_value(pb, g_material, k, &
+      'contact_adhesion', rtoa(m%contact_adhesion), 'must be >= 0 (Pa, the shear strength '// &
+      'of the contact at no normal stress)')
+    call check_finite(pb, g_material, k, 'body_load', m%body_load)
+    if (.not. rigid) then
+      if (m%contact /= d%contact .or. m%body_motion /= d%body_motion .or. any(m%body_load /= 0.0_wp) &
+          .or. m%contact_friction /= 0.0_wp .or. m%contact_adhesion /= 0.0_wp .or. &
+          any(m%motion_times /= d%motion_times)) call add_value(pb, g_material, k, 'model', &
+        quote(m%model), "contact, contact_friction, contact_adhesion, body_motion, body_load "// &
+        "and motion_times belong to a rigid body (model = 'rigid')")
+      return
+    end if
+    call check_motion_table(pb, k, m)
+    if (.not. frictional .and. m%contact_friction /= 0.0_wp) call add_value(pb, g_material, k, &
+      'contact_friction', rtoa(m%contact_friction), "needs contact = 'frictional' (a stick "// &
+      'contact holds the soil whatever the force)')
+    if (.not. frictional .and. m%contact_adhesion /= 0.0_wp) call add_value(pb, g_material, k, &
+      'contact_adhesion', rtoa(m%contact_adhesion), "needs contact = 'frictional' (a stick "// &
+      'contact holds the soil whatever the force)')
+    if (m%body_motion == 'free') then
+      if (.not. frictional) call add_value(pb, g_material, k, 'body_motion', "'free'", &
+        "a free body needs contact = 'frictional' (the soil's reaction moves it)")
+      if (any(m%vibration_amplitude /= 0.0_wp)) call add_value(pb, g_material, k, &
+        'vibration_amplitude', rtoa_list(m%vibration_amplitude), 'a free body does not '// &
+        "vibrate: its motion follows from its forces (body_motion = 'prescribed' vibrates)")
+    else if (any(m%body_load /= 0.0_wp)) then
+      call add_value(pb, g_material, k, 'body_load', rtoa_list(m%body_load), "only a free body "// &
+        "(body_motion = 'free') takes a load; a prescribed one moves at its velocity")
+    end if
+  end subroutine check_contact
+
+  !> A rigid body's time table (motion_times, motion_factors): times >= 0 increasing from the
+  !> first entry, then only unused entries < 0, finite factors; a free body's factors act
+  !> on its body_load, which then must be given.
+  subroutine check_motion_table(pb, k, m)
+    type(input_problems_t), intent(inout) :: pb
+    integer, intent(in) :: k
+    type(material_cfg_t), intent(in) :: m
+    integer :: n, i
+    n = table_length(m%motion_times)
+    if (n == 0 .and. any(m%motion_times >= 0.0_wp)) call add_value(pb, g_material, k, &
+      'motion_times', rtoa_list(pack(m%motion_times, m%motion_times /= -1.0_wp)), &
+      'the table starts at its first entry (a time >= 0)')
+    if (n == 0) return
+    if (any(m%motion_times(n + 1:) >= 0.0_wp)) call add_value(pb, g_material, k, 'motion_times', &
+      rtoa(m%motion_times(n + 1)), 'the table ends at its first negative entry (entry '// &
+      itoa(n + 1)//'); give the times in order')
+    do i = 2, n
+      if (m%motion_times(i) <= m%motion_times(i - 1)) then
+        call add_value(pb, g_material, k, 'motion_times', rtoa(m%motion_times(i)), &
+                       'must increase (entry '//itoa(i)//' is not after entry '//itoa(i - 1)//')')
+        exit
+      end if
+    end do
+    call check_finite(pb, g_material, k, 'motion_times', m%motion_times(1:n))
+    call check_finite(pb, g_material, k, 'motion_factors', m%motion_factors(1:n))
+    if (m%body_motion == 'free' .and. all(m%body_load == 0.0_wp)) call add_value(pb, &
+      g_material, k, 'motion_times', rtoa_list(m%motion_times(1:n)), 'the table of a free '// &
+      'body scales its body_load, which is not given')
+  end subroutine check_motion_table
+
+  !> The scene around frictional contacts (doc/theory.md 6.8.1): a frictional or free body is
+  !> the only rigid body of its scene, dry (no pore water: its contact with the water is
+  !> not written yet), on one, two or three axes without axisymmetry, and a free body has
+  !> points (some region is made of it).
+  subroutine check_contact_scene(pb, cfg)
+    type(input_problems_t), intent(inout) :: pb
+    type(config_t), intent(in) :: cfg
+    integer :: k, r, nrigid
+    logical :: used, two_phase
+    if (.not. allocated(cfg%materials)) return
+    two_phase = .false.
+    if (allocated(cfg%regions)) two_phase = any(cfg%regions%phase /= 'solid')
+    nrigid = count(cfg%materials%model == 'rigid')
+    do k = 1, size(cfg%materials)
+      associate (m => cfg%materials(k))
+        if (m%model /= 'rigid' .or. m%contact /= 'frictional') cycle
+        if (nrigid > 1) call add_value(pb, g_material, k, 'contact', "'frictional'", &
+          'a frictional contact needs its body to be the only rigid body of the scene ('// &
+          itoa(nrigid)//' rigid materials here)')
+        if (two_phase) call add_value(pb, g_material, k, 'contact', "'frictional'", &
+          'a frictional contact is not yet written for a scene with pore water; use '// &
+          "contact = 'stick' there")
+        if (m%body_motion /= 'free') cycle
+        used = .false.
+        if (allocated(cfg%regions)) then
+          do r = 1, size(cfg%regions)
+            used = used .or. cfg%regions(r)%material == m%id
+          end do
+        end if
+        if (.not. used) call add_value(pb, g_material, k, 'body_motion', "'free'", &
+          'a free body needs mass: no &region is made of material '//itoa(m%id))
+      end associate
+    end do
+  end subroutine check_contact_scene
 
 end module dpmpm_input_check_material

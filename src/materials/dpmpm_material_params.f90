@@ -4,7 +4,7 @@ module dpmpm_material_params
   use dpmpm_kinds, only: wp
   use dpmpm_model_table, only: model_linear_elastic
   use dpmpm_plasticity, only: plastic_params_t
-  use dpmpm_config, only: max_props
+  use dpmpm_config, only: max_props, max_table
   implicit none
   private
   public :: material_t
@@ -26,6 +26,9 @@ module dpmpm_material_params
     !> rigid: the displacement amplitude A (m) and angular frequency omega (1/s) of a
     !> vibration added to velocity, v(t) = velocity + A omega cos(omega t)
     real(wp) :: vibration_amplitude(3) = 0.0_wp, vibration_omega = 0.0_wp
+    !> rigid: the time table of factors on velocity (a prescribed body) or on the load of a
+    !> free one (motion_times < 0: no table, the factor 1)
+    real(wp) :: motion_times(max_table) = -1.0_wp, motion_factors(max_table) = 0.0_wp
     !> cam_clay (dpmpm_model_cam_clay): compression and swelling indices lambda, kappa, the
     !> critical state ratio M, the initial void ratio e0, the preconsolidation pressure p_c0
     !> (0: from ocr), the overconsolidation ratio, a constant shear modulus (0: from K and

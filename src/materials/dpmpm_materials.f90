@@ -163,6 +163,8 @@ contains
         mats(k)%velocity = cfgs(k)%velocity
         mats(k)%vibration_amplitude = cfgs(k)%vibration_amplitude
         mats(k)%vibration_omega = 2.0_wp*acos(-1.0_wp)*cfgs(k)%vibration_frequency
+        mats(k)%motion_times = cfgs(k)%motion_times
+        mats(k)%motion_factors = cfgs(k)%motion_factors
       end if
     end do
   end subroutine materials_from_config

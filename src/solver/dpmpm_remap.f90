@@ -17,6 +17,7 @@ module dpmpm_remap
   use dpmpm_drag, only: relax_remapped, remove_split, locked_velocity
   use dpmpm_tied_sides, only: join_pairs, unjoin_pairs, copy_pairs
   use dpmpm_rigid, only: drive_rigid_nodes, hold_rigid_points, body_velocities
+  use dpmpm_contact, only: contact_remap
   implicit none
   private
   public :: musl_remap, remap_locks, tied_save_t, join_tied, split_tied
@@ -84,10 +85,14 @@ contains
       call remap_velocities(self, self%phase(ip), dt, ip == solid_phase, lockv)
     end do
     if (allocated(vdash)) call keep_dashpot_velocities(self, vdash, self%phase(solid_phase)%nvel)
-    ! the nodes of rigid bodies move with them in the remapped field too
-    if (self%has_rigid) call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, &
-                                               self%phase(solid_phase)%node, self%rnode, self%bnd%faces%walls, dt, &
-                                               self%phase(solid_phase)%nvel)
+    ! the nodes of rigid bodies move with them in the remapped field too (a frictional
+    ! contact: the soil's remapped velocities corrected against the body's, contact_remap)
+    if (self%has_rigid .and. self%bodies%on) then
+      call contact_remap(self, dt)
+    else if (self%has_rigid) then
+      call drive_rigid_nodes(nd, self%dec%alo, self%dec%olo, self%dec%ohi, self%phase(solid_phase)%node, &
+                             self%rnode, self%bnd%faces%walls, dt, self%phase(solid_phase)%nvel)
+    end if
     if (coupled) then
       associate (s => self%phase(solid_phase), f => self%phase(fluid_phase))
         if (tied) then

@@ -17,6 +17,7 @@ module dpmpm_state
   use dpmpm_mirror, only: mirror_t
   use dpmpm_boundary, only: boundary_t
   use dpmpm_phase, only: phase_t, coupling_t
+  use dpmpm_rigid, only: bodies_t
   implicit none
   private
   public :: state_t, monitor_t, exit_bad_input, exit_stopped, exit_monitor
@@ -115,6 +116,8 @@ module dpmpm_state
     real(wp) :: drive_impulse(3) = 0.0_wp, drive_t0 = 0.0_wp
     real(wp), allocatable :: drive_hist(:, :)
     integer :: ndrive = 0
+    !> a rigid body with a frictional contact (dpmpm_contact)
+    type(bodies_t) :: bodies
     real(wp) :: time = 0.0_wp
     real(wp) :: dt = 0.0_wp
     !> work of gravity and tractions on this rank, minus the energy dissipated by drag

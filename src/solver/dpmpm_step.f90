@@ -35,6 +35,7 @@ module dpmpm_step
   use dpmpm_time_step, only: report_governing
   use dpmpm_tied_sides, only: tie_sums
   use dpmpm_rigid, only: hold_rigid_points, body_velocities
+  use dpmpm_contact, only: contact_hide, contact_move
   use dpmpm_step_parts, only: step_box, compute_stencils, swap_force_fields, restore_force_fields, &
                               free_surface_points, rigid_node_sums, drive_rigid, add_surface_forces, surface_work, &
                               add_interphase_force, check_inside, velocity_signs, gravity_now, damping_now
@@ -84,7 +85,7 @@ contains
     type(step_work_t) :: w
     call start_step(self, w)
     call stencils_stage(self, w)            ! 1. stencils
-    call p2g_stage(self, w)                 ! 2. p2g
+    call p2g_stage(self, w, dt)             ! 2. p2g
     call reverse_halo_stage(self, w)        ! 3. reverse halo exchange
     call drag_time_step(self, w, dt)        !    the step's length (explicit drag)
     call node_fields_stage(self, w, dt)     !    node fields completed from their sums
@@ -146,10 +147,14 @@ contains
   !> the points' place up to the end of the forces (doc/theory.md 4.5). Then the
   !> exterior nodes' shares folded onto their mirror images, and the MLS velocities'
   !> moment sums.
-  subroutine p2g_stage(self, w)
+  subroutine p2g_stage(self, w, dt)
     class(state_t), intent(inout) :: self
     type(step_work_t), intent(inout) :: w
+    real(wp), intent(in) :: dt
     call self%timers%tic(t_p2g)
+    ! A rigid body with a frictional contact stays out of the soil's node fields up to g2p
+    ! (dpmpm_contact).
+    if (self%has_rigid) call contact_hide(self, dt, gravity_now(self))
     call swap_force_fields(self, w%scell, w%fcell, w%sheld, w%pheld)
     call phases_p2g(self, w)
     call extra_forces_p2g(self, w)
@@ -528,6 +533,8 @@ contains
         end associate
       end if
     end if
+    ! (the frictional contact's body back in the point set, moved by its velocity)
+    if (self%has_rigid) call contact_move(self, dt)
     call self%timers%toc(t_g2p)
   end subroutine g2p_stage
 

@@ -18,6 +18,7 @@ module dpmpm_step_parts
   use dpmpm_outflow, only: left_through_opening, carried_energy
   use dpmpm_cell_smoothing, only: smoothed_mean_stress, cell_mean
   use dpmpm_rigid, only: rigid_p2g, drive_rigid_nodes, body_velocities
+  use dpmpm_contact, only: contact_nodes
   use dpmpm_surface_loads, only: surface_forces
   use mpi_f08, only: MPI_PROC_NULL, operator(/=)
   implicit none
@@ -121,6 +122,11 @@ contains
     class(state_t), intent(inout) :: self
     real(wp), intent(in) :: dt
     real(wp) :: force(3)
+    ! (a frictional contact instead, doc/theory.md 6.8.1)
+    if (self%bodies%on) then
+      call contact_nodes(self, dt, gravity_now(self))
+      return
+    end if
     call rigid_node_sums(self, dt)
     associate (s => self%phase(solid_phase))
       force = 0.0_wp

@@ -8,6 +8,7 @@ module dpmpm_verification_log
   use dpmpm_benchmarks, only: benchmark_errors, benchmark_error_names, benchmark_nerr, nbench_err
   use dpmpm_two_phase_verify, only: two_phase_errors, two_phase_profiles, error_name_len
   use dpmpm_state, only: state_t
+  use dpmpm_contact, only: record_body, write_body
   use mpi_f08, only: MPI_Allreduce, MPI_IN_PLACE, MPI_INTEGER8, MPI_DOUBLE_PRECISION, MPI_SUM
   implicit none
   private
@@ -102,6 +103,8 @@ contains
       if (self%nd > 1) call self%out%write_verification('drive_force_y', self%drive_hist(3, 1:self%ndrive))
       if (self%nd > 2) call self%out%write_verification('drive_force_z', self%drive_hist(4, 1:self%ndrive))
     end if
+    ! (a body with a frictional contact: its records, dpmpm_contact)
+    if (self%write_output .and. self%has_rigid) call write_body(self)
   end subroutine write_verification
 
   !> The mean force of the rigid bodies' drive since the last record (collective): the
@@ -120,6 +123,7 @@ contains
       f = 0.0_wp
     end if
     call append_record(self%drive_hist, self%ndrive, [self%time, f])
+    call record_body(self)
     self%drive_impulse = 0.0_wp
     self%drive_t0 = self%time
   end subroutine record_drive

@@ -16,5 +16,15 @@ if [ "$("$venv/bin/python" -m pip show ford 2>/dev/null | sed -n 's/^Version: //
   "$venv/bin/python" -m pip install -q "ford==$ford_version"
 fi
 command -v gfortran >/dev/null || { echo "api_docs: gfortran missing (FORD preprocesses the sources with it)"; exit 2; }
+# The generated Fortran that the build compiles (doc/architecture.md, "Generated code"):
+# the transfers from their fypp templates, the input variables from their lists.
+gen=build/api_docs/generated
+mkdir -p "$gen/solver" "$gen/config"
+command -v fypp >/dev/null || { echo "api_docs: fypp missing (pip install $DPMPM_PY_TOOLS)"; exit 2; }
+fypp -I src/solver src/solver/dpmpm_transfer.fypp "$gen/solver/dpmpm_transfer.f90"
+for width in 2 3 4; do
+  fypp -I src/solver -DWIDTH=$width src/solver/dpmpm_transfer_kernels.fypp "$gen/solver/dpmpm_transfer_w$width.f90"
+done
+python3 scripts/gen_input_vars.py "$gen/config" src/config/dpmpm_vars_*.inc
 "$venv/bin/ford" --quiet doc/ford_project.md
 echo "api_docs: build/api_docs/html/index.html"

@@ -4,8 +4,10 @@
 DPMPM_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 DPMPM_DEB_PACKAGES="gfortran libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools libfftw3-dev cmake ninja-build python3 python3-pip"
 DPMPM_PY_MODULES="h5py numpy matplotlib pytest f90nml tqdm xarray"
-# The source formatters (scripts/format.sh), pinned: another version may lay out differently.
-DPMPM_PY_TOOLS="fprettify==0.3.7 findent==4.3.6"
+# The source formatters (scripts/format.sh), pinned: another version may lay out differently;
+# and fypp, which writes the grid transfers from their templates (src/solver/*.fypp) at build
+# time, pinned so that the generated Fortran stays the same.
+DPMPM_PY_TOOLS="fprettify==0.3.7 findent==4.3.6 fypp==3.3"
 
 # Open MPI refuses to run as root and to put more ranks than cores on a machine
 # unless told; both are harmless elsewhere.

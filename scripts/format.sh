@@ -17,15 +17,22 @@ done
 # whole copy, since starting its interpreter per file cost most of the time (164 files:
 # 34 s of CPU one by one).
 files=$(git ls-files 'src/*.f90' 'app/*.f90' 'tests/*.f90')
+# The fypp templates (src/solver/*.fypp) get fprettify's spacing; their indentation is
+# kept as written, since findent does not read fypp's directive lines.
+templates=$(git ls-files 'src/*.fypp')
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for f in $files; do
   mkdir -p "$work/$(dirname "$f")"
   findent -ifree -i2 -c2 -k- < "$f" > "$work/$f"
 done
-(cd "$work" && fprettify -c "$DPMPM_ROOT/.fprettify.rc" --disable-indent --silent $files)
+for f in $templates; do
+  mkdir -p "$work/$(dirname "$f")"
+  cp "$f" "$work/$f"
+done
+(cd "$work" && fprettify -c "$DPMPM_ROOT/.fprettify.rc" --disable-indent --silent $files $templates)
 changed=0
-for f in $files; do
+for f in $files $templates; do
   if ! cmp -s "$f" "$work/$f"; then
     changed=$((changed + 1))
     if [ "${1:-}" = --check ]; then
@@ -38,6 +45,6 @@ for f in $files; do
   fi
 done
 if [ "${1:-}" = --check ]; then
-  echo "format: $changed of $(echo "$files" | wc -w) files differ (scripts/format.sh lays them out)"
+  echo "format: $changed of $(echo $files $templates | wc -w) files differ (scripts/format.sh lays them out)"
   [ "$changed" -eq 0 ]
 fi

@@ -36,14 +36,13 @@ module dpmpm_config
 
   !> One &material group (its variables: dpmpm_vars_material.inc).
   type :: material_cfg_t
-#include "dpmpm_vars_as_component.h"
-#include "dpmpm_vars_material.inc"
+    include "dpmpm_vars_material_component.inc"
     integer :: umat_nprops = 0                       !< umat_props given (NPROPS of a UMAT)
   end type material_cfg_t
 
   !> One &region group: a box or a 2D polygon filled with points of one material.
   type :: region_cfg_t
-#include "dpmpm_vars_region.inc"
+    include "dpmpm_vars_region_component.inc"
     real(wp) :: poly(2, max_poly) = 0.0_wp           !< polygon vertices (x, y): poly_x, poly_y
     integer :: line = 0                              !< line of the input where the group opens
   end type region_cfg_t
@@ -52,7 +51,7 @@ module dpmpm_config
   !> function of time.
   type :: load_cfg_t
     integer :: face = 0                              !< index into face_names
-#include "dpmpm_vars_load.inc"
+    include "dpmpm_vars_load_component.inc"
     integer :: nfactors = 0                          !< factors given (one per time of a table)
   end type load_cfg_t
 
@@ -70,13 +69,13 @@ module dpmpm_config
     !> Every group as read, defaults included, in the input's syntax (dpmpm --check prints it)
     character(len=:), allocatable :: echo
     ! &run, &grid, &shape, &output and &benchmark: dpmpm_vars_<group>.inc
-#include "dpmpm_vars_run.inc"
+    include "dpmpm_vars_run_component.inc"
     logical :: porosity_gradient_given = .false.     !< porosity_gradient was set in &run
-#include "dpmpm_vars_grid.inc"
-#include "dpmpm_vars_shape.inc"
-#include "dpmpm_vars_output.inc"
-#include "dpmpm_vars_benchmark.inc"
-#include "dpmpm_vars_motion.inc"
+    include "dpmpm_vars_grid_component.inc"
+    include "dpmpm_vars_shape_component.inc"
+    include "dpmpm_vars_output_component.inc"
+    include "dpmpm_vars_benchmark_component.inc"
+    include "dpmpm_vars_motion_component.inc"
     !> the &motion files as read (rank 0 reads them, every rank gets them): one per axis
     type(motion_series_t) :: motion(3)
     ! &material, &region, &load (repeatable)

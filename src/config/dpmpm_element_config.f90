@@ -31,8 +31,7 @@ module dpmpm_element_config
   !> One element test: its material and its &element values (dpmpm_vars_element.inc).
   type :: element_cfg_t
     type(material_cfg_t) :: material
-#include "dpmpm_vars_as_component.h"
-#include "dpmpm_vars_element.inc"
+    include "dpmpm_vars_element_component.inc"
     character(len=:), allocatable :: input_file
     character(len=:), allocatable :: input_text   !< the file, echoed into the output
     character(len=:), allocatable :: echo         !< both groups as read, defaults included

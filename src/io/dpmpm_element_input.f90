@@ -121,15 +121,12 @@ contains
     character(len=*), intent(in) :: records(:)
     type(element_cfg_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_material.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_material.inc"
+    include "dpmpm_vars_material_local.inc"
+    include "dpmpm_vars_material_namelist.inc"
     integer :: ios, nprops
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_material.inc"
+    include "dpmpm_vars_material_default.inc"
     ! props not given stay at a mark, so that NPROPS is the count of those given
     umat_props = prop_unset
     read (records, nml=material, iostat=ios, iomsg=msg)
@@ -139,8 +136,7 @@ contains
     call took_group(pb, 'material', ios, msg, echo, cfg%echo, ok)
     if (.not. ok) return
     associate (dest => cfg%material)
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_material.inc"
+      include "dpmpm_vars_material_kept.inc"
       dest%umat_nprops = nprops
     end associate
   end subroutine read_material
@@ -152,23 +148,19 @@ contains
     type(element_cfg_t), intent(inout) :: cfg
     integer, intent(in) :: line
     logical, intent(out) :: ok
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_element.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_element.inc"
+    include "dpmpm_vars_element_local.inc"
+    include "dpmpm_vars_element_namelist.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_element.inc"
+    include "dpmpm_vars_element_default.inc"
     read (records(max(1, line):), nml=element, iostat=ios, iomsg=msg)
     call nml_records(echo)
     write (echo, nml=element)
     call took_group(pb, 'element', ios, msg, echo, cfg%echo, ok)
     if (.not. ok) return
     associate (dest => cfg)
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_element.inc"
+      include "dpmpm_vars_element_kept.inc"
     end associate
   end subroutine read_element
 

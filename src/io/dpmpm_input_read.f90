@@ -342,16 +342,13 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_run.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_run.inc"
+    include "dpmpm_vars_run_local.inc"
+    include "dpmpm_vars_run_namelist.inc"
     logical :: given
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_run.inc"
+    include "dpmpm_vars_run_default.inc"
     ios = 0
     if (pb%count(g_run) > 0) read (records, nml=run, iostat=ios, iomsg=msg)
     call nml_records(echo)
@@ -369,8 +366,7 @@ contains
       porosity_gradient = given
     end if
     associate (dest => cfg)
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_run.inc"
+      include "dpmpm_vars_run_kept.inc"
     end associate
   end subroutine read_run
 
@@ -380,15 +376,12 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_grid.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_grid.inc"
+    include "dpmpm_vars_grid_local.inc"
+    include "dpmpm_vars_grid_namelist.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_grid.inc"
+    include "dpmpm_vars_grid_default.inc"
     ios = 0
     if (pb%count(g_grid) > 0) read (records, nml=grid, iostat=ios, iomsg=msg)
     call nml_records(echo)
@@ -396,8 +389,7 @@ contains
     call took_group(pb, g_grid, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_grid.inc"
+      include "dpmpm_vars_grid_kept.inc"
     end associate
   end subroutine read_grid
 
@@ -407,15 +399,12 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_shape.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_shape.inc"
+    include "dpmpm_vars_shape_local.inc"
+    include "dpmpm_vars_shape_namelist.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_shape.inc"
+    include "dpmpm_vars_shape_default.inc"
     ios = 0
     if (pb%count(g_shape) > 0) read (records, nml=shape, iostat=ios, iomsg=msg)
     call nml_records(echo)
@@ -423,8 +412,7 @@ contains
     call took_group(pb, g_shape, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_shape.inc"
+      include "dpmpm_vars_shape_kept.inc"
     end associate
   end subroutine read_shape
 
@@ -435,10 +423,8 @@ contains
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
     type(material_cfg_t), allocatable :: list(:)
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_material.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_material.inc"
+    include "dpmpm_vars_material_local.inc"
+    include "dpmpm_vars_material_namelist.inc"
     integer :: k, n, ios, nprops
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
@@ -446,8 +432,7 @@ contains
     n = 0
     ok = .true.
     do k = 1, size(list)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_material.inc"
+      include "dpmpm_vars_material_default.inc"
       ! props not given stay at a mark, so that NPROPS is the count of those given
       umat_props = prop_unset
       read (records(first_record(pb, g_material, k):), nml=material, iostat=ios, iomsg=msg)
@@ -459,8 +444,7 @@ contains
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_material.inc"
+        include "dpmpm_vars_material_kept.inc"
         dest%umat_nprops = nprops
       end associate
     end do
@@ -474,10 +458,8 @@ contains
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
     type(region_cfg_t), allocatable :: list(:)
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_region.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_region.inc"
+    include "dpmpm_vars_region_local.inc"
+    include "dpmpm_vars_region_namelist.inc"
     integer :: k, n, ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
@@ -485,8 +467,7 @@ contains
     n = 0
     ok = .true.
     do k = 1, size(list)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_region.inc"
+      include "dpmpm_vars_region_default.inc"
       read (records(first_record(pb, g_region, k):), nml=region, iostat=ios, iomsg=msg)
       call nml_records(echo)
       write (echo, nml=region)
@@ -494,8 +475,7 @@ contains
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_region.inc"
+        include "dpmpm_vars_region_kept.inc"
         dest%poly(1, :) = poly_x
         dest%poly(2, :) = poly_y
         dest%line = pb%line_of(g_region, k)
@@ -514,10 +494,8 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_boundary.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_boundary.inc"
+    include "dpmpm_vars_boundary_local.inc"
+    include "dpmpm_vars_boundary_namelist.inc"
     logical :: seen(6), impermeable
     integer :: k, f, c, fc, ios, absorbing, j
     character(len=512) :: msg
@@ -526,8 +504,7 @@ contains
     seen = .false.
     ok = .true.
     do k = 1, pb%count(g_boundary)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_boundary.inc"
+      include "dpmpm_vars_boundary_default.inc"
       absorbing = 0
       read (records(first_record(pb, g_boundary, k):), nml=boundary, iostat=ios, iomsg=msg)
       call nml_records(echo)
@@ -689,10 +666,8 @@ contains
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
     type(load_cfg_t), allocatable :: list(:)
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_load.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_load.inc"
+    include "dpmpm_vars_load_local.inc"
+    include "dpmpm_vars_load_namelist.inc"
     real(wp), parameter :: factor_unset = -huge(1.0_wp)
     integer :: k, n, ios, j, nfactors
     character(len=512) :: msg
@@ -701,8 +676,7 @@ contains
     n = 0
     ok = .true.
     do k = 1, size(list)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_load.inc"
+      include "dpmpm_vars_load_default.inc"
       ! factors not given stay at a mark, so that their count can be held against the times
       factors = factor_unset
       read (records(first_record(pb, g_load, k):), nml=load, iostat=ios, iomsg=msg)
@@ -718,8 +692,7 @@ contains
       if (.not. ok) exit
       n = k
       associate (dest => list(k))
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_load.inc"
+        include "dpmpm_vars_load_kept.inc"
         dest%time_function = lower(time_function)
         dest%nfactors = nfactors
         dest%face = face_index(lower(face))
@@ -758,15 +731,12 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_output.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_output.inc"
+    include "dpmpm_vars_output_local.inc"
+    include "dpmpm_vars_output_namelist.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_output.inc"
+    include "dpmpm_vars_output_default.inc"
     ios = 0
     if (pb%count(g_output) > 0) read (records, nml=output, iostat=ios, iomsg=msg)
     call nml_records(echo)
@@ -774,8 +744,7 @@ contains
     call took_group(pb, g_output, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_output.inc"
+      include "dpmpm_vars_output_kept.inc"
     end associate
   end subroutine read_output
 
@@ -785,15 +754,12 @@ contains
     character(len=*), intent(in) :: records(:)
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_benchmark.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_benchmark.inc"
+    include "dpmpm_vars_benchmark_local.inc"
+    include "dpmpm_vars_benchmark_namelist.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_benchmark.inc"
+    include "dpmpm_vars_benchmark_default.inc"
     ios = 0
     if (pb%count(g_benchmark) > 0) read (records, nml=benchmark, iostat=ios, iomsg=msg)
     call nml_records(echo)
@@ -801,8 +767,7 @@ contains
     call took_group(pb, g_benchmark, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_benchmark.inc"
+      include "dpmpm_vars_benchmark_kept.inc"
     end associate
   end subroutine read_benchmark
 
@@ -814,15 +779,12 @@ contains
     type(config_t), intent(inout) :: cfg
     logical, intent(out) :: ok
     character(len=long_len) :: given(3)
-#include "dpmpm_vars_as_local.h"
-#include "dpmpm_vars_motion.inc"
-#include "dpmpm_vars_as_namelist.h"
-#include "dpmpm_vars_motion.inc"
+    include "dpmpm_vars_motion_local.inc"
+    include "dpmpm_vars_motion_namelist.inc"
     integer :: ios
     character(len=512) :: msg
     character(len=:), allocatable :: echo(:)
-#include "dpmpm_vars_as_default.h"
-#include "dpmpm_vars_motion.inc"
+    include "dpmpm_vars_motion_default.inc"
     ios = 0
     if (pb%count(g_motion) > 0) read (records, nml=motion, iostat=ios, iomsg=msg)
     ! the echo names the files by their absolute paths, so that it reads back from any
@@ -839,8 +801,7 @@ contains
     call took_group(pb, g_motion, 1, ios, msg, echo, cfg%echo, ok, records)
     if (.not. ok) return
     associate (dest => cfg)
-#include "dpmpm_vars_as_kept.h"
-#include "dpmpm_vars_motion.inc"
+      include "dpmpm_vars_motion_kept.inc"
     end associate
   end subroutine read_motion
 

@@ -114,11 +114,19 @@ contains
     real(wp) :: nn
     do p = 1, n
       if (mats(pmat(p))%model /= model_rigid) cycle
-#include "dpmpm_stencil_do_3d.inc"
-      if (nn <= 0.0_wp) cycle
-      rnode(1, i, j, k) = rnode(1, i, j, k) + nn*mass(p)
-      rnode(2:1 + nd, i, j, k) = rnode(2:1 + nd, i, j, k) + nn*mass(p)*vb(1:nd, pmat(p))
-#include "dpmpm_stencil_end_3d.inc"
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            if (nn <= 0.0_wp) cycle
+            rnode(1, i, j, k) = rnode(1, i, j, k) + nn*mass(p)
+            rnode(2:1 + nd, i, j, k) = rnode(2:1 + nd, i, j, k) + nn*mass(p)*vb(1:nd, pmat(p))
+          end do
+        end do
+      end do
     end do
   end subroutine rigid_p2g
 
@@ -185,12 +193,22 @@ contains
     real(wp) :: nn, g(3)
     do p = 1, n
       if (bm(p) <= 0.0_wp) cycle
-#include "dpmpm_stencil_do_3d.inc"
-#include "dpmpm_stencil_grad_3d.inc"
-      if (nn <= 0.0_wp .and. all(g(1:nd) == 0.0_wp)) cycle
-      rnode(1, i, j, k) = rnode(1, i, j, k) + nn*bm(p)
-      rnode(2:1 + nd, i, j, k) = rnode(2:1 + nd, i, j, k) + bm(p)*g(1:nd)
-#include "dpmpm_stencil_end_3d.inc"
+      do c = 1, nw(3)
+        k = i0(3, p) + c - 1
+        do b = 1, nw(2)
+          j = i0(2, p) + b - 1
+          do a = 1, nw(1)
+            i = i0(1, p) + a - 1
+            nn = sw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(1) = sdw(a, 1, p)*sw(b, 2, p)*sw(c, 3, p)
+            g(2) = sw(a, 1, p)*sdw(b, 2, p)*sw(c, 3, p)
+            g(3) = sw(a, 1, p)*sw(b, 2, p)*sdw(c, 3, p)
+            if (nn <= 0.0_wp .and. all(g(1:nd) == 0.0_wp)) cycle
+            rnode(1, i, j, k) = rnode(1, i, j, k) + nn*bm(p)
+            rnode(2:1 + nd, i, j, k) = rnode(2:1 + nd, i, j, k) + bm(p)*g(1:nd)
+          end do
+        end do
+      end do
     end do
   end subroutine body_p2g
 

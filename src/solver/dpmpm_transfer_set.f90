@@ -1,5 +1,5 @@
 !> The grid transfers of one dimension and one stencil width, as a table of procedures:
-!> transfer_set_t holds a pointer to each form of fixed width (dpmpm_transfer_kernels.inc)
+!> transfer_set_t holds a pointer to each form of fixed width (dpmpm_transfer_kernels.fypp)
 !> that dpmpm_transfer calls. Each module dpmpm_transfer_wN fills the 2D and the 3D set of
 !> its width once (fixed_width_sets), and dpmpm_transfer looks the set up by the width
 !> instead of naming every width in every kernel. A pointer left null is a form that the

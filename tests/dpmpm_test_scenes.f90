@@ -1,10 +1,12 @@
 !> Scenes shared by the test programs.
 module dpmpm_test_scenes
-  use dpmpm_kinds, only: wp
+  use mpi_f08, only: MPI_COMM_WORLD
+  use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller
+  use dpmpm_simulation, only: simulation_t
   implicit none
   private
-  public :: grid_scene, column_scene, released_column
+  public :: grid_scene, column_scene, released_column, run_both_phases
 
 contains
 
@@ -92,5 +94,19 @@ contains
     cfg%bc(1) = bc_roller
     cfg%bc(3) = bc_fixed
   end subroutine released_column
+
+  !> Run the two-phase scene cfg without output and gather both point sets on rank 0:
+  !> positions, velocities and stresses of the solid (xs, vs, ss) and fluid (xf, vf, sf) points.
+  subroutine run_both_phases(cfg, xs, vs, ss, xf, vf, sf)
+    type(config_t), intent(in) :: cfg
+    real(wp), allocatable, intent(out) :: xs(:, :), vs(:, :), ss(:, :), xf(:, :), vf(:, :), sf(:, :)
+    type(simulation_t) :: sim
+    integer(i8), allocatable :: ids(:)
+    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
+    call sim%run()
+    call sim%gather_points(ids, xs, vs, ss)
+    call sim%gather_points(ids, xf, vf, sf, fluid=.true.)
+    call sim%free()
+  end subroutine run_both_phases
 
 end module dpmpm_test_scenes

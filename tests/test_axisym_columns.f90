@@ -6,11 +6,9 @@
 !> undrained front and the consolidation layer behind it). The top face is a face of constant
 !> z, whose nodes take the ring's consistent shares of the load (doc/theory.md 4.8).
 program test_axisym_columns
-  use mpi_f08, only: MPI_COMM_WORLD
-  use dpmpm_kinds, only: wp, i8
+  use dpmpm_kinds, only: wp
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained
-  use dpmpm_test_scenes, only: grid_scene
-  use dpmpm_simulation, only: simulation_t
+  use dpmpm_test_scenes, only: grid_scene, run_both_phases
   use dpmpm_assert, only: begin_test, check, check_close, am_root
   use dpmpm_grid, only: grid_t
   use dpmpm_face_loads, only: face_loads_t
@@ -130,19 +128,6 @@ contains
     cfg%regions(1)%ppc = 2
   end function sat_column
 
-  !> Run cfg and gather both point sets (rank 0).
-  subroutine run_both(cfg, xs, vs, ss, xf, vf, sf)
-    type(config_t), intent(in) :: cfg
-    real(wp), allocatable, intent(out) :: xs(:, :), vs(:, :), ss(:, :), xf(:, :), vf(:, :), sf(:, :)
-    type(simulation_t) :: sim
-    integer(i8), allocatable :: ids(:)
-    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
-    call sim%run()
-    call sim%gather_points(ids, xs, vs, ss)
-    call sim%gather_points(ids, xf, vf, sf, fluid=.true.)
-    call sim%free()
-  end subroutine run_both
-
   !> Column c in r-z against the plane and the 1D columns (rank 0): the largest differences
   !> of the pore pressure (dp: against plane, point by point; d1: against 1D at the same
   !> depth) over the largest pore pressure pmax, of the vertical effective stress (ds, over
@@ -157,9 +142,9 @@ contains
     real(wp), allocatable :: x1(:, :), v1(:, :), s1(:, :), xf1(:, :), vf1(:, :), sf1(:, :)
     real(wp) :: vmax
     integer :: p, q
-    call run_both(sat_column(c, 2, .true.), xs, vs, ss, xf, vf, sf)
-    call run_both(sat_column(c, 2, .false.), xs0, vs0, ss0, xf0, vf0, sf0)
-    call run_both(sat_column(c, 1, .false.), x1, v1, s1, xf1, vf1, sf1)
+    call run_both_phases(sat_column(c, 2, .true.), xs, vs, ss, xf, vf, sf)
+    call run_both_phases(sat_column(c, 2, .false.), xs0, vs0, ss0, xf0, vf0, sf0)
+    call run_both_phases(sat_column(c, 1, .false.), x1, v1, s1, xf1, vf1, sf1)
     dp = 0.0_wp; d1 = 0.0_wp; ds = 0.0_wp; dv = 0.0_wp; dr = 0.0_wp; pmax = 0.0_wp
     if (.not. am_root) return
     pmax = maxval(abs(sf1(1, :)))

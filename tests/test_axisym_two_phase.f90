@@ -8,7 +8,7 @@ program test_axisym_two_phase
   use dpmpm_kinds, only: wp, i8
   use dpmpm_config, only: config_t, material_cfg_t, load_cfg_t, bc_fixed, bc_roller, fbc_drained, &
                           fbc_impermeable
-  use dpmpm_test_scenes, only: grid_scene
+  use dpmpm_test_scenes, only: grid_scene, run_both_phases
   use dpmpm_simulation, only: simulation_t
   use dpmpm_assert, only: begin_test, check, am_root
   use dpmpm_test_main, only: start_tests, end_tests
@@ -78,19 +78,6 @@ contains
     cfg%regions(1)%ppc = 2
   end function sat_column
 
-  !> Run cfg and gather both point sets (rank 0).
-  subroutine run_both(cfg, xs, vs, ss, xf, vf, sf)
-    type(config_t), intent(in) :: cfg
-    real(wp), allocatable, intent(out) :: xs(:, :), vs(:, :), ss(:, :), xf(:, :), vf(:, :), sf(:, :)
-    type(simulation_t) :: sim
-    integer(i8), allocatable :: ids(:)
-    call sim%init(cfg, MPI_COMM_WORLD, write_output=.false.)
-    call sim%run()
-    call sim%gather_points(ids, xs, vs, ss)
-    call sim%gather_points(ids, xf, vf, sf, fluid=.true.)
-    call sim%free()
-  end subroutine run_both
-
   !> The axisymmetric column against the plane one, point by point, and its pore pressures
   !> against the 1D column's at the same depth: radial motion of both sets over the
   !> largest vertical velocity (dr), pore pressure over its largest (dp), vertical
@@ -103,9 +90,9 @@ contains
     real(wp), allocatable :: xs0(:, :), vs0(:, :), ss0(:, :), xf0(:, :), vf0(:, :), sf0(:, :)
     real(wp), allocatable :: x1(:, :), v1(:, :), s1(:, :), xf1(:, :), vf1(:, :), sf1(:, :)
     integer :: p, q
-    call run_both(sat_column(2, .false., gravity, kernel, vkernel), xs0, vs0, ss0, xf0, vf0, sf0)
-    call run_both(sat_column(2, .true., gravity, kernel, vkernel), xs, vs, ss, xf, vf, sf)
-    call run_both(sat_column(1, .false., gravity, kernel, vkernel), x1, v1, s1, xf1, vf1, sf1)
+    call run_both_phases(sat_column(2, .false., gravity, kernel, vkernel), xs0, vs0, ss0, xf0, vf0, sf0)
+    call run_both_phases(sat_column(2, .true., gravity, kernel, vkernel), xs, vs, ss, xf, vf, sf)
+    call run_both_phases(sat_column(1, .false., gravity, kernel, vkernel), x1, v1, s1, xf1, vf1, sf1)
     dr = 0.0_wp; dp = 0.0_wp; dz = 0.0_wp; d1 = 0.0_wp; pmax = 0.0_wp
     if (.not. am_root) return
     pmax = maxval(abs(sf0(1, :)))

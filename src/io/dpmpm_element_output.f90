@@ -3,7 +3,7 @@
 !> per recorded quantity (record 0 the initial state, then one per step), the stress and
 !> strain as (records, 6) in Voigt order, the model's state values by their names.
 module dpmpm_element_output
-  use, intrinsic :: iso_c_binding, only: c_loc, c_char, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_loc, c_ptr, c_char, c_null_char
   use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fclose_f, h5gcreate_f, h5gclose_f, &
                   h5screate_f, h5screate_simple_f, h5sclose_f, h5dcreate_f, h5dwrite_f, &
                   h5dclose_f, h5tclose_f, H5F_ACC_TRUNC_F, H5S_SCALAR_F, H5T_IEEE_F64LE, &
@@ -87,21 +87,14 @@ contains
     integer(hid_t), intent(in) :: loc
     character(len=*), intent(in) :: name, text
     character(kind=c_char, len=max(len(text), 1)), target :: buf
-    integer(hid_t) :: space, dset, stype
+    integer(hid_t) :: space, stype
     integer :: err
     buf = text
     if (len(text) == 0) buf = c_null_char
     stype = string_type(len(buf))
     call h5screate_f(H5S_SCALAR_F, space, err)
     call h5check(err, 'h5screate_f(scalar)', where)
-    call h5dcreate_f(loc, name, stype, space, dset, err)
-    call h5check(err, 'h5dcreate_f('//name//')', where)
-    call h5dwrite_f(dset, stype, c_loc(buf), err)
-    call h5check(err, 'h5dwrite_f('//name//')', where)
-    call h5dclose_f(dset, err)
-    call h5check(err, 'h5dclose_f('//name//')', where)
-    call h5sclose_f(space, err)
-    call h5check(err, 'h5sclose_f', where)
+    call write_dataset(loc, name, stype, stype, space, c_loc(buf))
     call h5tclose_f(stype, err)
     call h5check(err, 'h5tclose_f', where)
   end subroutine write_text
@@ -114,7 +107,7 @@ contains
     real(wp), intent(in) :: a(:, :)
     logical, intent(in), optional :: vector
     real(wp), allocatable, target :: buf(:, :)
-    integer(hid_t) :: space, dset
+    integer(hid_t) :: space
     integer :: err
     logical :: one
     buf = a
@@ -126,14 +119,8 @@ contains
       call h5screate_simple_f(2, int(shape(a), hsize_t), space, err)
     end if
     call h5check(err, 'h5screate_simple_f('//name//')', where)
-    call h5dcreate_f(loc, name, H5T_IEEE_F64LE, space, dset, err)
-    call h5check(err, 'h5dcreate_f('//name//')', where)
-    call h5dwrite_f(dset, h5kind_to_type(wp, H5_REAL_KIND), c_loc(buf), err)
-    call h5check(err, 'h5dwrite_f('//name//')', where)
-    call h5dclose_f(dset, err)
-    call h5check(err, 'h5dclose_f('//name//')', where)
-    call h5sclose_f(space, err)
-    call h5check(err, 'h5sclose_f', where)
+    call write_dataset(loc, name, H5T_IEEE_F64LE, h5kind_to_type(wp, H5_REAL_KIND), space, &
+                       c_loc(buf))
   end subroutine write_real
 
   !> An int32 dataset name under loc of the values v.
@@ -142,19 +129,31 @@ contains
     character(len=*), intent(in) :: name
     integer, intent(in) :: v(:)
     integer(i4), target :: buf(size(v))
-    integer(hid_t) :: space, dset
+    integer(hid_t) :: space
     integer :: err
     buf = int(v, i4)
     call h5screate_simple_f(1, [int(size(v), hsize_t)], space, err)
     call h5check(err, 'h5screate_simple_f('//name//')', where)
-    call h5dcreate_f(loc, name, H5T_STD_I32LE, space, dset, err)
+    call write_dataset(loc, name, H5T_STD_I32LE, h5kind_to_type(i4, H5_INTEGER_KIND), space, &
+                       c_loc(buf))
+  end subroutine write_int
+
+  !> Dataset name under loc of file type ftype over the dataspace space, written from buf
+  !> (memory type mtype); closes the dataset and space.
+  subroutine write_dataset(loc, name, ftype, mtype, space, buf)
+    integer(hid_t), intent(in) :: loc, ftype, mtype, space
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(in) :: buf
+    integer(hid_t) :: dset
+    integer :: err
+    call h5dcreate_f(loc, name, ftype, space, dset, err)
     call h5check(err, 'h5dcreate_f('//name//')', where)
-    call h5dwrite_f(dset, h5kind_to_type(i4, H5_INTEGER_KIND), c_loc(buf), err)
+    call h5dwrite_f(dset, mtype, buf, err)
     call h5check(err, 'h5dwrite_f('//name//')', where)
     call h5dclose_f(dset, err)
     call h5check(err, 'h5dclose_f('//name//')', where)
     call h5sclose_f(space, err)
     call h5check(err, 'h5sclose_f', where)
-  end subroutine write_int
+  end subroutine write_dataset
 
 end module dpmpm_element_output

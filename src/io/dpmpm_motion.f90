@@ -362,7 +362,6 @@ contains
     character(len=*), intent(in) :: path, text
     real(wp), allocatable, intent(out) :: t(:), x(:)
     character(len=:), allocatable, intent(out) :: err
-    character(len=:), allocatable :: line, why
     real(wp), allocatable :: vals(:), tt(:), xx(:)
     integer :: pos, k, n, m, prev_line
     logical :: more
@@ -373,14 +372,9 @@ contains
     m = 0
     prev_line = 0
     do
-      call next_line(text, pos, line, more)
+      call next_numbers(path, text, pos, k, vals, n, more, err)
       if (.not. more) exit
-      k = k + 1
-      call line_numbers(line, vals, n, why)
-      if (len(why) > 0) then
-        err = at(path, k)//why
-        return
-      end if
+      if (len(err) > 0) return
       if (n == 0) cycle
       if (n /= 2) then
         err = at(path, k)//itoa(n)//' numbers; a line holds two: the time (s) and the value'
@@ -445,14 +439,9 @@ contains
     last = 4
     k = 4
     do
-      call next_line(text, pos, line, more)
+      call next_numbers(path, text, pos, k, vals, n, more, err)
       if (.not. more) exit
-      k = k + 1
-      call line_numbers(line, vals, n, why)
-      if (len(why) > 0) then
-        err = at(path, k)//why
-        return
-      end if
+      if (len(err) > 0) return
       if (n == 0) cycle
       if (m + n > npts) then
         err = at(path, k)//'value '//itoa(npts + 1)//' beyond the NPTS = '//itoa(npts)// &
@@ -472,6 +461,26 @@ contains
     x = x(1:m)
     t = [(real(i - 1, wp)*dt, i=1, npts)]
   end subroutine parse_at2
+
+  !> The numbers of the next line of text from pos on (line_numbers) in vals(1:n), k counting
+  !> the lines; more is .false. past the end; err says what is wrong with the line (with
+  !> path and k), empty when nothing is.
+  subroutine next_numbers(path, text, pos, k, vals, n, more, err)
+    character(len=*), intent(in) :: path, text
+    integer, intent(inout) :: pos, k
+    real(wp), allocatable, intent(inout) :: vals(:)
+    integer, intent(out) :: n
+    logical, intent(out) :: more
+    character(len=:), allocatable, intent(out) :: err
+    character(len=:), allocatable :: line, why
+    err = ''
+    n = 0
+    call next_line(text, pos, line, more)
+    if (.not. more) return
+    k = k + 1
+    call line_numbers(line, vals, n, why)
+    if (len(why) > 0) err = at(path, k)//why
+  end subroutine next_numbers
 
   !> NPTS and DT of an .AT2 file's fourth line, in either spelling; why says what is wrong.
   subroutine header_npts_dt(line, npts, dt, why)

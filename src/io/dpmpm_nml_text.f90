@@ -28,8 +28,9 @@ contains
   function nml_echo(records) result(text)
     character(len=*), intent(in) :: records(:)
     character(len=:), allocatable :: text
-    character(len=:), allocatable :: rec
-    integer :: k, eq
+    character(len=:), allocatable :: rec, var, val
+    integer :: k
+    logical :: ok
     text = ''
     do k = 1, size(records)
       rec = trim(adjustl(records(k)))
@@ -39,9 +40,8 @@ contains
       else if (rec == '/') then
         text = text//'/'//new_line('a')
       else
-        eq = index(rec, '=')
-        if (eq == 0) cycle
-        text = text//'  '//lower(trim(rec(1:eq - 1)))//' = '//values_text(rec(eq + 1:))//new_line('a')
+        call variable_record(records(k), var, val, ok)
+        if (ok) text = text//'  '//var//' = '//values_text(val)//new_line('a')
       end if
     end do
   end function nml_echo
@@ -50,17 +50,15 @@ contains
   function nml_names(records) result(list)
     character(len=*), intent(in) :: records(:)
     character(len=:), allocatable :: list
-    character(len=:), allocatable :: rec
-    integer :: k, eq
+    character(len=:), allocatable :: var, val
+    integer :: k
+    logical :: ok
     list = ''
     do k = 1, size(records)
-      rec = trim(adjustl(records(k)))
-      if (len(rec) == 0) cycle
-      if (rec(1:1) == '&' .or. rec == '/') cycle
-      eq = index(rec, '=')
-      if (eq == 0) cycle
+      call variable_record(records(k), var, val, ok)
+      if (.not. ok) cycle
       if (len(list) > 0) list = list//', '
-      list = list//lower(trim(rec(1:eq - 1)))
+      list = list//var
     end do
   end function nml_names
 
@@ -69,38 +67,50 @@ contains
   integer function nml_size(records, name) result(n)
     character(len=*), intent(in) :: records(:)
     character(len=*), intent(in) :: name
-    character(len=:), allocatable :: rec
-    integer :: k, eq
+    character(len=:), allocatable :: var, val
+    integer :: k
+    logical :: ok
     n = 0
     do k = 1, size(records)
-      rec = trim(adjustl(records(k)))
-      if (len(rec) == 0) cycle
-      if (rec(1:1) == '&' .or. rec == '/') cycle
-      eq = index(rec, '=')
-      if (eq == 0) cycle
-      if (lower(trim(rec(1:eq - 1))) /= name) cycle
-      n = values_count(rec(eq + 1:))
+      call variable_record(records(k), var, val, ok)
+      if (.not. ok) cycle
+      if (var /= name) cycle
+      n = values_count(val)
       return
     end do
   end function nml_size
+
+  !> One record of a written group split into its variable's name (lower case) and the
+  !> text of its values; ok is .false. for a blank record, the group's first and last
+  !> records (&name, /) and a record with no "=".
+  subroutine variable_record(record, var, val, ok)
+    character(len=*), intent(in) :: record
+    character(len=:), allocatable, intent(out) :: var, val
+    logical, intent(out) :: ok
+    character(len=:), allocatable :: rec
+    integer :: eq
+    ok = .false.
+    rec = trim(adjustl(record))
+    if (len(rec) == 0) return
+    if (rec(1:1) == '&' .or. rec == '/') return
+    eq = index(rec, '=')
+    if (eq == 0) return
+    var = lower(trim(rec(1:eq - 1)))
+    val = rec(eq + 1:)
+    ok = .true.
+  end subroutine variable_record
 
   !> How many values the compiler's list s ("1.0, 2*0.5, "a, b"") stands for.
   integer function values_count(s) result(n)
     character(len=*), intent(in) :: s
     character(len=:), allocatable :: tok
-    integer :: i, start, star, r, ios
-    logical :: quoted
+    integer :: pos, star, r, ios
+    logical :: found
     n = 0
-    quoted = .false.
-    start = 1
-    do i = 1, len(s) + 1
-      if (i <= len(s)) then
-        if (s(i:i) == '"') quoted = .not. quoted
-        if (quoted .or. s(i:i) /= ',') cycle
-      end if
-      tok = trim(adjustl(s(start:i - 1)))
-      start = i + 1
-      if (len(tok) == 0) cycle
+    pos = 1
+    do
+      call next_value(s, pos, tok, found)
+      if (.not. found) exit
       r = 1
       star = index(tok, '*')
       if (star > 1 .and. tok(1:1) /= '"') then
@@ -116,23 +126,42 @@ contains
     character(len=*), intent(in) :: s
     character(len=:), allocatable :: t
     character(len=:), allocatable :: tok
-    integer :: i, start
-    logical :: quoted
+    integer :: pos
+    logical :: found
     t = ''
-    quoted = .false.
-    start = 1
-    do i = 1, len(s) + 1
-      if (i <= len(s)) then
-        if (s(i:i) == '"') quoted = .not. quoted
-        if (quoted .or. s(i:i) /= ',') cycle
-      end if
-      tok = trim(adjustl(s(start:i - 1)))
-      start = i + 1
-      if (len(tok) == 0) cycle
+    pos = 1
+    do
+      call next_value(s, pos, tok, found)
+      if (.not. found) exit
       if (len(t) > 0) t = t//', '
       t = t//value_text(tok)
     end do
   end function values_text
+
+  !> The next nonempty value of the comma-separated list s from position pos on (a comma
+  !> inside "..." does not split), adjusted and trimmed, in tok; pos moves past its comma.
+  !> found: .false. once the list is used up.
+  subroutine next_value(s, pos, tok, found)
+    character(len=*), intent(in) :: s
+    integer, intent(inout) :: pos
+    character(len=:), allocatable, intent(out) :: tok
+    logical, intent(out) :: found
+    integer :: i
+    logical :: quoted
+    found = .false.
+    quoted = .false.
+    do i = pos, len(s) + 1
+      if (i <= len(s)) then
+        if (s(i:i) == '"') quoted = .not. quoted
+        if (quoted .or. s(i:i) /= ',') cycle
+      end if
+      tok = trim(adjustl(s(pos:i - 1)))
+      pos = i + 1
+      if (len(tok) == 0) cycle
+      found = .true.
+      return
+    end do
+  end subroutine next_value
 
   !> One value as written by the compiler ("text", T, 7*0.5, 1.5000000000000000,
   !> 12) in the input's style.

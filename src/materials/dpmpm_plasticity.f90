@@ -652,18 +652,13 @@ contains
   end function rebuild
 
   !> rebuild of a plane state, whose eigenvectors have no z part except the one that is
-  !> e_z: no out-of-plane shear.
+  !> e_z: no out-of-plane shear (its components are set to exactly zero; the other four
+  !> are rebuild's sums, term for term).
   pure function rebuild_plane(sig, vec) result(sv)
     real(wp), intent(in) :: sig(3), vec(3, 3)
     real(wp) :: sv(6)
-    integer :: i
-    sv = 0.0_wp
-    do i = 1, 3
-      sv(1) = sv(1) + sig(i)*vec(1, i)**2
-      sv(2) = sv(2) + sig(i)*vec(2, i)**2
-      sv(3) = sv(3) + sig(i)*vec(3, i)**2
-      sv(6) = sv(6) + sig(i)*vec(1, i)*vec(2, i)
-    end do
+    sv = rebuild(sig, vec)
+    sv(4:5) = 0.0_wp
   end function rebuild_plane
 
   !> Second invariant of the deviatoric part of the Voigt stress sv.

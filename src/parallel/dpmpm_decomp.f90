@@ -362,33 +362,38 @@ contains
   subroutine decomp_halo_sum(self, f)
     class(decomp_t), intent(in) :: self
     real(wp), intent(inout) :: f(:, self%alo(1):, self%alo(2):, self%alo(3):)
-    integer :: d
-    if (self%nested) then
-      do d = self%ndim, 1, -1
-        call exchange_axis_nested(self, f, d, .true.)
-      end do
-      return
-    end if
-    do d = 1, self%ndim
-      call exchange_axis(self, f, d, .true.)
-    end do
+    call halo_exchange(self, f, .true.)
   end subroutine decomp_halo_sum
 
   !> Owner -> ghost: copy owners' values into the ghost nodes of the neighbours.
   subroutine decomp_halo_copy(self, f)
     class(decomp_t), intent(in) :: self
     real(wp), intent(inout) :: f(:, self%alo(1):, self%alo(2):, self%alo(3):)
-    integer :: d
-    if (self%nested) then
-      do d = 1, self%ndim
-        call exchange_axis_nested(self, f, d, .false.)
-      end do
-      return
-    end if
-    do d = 1, self%ndim
-      call exchange_axis(self, f, d, .false.)
-    end do
+    call halo_exchange(self, f, .false.)
   end subroutine decomp_halo_copy
+
+  !> The axis by axis exchange of decomp_halo_sum (add = .true.) and decomp_halo_copy: a
+  !> nested split sums its axes last to first (the reverse of its copy), a slab split takes
+  !> them in order.
+  subroutine halo_exchange(self, f, add)
+    class(decomp_t), intent(in) :: self
+    real(wp), intent(inout) :: f(:, self%alo(1):, self%alo(2):, self%alo(3):)
+    logical, intent(in) :: add
+    integer :: d
+    if (self%nested .and. add) then
+      do d = self%ndim, 1, -1
+        call exchange_axis_nested(self, f, d, add)
+      end do
+    else if (self%nested) then
+      do d = 1, self%ndim
+        call exchange_axis_nested(self, f, d, add)
+      end do
+    else
+      do d = 1, self%ndim
+        call exchange_axis(self, f, d, add)
+      end do
+    end if
+  end subroutine halo_exchange
 
   !> One axis of a halo exchange. For a sum, the ghost slabs travel to the
   !> neighbour that owns them and are added there; for a copy, the owned edge

@@ -156,8 +156,8 @@ contains
     ! Cells of the region's bounding box that this rank owns.
     clo = 0; chi = 0
     do d = 1, nd
-      clo(d) = max(olo(d), floor((region_lo(reg, d) - grid%origin(d))/grid%h(d)))
-      chi(d) = min(ohi(d), ceiling((region_hi(reg, d) - grid%origin(d))/grid%h(d)) - 1)
+      clo(d) = max(olo(d), floor((region_bound(reg, d, .false.) - grid%origin(d))/grid%h(d)))
+      chi(d) = min(ohi(d), ceiling((region_bound(reg, d, .true.) - grid%origin(d))/grid%h(d)) - 1)
     end do
     do c3 = clo(3), chi(3)
       do c2 = clo(2), chi(2)
@@ -230,8 +230,8 @@ contains
     polygon = trim(reg%shape) == 'polygon'
     lo = 0.0_wp; hi = 0.0_wp
     do d = 1, nd
-      lo(d) = region_lo(reg, d)
-      hi(d) = region_hi(reg, d)
+      lo(d) = region_bound(reg, d, .false.)
+      hi(d) = region_bound(reg, d, .true.)
     end do
     n = uniform_count(reg, grid)
     if (polygon) then
@@ -285,8 +285,8 @@ contains
     lo = 0.0_wp; hi = 0.0_wp
     clo = 0; chi = 0
     do d = 1, nd
-      lo(d) = region_lo(reg, d)
-      hi(d) = region_hi(reg, d)
+      lo(d) = region_bound(reg, d, .false.)
+      hi(d) = region_bound(reg, d, .true.)
       clo(d) = max(0, floor((lo(d) - grid%origin(d))/grid%h(d)))
       chi(d) = min(grid%ncells(d) - 1, ceiling((hi(d) - grid%origin(d))/grid%h(d)) - 1)
     end do
@@ -341,7 +341,7 @@ contains
     if (trim(reg%placement) /= 'uniform') return
     v = 1.0_wp
     do d = 1, grid%ndim
-      v = v*(region_hi(reg, d) - region_lo(reg, d))
+      v = v*(region_bound(reg, d, .true.) - region_bound(reg, d, .false.))
     end do
     n = max(1_i8, nint(v/grid%cell_volume*real(reg%ppc, wp)**grid%ndim, i8))
   end function uniform_count
@@ -398,25 +398,24 @@ contains
                    porosity=fill%porosity, pressure=p, kinv=fill%kinv)
   end subroutine add_point
 
-  pure real(wp) function region_lo(reg, d)
+  !> The lower (upper = .false.) or upper bound of region reg along axis d: of its
+  !> vertices for a polygon, else its box.
+  pure real(wp) function region_bound(reg, d, upper) result(b)
     type(region_cfg_t), intent(in) :: reg
     integer, intent(in) :: d
+    logical, intent(in) :: upper
     if (trim(reg%shape) == 'polygon') then
-      region_lo = minval(reg%poly(d, 1:reg%npoly))
+      if (upper) then
+        b = maxval(reg%poly(d, 1:reg%npoly))
+      else
+        b = minval(reg%poly(d, 1:reg%npoly))
+      end if
+    else if (upper) then
+      b = reg%hi(d)
     else
-      region_lo = reg%lo(d)
+      b = reg%lo(d)
     end if
-  end function region_lo
-
-  pure real(wp) function region_hi(reg, d)
-    type(region_cfg_t), intent(in) :: reg
-    integer, intent(in) :: d
-    if (trim(reg%shape) == 'polygon') then
-      region_hi = maxval(reg%poly(d, 1:reg%npoly))
-    else
-      region_hi = reg%hi(d)
-    end if
-  end function region_hi
+  end function region_bound
 
   !> Does region reg hold position x (the first nd coordinates)? The test that keeps a
   !> generated point: a box holds lo <= x < hi, so that boxes meeting at a face share no point.

@@ -151,16 +151,7 @@ contains
     logical :: use_window
 
     call check_inputs(col, t_end, z, times)
-    use_window = .true.
-    if (present(window)) use_window = window
-    nf = biot_default_nfreq
-    if (present(nfreq)) nf = nfreq
-    tp = default_period_factor*t_end
-    if (present(period)) tp = period
-    alph = default_alpha_period/tp
-    if (present(alpha)) alph = alpha
-    if (nf < 16 .or. tp < t_end .or. alph <= 0.0_wp) &
-      call fatal('needs nfreq >= 16, period >= t_end and alpha > 0', 'biot_column_solve')
+    call inversion_options(t_end, 'biot_column_solve', window, nfreq, period, alpha, use_window, nf, tp, alph)
     omega0 = 2.0_wp*pi/tp
 
     ! Laplace-domain modes at every frequency of the Durbin grid.
@@ -323,20 +314,12 @@ contains
     logical :: use_window
 
     call check_inputs(col, t_end, z, times)
-    use_window = .true.
-    if (present(window)) use_window = window
     if (nb < 2 .or. .not. dtb > 0.0_wp) call fatal('needs nb >= 2 samples and dtb > 0', &
                                                    'biot_column_base_solve')
     if (vb(1) /= 0.0_wp) call fatal('the base must start from rest: vb(1) = 0', &
                                     'biot_column_base_solve')
-    nf = biot_default_nfreq
-    if (present(nfreq)) nf = nfreq
-    tp = default_period_factor*t_end
-    if (present(period)) tp = period
-    alph = default_alpha_period/tp
-    if (present(alpha)) alph = alpha
-    if (nf < 16 .or. tp < t_end .or. alph <= 0.0_wp) &
-      call fatal('needs nfreq >= 16, period >= t_end and alpha > 0', 'biot_column_base_solve')
+    call inversion_options(t_end, 'biot_column_base_solve', window, nfreq, period, alpha, use_window, nf, tp, &
+                           alph)
     omega0 = 2.0_wp*pi/tp
     allocate (lam(2, 0:nf - 1), amp(4, 2, 0:nf - 1))
     do k = 0, nf - 1
@@ -347,6 +330,30 @@ contains
     call invert_modes(col, .true., nf, tp, alph, use_window, lam, amp, nz, z, nt, times, &
                       p, sigma_eff, v_s, v_f)
   end subroutine biot_column_base_solve
+
+  !> The inversion's settings of a solve (doc/theory.md 9.2): the Lanczos window (on
+  !> unless window says otherwise), nf frequencies, the period tp and the damping alph, each
+  !> its default unless given; refuses settings the inversion cannot use (who: the caller).
+  subroutine inversion_options(t_end, who, window, nfreq, period, alpha, use_window, nf, tp, alph)
+    real(wp), intent(in) :: t_end
+    character(len=*), intent(in) :: who
+    logical, intent(in), optional :: window
+    integer, intent(in), optional :: nfreq
+    real(wp), intent(in), optional :: period, alpha
+    logical, intent(out) :: use_window
+    integer, intent(out) :: nf
+    real(wp), intent(out) :: tp, alph
+    use_window = .true.
+    if (present(window)) use_window = window
+    nf = biot_default_nfreq
+    if (present(nfreq)) nf = nfreq
+    tp = default_period_factor*t_end
+    if (present(period)) tp = period
+    alph = default_alpha_period/tp
+    if (present(alpha)) alph = alpha
+    if (nf < 16 .or. tp < t_end .or. alph <= 0.0_wp) &
+      call fatal('needs nfreq >= 16, period >= t_end and alpha > 0', who)
+  end subroutine inversion_options
 
   !> Laplace transform at s of the piecewise linear function through v(1:n) at t = (i - 1) h,
   !> zero at t = 0 (v(1) = 0 is not used) and held at v(n) after t_n: the sum of the hats

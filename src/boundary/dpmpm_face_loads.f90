@@ -5,7 +5,7 @@
 !> dashpots of absorbing faces; and the incoming traction of a compliant base.
 module dpmpm_face_loads
   use dpmpm_kinds, only: wp
-  use dpmpm_config, only: config_t, load_cfg_t, region_cfg_t, table_length, bc_free, fbc_drained, &
+  use dpmpm_config, only: config_t, load_cfg_t, region_cfg_t, table_factor, bc_free, fbc_drained, &
                           fbc_impermeable, motion_series_t
   use dpmpm_motion, only: motion_velocity
   use dpmpm_base_motion, only: compliant_face
@@ -236,25 +236,12 @@ contains
     type(load_cfg_t), intent(in) :: ld
     real(wp), intent(in) :: t
     real(wp), parameter :: two_pi = 6.283185307179586476925286766559_wp
-    integer :: n, i
     select case (trim(ld%time_function))
     case ('sine')
       r = 0.0_wp
       if (ld%duration <= 0.0_wp .or. t < ld%duration) r = sin(two_pi*ld%frequency*t)
     case ('table')
-      n = table_length(ld%times)
-      if (t <= ld%times(1)) then
-        r = ld%factors(1)
-      else if (t >= ld%times(n)) then
-        r = ld%factors(n)
-      else
-        i = 1
-        do while (ld%times(i + 1) < t)
-          i = i + 1
-        end do
-        r = ld%factors(i) + (ld%factors(i + 1) - ld%factors(i))*(t - ld%times(i))/ &
-            (ld%times(i + 1) - ld%times(i))
-      end if
+      r = table_factor(ld%times, ld%factors, t)
     case default
       r = ramp_factor(t, ld%ramp_time)
     end select

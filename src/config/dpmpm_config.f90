@@ -6,7 +6,7 @@ module dpmpm_config
   use dpmpm_strings, only: next_word
   implicit none
   private
-  public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t, table_length, motion_series_t
+  public :: config_t, material_cfg_t, region_cfg_t, load_cfg_t, table_length, table_factor, motion_series_t
   public :: max_poly, max_table, max_props, max_probes, name_len, face_names, face_index
   public :: bc_free, bc_fixed, bc_roller, bc_names
   public :: fbc_default, fbc_drained, fbc_impermeable, fbc_names
@@ -269,5 +269,25 @@ contains
       n = n + 1
     end do
   end function table_length
+
+  !> The factor of a time table at time t: factors interpolated linearly between its
+  !> times, the first factor before the first time and the last after the last (the
+  !> table's entries are those before the first negative time, table_length; at least one).
+  pure real(wp) function table_factor(times, factors, t) result(r)
+    real(wp), intent(in) :: times(:), factors(:), t
+    integer :: n, i
+    n = table_length(times)
+    if (t <= times(1)) then
+      r = factors(1)
+    else if (t >= times(n)) then
+      r = factors(n)
+    else
+      i = 1
+      do while (times(i + 1) < t)
+        i = i + 1
+      end do
+      r = factors(i) + (factors(i + 1) - factors(i))*(t - times(i))/(times(i + 1) - times(i))
+    end if
+  end function table_factor
 
 end module dpmpm_config

@@ -8,6 +8,7 @@
 !> instead (contact_node; the steps around it: dpmpm_contact).
 module dpmpm_rigid
   use dpmpm_kinds, only: wp
+  use dpmpm_config, only: table_length, table_factor
   use dpmpm_walls, only: walls_t
   use dpmpm_materials, only: material_t, model_rigid
   implicit none
@@ -76,26 +77,8 @@ contains
   pure real(wp) function motion_factor(mat, t) result(f)
     type(material_t), intent(in) :: mat
     real(wp), intent(in) :: t
-    integer :: n, i
     f = 1.0_wp
-    n = 0
-    do while (n < size(mat%motion_times))
-      if (mat%motion_times(n + 1) < 0.0_wp) exit
-      n = n + 1
-    end do
-    if (n == 0) return
-    if (t <= mat%motion_times(1)) then
-      f = mat%motion_factors(1)
-    else if (t >= mat%motion_times(n)) then
-      f = mat%motion_factors(n)
-    else
-      i = 1
-      do while (mat%motion_times(i + 1) < t)
-        i = i + 1
-      end do
-      f = mat%motion_factors(i) + (mat%motion_factors(i + 1) - mat%motion_factors(i))* &
-          (t - mat%motion_times(i))/(mat%motion_times(i + 1) - mat%motion_times(i))
-    end if
+    if (table_length(mat%motion_times) > 0) f = table_factor(mat%motion_times, mat%motion_factors, t)
   end function motion_factor
 
   !> The rigid points' share of the node fields: rnode(1) = sum N m and
